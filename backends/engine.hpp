@@ -1,0 +1,53 @@
+#pragma once
+// One interface over the engines. For now only the native 2-D engine stands behind it; Box2D,
+// Bullet and ODE adapters arrive with issue #3.
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "h5_output.hpp"
+#include "scene.hpp"
+
+namespace grainlab {
+
+struct EnergyReport {
+  double kinetic_translational = 0, kinetic_rotational = 0, potential_gravity = 0, elastic = 0;
+  double total() const { return kinetic_translational + kinetic_rotational + potential_gravity + elastic; }
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  virtual std::string name() const = 0;
+  virtual void advance_to(double t) = 0;
+  virtual double time() const = 0;
+  virtual Frame frame() const = 0;  // particles ordered by id
+  virtual EnergyReport energies() const = 0;
+  virtual std::map<std::string, double> diagnostics() const = 0;
+  virtual std::vector<std::vector<double>> polygon_shapes() const = 0;  // flat x,y per polygon
+  virtual std::string integrator() const = 0;
+};
+
+// Throws InputError if the engine is unknown.
+std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene);
+std::vector<std::string> engine_names();
+
+struct RunOptions {
+  std::string out;
+  bool overwrite = false;
+  // Called with (simulated time, duration) after every frame and regularly in between.
+  std::function<void(double, double)> progress;
+};
+
+struct RunSummary {
+  std::string h5, xmf;
+  std::map<std::string, double> diagnostics;
+  EnergyReport initial, final;
+};
+
+// Runs a scene to its duration, writing frames, energies, diagnostics and metadata.
+RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& options);
+
+}  // namespace grainlab

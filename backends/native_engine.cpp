@@ -1,0 +1,82 @@
+#include <algorithm>
+#include <numeric>
+
+#include "engine.hpp"
+#include "world.hpp"
+
+namespace grainlab {
+
+namespace {
+
+class NativeEngine final : public Engine {
+ public:
+  explicit NativeEngine(const Scene& scene) : world_(scene) {}
+  std::string name() const override { return "native"; }
+  void advance_to(double t) override { world_.advance_to(t); }
+  double time() const override { return world_.time(); }
+  std::string integrator() const override {
+    return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet" : "predictor-corrector";
+  }
+
+  Frame frame() const override {
+    const dem::Particles& p = world_.particles();
+    std::vector<std::size_t> order(p.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+    Frame f;
+    f.time = world_.time();
+    for (std::size_t i : order) {
+      f.id.push_back(p.id[i]);
+      f.position.insert(f.position.end(), {p.x[i], p.y[i], 0.0});
+      f.velocity.insert(f.velocity.end(), {p.vx[i], p.vy[i], 0.0});
+      f.angle.push_back(p.th[i]);
+      f.spin.push_back(p.w[i]);
+      f.radius.push_back(p.r[i]);
+      f.shape.push_back(p.shape[i]);
+    }
+    return f;
+  }
+
+  EnergyReport energies() const override {
+    const dem::Energies e = world_.energies();
+    return {e.kinetic_translational, e.kinetic_rotational, e.potential_gravity, e.elastic};
+  }
+
+  std::map<std::string, double> diagnostics() const override {
+    const dem::Diagnostics& d = world_.diagnostics();
+    return {{"steps", double(d.steps)},
+            {"rejected_steps", double(d.rejected_steps)},
+            {"force_evaluations", double(d.force_evaluations)},
+            {"neighbor_rebuilds", double(d.neighbor_rebuilds)},
+            {"contacts", double(world_.count_contacts())},
+            {"wall_seconds", d.wall_seconds},
+            {"dt_min_used", d.dt_min_used},
+            {"dt_max_used", d.dt_max_used},
+            {"particles", double(world_.particles().size())}};
+  }
+
+  std::vector<std::vector<double>> polygon_shapes() const override {
+    std::vector<std::vector<double>> out;
+    for (const auto& poly : world_.polygon_shapes()) {
+      std::vector<double> flat;
+      for (Vec2 v : poly) flat.insert(flat.end(), {v.x, v.y});
+      out.push_back(flat);
+    }
+    return out;
+  }
+
+ private:
+  dem::World world_;
+};
+
+}  // namespace
+
+std::vector<std::string> engine_names() { return {"native"}; }
+
+std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene) {
+  if (name == "native") return std::make_unique<NativeEngine>(scene);
+  throw InputError({"--engine", 0}, "engine",
+                   "unknown engine \"" + name + "\"; available now: native (Box2D, Bullet, ODE arrive with issue #3)");
+}
+
+}  // namespace grainlab

@@ -1,0 +1,33 @@
+#pragma once
+// `grainlab bench bed`: the same work as bench/bed.in for LAMMPS (gran/hooke/history): a square
+// lattice of discs dropped onto a frictional wall, periodic in x, fixed dt, timed after settling.
+#include <string>
+
+#include "scene.hpp"
+
+namespace grainlab::bench {
+
+struct BedOptions {
+  int nx = 100, ny = 50;
+  int settle_steps = 2000, timed_steps = 10000, repeats = 3;
+  bool frictionless = false;
+  std::string json;
+};
+
+struct BedResult {
+  long particles = 0;
+  int steps = 0;
+  double median_seconds = 0, min_seconds = 0, max_seconds = 0;
+  double particle_steps_per_second = 0;
+  double bytes_per_particle = 0;
+  double share_forces = 0, share_neighbors = 0;  // of the timed wall time
+  double mean_height = 0, kinetic_energy = 0;    // state after settle + timed steps (physics cross-check)
+  long contacts = 0, neighbor_rebuilds = 0;
+};
+
+// The bed as a scene (TOML text), so it runs through the same reader as any user scene.
+std::string bed_scene_toml(const BedOptions& o);
+BedResult run_bed(const BedOptions& o);
+int run_bed_command(const BedOptions& o);
+
+}  // namespace grainlab::bench

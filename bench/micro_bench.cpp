@@ -1,0 +1,37 @@
+// Google Benchmark: the cost of the friction effect. The same settled bed with and without the
+// friction effect; the frictionless kernel stores no shear history and does no tangential work.
+#include <benchmark/benchmark.h>
+
+#include "bed_benchmark.hpp"
+#include "scene.hpp"
+#include "world.hpp"
+
+using namespace grainlab;
+
+namespace {
+
+// A bed with contacts: discs start touching (spacing = diameter) so every step does contact work.
+dem::World settled_bed(bool friction) {
+  bench::BedOptions o;
+  o.nx = 60, o.ny = 40, o.frictionless = !friction;
+  std::string toml = bench::bed_scene_toml(o);
+  Scene scene = parse_scene(toml, "<micro bed>", {"assemblies.0.spacing=2.0", "scene.periodic_x=[0.0, 120.0]"});
+  dem::World w(scene);
+  for (int s = 0; s < 3000; ++s) w.step();
+  return w;
+}
+
+void BM_BedStep(benchmark::State& state) {
+  const bool friction = state.range(0) != 0;
+  dem::World w = settled_bed(friction);
+  for (auto _ : state) w.step();
+  state.counters["particle_steps_per_s"] =
+      benchmark::Counter(static_cast<double>(w.particles().size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["contacts"] = static_cast<double>(w.count_contacts());
+  state.SetLabel(friction ? "friction" : "frictionless");
+}
+
+}  // namespace
+
+BENCHMARK(BM_BedStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_MAIN();

@@ -1,0 +1,141 @@
+// grainlab: the command line. Subcommands: run, validate, bench.
+// Exit status: 0 success; 1 a check failed or a simulation broke down; 2 bad input (nothing written).
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "bed_benchmark.hpp"
+#include "engine.hpp"
+#include "input_error.hpp"
+#include "progress.hpp"
+#include "scene.hpp"
+#include "suites.hpp"
+
+namespace fs = std::filesystem;
+using namespace grainlab;
+
+namespace {
+
+struct RunArgs {
+  std::string scene, out, engine = "native";
+  std::vector<std::string> sets;
+  bool force = false, quiet = false;
+};
+
+int run_command(const RunArgs& a) {
+  const Scene scene = load_scene(a.scene, a.sets);
+  std::string out = a.out.empty() ? scene.output.file : a.out;
+  if (out.empty()) out = fs::path(a.scene).stem().string() + ".h5";
+  if (!a.force && fs::exists(out)) throw InputError({"--out", 0}, out, "exists; pass --force to overwrite it");
+  auto engine = make_engine(a.engine, scene);
+  if (!a.quiet)
+    fmt::print(stderr, "grainlab run: {} ({} bodies, {} s) on {} [{}], effects: {}\n", scene.name,
+               static_cast<long>(engine->diagnostics().at("particles")), scene.duration, engine->name(),
+               engine->integrator(), fmt::join(scene.effects.names(), ", "));
+  cli::ProgressBar bar(!a.quiet);
+  RunOptions opt{out, a.force, [&](double t, double total) { bar.update(t, total); }};
+  const RunSummary s = run_scene(scene, *engine, opt);
+  bar.finish();
+  if (!a.quiet) {
+    const auto& d = s.diagnostics;
+    fmt::print(stderr, "wrote {} and {}\n", s.h5, s.xmf);
+    fmt::print(stderr, "steps {:.0f} (rejected {:.0f}), force evaluations {:.0f}, contacts at end {:.0f}, wall {:.2f} s\n",
+               d.at("steps"), d.at("rejected_steps"), d.at("force_evaluations"), d.at("contacts"),
+               d.at("wall_seconds"));
+    fmt::print(stderr, "energy: initial {:.6g}, final {:.6g} (erg per cm of thickness)\n", s.initial.total(),
+               s.final.total());
+  }
+  return 0;
+}
+
+int validate_command(std::vector<std::string> names, const std::string& out, bool quick, bool quiet) {
+  if (names.empty())
+    for (const auto& s : validation::suites()) names.push_back(s.name);
+  std::vector<const validation::Suite*> chosen;
+  for (const std::string& n : names) {
+    const validation::Suite* s = validation::find_suite(n);
+    if (!s) {
+      std::string known;
+      for (const auto& k : validation::suites()) known += (known.empty() ? "" : ", ") + k.name;
+      throw InputError({"--suite", 0}, n, "unknown suite; known suites: " + known);
+    }
+    chosen.push_back(s);
+  }
+  validation::Report report;
+  validation::SuiteOptions opt;
+  opt.quick = quick;
+  if (!quiet) opt.log = [](const std::string& line) { fmt::print(stderr, "  {}\n", line); };
+  for (const auto* s : chosen) {
+    if (!quiet) fmt::print(stderr, "suite {}: {}\n", s->name, s->description);
+    s->run(report, opt);
+  }
+  validation::write_report(report, out);
+  int failed = 0;
+  for (const auto& c : report.checks) failed += !c.passed;
+  fmt::print("{}: {} checks, {} failed; report in {}/report.md\n", report.passed() ? "PASSED" : "FAILED",
+             report.checks.size(), failed, out);
+  return report.passed() ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"grainlab: grain-scale physics of wind-blown sand (Werner 1987), checked across engines"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", GRAINLAB_VERSION);
+
+  RunArgs run;
+  CLI::App* run_cmd = app.add_subcommand("run", "run a scene and write HDF5 frames (+ XDMF for ParaView)");
+  run_cmd->add_option("scene", run.scene, "scene file (TOML, see docs/scenes.md)")->required()->check(CLI::ExistingFile);
+  run_cmd->add_option("--out,-o", run.out, "output .h5 (default: [output] file, or SCENE.h5)");
+  run_cmd->add_option("--set", run.sets, "override a scene value: --set accuracy.dt=1e-6 (repeatable)");
+  run_cmd->add_option("--engine", run.engine, "engine to run on")->default_val("native");
+  run_cmd->add_flag("--force", run.force, "overwrite an existing output file");
+  run_cmd->add_flag("--quiet,-q", run.quiet, "no progress bar or summary");
+
+  std::vector<std::string> suites;
+  std::string report_dir = "report";
+  bool quick = false, vquiet = false;
+  CLI::App* val = app.add_subcommand("validate", "run validation suites; exit 0 only if every check passes");
+  val->add_option("--suite", suites, "suite to run (repeatable; default: all)");
+  val->add_option("--out,-o", report_dir, "report folder (report.md, report.json, plots)")->default_val("report");
+  val->add_flag("--quick", quick, "shorter versions of long checks (for CI)");
+  val->add_flag("--quiet,-q", vquiet, "no progress lines");
+
+  bench::BedOptions bed;
+  CLI::App* bench_cmd = app.add_subcommand("bench", "benchmarks");
+  bench_cmd->require_subcommand(1);
+  CLI::App* bed_cmd = bench_cmd->add_subcommand("bed", "settled disc bed, same work as bench/bed.in for LAMMPS");
+  bed_cmd->add_option("--nx", bed.nx, "discs per row")->default_val(100)->check(CLI::Range(1, 100000));
+  bed_cmd->add_option("--ny", bed.ny, "rows")->default_val(50)->check(CLI::Range(1, 100000));
+  bed_cmd->add_option("--settle", bed.settle_steps, "settling steps (untimed)")->default_val(2000)->check(CLI::NonNegativeNumber);
+  bed_cmd->add_option("--steps", bed.timed_steps, "timed steps")->default_val(10000)->check(CLI::PositiveNumber);
+  bed_cmd->add_option("--repeats", bed.repeats, "timed repetitions (median reported)")->default_val(3)->check(CLI::Range(1, 100));
+  bed_cmd->add_flag("--frictionless", bed.frictionless, "drop the friction effect (no shear history)");
+  bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+
+  try {
+    if (*run_cmd) return run_command(run);
+    if (*val) return validate_command(suites, report_dir, quick, vquiet);
+    if (*bed_cmd) return bench::run_bed_command(bed);
+  } catch (const InputError& e) {
+    fmt::print(stderr, "grainlab: error: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "grainlab: failed: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

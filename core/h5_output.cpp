@@ -1,0 +1,176 @@
+#include "h5_output.hpp"
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace grainlab {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string temp_name(const std::string& path) { return fmt::format("{}.tmp-{}", path, ::getpid()); }
+
+void check(herr_t status, const char* what) {
+  if (status < 0) throw std::runtime_error(std::string("HDF5: failed to ") + what);
+}
+
+void attr_string(hid_t obj, const std::string& name, const std::string& value) {
+  hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, std::max<size_t>(1, value.size()));
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  check(H5Awrite(a, type, value.data()), "write a string attribute");
+  H5Aclose(a), H5Sclose(space), H5Tclose(type);
+}
+
+void attr_double(hid_t obj, const std::string& name, double v) {
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(obj, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+  check(H5Awrite(a, H5T_NATIVE_DOUBLE, &v), "write an attribute");
+  H5Aclose(a), H5Sclose(space);
+}
+
+template <typename T>
+hid_t native_type() {
+  if constexpr (std::is_same_v<T, double>) return H5T_NATIVE_DOUBLE;
+  else if constexpr (std::is_same_v<T, std::int64_t>) return H5T_NATIVE_INT64;
+  else return H5T_NATIVE_INT32;
+}
+
+template <typename T>
+void dataset(hid_t parent, const std::string& name, const std::vector<T>& data, hsize_t rows, hsize_t cols = 1) {
+  hsize_t dims[2] = {rows, cols};
+  hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
+  hid_t d = H5Dcreate2(parent, name.c_str(), native_type<T>(), space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (d < 0) throw std::runtime_error("HDF5: failed to create dataset " + name);
+  if (rows * cols > 0) check(H5Dwrite(d, native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write data");
+  H5Dclose(d), H5Sclose(space);
+}
+
+std::string frame_group(std::size_t k) { return fmt::format("/frames/{:06d}", k); }
+
+}  // namespace
+
+RunWriter::RunWriter(std::string path, bool overwrite) : path_(std::move(path)) {
+  if (!overwrite && fs::exists(path_))
+    throw std::runtime_error(fmt::format("{} exists; pass --force to overwrite it", path_));
+}
+
+RunWriter::~RunWriter() = default;
+
+void RunWriter::write_h5(const std::string& tmp) const {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error("cannot create " + tmp);
+  for (const auto& [k, v] : meta_.text) attr_string(f, k, v);
+  for (const auto& [k, v] : meta_.numbers) attr_double(f, k, v);
+
+  hid_t frames = H5Gcreate2(f, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  std::vector<double> times;
+  for (std::size_t k = 0; k < frames_.size(); ++k) {
+    const Frame& fr = frames_[k];
+    const hsize_t n = fr.id.size();
+    hid_t g = H5Gcreate2(f, frame_group(k).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    attr_double(g, "time", fr.time);
+    dataset(g, "id", fr.id, n);
+    dataset(g, "position", fr.position, n, 3);
+    dataset(g, "velocity", fr.velocity, n, 3);
+    dataset(g, "angle", fr.angle, n);
+    dataset(g, "spin", fr.spin, n);
+    dataset(g, "radius", fr.radius, n);
+    dataset(g, "shape", fr.shape, n);
+    H5Gclose(g);
+    times.push_back(fr.time);
+  }
+  dataset(frames, "time", times, times.size());
+  H5Gclose(frames);
+
+  hid_t en = H5Gcreate2(f, "/energy", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  for (std::size_t c = 0; c < energy_columns_.size(); ++c) {
+    std::vector<double> col;
+    for (const auto& row : energy_) col.push_back(row[c]);
+    dataset(en, energy_columns_[c], col, col.size());
+  }
+  H5Gclose(en);
+
+  hid_t sh = H5Gcreate2(f, "/shapes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  for (std::size_t k = 0; k < polygons_.size(); ++k)
+    dataset(sh, fmt::format("polygon_{}", k), polygons_[k], polygons_[k].size() / 2, 2);
+  H5Gclose(sh);
+
+  hid_t dg = H5Gcreate2(f, "/diagnostics", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  for (const auto& [k, v] : diagnostics_) attr_double(dg, k, v);
+  H5Gclose(dg);
+  check(H5Fclose(f), "close the file");
+}
+
+void RunWriter::write_xdmf(const std::string& tmp) const {
+  const std::string h5 = fs::path(path_).filename().string();
+  std::string x = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
+                  "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (std::size_t k = 0; k < frames_.size(); ++k) {
+    const std::size_t n = frames_[k].id.size();
+    const std::string g = frame_group(k);
+    auto item = [&](const std::string& name, const char* type, int prec, const std::string& dims) {
+      return fmt::format("     <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:{}/{}"
+                         "</DataItem>\n",
+                         dims, type, prec, h5, g, name);
+    };
+    x += fmt::format("   <Grid Name=\"frame{}\" GridType=\"Uniform\">\n    <Time Value=\"{:.17g}\"/>\n", k,
+                     frames_[k].time);
+    x += fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", n);
+    x += "    <Geometry GeometryType=\"XYZ\">\n" + item("position", "Float", 8, fmt::format("{} 3", n)) +
+         "    </Geometry>\n";
+    x += "    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n" +
+         item("velocity", "Float", 8, fmt::format("{} 3", n)) + "    </Attribute>\n";
+    for (const char* s : {"angle", "spin", "radius"})
+      x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Node\">\n", s) +
+           item(s, "Float", 8, std::to_string(n)) + "    </Attribute>\n";
+    x += "    <Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\">\n" +
+         item("id", "Int", 8, std::to_string(n)) + "    </Attribute>\n";
+    x += "   </Grid>\n";
+  }
+  x += "  </Grid>\n </Domain>\n</Xdmf>\n";
+  std::ofstream out(tmp);
+  out << x;
+  if (!out) throw std::runtime_error("cannot write " + tmp);
+}
+
+std::string RunWriter::commit() {
+  const std::string xmf = fs::path(path_).replace_extension(".xmf").string();
+  const std::string tmp_h5 = temp_name(path_), tmp_xmf = temp_name(xmf);
+  try {
+    write_h5(tmp_h5);
+    write_xdmf(tmp_xmf);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp_h5, ec), fs::remove(tmp_xmf, ec);
+    throw;
+  }
+  fs::rename(tmp_h5, path_);
+  fs::rename(tmp_xmf, xmf);
+  return xmf;
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = temp_name(path);
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw std::runtime_error("cannot write " + path);
+    }
+  }
+  fs::rename(tmp, path);
+}
+
+}  // namespace grainlab

@@ -1,0 +1,514 @@
+#include "scene.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "polygon.hpp"
+#include "toml_reader.hpp"
+
+namespace grainlab {
+
+namespace {
+
+const std::vector<std::string> kEffectNames = {"gravity", "normal_contact", "friction", "rotation"};
+
+Effects read_effects(const TomlReader& r) {
+  Effects e;
+  if (!r.has("effects")) r.fail("effects", "required: list the effects this scene needs, from " +
+                                               fmt::format("{}", fmt::join(kEffectNames, ", ")));
+  std::set<std::string> seen;
+  for (const std::string& name : r.string_list("effects")) {
+    if (!seen.insert(name).second) r.fail("effects", "\"" + name + "\" is listed twice");
+    if (name == "gravity") e.gravity = true;
+    else if (name == "normal_contact") e.normal_contact = true;
+    else if (name == "friction") e.friction = true;
+    else if (name == "rotation") e.rotation = true;
+    else r.fail("effects", fmt::format("unknown effect \"{}\"; known: {}", name, fmt::join(kEffectNames, ", ")));
+  }
+  if (e.friction && !e.normal_contact)
+    r.fail("effects", "\"friction\" needs \"normal_contact\": friction is capped by the normal force");
+  return e;
+}
+
+Damping read_damping(const TomlReader& r, const char* rate_key, const char* coef_key, const char* rest_key) {
+  std::vector<std::string> given;
+  for (const char* k : {rate_key, coef_key, rest_key})
+    if (k && r.has(k)) given.emplace_back(k);
+  if (given.size() > 1)
+    r.fail(given[1], fmt::format("give only one of {}: they specify the same damping", fmt::join(given, ", ")));
+  Damping d;
+  if (r.has(rate_key)) d = {Damping::Kind::Rate, r.number(rate_key, Range::non_negative())};
+  else if (r.has(coef_key)) d = {Damping::Kind::Coefficient, r.number(coef_key, Range::non_negative())};
+  else if (rest_key && r.has(rest_key)) d = {Damping::Kind::Restitution, r.number(rest_key, {0, 1, true})};
+  return d;
+}
+
+void read_material_body(const TomlReader& r, Material& m) {
+  m.k_n = r.number("k_n", Range::positive());
+  m.normal_damping = read_damping(r, "gamma_n", "damping_n", "restitution");
+  m.k_s = r.number_or("k_s", 0.0, Range::non_negative());
+  m.shear_damping = read_damping(r, "gamma_s", "damping_s", nullptr);
+  m.mu = r.number_or("mu", 0.0, Range::non_negative());
+}
+
+Motion read_motion(const TomlReader& parent) {
+  Motion m;
+  const toml::table* t = parent.subtable("motion");
+  if (!t) return m;
+  TomlReader r(*t, parent.dotted("motion"), "");
+  m.amplitude = r.vec2("amplitude");
+  m.frequency = r.number("frequency", Range::positive());
+  m.phase = r.vec2_or("phase", {0, 0});
+  r.finish();
+  return m;
+}
+
+SizeDistribution read_size(const TomlReader& r) {
+  SizeDistribution s;
+  if (r.has("radius")) {
+    s = {SizeDistribution::Kind::Fixed, r.number("radius", Range::positive()), 0};
+    return s;
+  }
+  const toml::table* t = r.subtable("radius_distribution");
+  if (!t) r.fail("radius", "required: give radius or a [radius_distribution] table");
+  TomlReader d(*t, r.dotted("radius_distribution"), "");
+  const std::string kind = d.string("kind");
+  if (kind == "uniform") {
+    s = {SizeDistribution::Kind::Uniform, d.number("min", Range::positive()), d.number("max", Range::positive())};
+    if (s.b < s.a) d.fail("max", "must be >= min");
+  } else if (kind == "normal") {
+    s = {SizeDistribution::Kind::Normal, d.number("mean", Range::positive()), d.number("sd", Range::non_negative())};
+    if (s.a - 3 * s.b <= 0) d.fail("sd", "mean - 3 sd must stay positive (radii are truncated at +-3 sd)");
+  } else {
+    d.fail("kind", "must be \"uniform\" or \"normal\", found \"" + kind + "\"");
+  }
+  d.finish();
+  return s;
+}
+
+class SceneReader {
+ public:
+  SceneReader(const toml::table& root, Scene& scene) : root_(root), s_(scene) {}
+
+  void read() {
+    TomlReader top(root_, "", s_.path);
+    read_scene_section(top);
+    read_contact_section(top);
+    read_accuracy_section(top);
+    read_materials(top);
+    read_bodies(top);
+    read_walls(top);
+    read_assemblies(top);
+    read_output(top);
+    top.finish();
+    check_pairs_exist(top);
+    check_ids();
+    check_initial_overlaps();
+  }
+
+ private:
+  TomlReader section(const TomlReader& top, const std::string& key, bool required) {
+    const toml::table* t = top.subtable(key);
+    if (!t) {
+      if (required) throw InputError({s_.path, 0}, key, "required section [" + key + "] is missing");
+      return TomlReader(empty_, key, s_.path);
+    }
+    return TomlReader(*t, key, s_.path);
+  }
+
+  void read_scene_section(const TomlReader& top) {
+    TomlReader r = section(top, "scene", true);
+    s_.name = r.string_or("name", "unnamed");
+    s_.dimension = static_cast<int>(r.integer_or("dimension", 2, 2, 3));
+    if (s_.dimension != 2) r.fail("dimension", "only 2-D scenes run on the native engine so far (3-D: issue #3)");
+    s_.units = r.string_or("units", "cgs");
+    if (s_.units != "cgs") r.fail("units", "only \"cgs\" (cm, g, s) is supported, found \"" + s_.units + "\"");
+    s_.duration = r.number("duration", Range::positive());
+    s_.seed = static_cast<std::uint64_t>(r.integer_or("seed", 0, 0, INT64_MAX));
+    s_.gravity = r.vec2_or("gravity", {0, -981.0});
+    if (r.has("periodic_x")) {
+      const Vec2 p = r.vec2("periodic_x");
+      if (!(p.y > p.x)) r.fail("periodic_x", "must be [xmin, xmax] with xmax > xmin");
+      s_.periodic_x = std::make_pair(p.x, p.y);
+    }
+    s_.effects = read_effects(r);
+    r.finish();
+  }
+
+  void read_contact_section(const TomlReader& top) {
+    TomlReader r = section(top, "contact", false);
+    s_.clip_attractive_normal_force = r.boolean_or("clip_attractive", false);
+    s_.overlap_tolerance = r.number_or("overlap_tolerance", 0.01, Range::closed(0, 1));
+    r.finish();
+  }
+
+  void read_accuracy_section(const TomlReader& top) {
+    TomlReader r = section(top, "accuracy", false);
+    Accuracy& a = s_.accuracy;
+    const std::string integ = r.string_or("integrator", "predictor-corrector");
+    if (integ == "predictor-corrector") a.integrator = Integrator::PredictorCorrector;
+    else if (integ == "verlet") a.integrator = Integrator::VelocityVerlet;
+    else r.fail("integrator", "must be \"predictor-corrector\" or \"verlet\", found \"" + integ + "\"");
+    a.tolerance = r.number_or("tolerance", a.tolerance, {0, 1, true});
+    const std::string measure = r.string_or("error_measure", "velocity");
+    if (measure == "velocity") a.error_measure = ErrorMeasure::Velocity;
+    else if (measure == "change") a.error_measure = ErrorMeasure::Change;
+    else r.fail("error_measure", "must be \"velocity\" or \"change\", found \"" + measure + "\"");
+    a.velocity_floor = r.number_or("velocity_floor", a.velocity_floor, Range::positive());
+    a.dt = r.number_or("dt", a.dt, Range::positive());
+    a.dt_min = r.number_or("dt_min", a.dt_min, Range::positive());
+    a.dt_max = r.number_or("dt_max", std::max(a.dt_max, a.dt), Range::positive());
+    a.skin = r.optional_number("skin", Range::positive());
+    if (a.dt_min > a.dt) r.fail("dt_min", "must not exceed dt");
+    if (a.dt_max < a.dt) r.fail("dt_max", "must not be below dt");
+    r.finish();
+  }
+
+  void read_materials(const TomlReader& top) {
+    const toml::table* mats = top.subtable("materials");
+    if (!mats) return;
+    TomlReader all(*mats, "materials", s_.path);
+    for (const auto& [k, v] : *mats) {
+      const std::string name(k.str());
+      const toml::table* t = all.subtable(name);
+      TomlReader r(*t, all.dotted(name), s_.path);
+      Material m;
+      m.name = name;
+      read_material_body(r, m);
+      check_material(r, m);
+      r.finish();
+      material_index_[name] = static_cast<int>(s_.materials.size());
+      s_.materials.push_back(m);
+    }
+    if (const toml::array* pairs = top.array_of_tables("material_pairs")) {
+      for (size_t i = 0; i < pairs->size(); ++i) {
+        TomlReader r(*(*pairs)[i].as_table(), fmt::format("material_pairs[{}]", i), s_.path);
+        const std::vector<std::string> between = r.string_list("between");
+        if (between.size() != 2) r.fail("between", "must name exactly two materials");
+        const int a = material_ref(r, "between", between[0]), b = material_ref(r, "between", between[1]);
+        Material m;
+        m.name = between[0] + "|" + between[1];
+        read_material_body(r, m);
+        check_material(r, m);
+        r.finish();
+        s_.pair_materials[{std::min(a, b), std::max(a, b)}] = m;
+      }
+    }
+  }
+
+  void check_material(const TomlReader& r, const Material& m) {
+    if (s_.effects.friction && m.k_s <= 0)
+      r.fail("k_s", "the scene lists \"friction\", so the shear spring k_s must be given and > 0");
+  }
+
+  int material_ref(const TomlReader& r, const std::string& key, const std::string& name) {
+    auto it = material_index_.find(name);
+    if (it == material_index_.end())
+      r.fail(key, "no material named \"" + name + "\" (define it as [materials." + name + "])");
+    return it->second;
+  }
+
+  int material_of(const TomlReader& r) {
+    if (r.has("material")) {
+      const int m = material_ref(r, "material", r.string("material"));
+      used_materials_.insert(m);
+      return m;
+    }
+    if (s_.materials.size() == 1) return used_materials_.insert(0), 0;
+    if (!s_.effects.normal_contact) return 0;
+    r.fail("material", s_.materials.empty() ? "the scene has contacts but defines no [materials.NAME]"
+                                            : "required when the scene defines more than one material");
+  }
+
+  void read_bodies(const TomlReader& top) {
+    const toml::array* bodies = top.array_of_tables("bodies");
+    if (!bodies) return;
+    for (size_t i = 0; i < bodies->size(); ++i) {
+      TomlReader r(*(*bodies)[i].as_table(), fmt::format("bodies[{}]", i), s_.path);
+      BodySpec b;
+      b.where = r.where_table();
+      b.id = r.integer_or("id", static_cast<std::int64_t>(i), 0, INT64_MAX);
+      const std::string shape = r.string_or("shape", "disc");
+      double area = 0, polar = 0;
+      if (shape == "disc") {
+        b.shape = BodySpec::Shape::Disc;
+        b.radius = r.number("radius", Range::positive());
+        area = M_PI * b.radius * b.radius;
+        polar = area * b.radius * b.radius / 2;
+      } else if (shape == "polygon") {
+        b.shape = BodySpec::Shape::Polygon;
+        b.vertices = r.vec2_list("vertices");
+        if (b.vertices.size() < 3) r.fail("vertices", "a polygon needs at least 3 vertices");
+        if (!is_convex_ccw(b.vertices))
+          r.fail("vertices", "must be a convex polygon listed counter-clockwise (no repeated or collinear points)");
+        const PolygonMass pm = polygon_mass(b.vertices);
+        for (Vec2& v : b.vertices) v -= pm.centroid;  // body frame at the centroid
+        area = pm.area;
+        polar = pm.polar_moment_per_density;
+        b.radius = bounding_radius(b.vertices);
+      } else {
+        r.fail("shape", "must be \"disc\" or \"polygon\", found \"" + shape + "\"");
+      }
+      read_mass(r, b, area, polar);
+      b.position = r.vec2("position");
+      b.velocity = r.vec2_or("velocity", {0, 0});
+      b.angle = r.number_or("angle", 0.0);
+      b.spin = r.number_or("spin", 0.0);
+      b.material = material_of(r);
+      r.finish();
+      s_.bodies.push_back(std::move(b));
+    }
+  }
+
+  void read_mass(const TomlReader& r, BodySpec& b, double area, double polar) {
+    if (r.has("mass") && r.has("density")) r.fail("density", "give mass or density, not both");
+    if (r.has("mass")) b.mass = r.number("mass", Range::positive());
+    else if (r.has("density")) b.mass = r.number("density", Range::positive()) * area;
+    else r.fail("density", "required: give the body's density (mass per area) or its mass");
+    b.inertia = b.mass * polar / area;
+  }
+
+  void read_walls(const TomlReader& top) {
+    const toml::array* walls = top.array_of_tables("walls");
+    if (!walls) return;
+    for (size_t i = 0; i < walls->size(); ++i) {
+      TomlReader r(*(*walls)[i].as_table(), fmt::format("walls[{}]", i), s_.path);
+      WallSpec w;
+      w.where = r.where_table();
+      const std::string type = r.string_or("type", "segment");
+      if (type == "segment") {
+        w.kind = WallSpec::Kind::Segment;
+        w.a = r.vec2("from");
+        w.b = r.vec2("to");
+        if (norm(w.b - w.a) == 0) r.fail("to", "a segment needs two distinct end points");
+      } else if (type == "line") {
+        w.kind = WallSpec::Kind::Line;
+        w.a = r.vec2("point");
+        const Vec2 n = r.vec2("normal");
+        if (norm(n) == 0) r.fail("normal", "must be a non-zero vector");
+        w.b = n * (1 / norm(n));
+      } else {
+        r.fail("type", "must be \"segment\" or \"line\", found \"" + type + "\"");
+      }
+      w.material = material_of(r);
+      w.motion = read_motion(r);
+      r.finish();
+      s_.walls.push_back(w);
+    }
+  }
+
+  void read_assemblies(const TomlReader& top) {
+    const toml::array* list = top.array_of_tables("assemblies");
+    if (!list) return;
+    for (size_t i = 0; i < list->size(); ++i) {
+      TomlReader r(*(*list)[i].as_table(), fmt::format("assemblies[{}]", i), s_.path);
+      AssemblySpec a;
+      a.where = r.where_table();
+      const std::string type = r.string("type");
+      a.radius = read_size(r);
+      a.density = r.number("density", Range::positive());
+      a.velocity = r.vec2_or("velocity", {0, 0});
+      a.origin = r.vec2("origin");
+      a.material = material_of(r);
+      if (type == "lattice") {
+        a.kind = AssemblySpec::Kind::Lattice;
+        a.nx = static_cast<int>(r.integer("nx", 1, 10'000'000));
+        a.ny = static_cast<int>(r.integer("ny", 1, 10'000'000));
+        a.spacing = r.number("spacing", Range::positive());
+        if (a.spacing < 2 * max_radius(a.radius))
+          r.fail("spacing", fmt::format("{} is less than the largest diameter {}: the lattice would start overlapped",
+                                        a.spacing, 2 * max_radius(a.radius)));
+      } else if (type == "poured") {
+        a.kind = AssemblySpec::Kind::Poured;
+        a.count = static_cast<int>(r.integer("count", 1, 10'000'000));
+        a.width = r.number("width", Range::positive());
+        a.settle_time = r.number_or("settle_time", 1.0, Range::positive());
+        if (a.width < 2 * max_radius(a.radius)) r.fail("width", "narrower than one grain");
+      } else {
+        r.fail("type", "must be \"lattice\" or \"poured\", found \"" + type + "\"");
+      }
+      r.finish();
+      s_.assemblies.push_back(a);
+    }
+  }
+
+  static double max_radius(const SizeDistribution& d) {
+    switch (d.kind) {
+      case SizeDistribution::Kind::Fixed: return d.a;
+      case SizeDistribution::Kind::Uniform: return d.b;
+      case SizeDistribution::Kind::Normal: return d.a + 3 * d.b;
+    }
+    return d.a;
+  }
+
+  void read_output(const TomlReader& top) {
+    TomlReader r = section(top, "output", false);
+    s_.output.file = r.string_or("file", "");
+    s_.output.frames = static_cast<int>(r.integer_or("frames", 50, 0, 1'000'000));
+    r.finish();
+  }
+
+  void check_pairs_exist(const TomlReader& top) {
+    if (!s_.effects.normal_contact) return;
+    for (int a : used_materials_)
+      for (int b : used_materials_)
+        if (a < b && !s_.pair_materials.count({a, b}))
+          throw InputError(top.where_table(), "material_pairs",
+                           fmt::format("materials \"{}\" and \"{}\" can touch but no [[material_pairs]] entry with "
+                                       "between = [\"{}\", \"{}\"] says how",
+                                       s_.materials[a].name, s_.materials[b].name, s_.materials[a].name,
+                                       s_.materials[b].name));
+  }
+
+  void check_ids() {
+    std::set<std::int64_t> ids;
+    for (const BodySpec& b : s_.bodies)
+      if (!ids.insert(b.id).second)
+        throw InputError(b.where, "id", fmt::format("body id {} is used twice", b.id));
+  }
+
+  // Bodies that start overlapped by more than a tolerance would explode on the first step:
+  // a mistake in the scene, not physics, so it is rejected.
+  void check_initial_overlaps() {
+    const auto& B = s_.bodies;
+    for (size_t i = 0; i < B.size(); ++i)
+      for (size_t j = i + 1; j < B.size(); ++j) {
+        const double allowed = s_.overlap_tolerance * std::min(B[i].radius, B[j].radius);
+        const double depth = overlap_depth(B[i], B[j]);
+        if (depth > allowed)
+          throw InputError(B[j].where, fmt::format("bodies[{}].position", j),
+                           fmt::format("overlaps body id {} by {:.4g} (allowed {:.4g} = overlap_tolerance x smaller "
+                                       "radius)",
+                                       B[i].id, depth, allowed));
+      }
+  }
+
+  static std::vector<Vec2> world_outline(const BodySpec& b) {
+    std::vector<Vec2> v;
+    for (Vec2 p : b.vertices) v.push_back(b.position + rotate(p, b.angle));
+    return v;
+  }
+
+  static double overlap_depth(const BodySpec& a, const BodySpec& b) {
+    const double centre_gap = norm(a.position - b.position);
+    if (centre_gap >= a.radius + b.radius) return 0;
+    using S = BodySpec::Shape;
+    if (a.shape == S::Disc && b.shape == S::Disc) return a.radius + b.radius - centre_gap;
+    if (a.shape == S::Polygon && b.shape == S::Polygon) {
+      const auto ov = convex_overlap(world_outline(a), world_outline(b));
+      std::vector<Vec2> pts;
+      for (const auto& o : ov) pts.push_back(o.p);
+      return pts.size() >= 3 ? std::sqrt(std::max(0.0, polygon_mass(pts).area)) : 0;
+    }
+    const BodySpec& disc = a.shape == S::Disc ? a : b;
+    const auto poly = world_outline(a.shape == S::Disc ? b : a);
+    if (point_in_convex(disc.position, poly)) return disc.radius;
+    double gap = 1e300;
+    for (size_t k = 0; k < poly.size(); ++k) {
+      const Vec2 p = poly[k], d = poly[(k + 1) % poly.size()] - p;
+      const double t = std::clamp(dot(disc.position - p, d) / dot(d, d), 0.0, 1.0);
+      gap = std::min(gap, norm(disc.position - (p + d * t)));
+    }
+    return std::max(0.0, disc.radius - gap);
+  }
+
+  const toml::table& root_;
+  Scene& s_;
+  toml::table empty_;
+  std::map<std::string, int> material_index_;
+  std::set<int> used_materials_;
+};
+
+// Applies one "dotted.key=value" override to the parsed document; the value is read as TOML.
+void apply_override(toml::table& root, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  const SourceLocation where{"--set " + assignment, 0};
+  if (eq == std::string::npos || eq == 0) throw InputError(where, "", "expected key=value");
+  std::string key = assignment.substr(0, eq), value = assignment.substr(eq + 1);
+  auto trim = [](std::string& s) {
+    s.erase(0, s.find_first_not_of(" \t"));
+    s.erase(s.find_last_not_of(" \t") + 1);
+  };
+  trim(key);
+  trim(value);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value, "--set " + assignment);
+  } catch (const toml::parse_error&) {
+    // A bare word is taken as a string, so --set accuracy.integrator=verlet works unquoted.
+    try {
+      parsed = toml::parse("v = \"" + value + "\"", "--set " + assignment);
+    } catch (const toml::parse_error& e) {
+      throw InputError(where, key, "value is not valid TOML: " + std::string(e.description()));
+    }
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+  toml::node* node = &root;
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    const std::string& p = parts[i];
+    if (toml::table* t = node->as_table()) {
+      if (!t->contains(p)) t->insert(p, toml::table{});
+      node = t->get(p);
+    } else if (toml::array* a = node->as_array()) {
+      const bool numeric = !p.empty() && std::all_of(p.begin(), p.end(), ::isdigit);
+      if (!numeric || std::stoul(p) >= a->size())
+        throw InputError(where, key, fmt::format("\"{}\" is not an index of this {}-element array", p, a->size()));
+      node = a->get(std::stoul(p));
+    } else {
+      throw InputError(where, key, "\"" + p + "\" is not a table");
+    }
+  }
+  toml::table* parent = node->as_table();
+  if (!parent) throw InputError(where, key, "the key's parent is not a table");
+  parent->insert_or_assign(parts.back(), *parsed.get("v"));
+}
+
+}  // namespace
+
+std::vector<std::string> Effects::names() const {
+  std::vector<std::string> n;
+  if (gravity) n.push_back("gravity");
+  if (normal_contact) n.push_back("normal_contact");
+  if (friction) n.push_back("friction");
+  if (rotation) n.push_back("rotation");
+  return n;
+}
+
+const std::vector<std::string>& known_effect_names() { return kEffectNames; }
+
+const Material& Scene::pair(int a, int b) const {
+  if (a == b) return materials.at(a);
+  return pair_materials.at({std::min(a, b), std::max(a, b)});
+}
+
+Scene parse_scene(const std::string& text, const std::string& path, const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw InputError({path, static_cast<int>(e.source().begin.line)}, "", std::string(e.description()));
+  }
+  for (const std::string& o : overrides) apply_override(root, o);
+  Scene s;
+  s.path = path;
+  s.text = text;
+  s.overrides = overrides;
+  SceneReader(root, s).read();
+  return s;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError({path, 0}, "", "cannot open the scene file");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return parse_scene(buf.str(), path, overrides);
+}
+
+}  // namespace grainlab

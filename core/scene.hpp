@@ -1,0 +1,151 @@
+#pragma once
+// The scene model: what a scene file says, checked and in scene units. Engines build their own
+// state from it; nothing here knows about any engine.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "input_error.hpp"
+#include "vec2.hpp"
+
+namespace grainlab {
+
+// The physical effects a scene can ask for. An engine runs the kernels of the active ones only.
+struct Effects {
+  bool gravity = false;
+  bool normal_contact = false;
+  bool friction = false;
+  bool rotation = false;
+  std::vector<std::string> names() const;
+};
+// Every effect name a scene may list, in documentation order.
+const std::vector<std::string>& known_effect_names();
+
+// How the velocity-dependent part of a contact force is specified. All three end up as a force
+// coefficient c(m_eff) in g/s, so f_damp = -c v (see docs/physics.md, "damping convention").
+struct Damping {
+  enum class Kind { None, Rate, Coefficient, Restitution };
+  Kind kind = Kind::None;
+  double value = 0;  // Rate: gamma in 1/s (multiplied by m_eff); Coefficient: g/s; Restitution: eps
+};
+
+struct Material {
+  std::string name;
+  double k_n = 0;  // normal stiffness, force/length
+  Damping normal_damping;
+  double k_s = 0;  // tangential (shear) spring stiffness, force/length
+  Damping shear_damping;
+  double mu = 0;  // friction coefficient (static = kinetic, as in the thesis)
+};
+
+enum class Integrator { PredictorCorrector, VelocityVerlet };
+// What the predictor-corrector's velocity difference is measured against (docs/physics.md): the
+// corrected velocity itself (reproduces the thesis's ~36 steps per collision) or its change over the step.
+enum class ErrorMeasure { Velocity, Change };
+
+struct Accuracy {
+  Integrator integrator = Integrator::PredictorCorrector;
+  double tolerance = 0.005;       // predictor-corrector: allowed fractional velocity difference per step
+  ErrorMeasure error_measure = ErrorMeasure::Velocity;
+  double velocity_floor = 1e-6;   // predictor-corrector: absolute velocity change below which ratios are not trusted
+  double dt = 1e-5;               // Verlet: the step; predictor-corrector: the first step
+  double dt_min = 1e-12;          // predictor-corrector: below this the run stops with an error
+  double dt_max = 1e-2;           // predictor-corrector: cap on the growing step
+  std::optional<double> skin;     // neighbour-list skin (length); default 0.1 x smallest grain radius
+};
+
+// Sinusoidal prescribed motion x(t) = x0 + amplitude sin(2 pi f t + phase), per axis.
+struct Motion {
+  Vec2 amplitude{};
+  double frequency = 0;
+  Vec2 phase{};  // radians, per axis
+  bool active() const { return frequency != 0 && (amplitude.x != 0 || amplitude.y != 0); }
+};
+
+struct BodySpec {
+  enum class Shape { Disc, Polygon };
+  std::int64_t id = -1;
+  Shape shape = Shape::Disc;
+  double radius = 0;              // disc radius
+  std::vector<Vec2> vertices;     // polygon, counter-clockwise, relative to the centroid (body frame)
+  double mass = 0;                // per unit thickness in 2-D
+  double inertia = 0;             // about the centre of mass
+  Vec2 position{}, velocity{};
+  double angle = 0, spin = 0;
+  int material = 0;               // index into Scene::materials
+  SourceLocation where;
+};
+
+struct WallSpec {
+  enum class Kind { Segment, Line };
+  Kind kind = Kind::Segment;
+  Vec2 a{}, b{};    // segment end points; for a line: a point on it and b = unit normal (front side)
+  int material = 0;
+  Motion motion;
+  SourceLocation where;
+};
+
+struct SizeDistribution {
+  enum class Kind { Fixed, Uniform, Normal };
+  Kind kind = Kind::Fixed;
+  double a = 0, b = 0;  // Fixed: radius a; Uniform: [a, b]; Normal: mean a, sd b (truncated to +-3 sd, > 0)
+};
+
+// Generated assemblies expand into bodies when an engine builds the scene.
+struct AssemblySpec {
+  enum class Kind { Lattice, Poured };
+  Kind kind = Kind::Lattice;
+  int nx = 0, ny = 0;           // lattice: columns, rows
+  int count = 0;                // poured: number of discs
+  double spacing = 0;           // lattice: centre spacing
+  Vec2 origin{};                // lattice: first centre; poured: lower-left of the pouring box
+  double width = 0;             // poured: width of the box discs are dropped into
+  double settle_time = 0;       // poured: simulated time to let the pour settle
+  SizeDistribution radius;
+  double density = 0;           // 2-D density, mass per area
+  Vec2 velocity{};
+  int material = 0;
+  SourceLocation where;
+};
+
+struct OutputSpec {
+  std::string file;   // empty: derived from the scene file name
+  int frames = 50;    // equally spaced frames over the duration, plus the initial one
+};
+
+struct Scene {
+  std::string path;       // scene file
+  std::string text;       // the scene file's text as read
+  std::vector<std::string> overrides;  // the --set assignments, in order
+  std::string name;
+  int dimension = 2;
+  std::string units = "cgs";
+  double duration = 0;
+  std::uint64_t seed = 0;
+  Vec2 gravity{0, -981.0};
+  std::optional<std::pair<double, double>> periodic_x;  // [xmin, xmax)
+  bool clip_attractive_normal_force = false;
+  double overlap_tolerance = 0.01;  // allowed initial overlap as a fraction of the smaller radius
+  Effects effects;
+  Accuracy accuracy;
+  std::vector<Material> materials;
+  std::map<std::pair<int, int>, Material> pair_materials;  // explicit pair materials, keyed (min, max)
+  std::vector<BodySpec> bodies;
+  std::vector<WallSpec> walls;
+  std::vector<AssemblySpec> assemblies;
+  OutputSpec output;
+
+  // The material acting between materials a and b. Same material: itself; otherwise the
+  // explicit pair entry, which load_scene() has checked exists for every pair that can touch.
+  const Material& pair(int a, int b) const;
+};
+
+// Reads and checks a scene file. `overrides` are "dotted.key=value" assignments whose value is TOML.
+// Throws InputError naming file, line and key for anything wrong.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+Scene parse_scene(const std::string& text, const std::string& path,
+                  const std::vector<std::string>& overrides = {});
+
+}  // namespace grainlab

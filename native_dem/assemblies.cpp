@@ -1,0 +1,100 @@
+// Generated assemblies: a lattice bed, and a bed of discs poured into the scene's walls and left to
+// settle under the scene's own contact law. Radii and positions come from the scene's seed.
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "rng.hpp"
+#include "world.hpp"
+
+namespace grainlab::dem {
+
+namespace {
+
+double draw_radius(const SizeDistribution& d, Rng& rng) {
+  switch (d.kind) {
+    case SizeDistribution::Kind::Fixed: return d.a;
+    case SizeDistribution::Kind::Uniform: return rng.uniform(d.a, d.b);
+    case SizeDistribution::Kind::Normal: {
+      double z;
+      do z = rng.normal(); while (std::abs(z) > 3);
+      return d.a + d.b * z;
+    }
+  }
+  return d.a;
+}
+
+double largest_radius(const SizeDistribution& d) {
+  return d.kind == SizeDistribution::Kind::Fixed ? d.a : d.kind == SizeDistribution::Kind::Uniform ? d.b : d.a + 3 * d.b;
+}
+
+BodySpec disc(const AssemblySpec& a, std::int64_t id, Vec2 pos, double r) {
+  BodySpec b;
+  b.id = id;
+  b.shape = BodySpec::Shape::Disc;
+  b.radius = r;
+  b.mass = a.density * M_PI * r * r;
+  b.inertia = 0.5 * b.mass * r * r;
+  b.position = pos;
+  b.velocity = a.velocity;
+  b.material = a.material;
+  b.where = a.where;
+  return b;
+}
+
+// Drops `a.count` discs from a loose grid above the box and lets them settle with the scene's walls
+// and materials (gravity and normal contact always on, the scene's friction and rotation as given).
+std::vector<BodySpec> pour(const Scene& scene, const AssemblySpec& a, std::int64_t first_id, Rng& rng) {
+  const double rmax = largest_radius(a.radius), pitch = 2.2 * rmax;
+  const int cols = std::max(1, static_cast<int>(std::floor(a.width / pitch)));
+  Scene settle = scene;
+  settle.bodies.clear();
+  settle.assemblies.clear();
+  settle.effects.gravity = settle.effects.normal_contact = true;
+  double kmax = 0, mmin = 1e300, cmax = 0;
+  for (const Material& m : scene.materials) kmax = std::max(kmax, m.k_n);
+  for (int k = 0; k < a.count; ++k) {
+    const double r = draw_radius(a.radius, rng);
+    const Vec2 pos{a.origin.x + pitch * (0.5 + k % cols) + rng.uniform(-0.05, 0.05) * rmax,
+                   a.origin.y + rmax + pitch * (k / cols)};
+    settle.bodies.push_back(disc(a, first_id + k, pos, r));
+    settle.bodies.back().velocity = {};
+    mmin = std::min(mmin, settle.bodies.back().mass);
+  }
+  (void)cmax;
+  // Verlet at 1/30 of the stiffest, lightest contact's period is stable for the linear law.
+  settle.accuracy.integrator = Integrator::VelocityVerlet;
+  settle.accuracy.dt = M_PI * std::sqrt(0.5 * mmin / kmax) / 30;
+  World w(settle);
+  w.advance_to(a.settle_time);
+  std::vector<BodySpec> out = settle.bodies;
+  const Particles& p = w.particles();
+  for (BodySpec& b : out) {
+    const long i = w.index_of(b.id);
+    b.position = {p.x[i], p.y[i]};
+    b.angle = p.th[i];
+    b.velocity = a.velocity;
+  }
+  return out;
+}
+
+}  // namespace
+
+void World::expand_assemblies() {
+  std::int64_t next_id = 0;
+  for (std::int64_t id : p_.id) next_id = std::max(next_id, id + 1);
+  for (std::size_t k = 0; k < scene_.assemblies.size(); ++k) {
+    const AssemblySpec& a = scene_.assemblies[k];
+    Rng rng(scene_.seed, 1000003 * (k + 1));  // one stream per assembly, independent of the body count
+    if (a.kind == AssemblySpec::Kind::Lattice) {
+      for (int row = 0; row < a.ny; ++row)
+        for (int col = 0; col < a.nx; ++col)
+          add_particle(disc(a, next_id++, a.origin + Vec2{col * a.spacing, row * a.spacing}, draw_radius(a.radius, rng)));
+    } else {
+      for (const BodySpec& b : pour(scene_, a, next_id, rng)) add_particle(b);
+      next_id += a.count;
+    }
+  }
+}
+
+}  // namespace grainlab::dem

@@ -1,0 +1,282 @@
+#include "world.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <stdexcept>
+
+#include "narrow_phase.hpp"
+
+namespace grainlab::dem {
+
+World::World(const Scene& scene) : scene_(scene), effects_(scene.effects), g_(scene.gravity) {
+  if (scene.periodic_x) {
+    xmin_ = scene.periodic_x->first;
+    period_ = scene.periodic_x->second - scene.periodic_x->first;
+  }
+  setup_laws();
+  for (const WallSpec& w : scene.walls) {
+    Wall wall;
+    wall.spec = w;
+    wall.at(0);
+    walls_.push_back(wall);
+  }
+  wall_lists_.resize(walls_.size());
+  add_bodies_from_scene();
+  expand_assemblies();
+  double rmin = 1e300;
+  for (double r : p_.r) rmin = std::min(rmin, r);
+  skin_ = scene.accuracy.skin.value_or(p_.size() ? 0.25 * rmin : 1.0);
+  dt_ = scene.accuracy.dt;
+  std::fill(p_.vx_prev.begin(), p_.vx_prev.end(), 0.0);
+  rebuild_neighbors();
+}
+
+void World::setup_laws() {
+  n_mat_ = std::max<int>(1, static_cast<int>(scene_.materials.size()));
+  laws_.assign(static_cast<std::size_t>(n_mat_) * n_mat_, ContactLaw{});
+  for (int a = 0; a < static_cast<int>(scene_.materials.size()); ++a)
+    for (int b = 0; b < static_cast<int>(scene_.materials.size()); ++b)
+      if (a == b || scene_.pair_materials.count({std::min(a, b), std::max(a, b)}))
+        laws_[a * n_mat_ + b] = contact_law(scene_.pair(a, b), scene_.clip_attractive_normal_force);
+}
+
+void World::add_particle(const BodySpec& b) {
+  const std::size_t i = p_.size();
+  p_.resize(i + 1);
+  p_.x[i] = b.position.x;
+  p_.y[i] = b.position.y;
+  p_.th[i] = b.angle;
+  p_.vx[i] = b.velocity.x;
+  p_.vy[i] = b.velocity.y;
+  p_.w[i] = effects_.rotation ? b.spin : 0.0;
+  p_.m[i] = b.mass;
+  p_.inv_m[i] = 1 / b.mass;
+  p_.inertia[i] = b.inertia;
+  p_.inv_inertia[i] = effects_.rotation ? 1 / b.inertia : 0.0;
+  p_.r[i] = b.radius;
+  p_.id[i] = b.id;
+  p_.mat[i] = b.material;
+  if (b.shape == BodySpec::Shape::Polygon) {
+    p_.shape[i] = static_cast<std::int32_t>(polygons_.size());
+    polygons_.push_back(b.vertices);
+  } else {
+    p_.shape[i] = -1;
+  }
+}
+
+void World::add_bodies_from_scene() {
+  for (const BodySpec& b : scene_.bodies) add_particle(b);
+}
+
+long World::index_of(std::int64_t id) const {
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (p_.id[i] == id) return static_cast<long>(i);
+  return -1;
+}
+
+// ---------------------------------------------------------------- integration
+
+double World::step() {
+  const double t_before = t_;
+  if (scene_.accuracy.integrator == Integrator::VelocityVerlet) step_verlet();
+  else step_predictor_corrector();
+  ++diag_.steps;
+  const double taken = t_ - t_before;
+  diag_.dt_last = taken;
+  diag_.dt_min_used = diag_.steps == 1 ? taken : std::min(diag_.dt_min_used, taken);
+  diag_.dt_max_used = std::max(diag_.dt_max_used, taken);
+  return taken;
+}
+
+void World::advance_to(double t_end) {
+  const auto start = std::chrono::steady_clock::now();
+  if (scene_.accuracy.integrator == Integrator::VelocityVerlet) {
+    // Fixed steps: stop at the last step not beyond t_end (within a thousandth of a step).
+    while (t_ + dt_ * (1 - 1e-3) <= t_end) step();
+  } else {
+    while (t_ < t_end * (1 - 1e-14)) {
+      const double natural = dt_;
+      const bool clamp = t_ + dt_ > t_end;
+      if (clamp) dt_ = t_end - t_;
+      step();
+      if (clamp) dt_ = std::max(dt_, natural);  // a short landing step does not shrink the next
+    }
+  }
+  diag_.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void World::step_verlet() {
+  const std::size_t n = p_.size();
+  const double dt = dt_, h = 0.5 * dt;
+  if (diag_.force_evaluations == 0) {
+    compute_forces(t_, 0.0);
+    commit_history();
+  }
+  const bool rot = effects_.rotation;
+  for (std::size_t i = 0; i < n; ++i) {
+    p_.vx[i] += h * p_.fx[i] * p_.inv_m[i];
+    p_.vy[i] += h * p_.fy[i] * p_.inv_m[i];
+    p_.x[i] += dt * p_.vx[i];
+    p_.y[i] += dt * p_.vy[i];
+  }
+  if (rot)
+    for (std::size_t i = 0; i < n; ++i) {
+      p_.w[i] += h * p_.tq[i] * p_.inv_inertia[i];
+      p_.th[i] += dt * p_.w[i];
+    }
+  t_ += dt;
+  if (needs_rebuild(0)) rebuild_neighbors();
+  compute_forces(t_, dt);  // with half-step velocities in the dashpots, as LAMMPS does
+  commit_history();
+  for (std::size_t i = 0; i < n; ++i) {
+    p_.vx[i] += h * p_.fx[i] * p_.inv_m[i];
+    p_.vy[i] += h * p_.fy[i] * p_.inv_m[i];
+  }
+  if (rot)
+    for (std::size_t i = 0; i < n; ++i) p_.w[i] += h * p_.tq[i] * p_.inv_inertia[i];
+}
+
+// The thesis's first-order predictor-corrector (eq. 2.4) with its step control: reject and halve
+// when the predicted and corrected velocities differ by more than `tolerance` (relative to the
+// velocity, or to its change over the step: Accuracy::error_measure), accept otherwise, and grow by 20 % when the difference is small enough that the
+// grown step should still pass (error ~ dt^2, so err * 1.2^2 <= tolerance).
+void World::step_predictor_corrector() {
+  const std::size_t n = p_.size();
+  const Accuracy& acc = scene_.accuracy;
+  double vmax = 0;
+  for (std::size_t i = 0; i < n; ++i) vmax = std::max(vmax, std::hypot(p_.vx[i], p_.vy[i]));
+  if (needs_rebuild(2 * vmax * dt_)) rebuild_neighbors();
+
+  compute_forces(t_, 0.0);
+  x0_ = p_.x, y0_ = p_.y, th0_ = p_.th, vx0_ = p_.vx, vy0_ = p_.vy, w0_ = p_.w;
+  ax0_.resize(n), ay0_.resize(n), al0_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ax0_[i] = p_.fx[i] * p_.inv_m[i];
+    ay0_[i] = p_.fy[i] * p_.inv_m[i];
+    al0_[i] = effects_.rotation ? p_.tq[i] * p_.inv_inertia[i] : 0.0;
+  }
+  const double floor = acc.velocity_floor;
+  const bool relative_to_change = acc.error_measure == ErrorMeasure::Change;
+  for (;;) {
+    const double dt = dt_, back = have_prev_ ? dt_prev_ + dt : dt;
+    auto predict = [&](const std::vector<double>& vprev, const std::vector<double>& v0, const std::vector<double>& a0,
+                       const std::vector<double>& x0, std::vector<double>& v, std::vector<double>& x) {
+      for (std::size_t i = 0; i < n; ++i) {
+        v[i] = (have_prev_ ? vprev[i] : v0[i]) + back * a0[i];
+        x[i] = x0[i] + dt * (v0[i] + v[i]) / 2;
+      }
+    };
+    predict(p_.vx_prev, vx0_, ax0_, x0_, p_.vx, p_.x);
+    predict(p_.vy_prev, vy0_, ay0_, y0_, p_.vy, p_.y);
+    if (effects_.rotation) predict(p_.w_prev, w0_, al0_, th0_, p_.w, p_.th);
+    compute_forces(t_ + dt, dt);
+
+    double err = 0;
+    auto correct = [&](const std::vector<double>& v0, const std::vector<double>& a0, const std::vector<double>& f,
+                       const std::vector<double>& inv, const std::vector<double>& x0, std::vector<double>& v,
+                       std::vector<double>& x) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const double vc = v0[i] + dt * (a0[i] + f[i] * inv[i]) / 2;
+        const double scale = relative_to_change ? std::abs(vc - v0[i]) : std::abs(vc);
+        err = std::max(err, std::abs(vc - v[i]) / (scale + floor));
+        v[i] = vc;
+        x[i] = x0[i] + dt * (v0[i] + vc) / 2;
+      }
+    };
+    correct(vx0_, ax0_, p_.fx, p_.inv_m, x0_, p_.vx, p_.x);
+    correct(vy0_, ay0_, p_.fy, p_.inv_m, y0_, p_.vy, p_.y);
+    if (effects_.rotation) correct(w0_, al0_, p_.tq, p_.inv_inertia, th0_, p_.w, p_.th);
+
+    if (err > acc.tolerance) {
+      if (dt / 2 < acc.dt_min)
+        throw std::runtime_error(fmt::format("predictor-corrector step underflow at t = {:.6g} s: dt would fall "
+                                             "below dt_min = {:.3g} s (error {:.3g} > tolerance {:.3g})",
+                                             t_, acc.dt_min, err, acc.tolerance));
+      ++diag_.rejected_steps;
+      dt_ = dt / 2;
+      // The two-step predictor extrapolates f(t0) back over the whole previous step; when a contact
+      // has just begun that error does not shrink with dt0, so the retry predicts from t0 alone.
+      have_prev_ = false;
+      continue;
+    }
+    p_.vx_prev.swap(vx0_), p_.vy_prev.swap(vy0_), p_.w_prev.swap(w0_);
+    dt_prev_ = dt;
+    have_prev_ = true;
+    t_ += dt;
+    commit_history();
+    if (err * 1.44 <= acc.tolerance) dt_ = std::min(dt * 1.2, acc.dt_max);
+    return;
+  }
+}
+
+// ---------------------------------------------------------------- diagnostics
+
+Energies World::energies() const {
+  Energies e;
+  const std::size_t n = p_.size();
+  const double gx = effects_.gravity ? g_.x : 0, gy = effects_.gravity ? g_.y : 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    e.kinetic_translational += 0.5 * p_.m[i] * (p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i]);
+    if (effects_.rotation) e.kinetic_rotational += 0.5 * p_.inertia[i] * p_.w[i] * p_.w[i];
+    e.potential_gravity -= p_.m[i] * (gx * p_.x[i] + gy * p_.y[i]);
+  }
+  if (!effects_.normal_contact) return e;
+  // Elastic energy stored in the normal springs and the committed shear springs.
+  for (std::size_t i = 0; i + 1 < discs_.offset.size() && i < n; ++i)
+    for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
+      const std::uint32_t j = discs_.j[k];
+      const double dx = p_.x[i] - p_.x[j] + discs_.shift[k], dy = p_.y[i] - p_.y[j];
+      const double depth = p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy);
+      const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + p_.mat[j]];
+      if (depth > 0) e.elastic += 0.5 * L.k_n * depth * depth;
+      if (effects_.friction) e.elastic += 0.5 * L.k_s * discs_.xi[k] * discs_.xi[k];
+    }
+  for (std::size_t w = 0; w < walls_.size(); ++w)
+    for (std::size_t k = 0; k < wall_lists_[w].particle.size(); ++k) {
+      const std::uint32_t i = wall_lists_[w].particle[k];
+      ContactGeometry c;
+      const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + walls_[w].spec.material];
+      if (disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c)) e.elastic += 0.5 * L.k_n * c.depth * c.depth;
+      if (effects_.friction) e.elastic += 0.5 * L.k_s * wall_lists_[w].xi[k] * wall_lists_[w].xi[k];
+    }
+  return e;
+}
+
+std::size_t World::count_contacts() const {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i + 1 < discs_.offset.size(); ++i)
+    for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
+      const std::uint32_t j = discs_.j[k];
+      const double dx = p_.x[i] - p_.x[j] + discs_.shift[k], dy = p_.y[i] - p_.y[j];
+      const double rs = p_.r[i] + p_.r[j];
+      count += dx * dx + dy * dy < rs * rs;
+    }
+  for (std::size_t w = 0; w < walls_.size(); ++w)
+    for (std::uint32_t i : wall_lists_[w].particle) {
+      ContactGeometry c;
+      count += disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c);
+    }
+  return count + general_xi_.size();
+}
+
+std::size_t World::memory_bytes() const {
+  auto bytes = [](const auto& v) { return v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
+  std::size_t b = p_.size() * Particles::bytes_per_particle();
+  b += bytes(discs_.offset) + bytes(discs_.j) + bytes(discs_.shift) + bytes(discs_.xi) + bytes(discs_.xi_new);
+  b += bytes(x_build_) + bytes(y_build_) + bytes(general_pairs_);
+  for (const WallList& L : wall_lists_) b += bytes(L.particle) + bytes(L.xi) + bytes(L.xi_new);
+  for (const auto* v : {&x0_, &y0_, &th0_, &vx0_, &vy0_, &w0_, &ax0_, &ay0_, &al0_}) b += bytes(*v);
+  return b + (general_xi_.size() + general_xi_new_.size()) * 32;
+}
+
+std::size_t World::history_entries() const {
+  return discs_.xi.size() + general_xi_.size() + [&] {
+    std::size_t s = 0;
+    for (const WallList& L : wall_lists_) s += L.xi.size();
+    return s;
+  }();
+}
+
+}  // namespace grainlab::dem

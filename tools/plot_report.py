@@ -1,0 +1,48 @@
+#!/usr/bin/python3
+"""Draws the plots of a grainlab validation report from DIR/plots.json (written by `grainlab validate`).
+
+Usage: /usr/bin/python3 tools/plot_report.py REPORT_DIR
+Uses Debian's python3-matplotlib; PNGs are written into REPORT_DIR.
+"""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+STYLES = {"line": dict(linestyle="-", marker=None), "dashed": dict(linestyle="--", marker=None),
+          "points": dict(linestyle="none", marker="o")}
+
+
+def draw(spec, folder):
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+    for s in spec["series"]:
+        ax.plot(s["x"], s["y"], label=s["label"], **STYLES.get(s["style"], STYLES["line"]))
+    if spec.get("logx"):
+        ax.set_xscale("log")
+    ax.set_title(spec["title"])
+    ax.set_xlabel(spec["xlabel"])
+    ax.set_ylabel(spec["ylabel"])
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    fig.tight_layout()
+    tmp = os.path.join(folder, spec["file"] + ".tmp.png")
+    fig.savefig(tmp)
+    os.replace(tmp, os.path.join(folder, spec["file"]))
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    folder = sys.argv[1]
+    with open(os.path.join(folder, "plots.json")) as f:
+        for spec in json.load(f):
+            draw(spec, folder)
+
+
+if __name__ == "__main__":
+    main()

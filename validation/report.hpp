@@ -1,0 +1,43 @@
+#pragma once
+// A validation report: checks with their measured value, reference and tolerance, prose sections,
+// plot data and plots. Written as report.json (machine-readable), report.md (for people) and PNGs.
+#include <string>
+#include <vector>
+
+namespace grainlab::validation {
+
+struct Check {
+  std::string id, engine;
+  double value = 0, reference = 0, tolerance = 0;
+  bool passed = false;
+  std::string note;
+};
+
+// A table of numbers a plot script turns into a PNG (tools/plot_report.py).
+struct PlotSpec {
+  std::string file;  // PNG name inside the report folder
+  std::string title, xlabel, ylabel;
+  bool logx = false;
+  struct Series {
+    std::string label, style;  // style: "line", "points", "dashed"
+    std::vector<double> x, y;
+  };
+  std::vector<Series> series;
+};
+
+struct Report {
+  std::vector<Check> checks;
+  std::vector<std::string> markdown;  // sections, in order
+  std::vector<PlotSpec> plots;
+  bool passed() const;
+  // Adds a check: passed when |value - reference| <= tolerance (absolute).
+  Check& expect_near(std::string id, std::string engine, double value, double reference, double tolerance,
+                     std::string note);
+  // Adds a check: passed when value <= limit.
+  Check& expect_below(std::string id, std::string engine, double value, double limit, std::string note);
+};
+
+// Writes report.json, report.md and the plots into `dir` (created if needed).
+void write_report(const Report& r, const std::string& dir);
+
+}  // namespace grainlab::validation

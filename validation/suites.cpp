@@ -1,0 +1,19 @@
+#include "suites.hpp"
+
+namespace grainlab::validation {
+
+const std::vector<Suite>& suites() {
+  static const std::vector<Suite> all = {
+      {"thesis-code", "the thesis's Ch. II code checks: Table 2.1, spin loss, conservation, sorting (Fig. 2.11)",
+       run_thesis_code_suite},
+  };
+  return all;
+}
+
+const Suite* find_suite(const std::string& name) {
+  for (const Suite& s : suites())
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+}  // namespace grainlab::validation
