@@ -15,7 +15,7 @@ std::string bed_scene_toml(const BedOptions& o) {
   // Parameters of bench/bed.in: spacing 2.02 cm, r = 1 cm, density 2 g/cm^2, lowest centres 1.5 cm
   // above the wall (y = 2.5), k_n = k_t = 6e9 dyn/cm, gamma_n = 4516 1/s, gamma_t = 2258 1/s on the
   // reduced mass, mu = 0.5, dt = 1e-6 s, neighbour skin 0.2 cm.
-  const double spacing = 2.02;
+  const double spacing = o.spacing;
   return fmt::format(R"toml(
 [scene]
 name = "bench bed {nx} x {ny}"
@@ -41,13 +41,13 @@ type = "lattice"
 nx = {nx}
 ny = {ny}
 spacing = {spacing}
-origin = [{half}, 2.5]
+origin = [{half}, {y0}]
 radius = 1.0
 density = 2.0
 )toml",
                      fmt::arg("nx", o.nx), fmt::arg("ny", o.ny), fmt::arg("period", o.nx * spacing),
                      fmt::arg("friction", o.frictionless ? "" : "\"friction\", "), fmt::arg("spacing", spacing),
-                     fmt::arg("half", spacing / 2));
+                     fmt::arg("half", spacing / 2), fmt::arg("y0", o.first_row));
 }
 
 BedResult run_bed(const BedOptions& o) {
@@ -86,7 +86,7 @@ BedResult run_bed(const BedOptions& o) {
 }
 
 int run_bed_command(const BedOptions& o) {
-  fmt::print(stderr, "bench bed: {} x {} discs, {} settling + {} timed steps x {} repeats, {}\n", o.nx, o.ny,
+  fmt::print(stderr, "bench bed: {} x {} discs (spacing {} cm, first row at y = {} cm), {} settling + {} timed steps x {} repeats, {}\n", o.nx, o.ny, o.spacing, o.first_row,
              o.settle_steps, o.timed_steps, o.repeats, o.frictionless ? "frictionless" : "with friction");
   const BedResult r = run_bed(o);
   fmt::print("particles            {}\n", r.particles);

@@ -10,6 +10,7 @@ namespace grainlab::bench {
 struct BedOptions {
   int nx = 100, ny = 50;
   int settle_steps = 2000, timed_steps = 10000, repeats = 3;
+  double spacing = 2.02, first_row = 2.5;  // 2.0 and 1.0: discs start touching (dense variant)
   bool frictionless = false;
   std::string json;
 };

@@ -112,6 +112,10 @@ int main(int argc, char** argv) {
   bed_cmd->add_option("--settle", bed.settle_steps, "settling steps (untimed)")->default_val(2000)->check(CLI::NonNegativeNumber);
   bed_cmd->add_option("--steps", bed.timed_steps, "timed steps")->default_val(10000)->check(CLI::PositiveNumber);
   bed_cmd->add_option("--repeats", bed.repeats, "timed repetitions (median reported)")->default_val(3)->check(CLI::Range(1, 100));
+  bed_cmd->add_option("--spacing", bed.spacing, "lattice spacing, cm (2.0 with --first-row 1.0: dense bed)")
+      ->default_val(2.02)->check(CLI::PositiveNumber);
+  bed_cmd->add_option("--first-row", bed.first_row, "height of the first row of centres, cm")->default_val(2.5)
+      ->check(CLI::PositiveNumber);
   bed_cmd->add_flag("--frictionless", bed.frictionless, "drop the friction effect (no shear history)");
   bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file");
 

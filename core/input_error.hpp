@@ -15,10 +15,11 @@ struct SourceLocation {
 class InputError : public std::runtime_error {
  public:
   InputError(SourceLocation where, std::string key, const std::string& what)
-      : std::runtime_error(format(where, key, what)), where_(std::move(where)), key_(std::move(key)) {}
+      : std::runtime_error(format(where, key, what)), where_(std::move(where)), key_(std::move(key)), message_(what) {}
 
   const SourceLocation& where() const { return where_; }
   const std::string& key() const { return key_; }
+  const std::string& message() const { return message_; }  // without the location
 
  private:
   static std::string format(const SourceLocation& w, const std::string& key, const std::string& what) {
@@ -30,6 +31,7 @@ class InputError : public std::runtime_error {
   }
   SourceLocation where_;
   std::string key_;
+  std::string message_;
 };
 
 }  // namespace grainlab

@@ -469,6 +469,19 @@ void apply_override(toml::table& root, const std::string& assignment) {
   parent->insert_or_assign(parts.back(), *parsed.get("v"));
 }
 
+// "bodies.1.radius" (as typed after --set) -> "bodies[1].radius" (as the reader names keys).
+std::string reader_key(std::string key) {
+  key.erase(0, key.find_first_not_of(" \t"));
+  key.erase(key.find_last_not_of(" \t") + 1);
+  std::string out;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');) {
+    const bool index = !part.empty() && std::all_of(part.begin(), part.end(), ::isdigit);
+    out += index ? "[" + part + "]" : (out.empty() ? "" : ".") + part;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::string> Effects::names() const {
@@ -499,7 +512,15 @@ Scene parse_scene(const std::string& text, const std::string& path, const std::v
   s.path = path;
   s.text = text;
   s.overrides = overrides;
-  SceneReader(root, s).read();
+  try {
+    SceneReader(root, s).read();
+  } catch (const InputError& e) {
+    // A value that came from --set is reported against the --set, not the file.
+    for (const std::string& o : overrides)
+      if (reader_key(o.substr(0, o.find('='))) == e.key())
+        throw InputError({"--set " + o, 0}, e.key(), e.message());
+    throw;
+  }
   return s;
 }
 

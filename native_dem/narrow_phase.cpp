@@ -32,6 +32,21 @@ Vec2 chord_normal(Vec2 p, Vec2 q, Vec2 a_centre, Vec2 b_centre) {
   return dot(n, a_centre - b_centre) < 0 ? -n : n;
 }
 
+// Points where two closed outlines cross (edge-edge intersections).
+void outline_crossings(const std::vector<Vec2>& a, const std::vector<Vec2>& b, std::vector<Vec2>& out) {
+  out.clear();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Vec2 p = a[i], r = a[(i + 1) % a.size()] - p;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      const Vec2 q = b[k], s = b[(k + 1) % b.size()] - q;
+      const double den = cross(r, s);
+      if (den == 0) continue;  // parallel edges: their end points are found by the neighbouring edges
+      const double t = cross(q - p, s) / den, u = cross(q - p, r) / den;
+      if (t >= 0 && t < 1 && u >= 0 && u < 1) out.push_back(p + r * t);
+    }
+  }
+}
+
 bool polygon_polygon(const BodyPose& a, const BodyPose& b, ContactGeometry& c, std::vector<Vec2>& oa,
                      std::vector<Vec2>& ob) {
   world_outline(a, oa);
@@ -39,14 +54,21 @@ bool polygon_polygon(const BodyPose& a, const BodyPose& b, ContactGeometry& c, s
   const std::vector<OverlapVertex> ov = convex_overlap(oa, ob);
   if (ov.size() < 3) return false;
   std::vector<Vec2> crossings, all;
-  for (const OverlapVertex& v : ov) {
-    all.push_back(v.p);
-    if (v.crossing) crossings.push_back(v.p);
-  }
+  for (const OverlapVertex& v : ov) all.push_back(v.p);
+  outline_crossings(oa, ob, crossings);
   Vec2 p, q, point;
   if (crossings.size() >= 2 && furthest_pair(crossings, p, q)) {
-    c.normal = chord_normal(p, q, a.centre, b.centre);
     point = (p + q) * 0.5;
+    const Vec2 d = q - p;
+    c.normal = Vec2{-d.y, d.x} * (1 / norm(d));
+    // Orient from b to a: a's vertices inside b lie on the -n side of the contact line, b's inside a
+    // on the +n side. (The centre-to-centre direction can flip sign mid-contact; this cannot.)
+    double side = 0;
+    for (Vec2 v : oa)
+      if (point_in_convex(v, ob)) side -= dot(v - point, c.normal);
+    for (Vec2 v : ob)
+      if (point_in_convex(v, oa)) side += dot(v - point, c.normal);
+    if (side < 0 || (side == 0 && dot(c.normal, a.centre - b.centre) < 0)) c.normal = -c.normal;
   } else {  // one outline inside the other: no crossing line, push centre from centre
     const Vec2 d = a.centre - b.centre;
     c.normal = norm(d) > 0 ? d * (1 / norm(d)) : Vec2{0, 1};

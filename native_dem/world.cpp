@@ -157,7 +157,9 @@ void World::step_predictor_corrector() {
     ay0_[i] = p_.fy[i] * p_.inv_m[i];
     al0_[i] = effects_.rotation ? p_.tq[i] * p_.inv_inertia[i] : 0.0;
   }
-  const double floor = acc.velocity_floor;
+  // Ratios are not trusted below a floor: the scene's absolute velocity_floor or 1 % of the fastest
+  // particle's speed (a grain at rest, or reversing, next to a moving one must not stall the step).
+  const double floor = std::max(acc.velocity_floor, 0.01 * vmax);
   const bool relative_to_change = acc.error_measure == ErrorMeasure::Change;
   for (;;) {
     const double dt = dt_, back = have_prev_ ? dt_prev_ + dt : dt;
@@ -176,18 +178,18 @@ void World::step_predictor_corrector() {
     double err = 0;
     auto correct = [&](const std::vector<double>& v0, const std::vector<double>& a0, const std::vector<double>& f,
                        const std::vector<double>& inv, const std::vector<double>& x0, std::vector<double>& v,
-                       std::vector<double>& x) {
+                       std::vector<double>& x, bool spin) {
       for (std::size_t i = 0; i < n; ++i) {
         const double vc = v0[i] + dt * (a0[i] + f[i] * inv[i]) / 2;
         const double scale = relative_to_change ? std::abs(vc - v0[i]) : std::abs(vc);
-        err = std::max(err, std::abs(vc - v[i]) / (scale + floor));
+        err = std::max(err, std::abs(vc - v[i]) / (scale + (spin ? floor / p_.r[i] : floor)));
         v[i] = vc;
         x[i] = x0[i] + dt * (v0[i] + vc) / 2;
       }
     };
-    correct(vx0_, ax0_, p_.fx, p_.inv_m, x0_, p_.vx, p_.x);
-    correct(vy0_, ay0_, p_.fy, p_.inv_m, y0_, p_.vy, p_.y);
-    if (effects_.rotation) correct(w0_, al0_, p_.tq, p_.inv_inertia, th0_, p_.w, p_.th);
+    correct(vx0_, ax0_, p_.fx, p_.inv_m, x0_, p_.vx, p_.x, false);
+    correct(vy0_, ay0_, p_.fy, p_.inv_m, y0_, p_.vy, p_.y, false);
+    if (effects_.rotation) correct(w0_, al0_, p_.tq, p_.inv_inertia, th0_, p_.w, p_.th, true);
 
     if (err > acc.tolerance) {
       if (dt / 2 < acc.dt_min)

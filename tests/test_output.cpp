@@ -1,0 +1,89 @@
+// The grainlab command end to end: HDF5 + XDMF output with metadata, exit status 2 on bad input with
+// nothing written, no overwriting without --force.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("grainlab-test-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+int grainlab(const std::string& args) {
+  const int status = std::system((std::string(GRAINLAB_BINARY) + " " + args + " > /dev/null 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string read_string_attr(hid_t f, const char* name) {
+  hid_t a = H5Aopen(f, name, H5P_DEFAULT);
+  hid_t t = H5Aget_type(a);
+  std::string s(H5Tget_size(t), '\0');
+  H5Aread(a, t, s.data());
+  H5Tclose(t), H5Aclose(a);
+  return s;
+}
+
+const std::string kScene = std::string(GRAINLAB_SOURCE_DIR) + "/scenes/two_disc_collision.toml";
+
+}  // namespace
+
+TEST(Command, RunWritesHdf5WithMetadataAndXdmf) {
+  TempDir d;
+  const fs::path out = d.path / "pair.h5";
+  ASSERT_EQ(grainlab("run " + kScene + " --quiet --out " + out.string()), 0);
+  ASSERT_TRUE(fs::exists(out));
+  ASSERT_TRUE(fs::exists(d.path / "pair.xmf"));
+  hid_t f = H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  EXPECT_EQ(read_string_attr(f, "active_effects"), "normal_contact");
+  EXPECT_NE(read_string_attr(f, "scene_text").find("[scene]"), std::string::npos);
+  EXPECT_EQ(read_string_attr(f, "engine"), "native");
+  EXPECT_GT(H5Lexists(f, "/frames/000000/position", H5P_DEFAULT), 0);
+  EXPECT_GT(H5Lexists(f, "/energy/total", H5P_DEFAULT), 0);
+  EXPECT_GT(H5Aexists_by_name(f, "/diagnostics", "rejected_steps", H5P_DEFAULT), 0);
+  H5Fclose(f);
+  std::ifstream xmf(d.path / "pair.xmf");
+  const std::string text((std::istreambuf_iterator<char>(xmf)), {});
+  EXPECT_NE(text.find("pair.h5:/frames/000000/position"), std::string::npos);
+  // No temporary files left behind.
+  for (const auto& e : fs::directory_iterator(d.path)) EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos);
+}
+
+TEST(Command, ExistingOutputIsNotOverwrittenWithoutForce) {
+  TempDir d;
+  const fs::path out = d.path / "pair.h5";
+  { std::ofstream(out) << "keep me"; }
+  EXPECT_EQ(grainlab("run " + kScene + " --quiet --out " + out.string()), 2);
+  EXPECT_EQ(fs::file_size(out), 7u);
+  EXPECT_EQ(grainlab("run " + kScene + " --quiet --force --out " + out.string()), 0);
+  EXPECT_GT(fs::file_size(out), 7u);
+}
+
+TEST(Command, BadInputExitsTwoAndWritesNothing) {
+  TempDir d;
+  const fs::path out = d.path / "x.h5";
+  const fs::path bad = d.path / "bad.toml";
+  { std::ofstream(bad) << "[scene]\nduration = -1\neffects = []\n"; }
+  EXPECT_EQ(grainlab("run " + bad.string() + " --quiet --out " + out.string()), 2);
+  EXPECT_EQ(grainlab("run " + kScene + " --quiet --set scene.duration=abc --out " + out.string()), 2);
+  EXPECT_EQ(grainlab("run " + kScene + " --quiet --set accuracy.dt=0 --out " + out.string()), 2);
+  EXPECT_EQ(grainlab("run " + (d.path / "missing.toml").string() + " --quiet"), 2);
+  EXPECT_EQ(grainlab("bench bed --nx 0"), 2);
+  EXPECT_EQ(grainlab("validate --suite no-such-suite --out " + (d.path / "r").string()), 2);
+  EXPECT_TRUE(fs::is_empty(d.path / "bad.toml") == false);
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(d.path / "r"));
+}
