@@ -195,7 +195,7 @@ class ForceKernels {
   }
 };
 
-void World::compute_forces(double t, double shear_h) {
+void World::compute_forces(double t, double shear_h, bool body_forces_ready) {
   const auto start = std::chrono::steady_clock::now();
   struct Stopwatch {  // charges the evaluation to seconds_forces on every exit path
     std::chrono::steady_clock::time_point t0;
@@ -204,13 +204,15 @@ void World::compute_forces(double t, double shear_h) {
   } watch{start, diag_.seconds_forces};
   ++diag_.force_evaluations;
   for (Wall& wall : walls_) wall.at(t);
-  const std::size_t n = p_.size();
-  const double gx = effects_.gravity ? g_.x : 0.0, gy = effects_.gravity ? g_.y : 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    p_.fx[i] = p_.m[i] * gx;
-    p_.fy[i] = p_.m[i] * gy;
+  if (!body_forces_ready) {
+    const std::size_t n = p_.size();
+    const double gx = effects_.gravity ? g_.x : 0.0, gy = effects_.gravity ? g_.y : 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      p_.fx[i] = p_.m[i] * gx;
+      p_.fy[i] = p_.m[i] * gy;
+    }
+    if (effects_.rotation) std::fill(p_.tq.begin(), p_.tq.end(), 0.0);
   }
-  if (effects_.rotation) std::fill(p_.tq.begin(), p_.tq.end(), 0.0);
   if (!effects_.normal_contact) return;
   const bool f = effects_.friction, r = effects_.rotation;
   if (f && r) ForceKernels::all_contacts<true, true>(*this, shear_h);

@@ -114,27 +114,46 @@ void World::step_verlet() {
     compute_forces(t_, 0.0);
     commit_history();
   }
-  const bool rot = effects_.rotation;
+  // One pass: kick, drift, restart the forces from gravity, and track the largest displacement since
+  // the neighbour list was built (memory traffic dominates at large N, so passes are fused).
+  const double gx = effects_.gravity ? g_.x : 0.0, gy = effects_.gravity ? g_.y : 0.0;
+  double *x = p_.x.data(), *y = p_.y.data(), *vx = p_.vx.data(), *vy = p_.vy.data();
+  double *fx = p_.fx.data(), *fy = p_.fy.data();
+  const double *im = p_.inv_m.data(), *m = p_.m.data(), *xb = x_build_.data(), *yb = y_build_.data();
+  const bool listed = x_build_.size() == n;
+  double max_d2 = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    p_.vx[i] += h * p_.fx[i] * p_.inv_m[i];
-    p_.vy[i] += h * p_.fy[i] * p_.inv_m[i];
-    p_.x[i] += dt * p_.vx[i];
-    p_.y[i] += dt * p_.vy[i];
-  }
-  if (rot)
-    for (std::size_t i = 0; i < n; ++i) {
-      p_.w[i] += h * p_.tq[i] * p_.inv_inertia[i];
-      p_.th[i] += dt * p_.w[i];
+    const double vxi = vx[i] + h * fx[i] * im[i], vyi = vy[i] + h * fy[i] * im[i];
+    vx[i] = vxi;
+    vy[i] = vyi;
+    x[i] += dt * vxi;
+    y[i] += dt * vyi;
+    fx[i] = m[i] * gx;
+    fy[i] = m[i] * gy;
+    if (listed) {
+      const double dx = x[i] - xb[i], dy = y[i] - yb[i];
+      max_d2 = std::max(max_d2, dx * dx + dy * dy);
     }
+  }
+  if (effects_.rotation) {
+    double *w = p_.w.data(), *th = p_.th.data(), *tq = p_.tq.data();
+    const double* iI = p_.inv_inertia.data();
+    for (std::size_t i = 0; i < n; ++i) {
+      w[i] += h * tq[i] * iI[i];
+      th[i] += dt * w[i];
+      tq[i] = 0;
+    }
+  }
   t_ += dt;
-  if (needs_rebuild(0)) rebuild_neighbors();
-  compute_forces(t_, dt);  // with half-step velocities in the dashpots, as LAMMPS does
+  if (!listed || max_d2 > 0.25 * skin_ * skin_) rebuild_neighbors();
+  compute_forces(t_, dt, true);  // dashpots see the half-step velocities, as in LAMMPS
   commit_history();
+  // A rebuild re-sorts (and reallocates) the particle arrays: no pointer from above survives it.
   for (std::size_t i = 0; i < n; ++i) {
     p_.vx[i] += h * p_.fx[i] * p_.inv_m[i];
     p_.vy[i] += h * p_.fy[i] * p_.inv_m[i];
   }
-  if (rot)
+  if (effects_.rotation)
     for (std::size_t i = 0; i < n; ++i) p_.w[i] += h * p_.tq[i] * p_.inv_inertia[i];
 }
 

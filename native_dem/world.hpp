@@ -65,7 +65,8 @@ class World {
   void setup_laws();
   void rebuild_neighbors();
   bool needs_rebuild(double lookahead) const;
-  void compute_forces(double t, double shear_h);
+  // body_forces_ready: the caller has already set forces to m g and torques to zero.
+  void compute_forces(double t, double shear_h, bool body_forces_ready = false);
   void commit_history();
   void step_verlet();
   void step_predictor_corrector();

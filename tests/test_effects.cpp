@@ -57,10 +57,10 @@ TEST(Effects, FrictionAndRotationBetweenBodiesThatNeverTouchChangeNothing) {
 
 TEST(Effects, FrictionlessBedStoresNoShearHistory) {
   bench::BedOptions o;
-  o.nx = 20, o.ny = 5, o.frictionless = true;
-  dem::World frictionless(parse_scene(bench::bed_scene_toml(o), "<bed>", {"assemblies.0.spacing=2.0"}));
+  o.nx = 20, o.ny = 5, o.frictionless = true, o.spacing = 2.0, o.first_row = 1.0;
+  dem::World frictionless(parse_scene(bench::bed_scene_toml(o), "<bed>"));
   o.frictionless = false;
-  dem::World frictional(parse_scene(bench::bed_scene_toml(o), "<bed>", {"assemblies.0.spacing=2.0"}));
+  dem::World frictional(parse_scene(bench::bed_scene_toml(o), "<bed>"));
   for (int s = 0; s < 200; ++s) frictionless.step(), frictional.step();
   EXPECT_GT(frictionless.count_contacts(), 0u);
   EXPECT_EQ(frictionless.history_entries(), 0u);
