@@ -15,7 +15,8 @@ class NativeEngine final : public Engine {
   void advance_to(double t) override { world_.advance_to(t); }
   double time() const override { return world_.time(); }
   std::string integrator() const override {
-    return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet" : "predictor-corrector";
+    return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet"
+                                                                            : "predictor-corrector";
   }
 
   Frame frame() const override {
@@ -71,12 +72,15 @@ class NativeEngine final : public Engine {
 
 }  // namespace
 
-std::vector<std::string> engine_names() { return {"native"}; }
+std::vector<std::string> engine_names() {
+  return {"native"};
+}
 
 std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene) {
   if (name == "native") return std::make_unique<NativeEngine>(scene);
-  throw InputError({"--engine", 0}, "engine",
-                   "unknown engine \"" + name + "\"; available now: native (Box2D, Bullet, ODE arrive with issue #3)");
+  throw InputError(
+      {"--engine", 0}, "engine",
+      "unknown engine \"" + name + "\"; available now: native (Box2D, Bullet, ODE arrive with issue #3)");
 }
 
 }  // namespace grainlab

@@ -16,8 +16,8 @@ std::vector<double> energy_row(double t, const EnergyReport& e) {
 
 RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& options) {
   RunWriter writer(options.out, options.overwrite);  // refuses to overwrite before any work is done
-  writer.set_energy_columns({"time", "kinetic_translational", "kinetic_rotational", "potential_gravity", "elastic",
-                             "total"});
+  writer.set_energy_columns(
+      {"time", "kinetic_translational", "kinetic_rotational", "potential_gravity", "elastic", "total"});
   RunSummary summary;
   summary.initial = engine.energies();
   const int frames = std::max(1, scene.output.frames);

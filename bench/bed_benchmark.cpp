@@ -46,8 +46,9 @@ radius = 1.0
 density = 2.0
 )toml",
                      fmt::arg("nx", o.nx), fmt::arg("ny", o.ny), fmt::arg("period", o.nx * spacing),
-                     fmt::arg("friction", o.frictionless ? "" : "\"friction\", "), fmt::arg("spacing", spacing),
-                     fmt::arg("half", spacing / 2), fmt::arg("y0", o.first_row));
+                     fmt::arg("friction", o.frictionless ? "" : "\"friction\", "),
+                     fmt::arg("spacing", spacing), fmt::arg("half", spacing / 2),
+                     fmt::arg("y0", o.first_row));
 }
 
 BedResult run_bed(const BedOptions& o) {
@@ -86,12 +87,16 @@ BedResult run_bed(const BedOptions& o) {
 }
 
 int run_bed_command(const BedOptions& o) {
-  fmt::print(stderr, "bench bed: {} x {} discs (spacing {} cm, first row at y = {} cm), {} settling + {} timed steps x {} repeats, {}\n", o.nx, o.ny, o.spacing, o.first_row,
-             o.settle_steps, o.timed_steps, o.repeats, o.frictionless ? "frictionless" : "with friction");
+  fmt::print(stderr,
+             "bench bed: {} x {} discs (spacing {} cm, first row at y = {} cm), {} settling + {} timed steps "
+             "x {} repeats, {}\n",
+             o.nx, o.ny, o.spacing, o.first_row, o.settle_steps, o.timed_steps, o.repeats,
+             o.frictionless ? "frictionless" : "with friction");
   const BedResult r = run_bed(o);
   fmt::print("particles            {}\n", r.particles);
   fmt::print("timed steps          {}\n", r.steps);
-  fmt::print("seconds (median)     {:.4f}  (min {:.4f}, max {:.4f})\n", r.median_seconds, r.min_seconds, r.max_seconds);
+  fmt::print("seconds (median)     {:.4f}  (min {:.4f}, max {:.4f})\n", r.median_seconds, r.min_seconds,
+             r.max_seconds);
   fmt::print("particle-steps/s     {:.4g}\n", r.particle_steps_per_second);
   fmt::print("bytes per particle   {:.0f}\n", r.bytes_per_particle);
   fmt::print("time in forces       {:.1f} %\n", 100 * r.share_forces);
@@ -100,11 +105,16 @@ int run_bed_command(const BedOptions& o) {
   fmt::print("mean height (cm)     {:.6f}\n", r.mean_height);
   fmt::print("kinetic energy (erg) {:.6g}\n", r.kinetic_energy);
   if (!o.json.empty()) {
-    nlohmann::json j = {{"particles", r.particles},          {"steps", r.steps},
-                        {"median_seconds", r.median_seconds}, {"particle_steps_per_second", r.particle_steps_per_second},
-                        {"bytes_per_particle", r.bytes_per_particle}, {"share_forces", r.share_forces},
-                        {"share_neighbors", r.share_neighbors}, {"mean_height", r.mean_height},
-                        {"kinetic_energy", r.kinetic_energy}, {"contacts", r.contacts},
+    nlohmann::json j = {{"particles", r.particles},
+                        {"steps", r.steps},
+                        {"median_seconds", r.median_seconds},
+                        {"particle_steps_per_second", r.particle_steps_per_second},
+                        {"bytes_per_particle", r.bytes_per_particle},
+                        {"share_forces", r.share_forces},
+                        {"share_neighbors", r.share_neighbors},
+                        {"mean_height", r.mean_height},
+                        {"kinetic_energy", r.kinetic_energy},
+                        {"contacts", r.contacts},
                         {"frictionless", o.frictionless}};
     write_file_atomically(o.json, j.dump(2) + "\n");
   }

@@ -24,13 +24,18 @@ void BM_BedStep(benchmark::State& state) {
   const bool friction = state.range(0) != 0;
   dem::World w = settled_bed(friction);
   for (auto _ : state) w.step();
-  state.counters["particle_steps_per_s"] =
-      benchmark::Counter(static_cast<double>(w.particles().size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["particle_steps_per_s"] = benchmark::Counter(static_cast<double>(w.particles().size()),
+                                                              benchmark::Counter::kIsIterationInvariantRate);
   state.counters["contacts"] = static_cast<double>(w.count_contacts());
   state.SetLabel(friction ? "friction" : "frictionless");
 }
 
 }  // namespace
 
-BENCHMARK(BM_BedStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK(BM_BedStep)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMicrosecond)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true);
 BENCHMARK_MAIN();

@@ -1,8 +1,8 @@
 // grainlab: the command line. Subcommands: run, validate, bench.
 // Exit status: 0 success; 1 a check failed or a simulation broke down; 2 bad input (nothing written).
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <filesystem>
 
 #include "bed_benchmark.hpp"
@@ -27,7 +27,8 @@ int run_command(const RunArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
   std::string out = a.out.empty() ? scene.output.file : a.out;
   if (out.empty()) out = fs::path(a.scene).stem().string() + ".h5";
-  if (!a.force && fs::exists(out)) throw InputError({"--out", 0}, out, "exists; pass --force to overwrite it");
+  if (!a.force && fs::exists(out))
+    throw InputError({"--out", 0}, out, "exists; pass --force to overwrite it");
   auto engine = make_engine(a.engine, scene);
   if (!a.quiet)
     fmt::print(stderr, "grainlab run: {} ({} bodies, {} s) on {} [{}], effects: {}\n", scene.name,
@@ -40,9 +41,11 @@ int run_command(const RunArgs& a) {
   if (!a.quiet) {
     const auto& d = s.diagnostics;
     fmt::print(stderr, "wrote {} and {}\n", s.h5, s.xmf);
-    fmt::print(stderr, "steps {:.0f} (rejected {:.0f}), force evaluations {:.0f}, contacts at end {:.0f}, wall {:.2f} s\n",
-               d.at("steps"), d.at("rejected_steps"), d.at("force_evaluations"), d.at("contacts"),
-               d.at("wall_seconds"));
+    fmt::print(
+        stderr,
+        "steps {:.0f} (rejected {:.0f}), force evaluations {:.0f}, contacts at end {:.0f}, wall {:.2f} s\n",
+        d.at("steps"), d.at("rejected_steps"), d.at("force_evaluations"), d.at("contacts"),
+        d.at("wall_seconds"));
     fmt::print(stderr, "energy: initial {:.6g}, final {:.6g} (erg per cm of thickness)\n", s.initial.total(),
                s.final.total());
   }
@@ -87,7 +90,9 @@ int main(int argc, char** argv) {
 
   RunArgs run;
   CLI::App* run_cmd = app.add_subcommand("run", "run a scene and write HDF5 frames (+ XDMF for ParaView)");
-  run_cmd->add_option("scene", run.scene, "scene file (TOML, see docs/scenes.md)")->required()->check(CLI::ExistingFile);
+  run_cmd->add_option("scene", run.scene, "scene file (TOML, see docs/scenes.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
   run_cmd->add_option("--out,-o", run.out, "output .h5 (default: [output] file, or SCENE.h5)");
   run_cmd->add_option("--set", run.sets, "override a scene value: --set accuracy.dt=1e-6 (repeatable)");
   run_cmd->add_option("--engine", run.engine, "engine to run on")->default_val("native");
@@ -99,22 +104,32 @@ int main(int argc, char** argv) {
   bool quick = false, vquiet = false;
   CLI::App* val = app.add_subcommand("validate", "run validation suites; exit 0 only if every check passes");
   val->add_option("--suite", suites, "suite to run (repeatable; default: all)");
-  val->add_option("--out,-o", report_dir, "report folder (report.md, report.json, plots)")->default_val("report");
+  val->add_option("--out,-o", report_dir, "report folder (report.md, report.json, plots)")
+      ->default_val("report");
   val->add_flag("--quick", quick, "shorter versions of long checks (for CI)");
   val->add_flag("--quiet,-q", vquiet, "no progress lines");
 
   bench::BedOptions bed;
   CLI::App* bench_cmd = app.add_subcommand("bench", "benchmarks");
   bench_cmd->require_subcommand(1);
-  CLI::App* bed_cmd = bench_cmd->add_subcommand("bed", "settled disc bed, same work as bench/bed.in for LAMMPS");
+  CLI::App* bed_cmd =
+      bench_cmd->add_subcommand("bed", "settled disc bed, same work as bench/bed.in for LAMMPS");
   bed_cmd->add_option("--nx", bed.nx, "discs per row")->default_val(100)->check(CLI::Range(1, 100000));
   bed_cmd->add_option("--ny", bed.ny, "rows")->default_val(50)->check(CLI::Range(1, 100000));
-  bed_cmd->add_option("--settle", bed.settle_steps, "settling steps (untimed)")->default_val(2000)->check(CLI::NonNegativeNumber);
-  bed_cmd->add_option("--steps", bed.timed_steps, "timed steps")->default_val(10000)->check(CLI::PositiveNumber);
-  bed_cmd->add_option("--repeats", bed.repeats, "timed repetitions (median reported)")->default_val(3)->check(CLI::Range(1, 100));
+  bed_cmd->add_option("--settle", bed.settle_steps, "settling steps (untimed)")
+      ->default_val(2000)
+      ->check(CLI::NonNegativeNumber);
+  bed_cmd->add_option("--steps", bed.timed_steps, "timed steps")
+      ->default_val(10000)
+      ->check(CLI::PositiveNumber);
+  bed_cmd->add_option("--repeats", bed.repeats, "timed repetitions (median reported)")
+      ->default_val(3)
+      ->check(CLI::Range(1, 100));
   bed_cmd->add_option("--spacing", bed.spacing, "lattice spacing, cm (2.0 with --first-row 1.0: dense bed)")
-      ->default_val(2.02)->check(CLI::PositiveNumber);
-  bed_cmd->add_option("--first-row", bed.first_row, "height of the first row of centres, cm")->default_val(2.5)
+      ->default_val(2.02)
+      ->check(CLI::PositiveNumber);
+  bed_cmd->add_option("--first-row", bed.first_row, "height of the first row of centres, cm")
+      ->default_val(2.5)
       ->check(CLI::PositiveNumber);
   bed_cmd->add_flag("--frictionless", bed.frictionless, "drop the friction effect (no shear history)");
   bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file");

@@ -2,11 +2,11 @@
 
 #include <fmt/format.h>
 #include <hdf5.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace grainlab {
 
@@ -14,7 +14,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string temp_name(const std::string& path) { return fmt::format("{}.tmp-{}", path, ::getpid()); }
+std::string temp_name(const std::string& path) {
+  return fmt::format("{}.tmp-{}", path, ::getpid());
+}
 
 void check(herr_t status, const char* what) {
   if (status < 0) throw std::runtime_error(std::string("HDF5: failed to ") + what);
@@ -39,22 +41,29 @@ void attr_double(hid_t obj, const std::string& name, double v) {
 
 template <typename T>
 hid_t native_type() {
-  if constexpr (std::is_same_v<T, double>) return H5T_NATIVE_DOUBLE;
-  else if constexpr (std::is_same_v<T, std::int64_t>) return H5T_NATIVE_INT64;
-  else return H5T_NATIVE_INT32;
+  if constexpr (std::is_same_v<T, double>)
+    return H5T_NATIVE_DOUBLE;
+  else if constexpr (std::is_same_v<T, std::int64_t>)
+    return H5T_NATIVE_INT64;
+  else
+    return H5T_NATIVE_INT32;
 }
 
 template <typename T>
-void dataset(hid_t parent, const std::string& name, const std::vector<T>& data, hsize_t rows, hsize_t cols = 1) {
+void dataset(hid_t parent, const std::string& name, const std::vector<T>& data, hsize_t rows,
+             hsize_t cols = 1) {
   hsize_t dims[2] = {rows, cols};
   hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
   hid_t d = H5Dcreate2(parent, name.c_str(), native_type<T>(), space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   if (d < 0) throw std::runtime_error("HDF5: failed to create dataset " + name);
-  if (rows * cols > 0) check(H5Dwrite(d, native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write data");
+  if (rows * cols > 0)
+    check(H5Dwrite(d, native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write data");
   H5Dclose(d), H5Sclose(space);
 }
 
-std::string frame_group(std::size_t k) { return fmt::format("/frames/{:06d}", k); }
+std::string frame_group(std::size_t k) {
+  return fmt::format("/frames/{:06d}", k);
+}
 
 }  // namespace
 
@@ -113,19 +122,22 @@ void RunWriter::write_h5(const std::string& tmp) const {
 
 void RunWriter::write_xdmf(const std::string& tmp) const {
   const std::string h5 = fs::path(path_).filename().string();
-  std::string x = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
-                  "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  std::string x =
+      "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
+      "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t k = 0; k < frames_.size(); ++k) {
     const std::size_t n = frames_[k].id.size();
     const std::string g = frame_group(k);
     auto item = [&](const std::string& name, const char* type, int prec, const std::string& dims) {
-      return fmt::format("     <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:{}/{}"
-                         "</DataItem>\n",
-                         dims, type, prec, h5, g, name);
+      return fmt::format(
+          "     <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:{}/{}"
+          "</DataItem>\n",
+          dims, type, prec, h5, g, name);
     };
     x += fmt::format("   <Grid Name=\"frame{}\" GridType=\"Uniform\">\n    <Time Value=\"{:.17g}\"/>\n", k,
                      frames_[k].time);
-    x += fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", n);
+    x += fmt::format(
+        "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", n);
     x += "    <Geometry GeometryType=\"XYZ\">\n" + item("position", "Float", 8, fmt::format("{} 3", n)) +
          "    </Geometry>\n";
     x += "    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n" +

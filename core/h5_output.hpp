@@ -14,12 +14,12 @@ struct Frame {
   std::vector<std::int64_t> id;
   std::vector<double> position, velocity;  // N x 3 (z = 0 in 2-D, so ParaView reads them as points)
   std::vector<double> angle, spin, radius;
-  std::vector<std::int32_t> shape;         // -1 disc, else polygon index into /shapes
+  std::vector<std::int32_t> shape;  // -1 disc, else polygon index into /shapes
 };
 
 struct RunMetadata {
-  std::map<std::string, std::string> text;     // scene_text, version, units, effects, engine, ...
-  std::map<std::string, double> numbers;       // seed, duration, ...
+  std::map<std::string, std::string> text;  // scene_text, version, units, effects, engine, ...
+  std::map<std::string, double> numbers;    // seed, duration, ...
 };
 
 class RunWriter {

@@ -15,7 +15,10 @@ struct SourceLocation {
 class InputError : public std::runtime_error {
  public:
   InputError(SourceLocation where, std::string key, const std::string& what)
-      : std::runtime_error(format(where, key, what)), where_(std::move(where)), key_(std::move(key)), message_(what) {}
+      : std::runtime_error(format(where, key, what)),
+        where_(std::move(where)),
+        key_(std::move(key)),
+        message_(what) {}
 
   const SourceLocation& where() const { return where_; }
   const std::string& key() const { return key_; }

@@ -9,13 +9,15 @@ namespace grainlab {
 
 class Rng {
  public:
-  Rng(std::uint64_t seed, std::uint64_t run_index = 0) : s_(mix(seed ^ mix(run_index + 0x9E3779B97F4A7C15ull))) {}
+  Rng(std::uint64_t seed, std::uint64_t run_index = 0)
+      : s_(mix(seed ^ mix(run_index + 0x9E3779B97F4A7C15ull))) {}
   std::uint64_t next() { return mix(s_ += 0x9E3779B97F4A7C15ull); }
   double uniform() { return (next() >> 11) * 0x1.0p-53; }  // [0, 1)
   double uniform(double a, double b) { return a + (b - a) * uniform(); }
   double normal() {  // Box-Muller, one value per call
     double u1;
-    do u1 = uniform(); while (u1 <= 0);
+    do u1 = uniform();
+    while (u1 <= 0);
     return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * uniform());
   }
 

@@ -18,16 +18,22 @@ const std::vector<std::string> kEffectNames = {"gravity", "normal_contact", "fri
 
 Effects read_effects(const TomlReader& r) {
   Effects e;
-  if (!r.has("effects")) r.fail("effects", "required: list the effects this scene needs, from " +
-                                               fmt::format("{}", fmt::join(kEffectNames, ", ")));
+  if (!r.has("effects"))
+    r.fail("effects", "required: list the effects this scene needs, from " +
+                          fmt::format("{}", fmt::join(kEffectNames, ", ")));
   std::set<std::string> seen;
   for (const std::string& name : r.string_list("effects")) {
     if (!seen.insert(name).second) r.fail("effects", "\"" + name + "\" is listed twice");
-    if (name == "gravity") e.gravity = true;
-    else if (name == "normal_contact") e.normal_contact = true;
-    else if (name == "friction") e.friction = true;
-    else if (name == "rotation") e.rotation = true;
-    else r.fail("effects", fmt::format("unknown effect \"{}\"; known: {}", name, fmt::join(kEffectNames, ", ")));
+    if (name == "gravity")
+      e.gravity = true;
+    else if (name == "normal_contact")
+      e.normal_contact = true;
+    else if (name == "friction")
+      e.friction = true;
+    else if (name == "rotation")
+      e.rotation = true;
+    else
+      r.fail("effects", fmt::format("unknown effect \"{}\"; known: {}", name, fmt::join(kEffectNames, ", ")));
   }
   if (e.friction && !e.normal_contact)
     r.fail("effects", "\"friction\" needs \"normal_contact\": friction is capped by the normal force");
@@ -39,11 +45,15 @@ Damping read_damping(const TomlReader& r, const char* rate_key, const char* coef
   for (const char* k : {rate_key, coef_key, rest_key})
     if (k && r.has(k)) given.emplace_back(k);
   if (given.size() > 1)
-    r.fail(given[1], fmt::format("give only one of {}: they specify the same damping", fmt::join(given, ", ")));
+    r.fail(given[1],
+           fmt::format("give only one of {}: they specify the same damping", fmt::join(given, ", ")));
   Damping d;
-  if (r.has(rate_key)) d = {Damping::Kind::Rate, r.number(rate_key, Range::non_negative())};
-  else if (r.has(coef_key)) d = {Damping::Kind::Coefficient, r.number(coef_key, Range::non_negative())};
-  else if (rest_key && r.has(rest_key)) d = {Damping::Kind::Restitution, r.number(rest_key, {0, 1, true})};
+  if (r.has(rate_key))
+    d = {Damping::Kind::Rate, r.number(rate_key, Range::non_negative())};
+  else if (r.has(coef_key))
+    d = {Damping::Kind::Coefficient, r.number(coef_key, Range::non_negative())};
+  else if (rest_key && r.has(rest_key))
+    d = {Damping::Kind::Restitution, r.number(rest_key, {0, 1, true})};
   return d;
 }
 
@@ -78,10 +88,12 @@ SizeDistribution read_size(const TomlReader& r) {
   TomlReader d(*t, r.dotted("radius_distribution"), "");
   const std::string kind = d.string("kind");
   if (kind == "uniform") {
-    s = {SizeDistribution::Kind::Uniform, d.number("min", Range::positive()), d.number("max", Range::positive())};
+    s = {SizeDistribution::Kind::Uniform, d.number("min", Range::positive()),
+         d.number("max", Range::positive())};
     if (s.b < s.a) d.fail("max", "must be >= min");
   } else if (kind == "normal") {
-    s = {SizeDistribution::Kind::Normal, d.number("mean", Range::positive()), d.number("sd", Range::non_negative())};
+    s = {SizeDistribution::Kind::Normal, d.number("mean", Range::positive()),
+         d.number("sd", Range::non_negative())};
     if (s.a - 3 * s.b <= 0) d.fail("sd", "mean - 3 sd must stay positive (radii are truncated at +-3 sd)");
   } else {
     d.fail("kind", "must be \"uniform\" or \"normal\", found \"" + kind + "\"");
@@ -124,9 +136,11 @@ class SceneReader {
     TomlReader r = section(top, "scene", true);
     s_.name = r.string_or("name", "unnamed");
     s_.dimension = static_cast<int>(r.integer_or("dimension", 2, 2, 3));
-    if (s_.dimension != 2) r.fail("dimension", "only 2-D scenes run on the native engine so far (3-D: issue #3)");
+    if (s_.dimension != 2)
+      r.fail("dimension", "only 2-D scenes run on the native engine so far (3-D: issue #3)");
     s_.units = r.string_or("units", "cgs");
-    if (s_.units != "cgs") r.fail("units", "only \"cgs\" (cm, g, s) is supported, found \"" + s_.units + "\"");
+    if (s_.units != "cgs")
+      r.fail("units", "only \"cgs\" (cm, g, s) is supported, found \"" + s_.units + "\"");
     s_.duration = r.number("duration", Range::positive());
     s_.seed = static_cast<std::uint64_t>(r.integer_or("seed", 0, 0, INT64_MAX));
     s_.gravity = r.vec2_or("gravity", {0, -981.0});
@@ -150,14 +164,20 @@ class SceneReader {
     TomlReader r = section(top, "accuracy", false);
     Accuracy& a = s_.accuracy;
     const std::string integ = r.string_or("integrator", "predictor-corrector");
-    if (integ == "predictor-corrector") a.integrator = Integrator::PredictorCorrector;
-    else if (integ == "verlet") a.integrator = Integrator::VelocityVerlet;
-    else r.fail("integrator", "must be \"predictor-corrector\" or \"verlet\", found \"" + integ + "\"");
+    if (integ == "predictor-corrector")
+      a.integrator = Integrator::PredictorCorrector;
+    else if (integ == "verlet")
+      a.integrator = Integrator::VelocityVerlet;
+    else
+      r.fail("integrator", "must be \"predictor-corrector\" or \"verlet\", found \"" + integ + "\"");
     a.tolerance = r.number_or("tolerance", a.tolerance, {0, 1, true});
     const std::string measure = r.string_or("error_measure", "velocity");
-    if (measure == "velocity") a.error_measure = ErrorMeasure::Velocity;
-    else if (measure == "change") a.error_measure = ErrorMeasure::Change;
-    else r.fail("error_measure", "must be \"velocity\" or \"change\", found \"" + measure + "\"");
+    if (measure == "velocity")
+      a.error_measure = ErrorMeasure::Velocity;
+    else if (measure == "change")
+      a.error_measure = ErrorMeasure::Change;
+    else
+      r.fail("error_measure", "must be \"velocity\" or \"change\", found \"" + measure + "\"");
     a.velocity_floor = r.number_or("velocity_floor", a.velocity_floor, Range::positive());
     a.dt = r.number_or("dt", a.dt, Range::positive());
     a.dt_min = r.number_or("dt_min", a.dt_min, Range::positive());
@@ -244,7 +264,8 @@ class SceneReader {
         b.vertices = r.vec2_list("vertices");
         if (b.vertices.size() < 3) r.fail("vertices", "a polygon needs at least 3 vertices");
         if (!is_convex_ccw(b.vertices))
-          r.fail("vertices", "must be a convex polygon listed counter-clockwise (no repeated or collinear points)");
+          r.fail("vertices",
+                 "must be a convex polygon listed counter-clockwise (no repeated or collinear points)");
         const PolygonMass pm = polygon_mass(b.vertices);
         for (Vec2& v : b.vertices) v -= pm.centroid;  // body frame at the centroid
         area = pm.area;
@@ -266,9 +287,12 @@ class SceneReader {
 
   void read_mass(const TomlReader& r, BodySpec& b, double area, double polar) {
     if (r.has("mass") && r.has("density")) r.fail("density", "give mass or density, not both");
-    if (r.has("mass")) b.mass = r.number("mass", Range::positive());
-    else if (r.has("density")) b.mass = r.number("density", Range::positive()) * area;
-    else r.fail("density", "required: give the body's density (mass per area) or its mass");
+    if (r.has("mass"))
+      b.mass = r.number("mass", Range::positive());
+    else if (r.has("density"))
+      b.mass = r.number("density", Range::positive()) * area;
+    else
+      r.fail("density", "required: give the body's density (mass per area) or its mass");
     b.inertia = b.mass * polar / area;
   }
 
@@ -320,8 +344,9 @@ class SceneReader {
         a.ny = static_cast<int>(r.integer("ny", 1, 10'000'000));
         a.spacing = r.number("spacing", Range::positive());
         if (a.spacing < 2 * max_radius(a.radius))
-          r.fail("spacing", fmt::format("{} is less than the largest diameter {}: the lattice would start overlapped",
-                                        a.spacing, 2 * max_radius(a.radius)));
+          r.fail("spacing",
+                 fmt::format("{} is less than the largest diameter {}: the lattice would start overlapped",
+                             a.spacing, 2 * max_radius(a.radius)));
       } else if (type == "poured") {
         a.kind = AssemblySpec::Kind::Poured;
         a.count = static_cast<int>(r.integer("count", 1, 10'000'000));
@@ -338,9 +363,12 @@ class SceneReader {
 
   static double max_radius(const SizeDistribution& d) {
     switch (d.kind) {
-      case SizeDistribution::Kind::Fixed: return d.a;
-      case SizeDistribution::Kind::Uniform: return d.b;
-      case SizeDistribution::Kind::Normal: return d.a + 3 * d.b;
+      case SizeDistribution::Kind::Fixed:
+        return d.a;
+      case SizeDistribution::Kind::Uniform:
+        return d.b;
+      case SizeDistribution::Kind::Normal:
+        return d.a + 3 * d.b;
     }
     return d.a;
   }
@@ -357,11 +385,12 @@ class SceneReader {
     for (int a : used_materials_)
       for (int b : used_materials_)
         if (a < b && !s_.pair_materials.count({a, b}))
-          throw InputError(top.where_table(), "material_pairs",
-                           fmt::format("materials \"{}\" and \"{}\" can touch but no [[material_pairs]] entry with "
-                                       "between = [\"{}\", \"{}\"] says how",
-                                       s_.materials[a].name, s_.materials[b].name, s_.materials[a].name,
-                                       s_.materials[b].name));
+          throw InputError(
+              top.where_table(), "material_pairs",
+              fmt::format("materials \"{}\" and \"{}\" can touch but no [[material_pairs]] entry with "
+                          "between = [\"{}\", \"{}\"] says how",
+                          s_.materials[a].name, s_.materials[b].name, s_.materials[a].name,
+                          s_.materials[b].name));
   }
 
   void check_ids() {
@@ -380,10 +409,11 @@ class SceneReader {
         const double allowed = s_.overlap_tolerance * std::min(B[i].radius, B[j].radius);
         const double depth = overlap_depth(B[i], B[j]);
         if (depth > allowed)
-          throw InputError(B[j].where, fmt::format("bodies[{}].position", j),
-                           fmt::format("overlaps body id {} by {:.4g} (allowed {:.4g} = overlap_tolerance x smaller "
-                                       "radius)",
-                                       B[i].id, depth, allowed));
+          throw InputError(
+              B[j].where, fmt::format("bodies[{}].position", j),
+              fmt::format("overlaps body id {} by {:.4g} (allowed {:.4g} = overlap_tolerance x smaller "
+                          "radius)",
+                          B[i].id, depth, allowed));
       }
   }
 
@@ -458,7 +488,8 @@ void apply_override(toml::table& root, const std::string& assignment) {
     } else if (toml::array* a = node->as_array()) {
       const bool numeric = !p.empty() && std::all_of(p.begin(), p.end(), ::isdigit);
       if (!numeric || std::stoul(p) >= a->size())
-        throw InputError(where, key, fmt::format("\"{}\" is not an index of this {}-element array", p, a->size()));
+        throw InputError(where, key,
+                         fmt::format("\"{}\" is not an index of this {}-element array", p, a->size()));
       node = a->get(std::stoul(p));
     } else {
       throw InputError(where, key, "\"" + p + "\" is not a table");
@@ -493,14 +524,17 @@ std::vector<std::string> Effects::names() const {
   return n;
 }
 
-const std::vector<std::string>& known_effect_names() { return kEffectNames; }
+const std::vector<std::string>& known_effect_names() {
+  return kEffectNames;
+}
 
 const Material& Scene::pair(int a, int b) const {
   if (a == b) return materials.at(a);
   return pair_materials.at({std::min(a, b), std::max(a, b)});
 }
 
-Scene parse_scene(const std::string& text, const std::string& path, const std::vector<std::string>& overrides) {
+Scene parse_scene(const std::string& text, const std::string& path,
+                  const std::vector<std::string>& overrides) {
   toml::table root;
   try {
     root = toml::parse(text, path);

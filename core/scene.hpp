@@ -47,13 +47,14 @@ enum class ErrorMeasure { Velocity, Change };
 
 struct Accuracy {
   Integrator integrator = Integrator::PredictorCorrector;
-  double tolerance = 0.005;       // predictor-corrector: allowed fractional velocity difference per step
+  double tolerance = 0.005;  // predictor-corrector: allowed fractional velocity difference per step
   ErrorMeasure error_measure = ErrorMeasure::Velocity;
-  double velocity_floor = 1e-6;   // predictor-corrector: absolute velocity change below which ratios are not trusted
-  double dt = 1e-5;               // Verlet: the step; predictor-corrector: the first step
-  double dt_min = 1e-12;          // predictor-corrector: below this the run stops with an error
-  double dt_max = 1e-2;           // predictor-corrector: cap on the growing step
-  std::optional<double> skin;     // neighbour-list skin (length); default 0.1 x smallest grain radius
+  double velocity_floor =
+      1e-6;               // predictor-corrector: absolute velocity change below which ratios are not trusted
+  double dt = 1e-5;       // Verlet: the step; predictor-corrector: the first step
+  double dt_min = 1e-12;  // predictor-corrector: below this the run stops with an error
+  double dt_max = 1e-2;   // predictor-corrector: cap on the growing step
+  std::optional<double> skin;  // neighbour-list skin (length); default 0.1 x smallest grain radius
 };
 
 // Sinusoidal prescribed motion x(t) = x0 + amplitude sin(2 pi f t + phase), per axis.
@@ -68,20 +69,20 @@ struct BodySpec {
   enum class Shape { Disc, Polygon };
   std::int64_t id = -1;
   Shape shape = Shape::Disc;
-  double radius = 0;              // disc radius
-  std::vector<Vec2> vertices;     // polygon, counter-clockwise, relative to the centroid (body frame)
-  double mass = 0;                // per unit thickness in 2-D
-  double inertia = 0;             // about the centre of mass
+  double radius = 0;           // disc radius
+  std::vector<Vec2> vertices;  // polygon, counter-clockwise, relative to the centroid (body frame)
+  double mass = 0;             // per unit thickness in 2-D
+  double inertia = 0;          // about the centre of mass
   Vec2 position{}, velocity{};
   double angle = 0, spin = 0;
-  int material = 0;               // index into Scene::materials
+  int material = 0;  // index into Scene::materials
   SourceLocation where;
 };
 
 struct WallSpec {
   enum class Kind { Segment, Line };
   Kind kind = Kind::Segment;
-  Vec2 a{}, b{};    // segment end points; for a line: a point on it and b = unit normal (front side)
+  Vec2 a{}, b{};  // segment end points; for a line: a point on it and b = unit normal (front side)
   int material = 0;
   Motion motion;
   SourceLocation where;
@@ -97,27 +98,27 @@ struct SizeDistribution {
 struct AssemblySpec {
   enum class Kind { Lattice, Poured };
   Kind kind = Kind::Lattice;
-  int nx = 0, ny = 0;           // lattice: columns, rows
-  int count = 0;                // poured: number of discs
-  double spacing = 0;           // lattice: centre spacing
-  Vec2 origin{};                // lattice: first centre; poured: lower-left of the pouring box
-  double width = 0;             // poured: width of the box discs are dropped into
-  double settle_time = 0;       // poured: simulated time to let the pour settle
+  int nx = 0, ny = 0;      // lattice: columns, rows
+  int count = 0;           // poured: number of discs
+  double spacing = 0;      // lattice: centre spacing
+  Vec2 origin{};           // lattice: first centre; poured: lower-left of the pouring box
+  double width = 0;        // poured: width of the box discs are dropped into
+  double settle_time = 0;  // poured: simulated time to let the pour settle
   SizeDistribution radius;
-  double density = 0;           // 2-D density, mass per area
+  double density = 0;  // 2-D density, mass per area
   Vec2 velocity{};
   int material = 0;
   SourceLocation where;
 };
 
 struct OutputSpec {
-  std::string file;   // empty: derived from the scene file name
-  int frames = 50;    // equally spaced frames over the duration, plus the initial one
+  std::string file;  // empty: derived from the scene file name
+  int frames = 50;   // equally spaced frames over the duration, plus the initial one
 };
 
 struct Scene {
-  std::string path;       // scene file
-  std::string text;       // the scene file's text as read
+  std::string path;                    // scene file
+  std::string text;                    // the scene file's text as read
   std::vector<std::string> overrides;  // the --set assignments, in order
   std::string name;
   int dimension = 2;

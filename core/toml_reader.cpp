@@ -14,13 +14,20 @@ std::string Range::describe() const {
 
 std::string type_name(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a number";
-    case toml::node_type::boolean: return "a boolean";
-    default: return "a date or time";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    default:
+      return "a date or time";
   }
 }
 
@@ -114,7 +121,9 @@ static Vec2 to_vec2(const TomlReader& r, const std::string& key, const toml::nod
   return v;
 }
 
-Vec2 TomlReader::vec2(const std::string& key) const { return to_vec2(*this, key, need(key)); }
+Vec2 TomlReader::vec2(const std::string& key) const {
+  return to_vec2(*this, key, need(key));
+}
 
 Vec2 TomlReader::vec2_or(const std::string& key, Vec2 fallback) const {
   const toml::node* n = get(key);
@@ -153,7 +162,8 @@ const toml::array* TomlReader::array_of_tables(const std::string& key) const {
   const toml::node* n = get(key);
   if (!n) return nullptr;
   const toml::array* a = n->as_array();
-  if (!a || !a->is_array_of_tables()) fail(key, "expected [[" + dotted(key) + "]] tables, found " + type_name(*n));
+  if (!a || !a->is_array_of_tables())
+    fail(key, "expected [[" + dotted(key) + "]] tables, found " + type_name(*n));
   return a;
 }
 
@@ -162,8 +172,8 @@ void TomlReader::finish() const {
     const std::string key(k.str());
     if (!seen_.count(key)) {
       const auto& src = v.source();
-      throw InputError({src.path ? std::string(*src.path) : file_, static_cast<int>(src.begin.line)}, dotted(key),
-                       "unknown key (see docs/scenes.md for the keys this section takes)");
+      throw InputError({src.path ? std::string(*src.path) : file_, static_cast<int>(src.begin.line)},
+                       dotted(key), "unknown key (see docs/scenes.md for the keys this section takes)");
     }
   }
 }

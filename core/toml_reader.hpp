@@ -1,12 +1,13 @@
 #pragma once
 // Checked access to one TOML table: every read names file, line and dotted key on error, and
 // finish() rejects keys nobody asked for (unknown keys are errors, not silently ignored).
+#include <toml++/toml.h>
+
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <set>
 #include <string>
-#include <toml++/toml.h>
 
 #include "input_error.hpp"
 #include "vec2.hpp"
@@ -34,7 +35,8 @@ class TomlReader {
   double number_or(const std::string& key, double fallback, Range range = {}) const;
   std::optional<double> optional_number(const std::string& key, Range range = {}) const;
   std::int64_t integer(const std::string& key, std::int64_t lo, std::int64_t hi) const;
-  std::int64_t integer_or(const std::string& key, std::int64_t fallback, std::int64_t lo, std::int64_t hi) const;
+  std::int64_t integer_or(const std::string& key, std::int64_t fallback, std::int64_t lo,
+                          std::int64_t hi) const;
   std::string string(const std::string& key) const;
   std::string string_or(const std::string& key, const std::string& fallback) const;
   bool boolean_or(const std::string& key, bool fallback) const;

@@ -1,8 +1,9 @@
 // Generated assemblies: a lattice bed, and a bed of discs poured into the scene's walls and left to
 // settle under the scene's own contact law. Radii and positions come from the scene's seed.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "rng.hpp"
 #include "world.hpp"
@@ -13,11 +14,14 @@ namespace {
 
 double draw_radius(const SizeDistribution& d, Rng& rng) {
   switch (d.kind) {
-    case SizeDistribution::Kind::Fixed: return d.a;
-    case SizeDistribution::Kind::Uniform: return rng.uniform(d.a, d.b);
+    case SizeDistribution::Kind::Fixed:
+      return d.a;
+    case SizeDistribution::Kind::Uniform:
+      return rng.uniform(d.a, d.b);
     case SizeDistribution::Kind::Normal: {
       double z;
-      do z = rng.normal(); while (std::abs(z) > 3);
+      do z = rng.normal();
+      while (std::abs(z) > 3);
       return d.a + d.b * z;
     }
   }
@@ -25,7 +29,9 @@ double draw_radius(const SizeDistribution& d, Rng& rng) {
 }
 
 double largest_radius(const SizeDistribution& d) {
-  return d.kind == SizeDistribution::Kind::Fixed ? d.a : d.kind == SizeDistribution::Kind::Uniform ? d.b : d.a + 3 * d.b;
+  return d.kind == SizeDistribution::Kind::Fixed     ? d.a
+         : d.kind == SizeDistribution::Kind::Uniform ? d.b
+                                                     : d.a + 3 * d.b;
 }
 
 BodySpec disc(const AssemblySpec& a, std::int64_t id, Vec2 pos, double r) {
@@ -89,7 +95,8 @@ void World::expand_assemblies() {
     if (a.kind == AssemblySpec::Kind::Lattice) {
       for (int row = 0; row < a.ny; ++row)
         for (int col = 0; col < a.nx; ++col)
-          add_particle(disc(a, next_id++, a.origin + Vec2{col * a.spacing, row * a.spacing}, draw_radius(a.radius, rng)));
+          add_particle(disc(a, next_id++, a.origin + Vec2{col * a.spacing, row * a.spacing},
+                            draw_radius(a.radius, rng)));
     } else {
       for (const BodySpec& b : pour(scene_, a, next_id, rng)) add_particle(b);
       next_id += a.count;

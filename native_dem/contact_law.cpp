@@ -26,10 +26,17 @@ double contact_duration(double k_n, double c, double meff) {
 DampingLaw damping_law(const Damping& d, double k_n) {
   DampingLaw law;
   switch (d.kind) {
-    case Damping::Kind::None: break;
-    case Damping::Kind::Rate: law.rate = d.value; break;
-    case Damping::Kind::Coefficient: law.coef = d.value; break;
-    case Damping::Kind::Restitution: law.rest = damping_for_restitution(k_n, d.value, 1.0); break;  // ~ sqrt(m)
+    case Damping::Kind::None:
+      break;
+    case Damping::Kind::Rate:
+      law.rate = d.value;
+      break;
+    case Damping::Kind::Coefficient:
+      law.coef = d.value;
+      break;
+    case Damping::Kind::Restitution:
+      law.rest = damping_for_restitution(k_n, d.value, 1.0);
+      break;  // ~ sqrt(m)
   }
   return law;
 }

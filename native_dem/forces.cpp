@@ -96,8 +96,8 @@ class ForceKernels {
   // One contact with lever arms: used for walls and polygons (few contacts, generality first).
   // j < 0 means a wall moving at `wall_v`.
   template <bool Friction, bool Rotation>
-  static void apply(World& W, std::uint32_t i, long j, Vec2 wall_v, const ContactGeometry& c, const ContactLaw& law,
-                    double h, const double* xi_committed, double* xi_trial) {
+  static void apply(World& W, std::uint32_t i, long j, Vec2 wall_v, const ContactGeometry& c,
+                    const ContactLaw& law, double h, const double* xi_committed, double* xi_trial) {
     Particles& P = W.p_;
     const double inv_mj = j >= 0 ? P.inv_m[j] : 0.0;
     const double meff = 1.0 / (P.inv_m[i] + inv_mj);
@@ -188,8 +188,10 @@ class ForceKernels {
 
   template <bool Friction, bool Rotation>
   static void all_contacts(World& W, double h) {
-    if (W.period_ > 0) disc_pairs<Friction, Rotation, true>(W, h);
-    else disc_pairs<Friction, Rotation, false>(W, h);
+    if (W.period_ > 0)
+      disc_pairs<Friction, Rotation, true>(W, h);
+    else
+      disc_pairs<Friction, Rotation, false>(W, h);
     disc_walls<Friction, Rotation>(W, h);
     general<Friction, Rotation>(W, h);
   }
@@ -215,10 +217,14 @@ void World::compute_forces(double t, double shear_h, bool body_forces_ready) {
   }
   if (!effects_.normal_contact) return;
   const bool f = effects_.friction, r = effects_.rotation;
-  if (f && r) ForceKernels::all_contacts<true, true>(*this, shear_h);
-  else if (f) ForceKernels::all_contacts<true, false>(*this, shear_h);
-  else if (r) ForceKernels::all_contacts<false, true>(*this, shear_h);
-  else ForceKernels::all_contacts<false, false>(*this, shear_h);
+  if (f && r)
+    ForceKernels::all_contacts<true, true>(*this, shear_h);
+  else if (f)
+    ForceKernels::all_contacts<true, false>(*this, shear_h);
+  else if (r)
+    ForceKernels::all_contacts<false, true>(*this, shear_h);
+  else
+    ForceKernels::all_contacts<false, false>(*this, shear_h);
 }
 
 void World::commit_history() {

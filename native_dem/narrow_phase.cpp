@@ -84,11 +84,13 @@ bool polygon_polygon(const BodyPose& a, const BodyPose& b, ContactGeometry& c, s
 }
 
 // a: the polygon, disc: the disc. Normal returned from the polygon towards the disc.
-bool polygon_disc(const BodyPose& poly, const BodyPose& disc, ContactGeometry& c, std::vector<Vec2>& outline) {
+bool polygon_disc(const BodyPose& poly, const BodyPose& disc, ContactGeometry& c,
+                  std::vector<Vec2>& outline) {
   world_outline(poly, outline);
   const std::vector<Vec2> crossings = circle_polygon_crossings(disc.centre, disc.radius, outline);
   Vec2 p, q;
-  if (crossings.size() < 2 || !furthest_pair(crossings, p, q)) return false;  // no crossing: apart or enclosed
+  if (crossings.size() < 2 || !furthest_pair(crossings, p, q))
+    return false;  // no crossing: apart or enclosed
   c.normal = chord_normal(p, q, disc.centre, poly.centre);
   // The overlap region spans the chord, the polygon's vertices inside the disc, and the disc's
   // deepest point if it lies inside the polygon.

@@ -8,15 +8,15 @@
 namespace grainlab::dem {
 
 struct ContactGeometry {
-  Vec2 normal{};       // unit, from j (or the wall) towards i
-  double depth = 0;    // overlap along the normal
+  Vec2 normal{};          // unit, from j (or the wall) towards i
+  double depth = 0;       // overlap along the normal
   Vec2 arm_i{}, arm_j{};  // contact point relative to the centres of mass of i and j
 };
 
 struct BodyPose {
   Vec2 centre{};
   double angle = 0;
-  double radius = 0;                         // disc radius or polygon bounding radius
+  double radius = 0;                            // disc radius or polygon bounding radius
   const std::vector<Vec2>* vertices = nullptr;  // null for a disc
 };
 

@@ -82,7 +82,9 @@ void World::rebuild_neighbors() {
   double cell = 2 * rmax + skin_;
   if (period_ > 0) xlo = xmin_, xhi = xmin_ + period_;
   // Keep the grid no larger than a few cells per particle (a grain far from the bed must not blow it up).
-  auto count_cells = [&](double c) { return (std::floor((xhi - xlo) / c) + 1) * (std::floor((yhi - ylo) / c) + 1); };
+  auto count_cells = [&](double c) {
+    return (std::floor((xhi - xlo) / c) + 1) * (std::floor((yhi - ylo) / c) + 1);
+  };
   while (n > 0 && count_cells(cell) > 4.0 * n + 64) cell *= 1.5;
   int ncx = n ? static_cast<int>(std::floor((xhi - xlo) / cell)) + 1 : 1;
   const int ncy = n ? static_cast<int>(std::floor((yhi - ylo) / cell)) + 1 : 1;
@@ -122,8 +124,10 @@ void World::rebuild_neighbors() {
       if (yy < 0 || yy >= ncy) continue;
       for (int ox = -1; ox <= 1; ++ox) {
         int xx = cx + ox;
-        if (period_ > 0) xx = (xx + ncx) % ncx;
-        else if (xx < 0 || xx >= ncx) continue;
+        if (period_ > 0)
+          xx = (xx + ncx) % ncx;
+        else if (xx < 0 || xx >= ncx)
+          continue;
         const int c = yy * ncx + xx;
         if (std::find(stencil, stencil + ns, c) == stencil + ns) stencil[ns++] = c;  // narrow periodic grids
       }
@@ -185,7 +189,8 @@ void World::rebuild_neighbors() {
   }
   x_build_ = p_.x;
   y_build_ = p_.y;
-  diag_.seconds_neighbors += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  diag_.seconds_neighbors +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 }
 
 }  // namespace grainlab::dem

@@ -5,8 +5,8 @@ namespace grainlab::dem {
 namespace {
 template <typename F>
 void for_each_array(Particles& p, F&& f) {
-  for (auto* a : {&p.x, &p.y, &p.th, &p.vx, &p.vy, &p.w, &p.vx_prev, &p.vy_prev, &p.w_prev, &p.fx, &p.fy, &p.tq,
-                  &p.m, &p.inv_m, &p.inertia, &p.inv_inertia, &p.r})
+  for (auto* a : {&p.x, &p.y, &p.th, &p.vx, &p.vy, &p.w, &p.vx_prev, &p.vy_prev, &p.w_prev, &p.fx, &p.fy,
+                  &p.tq, &p.m, &p.inv_m, &p.inertia, &p.inv_inertia, &p.r})
     f(*a);
   f(p.id);
   f(p.shape);
@@ -31,9 +31,12 @@ void Particles::permute(const std::vector<std::uint32_t>& order) {
   std::vector<std::int32_t> s32;
   for_each_array(*this, [&](auto& a) {
     using T = typename std::decay_t<decltype(a)>::value_type;
-    if constexpr (std::is_same_v<T, double>) apply_order(a, order, sd);
-    else if constexpr (std::is_same_v<T, std::int64_t>) apply_order(a, order, si);
-    else apply_order(a, order, s32);
+    if constexpr (std::is_same_v<T, double>)
+      apply_order(a, order, sd);
+    else if constexpr (std::is_same_v<T, std::int64_t>)
+      apply_order(a, order, si);
+    else
+      apply_order(a, order, s32);
   });
 }
 

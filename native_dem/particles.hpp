@@ -14,8 +14,8 @@ struct Particles {
   std::vector<double> fx, fy, tq;
   // Properties.
   std::vector<double> m, inv_m, inertia, inv_inertia, r;  // r: disc radius or polygon bounding radius
-  std::vector<std::int64_t> id;                           // stable id: keys contact history, survives reordering
-  std::vector<std::int32_t> shape;                        // -1: disc; otherwise index into the polygon shapes
+  std::vector<std::int64_t> id;     // stable id: keys contact history, survives reordering
+  std::vector<std::int32_t> shape;  // -1: disc; otherwise index into the polygon shapes
   std::vector<std::int32_t> mat;
 
   std::size_t size() const { return x.size(); }

@@ -16,7 +16,8 @@ struct Wall {
     if (m.active()) {
       const double om = 2 * M_PI * m.frequency;
       shift = {m.amplitude.x * std::sin(om * t + m.phase.x), m.amplitude.y * std::sin(om * t + m.phase.y)};
-      vel = {m.amplitude.x * om * std::cos(om * t + m.phase.x), m.amplitude.y * om * std::cos(om * t + m.phase.y)};
+      vel = {m.amplitude.x * om * std::cos(om * t + m.phase.x),
+             m.amplitude.y * om * std::cos(om * t + m.phase.y)};
     }
     a = spec.a + shift;
     velocity = vel;

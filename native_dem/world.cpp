@@ -1,9 +1,10 @@
 #include "world.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fmt/format.h>
 #include <stdexcept>
 
 #include "narrow_phase.hpp"
@@ -80,8 +81,10 @@ long World::index_of(std::int64_t id) const {
 
 double World::step() {
   const double t_before = t_;
-  if (scene_.accuracy.integrator == Integrator::VelocityVerlet) step_verlet();
-  else step_predictor_corrector();
+  if (scene_.accuracy.integrator == Integrator::VelocityVerlet)
+    step_verlet();
+  else
+    step_predictor_corrector();
   ++diag_.steps;
   const double taken = t_ - t_before;
   diag_.dt_last = taken;
@@ -159,8 +162,9 @@ void World::step_verlet() {
 
 // The thesis's first-order predictor-corrector (eq. 2.4) with its step control: reject and halve
 // when the predicted and corrected velocities differ by more than `tolerance` (relative to the
-// velocity, or to its change over the step: Accuracy::error_measure), accept otherwise, and grow by 20 % when the difference is small enough that the
-// grown step should still pass (error ~ dt^2, so err * 1.2^2 <= tolerance).
+// velocity, or to its change over the step: Accuracy::error_measure), accept otherwise, and grow by 20 % when
+// the difference is small enough that the grown step should still pass (error ~ dt^2, so err * 1.2^2 <=
+// tolerance).
 void World::step_predictor_corrector() {
   const std::size_t n = p_.size();
   const Accuracy& acc = scene_.accuracy;
@@ -182,8 +186,9 @@ void World::step_predictor_corrector() {
   const bool relative_to_change = acc.error_measure == ErrorMeasure::Change;
   for (;;) {
     const double dt = dt_, back = have_prev_ ? dt_prev_ + dt : dt;
-    auto predict = [&](const std::vector<double>& vprev, const std::vector<double>& v0, const std::vector<double>& a0,
-                       const std::vector<double>& x0, std::vector<double>& v, std::vector<double>& x) {
+    auto predict = [&](const std::vector<double>& vprev, const std::vector<double>& v0,
+                       const std::vector<double>& a0, const std::vector<double>& x0, std::vector<double>& v,
+                       std::vector<double>& x) {
       for (std::size_t i = 0; i < n; ++i) {
         v[i] = (have_prev_ ? vprev[i] : v0[i]) + back * a0[i];
         x[i] = x0[i] + dt * (v0[i] + v[i]) / 2;
@@ -195,9 +200,10 @@ void World::step_predictor_corrector() {
     compute_forces(t_ + dt, dt);
 
     double err = 0;
-    auto correct = [&](const std::vector<double>& v0, const std::vector<double>& a0, const std::vector<double>& f,
-                       const std::vector<double>& inv, const std::vector<double>& x0, std::vector<double>& v,
-                       std::vector<double>& x, bool spin) {
+    auto correct = [&](const std::vector<double>& v0, const std::vector<double>& a0,
+                       const std::vector<double>& f, const std::vector<double>& inv,
+                       const std::vector<double>& x0, std::vector<double>& v, std::vector<double>& x,
+                       bool spin) {
       for (std::size_t i = 0; i < n; ++i) {
         const double vc = v0[i] + dt * (a0[i] + f[i] * inv[i]) / 2;
         const double scale = relative_to_change ? std::abs(vc - v0[i]) : std::abs(vc);
@@ -212,9 +218,10 @@ void World::step_predictor_corrector() {
 
     if (err > acc.tolerance) {
       if (dt / 2 < acc.dt_min)
-        throw std::runtime_error(fmt::format("predictor-corrector step underflow at t = {:.6g} s: dt would fall "
-                                             "below dt_min = {:.3g} s (error {:.3g} > tolerance {:.3g})",
-                                             t_, acc.dt_min, err, acc.tolerance));
+        throw std::runtime_error(
+            fmt::format("predictor-corrector step underflow at t = {:.6g} s: dt would fall "
+                        "below dt_min = {:.3g} s (error {:.3g} > tolerance {:.3g})",
+                        t_, acc.dt_min, err, acc.tolerance));
       ++diag_.rejected_steps;
       dt_ = dt / 2;
       // The two-step predictor extrapolates f(t0) back over the whole previous step; when a contact
@@ -259,7 +266,8 @@ Energies World::energies() const {
       const std::uint32_t i = wall_lists_[w].particle[k];
       ContactGeometry c;
       const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + walls_[w].spec.material];
-      if (disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c)) e.elastic += 0.5 * L.k_n * c.depth * c.depth;
+      if (disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c))
+        e.elastic += 0.5 * L.k_n * c.depth * c.depth;
       if (effects_.friction) e.elastic += 0.5 * L.k_s * wall_lists_[w].xi[k] * wall_lists_[w].xi[k];
     }
   return e;
@@ -283,7 +291,9 @@ std::size_t World::count_contacts() const {
 }
 
 std::size_t World::memory_bytes() const {
-  auto bytes = [](const auto& v) { return v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
+  auto bytes = [](const auto& v) {
+    return v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type);
+  };
   std::size_t b = p_.size() * Particles::bytes_per_particle();
   b += bytes(discs_.offset) + bytes(discs_.j) + bytes(discs_.shift) + bytes(discs_.xi) + bytes(discs_.xi_new);
   b += bytes(x_build_) + bytes(y_build_) + bytes(general_pairs_);

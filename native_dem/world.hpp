@@ -90,8 +90,8 @@ class World {
   // Neighbour list (half list, CSR) with its per-pair shear history; public for the kernels and tests.
   struct PairList {
     std::vector<std::uint32_t> offset, j;
-    std::vector<double> shift;            // x image shift added to x_i - x_j
-    std::vector<double> xi, xi_new;       // committed and trial shear-spring extension per pair
+    std::vector<double> shift;       // x image shift added to x_i - x_j
+    std::vector<double> xi, xi_new;  // committed and trial shear-spring extension per pair
   };
   struct WallList {
     std::vector<std::uint32_t> particle;  // discs near the wall
@@ -105,8 +105,8 @@ class World {
  private:
   PairList discs_;
   std::vector<WallList> wall_lists_;
-  std::vector<GeneralPair> general_pairs_;          // pairs with a polygon
-  std::vector<std::uint32_t> polygon_particles_;    // polygons (all checked against walls)
+  std::vector<GeneralPair> general_pairs_;        // pairs with a polygon
+  std::vector<std::uint32_t> polygon_particles_;  // polygons (all checked against walls)
   std::unordered_map<std::uint64_t, double> general_xi_, general_xi_new_;  // keyed by ids and sub-contact
   std::vector<double> x_build_, y_build_;
   // Predictor-corrector scratch.

@@ -1,9 +1,9 @@
 // "Only the effects a scene calls for": absent effects cost nothing and enabling an effect that cannot
 // act changes no result.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fmt/format.h>
 
 #include "bed_benchmark.hpp"
 #include "scene.hpp"
@@ -43,7 +43,8 @@ velocity = [-30.0, 10.0]
 
 TEST(Effects, FrictionAndRotationBetweenBodiesThatNeverTouchChangeNothing) {
   dem::World plain(parse_scene(two_far_discs(R"("gravity", "normal_contact")"), "<plain>"));
-  dem::World full(parse_scene(two_far_discs(R"("gravity", "normal_contact", "friction", "rotation")"), "<full>"));
+  dem::World full(
+      parse_scene(two_far_discs(R"("gravity", "normal_contact", "friction", "rotation")"), "<full>"));
   plain.advance_to(0.5);
   full.advance_to(0.5);
   for (std::int64_t id : {0, 1}) {
@@ -71,7 +72,8 @@ namespace {
 // A disc on an incline of angle theta, not rotating (so it can only slide).
 dem::World disc_on_incline(double theta_deg, double mu, double skin) {
   const double th = theta_deg * M_PI / 180;
-  const std::string toml = fmt::format(R"toml(
+  const std::string toml =
+      fmt::format(R"toml(
 [scene]
 duration = 1.0
 gravity = [{gx}, {gy}]
@@ -95,8 +97,8 @@ radius = 1.0
 density = 2.0
 position = [0.0, 0.9939]
 )toml",
-                                       fmt::arg("gx", 981 * std::sin(th)), fmt::arg("gy", -981 * std::cos(th)),
-                                       fmt::arg("skin", skin), fmt::arg("mu", mu));
+                  fmt::arg("gx", 981 * std::sin(th)), fmt::arg("gy", -981 * std::cos(th)),
+                  fmt::arg("skin", skin), fmt::arg("mu", mu));
   return dem::World(parse_scene(toml, "<incline>"));
 }
 }  // namespace

@@ -59,7 +59,8 @@ TEST(Command, RunWritesHdf5WithMetadataAndXdmf) {
   const std::string text((std::istreambuf_iterator<char>(xmf)), {});
   EXPECT_NE(text.find("pair.h5:/frames/000000/position"), std::string::npos);
   // No temporary files left behind.
-  for (const auto& e : fs::directory_iterator(d.path)) EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos);
+  for (const auto& e : fs::directory_iterator(d.path))
+    EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos);
 }
 
 TEST(Command, ExistingOutputIsNotOverwrittenWithoutForce) {

@@ -54,7 +54,8 @@ TEST(Scene, GoodSceneReads) {
 }
 
 TEST(Scene, UnknownKeyNamesFileLineAndKey) {
-  const InputError e = error_of(edit("radius = 1.0\ndensity = 2.0\nposition = [3.0", "radius = 1.0\nradious = 2\ndensity = 2.0\nposition = [3.0"));
+  const InputError e = error_of(edit("radius = 1.0\ndensity = 2.0\nposition = [3.0",
+                                     "radius = 1.0\nradious = 2\ndensity = 2.0\nposition = [3.0"));
   EXPECT_EQ(e.where().file, "bad.toml");
   EXPECT_EQ(e.where().line, 13);
   EXPECT_EQ(e.key(), "bodies[1].radious");
@@ -73,7 +74,8 @@ TEST(Scene, NonPhysicalValuesAreRejected) {
   EXPECT_EQ(error_of(edit("density = 2.0", "mass = 0.0")).key(), "bodies[0].mass");
   EXPECT_EQ(error_of(edit("k_n = 1e6", "k_n = nan")).key(), "materials.grain.k_n");
   EXPECT_EQ(error_of(edit("restitution = 0.5", "restitution = 1.5")).key(), "materials.grain.restitution");
-  EXPECT_EQ(error_of(edit("\"normal_contact\"]", "\"normal_contact\", \"magnetism\"]")).key(), "scene.effects");
+  EXPECT_EQ(error_of(edit("\"normal_contact\"]", "\"normal_contact\", \"magnetism\"]")).key(),
+            "scene.effects");
 }
 
 TEST(Scene, InitialOverlapBeyondToleranceIsRejected) {
@@ -86,7 +88,8 @@ TEST(Scene, InitialOverlapBeyondToleranceIsRejected) {
 }
 
 TEST(Scene, MissingMaterialPairIsNamed) {
-  std::string s = edit("[[bodies]]", "[materials.glass]\nk_n = 1e7\nrestitution = 0.9\n[[bodies]]\nmaterial = \"glass\"");
+  std::string s =
+      edit("[[bodies]]", "[materials.glass]\nk_n = 1e7\nrestitution = 0.9\n[[bodies]]\nmaterial = \"glass\"");
   s = s.replace(s.rfind("[[bodies]]"), 10, "[[bodies]]\nmaterial = \"grain\"");
   const InputError e = error_of(s);
   EXPECT_EQ(e.key(), "material_pairs");
@@ -99,7 +102,8 @@ TEST(Scene, FrictionNeedsAShearSpring) {
 }
 
 TEST(Scene, SetOverridesValuesAndReportsItsOwnMistakes) {
-  const Scene s = parse_scene(kGood, "good.toml", {"scene.duration=2.5", "accuracy.integrator=verlet", "bodies.1.radius=0.5"});
+  const Scene s = parse_scene(kGood, "good.toml",
+                              {"scene.duration=2.5", "accuracy.integrator=verlet", "bodies.1.radius=0.5"});
   EXPECT_DOUBLE_EQ(s.duration, 2.5);
   EXPECT_EQ(s.accuracy.integrator, Integrator::VelocityVerlet);
   EXPECT_DOUBLE_EQ(s.bodies[1].radius, 0.5);

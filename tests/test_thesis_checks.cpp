@@ -8,11 +8,13 @@ using namespace grainlab::validation;
 TEST(Table21, TightToleranceMatchesEq22Within0p2Percent) {
   const double eps = table21_predicted_restitution();
   EXPECT_NEAR(eps, 0.6706, 1e-4);
-  for (double v : {10.0, 500.0, 3000.0}) EXPECT_NEAR(table21_collision(v, 1e-6).restitution, eps, 0.002 * eps) << v;
+  for (double v : {10.0, 500.0, 3000.0})
+    EXPECT_NEAR(table21_collision(v, 1e-6).restitution, eps, 0.002 * eps) << v;
 }
 
 TEST(Table21, ThesisToleranceMatchesThesisMeasurementsWithin1p5Percent) {
-  const std::vector<std::pair<double, double>> thesis = {{10, 0.675}, {100, 0.675}, {1000, 0.664}, {3000, 0.674}};
+  const std::vector<std::pair<double, double>> thesis = {
+      {10, 0.675}, {100, 0.675}, {1000, 0.664}, {3000, 0.674}};
   for (const auto& [v, eps] : thesis) {
     const PairCollision c = table21_collision(v, 0.005);
     EXPECT_NEAR(c.restitution, eps, 0.015 * eps) << v;

@@ -23,14 +23,15 @@ bool Report::passed() const {
   return !checks.empty();
 }
 
-Check& Report::expect_near(std::string id, std::string engine, double value, double reference, double tolerance,
-                           std::string note) {
+Check& Report::expect_near(std::string id, std::string engine, double value, double reference,
+                           double tolerance, std::string note) {
   const bool ok = std::isfinite(value) && std::abs(value - reference) <= tolerance;
   checks.push_back({std::move(id), std::move(engine), value, reference, tolerance, ok, std::move(note)});
   return checks.back();
 }
 
-Check& Report::expect_below(std::string id, std::string engine, double value, double limit, std::string note) {
+Check& Report::expect_below(std::string id, std::string engine, double value, double limit,
+                            std::string note) {
   const bool ok = std::isfinite(value) && value <= limit;
   checks.push_back({std::move(id), std::move(engine), value, limit, limit, ok, std::move(note)});
   return checks.back();
@@ -38,7 +39,9 @@ Check& Report::expect_below(std::string id, std::string engine, double value, do
 
 namespace {
 
-nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json finite_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 std::string to_json(const Report& r) {
   nlohmann::json j;
@@ -56,13 +59,14 @@ std::string to_json(const Report& r) {
 }
 
 std::string to_markdown(const Report& r) {
-  std::string md = fmt::format("# grainlab validation report\n\ngrainlab {}. Overall: **{}** ({} checks, {} failed).\n\n",
-                               GRAINLAB_VERSION, r.passed() ? "PASSED" : "FAILED", r.checks.size(),
-                               std::count_if(r.checks.begin(), r.checks.end(), [](auto& c) { return !c.passed; }));
+  std::string md =
+      fmt::format("# grainlab validation report\n\ngrainlab {}. Overall: **{}** ({} checks, {} failed).\n\n",
+                  GRAINLAB_VERSION, r.passed() ? "PASSED" : "FAILED", r.checks.size(),
+                  std::count_if(r.checks.begin(), r.checks.end(), [](auto& c) { return !c.passed; }));
   md += "| check | engine | value | reference | tolerance | result | note |\n|---|---|---|---|---|---|---|\n";
   for (const Check& c : r.checks)
-    md += fmt::format("| {} | {} | {:.6g} | {:.6g} | {:.3g} | {} | {} |\n", c.id, c.engine, c.value, c.reference,
-                      c.tolerance, c.passed ? "pass" : "**FAIL**", c.note);
+    md += fmt::format("| {} | {} | {:.6g} | {:.6g} | {:.3g} | {} | {} |\n", c.id, c.engine, c.value,
+                      c.reference, c.tolerance, c.passed ? "pass" : "**FAIL**", c.note);
   md += "\n";
   for (const std::string& s : r.markdown) md += s + "\n";
   return md;
@@ -72,8 +76,13 @@ std::string plots_json(const Report& r) {
   nlohmann::json j = nlohmann::json::array();
   for (const PlotSpec& p : r.plots) {
     nlohmann::json s = nlohmann::json::array();
-    for (const auto& ser : p.series) s.push_back({{"label", ser.label}, {"style", ser.style}, {"x", ser.x}, {"y", ser.y}});
-    j.push_back({{"file", p.file}, {"title", p.title}, {"xlabel", p.xlabel}, {"ylabel", p.ylabel}, {"logx", p.logx},
+    for (const auto& ser : p.series)
+      s.push_back({{"label", ser.label}, {"style", ser.style}, {"x", ser.x}, {"y", ser.y}});
+    j.push_back({{"file", p.file},
+                 {"title", p.title},
+                 {"xlabel", p.xlabel},
+                 {"ylabel", p.ylabel},
+                 {"logx", p.logx},
                  {"series", s}});
   }
   return j.dump(1) + "\n";

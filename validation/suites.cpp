@@ -4,7 +4,8 @@ namespace grainlab::validation {
 
 const std::vector<Suite>& suites() {
   static const std::vector<Suite> all = {
-      {"thesis-code", "the thesis's Ch. II code checks: Table 2.1, spin loss, conservation, sorting (Fig. 2.11)",
+      {"thesis-code",
+       "the thesis's Ch. II code checks: Table 2.1, spin loss, conservation, sorting (Fig. 2.11)",
        run_thesis_code_suite},
   };
   return all;

@@ -9,7 +9,7 @@
 namespace grainlab::validation {
 
 struct SuiteOptions {
-  bool quick = false;  // smaller versions for CI
+  bool quick = false;                           // smaller versions for CI
   std::function<void(const std::string&)> log;  // progress lines
 };
 

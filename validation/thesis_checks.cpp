@@ -24,7 +24,8 @@ double table21_predicted_restitution() {
 PairCollision table21_collision(double v, double tolerance) {
   // Start 0.05 cm apart; the first steps are small so the approach is resolved whatever v is.
   const double gap = 0.05;
-  const std::string toml = fmt::format(R"toml(
+  const std::string toml =
+      fmt::format(R"toml(
 [scene]
 name = "Table 2.1 head-on collision at {v} cm/s"
 duration = 1.0
@@ -48,9 +49,9 @@ density = 2.0
 position = [{xb}, 0.0]
 velocity = [{vb}, 0.0]
 )toml",
-                                       fmt::arg("v", v), fmt::arg("tol", tolerance), fmt::arg("k", kTableK),
-                                       fmt::arg("c", kTableDamping), fmt::arg("xa", -1 - gap / 2),
-                                       fmt::arg("va", v / 2), fmt::arg("xb", 1 + gap / 2), fmt::arg("vb", -v / 2));
+                  fmt::arg("v", v), fmt::arg("tol", tolerance), fmt::arg("k", kTableK),
+                  fmt::arg("c", kTableDamping), fmt::arg("xa", -1 - gap / 2), fmt::arg("va", v / 2),
+                  fmt::arg("xb", 1 + gap / 2), fmt::arg("vb", -v / 2));
   dem::World w(parse_scene(toml, "<table 2.1>"));
   const dem::Particles& p = w.particles();
   PairCollision out;
@@ -173,9 +174,11 @@ Sorting gold_pan_sorting(double cycles, bool friction) {
   // Gold pan: the thesis gives no shape; a 4 cm flat bottom with 45 degree sides 8 cm tall, shaken
   // along a diagonal (both axes in phase). docs/validation.md shows how the rise time depends on this.
   const double half = 2.0, top = 8.0, reach = half + top;
-  const std::vector<std::pair<Vec2, Vec2>> pan = {{{-reach, top}, {-half, 0}}, {{-half, 0}, {half, 0}}, {{half, 0}, {reach, top}}};
+  const std::vector<std::pair<Vec2, Vec2>> pan = {
+      {{-reach, top}, {-half, 0}}, {{-half, 0}, {half, 0}}, {{half, 0}, {reach, top}}};
   Sorting out;
-  std::string toml = fmt::format(R"toml(
+  std::string toml =
+      fmt::format(R"toml(
 [scene]
 name = "gold-pan sorting (Fig. 2.11)"
 duration = 1.0
@@ -190,14 +193,16 @@ restitution = 0.5
 k_s = 1.0e6
 mu = {mu}
 )toml",
-                                 fmt::arg("fric", friction ? "\"friction\", " : ""), fmt::arg("mu", friction ? 0.5 : 0.0));
+                  fmt::arg("fric", friction ? "\"friction\", " : ""), fmt::arg("mu", friction ? 0.5 : 0.0));
   for (const auto& [a, b] : pan)
-    toml += fmt::format("[[walls]]\nfrom = [{}, {}]\nto = [{}, {}]\nmotion = {{ amplitude = [0.6, 0.15], frequency = {}, "
-                        "phase = [0.0, 0.0] }}\n",
-                        a.x, a.y, b.x, b.y, out.frequency);
+    toml += fmt::format(
+        "[[walls]]\nfrom = [{}, {}]\nto = [{}, {}]\nmotion = {{ amplitude = [0.6, 0.15], frequency = {}, "
+        "phase = [0.0, 0.0] }}\n",
+        a.x, a.y, b.x, b.y, out.frequency);
   // The large disc at the bottom, the small ones on a grid above and beside it, lowest first.
   const Vec2 large{0, 1.0};
-  toml += fmt::format("[[bodies]]\nid = 0\nradius = 1.0\ndensity = 2.0\nposition = [{}, {}]\n", large.x, large.y);
+  toml +=
+      fmt::format("[[bodies]]\nid = 0\nradius = 1.0\ndensity = 2.0\nposition = [{}, {}]\n", large.x, large.y);
   std::vector<Vec2> slots;
   for (double y = 0.55; y < top && slots.size() < 400; y += 1.05)
     for (double x = -reach; x <= reach; x += 1.05) {
@@ -206,14 +211,15 @@ mu = {mu}
       for (const auto& [a, b] : pan) {
         const Vec2 d = b - a;
         const double t = std::clamp(dot(c - a, d) / dot(d, d), 0.0, 1.0);
-        ok = ok && norm(c - (a + d * t)) > 0.55 && (c.y > a.y + (b.y - a.y) * (c.x - a.x) / (b.x - a.x) || d.y == 0);
+        ok = ok && norm(c - (a + d * t)) > 0.55 &&
+             (c.y > a.y + (b.y - a.y) * (c.x - a.x) / (b.x - a.x) || d.y == 0);
       }
       if (ok) slots.push_back(c);
     }
   std::stable_sort(slots.begin(), slots.end(), [](Vec2 a, Vec2 b) { return a.y < b.y; });
   for (int k = 0; k < 30; ++k)
-    toml += fmt::format("[[bodies]]\nid = {}\nradius = 0.5\ndensity = 2.0\nposition = [{}, {}]\n", k + 1, slots[k].x,
-                        slots[k].y);
+    toml += fmt::format("[[bodies]]\nid = {}\nradius = 0.5\ndensity = 2.0\nposition = [{}, {}]\n", k + 1,
+                        slots[k].x, slots[k].y);
   dem::World w(parse_scene(toml, "<gold pan>"));
   const dem::Particles& p = w.particles();
   const int samples_per_cycle = 8;

@@ -9,8 +9,8 @@ namespace grainlab::validation {
 // Table 2.1: two r = 1 cm discs, 2-D density 2 g/cm^2, k_n = 5e6 dyn/cm, damping coefficient 1000 g/s,
 // head-on at relative speed v (cm/s).
 struct PairCollision {
-  double restitution = 0;      // outgoing / incoming relative normal speed
-  int steps_in_contact = 0;    // accepted steps that ended with the discs overlapping
+  double restitution = 0;    // outgoing / incoming relative normal speed
+  int steps_in_contact = 0;  // accepted steps that ended with the discs overlapping
   int rejected_steps = 0;
 };
 PairCollision table21_collision(double v, double tolerance);
@@ -25,9 +25,9 @@ SpinLoss spinning_circle_loss(double tolerance);
 
 // An elastic gas of discs in a box (or with no walls), integrated with velocity Verlet.
 struct GasConservation {
-  double relative_energy_drift = 0;    // |E_end - E_0| / E_0
+  double relative_energy_drift = 0;  // |E_end - E_0| / E_0
   double max_relative_energy_error = 0;
-  double momentum_error = 0;           // |P_end - P_0| / sum m|v| (no walls only)
+  double momentum_error = 0;  // |P_end - P_0| / sum m|v| (no walls only)
   int steps = 0;
   std::vector<double> times, energies;  // sampled
 };
@@ -35,7 +35,7 @@ GasConservation elastic_gas(int discs, int steps, bool walls, std::uint64_t seed
 
 // Fig. 2.11: 30 discs r = 0.5 cm and one r = 1 cm shaken in a gold-pan container.
 struct Sorting {
-  double cycles_to_top = -1;   // first shaking cycle after which the large disc stays above 90 % of the others
+  double cycles_to_top = -1;  // first shaking cycle after which the large disc stays above 90 % of the others
   double frequency = 12;
   std::vector<double> cycles, large_height_rank;  // fraction of small discs below the large one, per sample
   std::vector<double> large_height;
