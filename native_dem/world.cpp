@@ -270,7 +270,36 @@ Energies World::energies() const {
         e.elastic += 0.5 * L.k_n * c.depth * c.depth;
       if (effects_.friction) e.elastic += 0.5 * L.k_s * wall_lists_[w].xi[k] * wall_lists_[w].xi[k];
     }
+  e.elastic += polygon_elastic_energy();
   return e;
+}
+
+// Normal-spring energy of the contacts that involve a polygon (body pairs and vertex-wall contacts).
+// Their shear springs are not counted: the history map does not keep the pair's k_s.
+double World::polygon_elastic_energy() const {
+  double u = 0;
+  std::vector<Vec2> sa, sb;
+  auto pose = [&](std::uint32_t i) {
+    return BodyPose{
+        {p_.x[i], p_.y[i]}, p_.th[i], p_.r[i], p_.shape[i] < 0 ? nullptr : &polygons_[p_.shape[i]]};
+  };
+  for (const GeneralPair& gp : general_pairs_) {
+    BodyPose a = pose(gp.i);
+    a.centre.x += gp.shift;
+    ContactGeometry c;
+    if (body_body_contact(a, pose(gp.j), c, sa, sb))
+      u += 0.5 * laws_[p_.mat[gp.i] * n_mat_ + p_.mat[gp.j]].k_n * c.depth * c.depth;
+  }
+  for (std::uint32_t i : polygon_particles_)
+    for (const Wall& wall : walls_) {
+      const BodyPose b = pose(i);
+      for (std::size_t v = 0; v < b.vertices->size(); ++v) {
+        ContactGeometry c;
+        if (vertex_wall_contact(b, v, wall, c))
+          u += 0.5 * laws_[p_.mat[i] * n_mat_ + wall.spec.material].k_n * c.depth * c.depth;
+      }
+    }
+  return u;
 }
 
 std::size_t World::count_contacts() const {

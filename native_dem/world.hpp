@@ -71,6 +71,7 @@ class World {
   void step_verlet();
   void step_predictor_corrector();
   void wrap_periodic();
+  double polygon_elastic_energy() const;
 
   Scene scene_;
   Effects effects_;

@@ -163,3 +163,37 @@ position = [18.5, 0.0]
   EXPECT_NEAR(w.particles().vx[w.index_of(0)], 0.0, 0.5);
   EXPECT_NEAR(w.particles().vx[w.index_of(1)], -100.0, 0.5);
 }
+
+TEST(Integrators, DiscBouncesOffAPolygonConservingEnergyWhenElastic) {
+  // A disc falls onto a heavy square resting on... nothing: no gravity, the square floats. Elastic,
+  // frictionless: kinetic energy after the bounce equals that before (the polygon-disc contact is a
+  // conservative spring), and momentum is exchanged.
+  const std::string toml = R"toml(
+[scene]
+duration = 0.05
+effects = ["normal_contact", "rotation"]
+[accuracy]
+tolerance = 1e-5
+[materials.grain]
+k_n = 1e6
+[[bodies]]
+shape = "polygon"
+vertices = [[-2.0, -2.0], [2.0, -2.0], [2.0, 2.0], [-2.0, 2.0]]
+density = 2.0
+position = [0.0, 0.0]
+angle = 0.2
+[[bodies]]
+radius = 0.5
+density = 2.0
+position = [0.3, 3.6]
+velocity = [0.0, -100.0]
+)toml";
+  dem::World w(parse_scene(toml, "<disc on polygon>"));
+  const double e0 = w.energies().total();
+  w.advance_to(0.05);
+  const auto& p = w.particles();
+  const long disc = w.index_of(1);
+  EXPECT_GT(p.vy[disc], 0.0);  // bounced
+  EXPECT_NEAR(w.energies().total(), e0, 1e-3 * e0);
+  EXPECT_NEAR(w.energies().elastic, 0.0, 1e-9 * e0);  // apart again at the end
+}
