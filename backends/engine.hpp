@@ -17,6 +17,19 @@ struct EnergyReport {
   double total() const { return kinetic_translational + kinetic_rotational + potential_gravity + elastic; }
 };
 
+// What an engine can simulate. A scene asking for more stops with a message naming the engine and the
+// missing capability; nothing is silently approximated.
+struct Capabilities {
+  std::string name, description;
+  int dimension = 2;
+  std::vector<std::string> shapes;   // "disc", "polygon", "segment", "line", "moving wall"
+  std::vector<std::string> effects;  // effect names from scene.hpp
+  bool periodic = false;
+  bool generated_assemblies = false;
+  int max_polygon_vertices = 0;  // 0: no limit
+  std::string contact_model;
+};
+
 class Engine {
  public:
   virtual ~Engine() = default;
@@ -29,6 +42,10 @@ class Engine {
   virtual std::vector<std::vector<double>> polygon_shapes() const = 0;  // flat x,y per polygon
   virtual std::string integrator() const = 0;
 };
+
+const std::vector<Capabilities>& engine_catalog();
+// Throws InputError naming the engine and what the scene needs that it lacks.
+void check_engine_supports(const Capabilities& c, const Scene& scene);
 
 // Throws InputError if the engine is unknown.
 std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene);

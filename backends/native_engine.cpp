@@ -72,15 +72,20 @@ class NativeEngine final : public Engine {
 
 }  // namespace
 
+std::unique_ptr<Engine> make_box2d_engine(const Scene& scene);
+
 std::vector<std::string> engine_names() {
-  return {"native"};
+  std::vector<std::string> names;
+  for (const Capabilities& c : engine_catalog()) names.push_back(c.name);
+  return names;
 }
 
 std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene) {
   if (name == "native") return std::make_unique<NativeEngine>(scene);
+  if (name == "box2d") return make_box2d_engine(scene);
   throw InputError(
       {"--engine", 0}, "engine",
-      "unknown engine \"" + name + "\"; available now: native (Box2D, Bullet, ODE arrive with issue #3)");
+      "unknown engine \"" + name + "\"; available: native, box2d (Bullet and ODE: issue #3, in progress)");
 }
 
 }  // namespace grainlab

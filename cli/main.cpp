@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "bed_benchmark.hpp"
 #include "engine.hpp"
@@ -81,6 +82,31 @@ int validate_command(std::vector<std::string> names, const std::string& out, boo
   return report.passed() ? 0 : 1;
 }
 
+int engines_command(bool json) {
+  if (json) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const Capabilities& c : engine_catalog())
+      j.push_back({{"name", c.name},
+                   {"description", c.description},
+                   {"dimension", c.dimension},
+                   {"shapes", c.shapes},
+                   {"effects", c.effects},
+                   {"periodic", c.periodic},
+                   {"generated_assemblies", c.generated_assemblies},
+                   {"max_polygon_vertices", c.max_polygon_vertices},
+                   {"contact_model", c.contact_model}});
+    fmt::print("{}\n", j.dump(2));
+    return 0;
+  }
+  for (const Capabilities& c : engine_catalog()) {
+    fmt::print("{}: {}\n", c.name, c.description);
+    fmt::print("  dimension {}; shapes: {}; effects: {}; periodic: {}\n", c.dimension,
+               fmt::join(c.shapes, ", "), fmt::join(c.effects, ", "), c.periodic ? "yes" : "no");
+    fmt::print("  contacts: {}\n", c.contact_model);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -108,6 +134,10 @@ int main(int argc, char** argv) {
       ->default_val("report");
   val->add_flag("--quick", quick, "shorter versions of long checks (for CI)");
   val->add_flag("--quiet,-q", vquiet, "no progress lines");
+
+  bool engines_json = false;
+  CLI::App* engines_cmd = app.add_subcommand("engines", "list the engines and what each can simulate");
+  engines_cmd->add_flag("--json", engines_json, "machine-readable");
 
   bench::BedOptions bed;
   CLI::App* bench_cmd = app.add_subcommand("bench", "benchmarks");
@@ -148,6 +178,7 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) return run_command(run);
     if (*val) return validate_command(suites, report_dir, quick, vquiet);
+    if (*engines_cmd) return engines_command(engines_json);
     if (*bed_cmd) return bench::run_bed_command(bed);
   } catch (const InputError& e) {
     fmt::print(stderr, "grainlab: error: {}\n", e.what());

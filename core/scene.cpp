@@ -183,6 +183,9 @@ class SceneReader {
     a.dt_min = r.number_or("dt_min", a.dt_min, Range::positive());
     a.dt_max = r.number_or("dt_max", std::max(a.dt_max, a.dt), Range::positive());
     a.skin = r.optional_number("skin", Range::positive());
+    a.velocity_iterations = static_cast<int>(r.integer_or("velocity_iterations", 8, 1, 100000));
+    a.position_iterations = static_cast<int>(r.integer_or("position_iterations", 3, 0, 100000));
+    a.substeps = static_cast<int>(r.integer_or("substeps", 1, 1, 100000));
     if (a.dt_min > a.dt) r.fail("dt_min", "must not exceed dt");
     if (a.dt_max < a.dt) r.fail("dt_max", "must not be below dt");
     r.finish();

@@ -54,7 +54,9 @@ struct Accuracy {
   double dt = 1e-5;       // Verlet: the step; predictor-corrector: the first step
   double dt_min = 1e-12;  // predictor-corrector: below this the run stops with an error
   double dt_max = 1e-2;   // predictor-corrector: cap on the growing step
-  std::optional<double> skin;  // neighbour-list skin (length); default 0.1 x smallest grain radius
+  std::optional<double> skin;  // neighbour-list skin (length); default 0.25 x smallest grain radius
+  // Impulse engines (docs/engines.md): solver iterations and sub-steps per dt.
+  int velocity_iterations = 8, position_iterations = 3, substeps = 1;
 };
 
 // Sinusoidal prescribed motion x(t) = x0 + amplitude sin(2 pi f t + phase), per axis.

@@ -86,6 +86,30 @@ std::vector<BodySpec> pour(const Scene& scene, const AssemblySpec& a, std::int64
 
 }  // namespace
 
+std::vector<BodySpec> expanded_bodies(const Scene& scene) {
+  if (scene.assemblies.empty()) return scene.bodies;
+  const World w(scene);
+  const Particles& p = w.particles();
+  std::vector<BodySpec> out;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    BodySpec b;
+    b.id = p.id[i];
+    b.shape = p.shape[i] < 0 ? BodySpec::Shape::Disc : BodySpec::Shape::Polygon;
+    if (p.shape[i] >= 0) b.vertices = w.polygon_shapes()[p.shape[i]];
+    b.radius = p.r[i];
+    b.mass = p.m[i];
+    b.inertia = p.inertia[i];
+    b.position = {p.x[i], p.y[i]};
+    b.velocity = {p.vx[i], p.vy[i]};
+    b.angle = p.th[i];
+    b.spin = p.w[i];
+    b.material = p.mat[i];
+    out.push_back(b);
+  }
+  std::sort(out.begin(), out.end(), [](const BodySpec& a, const BodySpec& b) { return a.id < b.id; });
+  return out;
+}
+
 void World::expand_assemblies() {
   std::int64_t next_id = 0;
   for (std::int64_t id : p_.id) next_id = std::max(next_id, id + 1);

@@ -28,6 +28,10 @@ struct Diagnostics {
   double seconds_forces = 0, seconds_neighbors = 0;
 };
 
+// The scene's bodies with its generated assemblies expanded (a poured bed is settled on this engine),
+// at their initial state: what another engine needs to build the same scene.
+std::vector<BodySpec> expanded_bodies(const Scene& scene);
+
 class World {
  public:
   explicit World(const Scene& scene);

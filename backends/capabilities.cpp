@@ -1,0 +1,63 @@
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "engine.hpp"
+
+namespace grainlab {
+
+const std::vector<Capabilities>& engine_catalog() {
+  static const std::vector<Capabilities> all = {
+      {"native",
+       "the thesis's soft-contact DEM (eq. 2.3, predictor-corrector or Verlet), double precision",
+       2,
+       {"disc", "polygon", "segment", "line", "moving wall"},
+       known_effect_names(),
+       true,
+       true,
+       0,
+       "spring-dashpot normal force, incremental shear spring capped at mu f_n"},
+      {"box2d",
+       "Box2D 2.4.1 (Debian), float precision, sequential impulses",
+       2,
+       {"disc", "polygon", "segment", "line", "moving wall"},
+       known_effect_names(),
+       false,
+       true,
+       8,
+       "rigid contacts with restitution and Coulomb friction set per contact; stiffness is not modelled"},
+  };
+  return all;
+}
+
+namespace {
+bool has(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+[[noreturn]] void missing(const Capabilities& c, const std::string& what) {
+  throw InputError({"--engine", 0}, c.name, fmt::format("engine \"{}\" cannot {}", c.name, what));
+}
+}  // namespace
+
+void check_engine_supports(const Capabilities& c, const Scene& scene) {
+  if (scene.dimension != c.dimension) missing(c, fmt::format("run a {}-D scene", scene.dimension));
+  for (const std::string& e : scene.effects.names())
+    if (!has(c.effects, e)) missing(c, "simulate the effect \"" + e + "\"");
+  if (scene.periodic_x && !c.periodic) missing(c, "do periodic boundaries (scene.periodic_x)");
+  if (!scene.assemblies.empty() && !c.generated_assemblies) missing(c, "build generated assemblies");
+  for (const BodySpec& b : scene.bodies) {
+    const std::string shape = b.shape == BodySpec::Shape::Disc ? "disc" : "polygon";
+    if (!has(c.shapes, shape)) missing(c, "handle " + shape + " bodies");
+    if (c.max_polygon_vertices > 0 && static_cast<int>(b.vertices.size()) > c.max_polygon_vertices)
+      missing(c, fmt::format("handle a polygon with {} vertices (at most {}; body id {})", b.vertices.size(),
+                             c.max_polygon_vertices, b.id));
+  }
+  for (const WallSpec& w : scene.walls) {
+    if (!has(c.shapes, w.kind == WallSpec::Kind::Line ? "line" : "segment"))
+      missing(c, "handle this wall type");
+    if (w.motion.active() && !has(c.shapes, "moving wall")) missing(c, "move walls");
+  }
+}
+
+}  // namespace grainlab
