@@ -104,3 +104,12 @@ position = [0.0, 0.0]
   }
   EXPECT_NEAR(std::log2(errors[0] / errors[1]), 1.0, 0.1);
 }
+
+#include "suites.hpp"
+
+TEST(Engines, SingleBodySuitePassesOnEveryEngine) {
+  validation::Report r;
+  validation::run_single_body_suite(r, {});
+  for (const auto& c : r.checks) EXPECT_TRUE(c.passed) << c.id << " on " << c.engine << ": " << c.value;
+  EXPECT_EQ(r.checks.size(), 7 * engine_names().size());
+}

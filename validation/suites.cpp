@@ -7,6 +7,8 @@ const std::vector<Suite>& suites() {
       {"thesis-code",
        "the thesis's Ch. II code checks: Table 2.1, spin loss, conservation, sorting (Fig. 2.11)",
        run_thesis_code_suite},
+      {"single-body", "one body, analytic answers, on every engine: free flight, bounce, incline, rolling",
+       run_single_body_suite},
   };
   return all;
 }

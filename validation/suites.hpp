@@ -22,5 +22,6 @@ const std::vector<Suite>& suites();
 const Suite* find_suite(const std::string& name);
 
 void run_thesis_code_suite(Report& r, const SuiteOptions& o);
+void run_single_body_suite(Report& r, const SuiteOptions& o);
 
 }  // namespace grainlab::validation

@@ -1,0 +1,168 @@
+// Suite `single-body`: one body, analytic answers, every engine that supports the scene
+// (issue #3 checks 1-4 in 2-D). The incline is a horizontal floor with gravity tilted by theta.
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "engine.hpp"
+#include "suites.hpp"
+
+namespace grainlab::validation {
+
+namespace {
+
+constexpr double kG = 981.0;
+
+std::unique_ptr<Engine> engine_for(const std::string& name, const std::string& toml,
+                                   const std::vector<std::string>& sets = {}) {
+  return make_engine(name, parse_scene(toml, "<single-body " + name + ">", sets));
+}
+
+void free_flight(Report& r, const std::string& eng) {
+  const std::string toml = R"toml(
+[scene]
+duration = 1.0
+effects = ["gravity"]
+[accuracy]
+integrator = "verlet"
+[[bodies]]
+radius = 1.0
+density = 2.0
+position = [0.0, 0.0]
+velocity = [100.0, 300.0]
+)toml";
+  const double exact = 300.0 - 0.5 * kG;
+  double err[2];
+  const double dts[2] = {1e-3, 5e-4};
+  for (int k = 0; k < 2; ++k) {
+    auto e = engine_for(eng, toml, {fmt::format("accuracy.dt={}", dts[k])});
+    e->advance_to(1.0);
+    err[k] = std::abs(e->frame().position[1] - exact);
+  }
+  const double order = err[1] > 0 ? std::log2(err[0] / err[1]) : INFINITY;
+  r.expect_below("free-flight/height-error", eng, err[0], kG * dts[0],
+                 fmt::format("|y(1 s) - parabola| at dt = 1e-3 s, below g dt; order in dt: {}",
+                             std::isfinite(order) ? fmt::format("{:.2f}", order) : std::string("exact")));
+}
+
+double bounce_restitution(const std::string& eng, double speed) {
+  const std::string toml = fmt::format(R"toml(
+[scene]
+duration = 1.0
+effects = ["normal_contact"]
+[accuracy]
+dt = 1e-5
+tolerance = 1e-6
+[materials.grain]
+k_n = 5e6
+restitution = 0.7
+[[walls]]
+type = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+[[bodies]]
+radius = 1.0
+density = 2.0
+position = [0.0, 1.05]
+velocity = [0.0, {}]
+)toml",
+                                       -speed);
+  auto e = engine_for(eng, toml);
+  const double flight = 0.05 / speed;
+  for (int k = 1; k <= 4000; ++k) {
+    e->advance_to(k * flight / 100);
+    const Frame f = e->frame();
+    if (f.position[1] > 1.0 && f.velocity[1] > 0) return f.velocity[1] / speed;
+  }
+  return NAN;
+}
+
+// Downslope acceleration of a body on a floor with gravity tilted by theta (measured between 0.2 and
+// 0.6 s, after the contact has settled), and how far it moved.
+struct Slide {
+  double acceleration = 0, distance = 0;
+};
+Slide incline(const std::string& eng, const std::string& body, const std::string& effects, double theta_deg,
+              double mu) {
+  const double th = theta_deg * M_PI / 180;
+  const std::string toml =
+      fmt::format(R"toml(
+[scene]
+duration = 1.0
+gravity = [{gx}, {gy}]
+effects = [{effects}]
+[accuracy]
+integrator = "verlet"
+dt = 1e-5
+[materials.m]
+k_n = 1e7
+restitution = 0.2
+k_s = 1e7
+damping_s = 3000
+mu = {mu}
+[[walls]]
+type = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+{body}
+)toml",
+                  fmt::arg("gx", kG * std::sin(th)), fmt::arg("gy", -kG * std::cos(th)),
+                  fmt::arg("effects", effects), fmt::arg("mu", mu), fmt::arg("body", body));
+  auto e = engine_for(eng, toml);
+  e->advance_to(0.2);
+  const Frame a = e->frame();
+  e->advance_to(0.6);
+  const Frame b = e->frame();
+  return {(b.velocity[0] - a.velocity[0]) / 0.4, b.position[0] - a.position[0]};
+}
+
+const char* kBlock = R"toml([[bodies]]
+shape = "polygon"
+vertices = [[-2.5, -0.5], [2.5, -0.5], [2.5, 0.5], [-2.5, 0.5]]
+density = 2.0
+position = [0.0, 0.4995])toml";
+const char* kDisc = R"toml([[bodies]]
+radius = 1.0
+density = 2.0
+position = [0.0, 0.9995])toml";
+
+void checks_for(Report& r, const std::string& eng, std::string& md) {
+  free_flight(r, eng);
+  for (double v : {1.0, 50.0, 500.0}) {
+    const double e = bounce_restitution(eng, v);
+    r.expect_near(
+        fmt::format("bounce/restitution/v={}", v), eng, e, 0.7, 0.007,
+        "disc on a line; the scene's restitution within 1 % (1 cm/s is below Box2D's default threshold)");
+  }
+  const std::string sliding = "\"gravity\", \"normal_contact\", \"friction\", \"rotation\"";
+  const Slide slide = incline(eng, kBlock, sliding, 30, 0.3);
+  const double a_slide = kG * (std::sin(M_PI / 6) - 0.3 * std::cos(M_PI / 6));
+  r.expect_near("incline/block-slides", eng, slide.acceleration, a_slide, 0.01 * a_slide,
+                "5 x 1 cm block, 30 deg, mu = 0.3: g (sin - mu cos) within 1 %");
+  const Slide stick = incline(eng, kBlock, sliding, 20, 0.5);
+  r.expect_below("incline/block-sticks", eng, std::abs(stick.distance), 1e-3,
+                 "20 deg, mu = 0.5 > tan 20: moves less than 1e-3 cm in 0.4 s");
+  const Slide roll = incline(eng, kDisc, sliding, 20, 0.5);
+  const double a_roll = kG * std::sin(M_PI / 9) / 1.5;
+  r.expect_near("incline/disc-rolls", eng, roll.acceleration, a_roll, 0.01 * a_roll,
+                "disc, 20 deg, no slip: g sin / (1 + I/m r^2) within 1 %");
+  md += fmt::format("| {} | {:.4f} | {:.2f} (analytic {:.2f}) | {:.2e} | {:.2f} (analytic {:.2f}) |\n", eng,
+                    bounce_restitution(eng, 1.0), slide.acceleration, a_slide, stick.distance,
+                    roll.acceleration, a_roll);
+}
+
+}  // namespace
+
+void run_single_body_suite(Report& r, const SuiteOptions& o) {
+  std::string md =
+      "## Single body on every engine\n\n| engine | restitution at 1 cm/s (scene 0.7) | sliding block accel "
+      "(cm/s^2) | "
+      "sticking block moved (cm) | rolling disc accel (cm/s^2) |\n|---|---|---|---|---|\n";
+  for (const std::string& eng : engine_names()) {
+    if (o.log) o.log("single body on " + eng);
+    checks_for(r, eng, md);
+  }
+  r.markdown.push_back(md);
+}
+
+}  // namespace grainlab::validation
