@@ -40,22 +40,9 @@ class PairMaterials : public b2ContactListener {
     const double meff = a->mass == 0   ? b->mass
                         : b->mass == 0 ? a->mass
                                        : a->mass * b->mass / (a->mass + b->mass);
-    contact->SetRestitution(static_cast<float>(restitution(m, meff)));
+    contact->SetRestitution(static_cast<float>(impulse_engine_restitution(m, meff)));
     contact->SetFriction(scene_.effects.friction ? static_cast<float>(m.mu) : 0.0f);
     contact->SetRestitutionThreshold(0.0f);
-  }
-  static double restitution(const Material& m, double meff) {
-    switch (m.normal_damping.kind) {
-      case Damping::Kind::None:
-        return 1.0;
-      case Damping::Kind::Restitution:
-        return m.normal_damping.value;
-      case Damping::Kind::Rate:
-        return dem::restitution_from_damping(m.k_n, m.normal_damping.value * meff, meff);
-      case Damping::Kind::Coefficient:
-        return dem::restitution_from_damping(m.k_n, m.normal_damping.value, meff);
-    }
-    return 1.0;
   }
 
  private:

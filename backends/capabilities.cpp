@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "contact_law.hpp"
 #include "engine.hpp"
 
 namespace grainlab {
@@ -26,6 +27,17 @@ const std::vector<Capabilities>& engine_catalog() {
        true,
        8,
        "rigid contacts with restitution and Coulomb friction set per contact; stiffness is not modelled"},
+      {"ode",
+       "ODE 0.16.2 (Debian), double precision, 2-D through plane-2D joints",
+       2,
+       {"disc", "segment", "line"},
+       known_effect_names(),
+       false,
+       true,
+       0,
+       "rigid contacts (LCP) with restitution (bounce) and Coulomb friction set per contact; stiffness is "
+       "not "
+       "modelled"},
   };
   return all;
 }
@@ -58,6 +70,20 @@ void check_engine_supports(const Capabilities& c, const Scene& scene) {
       missing(c, "handle this wall type");
     if (w.motion.active() && !has(c.shapes, "moving wall")) missing(c, "move walls");
   }
+}
+
+double impulse_engine_restitution(const Material& m, double meff) {
+  switch (m.normal_damping.kind) {
+    case Damping::Kind::None:
+      return 1.0;
+    case Damping::Kind::Restitution:
+      return m.normal_damping.value;
+    case Damping::Kind::Rate:
+      return dem::restitution_from_damping(m.k_n, m.normal_damping.value * meff, meff);
+    case Damping::Kind::Coefficient:
+      return dem::restitution_from_damping(m.k_n, m.normal_damping.value, meff);
+  }
+  return 1.0;
 }
 
 }  // namespace grainlab

@@ -44,6 +44,9 @@ class Engine {
 };
 
 const std::vector<Capabilities>& engine_catalog();
+// The restitution an impulse engine gets for a material at reduced mass m_eff: the given one, or what
+// eq. 2.2 gives for a soft material's stiffness and damping.
+double impulse_engine_restitution(const Material& m, double meff);
 // Throws InputError naming the engine and what the scene needs that it lacks.
 void check_engine_supports(const Capabilities& c, const Scene& scene);
 

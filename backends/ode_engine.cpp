@@ -1,0 +1,213 @@
+// ODE 0.16.2 (double precision) behind the Engine interface. Mapping decisions (docs/engines.md):
+// - 2-D scenes: every body is held in the z = 0 plane by a plane-2D joint; discs are spheres (a sphere
+//   cut by the plane touches lines and other spheres exactly as a disc does).
+// - Walls: a line is a plane; a segment is a thin box (ODE has no 2-D segment).
+// - Materials: the near callback sets every contact's mu and bounce from the scene's pair material
+//   (ODE has no mixing rules); bounce_vel = 0 so slow impacts keep their restitution; auto-disable
+//   (sleeping) off.
+// - Units: lengths scaled so a median body is one unit across; time and mass unchanged.
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "contact_law.hpp"
+#include "engine.hpp"
+#include "world.hpp"
+
+namespace grainlab {
+
+namespace {
+
+struct GeomInfo {
+  int material = 0;
+  double mass = 0;  // 0: wall
+};
+
+class OdeEngine final : public Engine {
+ public:
+  explicit OdeEngine(const Scene& scene) : scene_(scene), bodies_(dem::expanded_bodies(scene)) {
+    check_engine_supports(engine_catalog()[2], scene_);
+    dInitODE2(0);
+    world_ = dWorldCreate();
+    space_ = dHashSpaceCreate(nullptr);
+    contacts_ = dJointGroupCreate(0);
+    scale_ = length_scale();
+    const Vec2 g = scene_.effects.gravity ? scene_.gravity * scale_ : Vec2{};
+    dWorldSetGravity(world_, g.x, g.y, 0);
+    dWorldSetAutoDisableFlag(world_, 0);
+    if (quick()) dWorldSetQuickStepNumIterations(world_, scene_.accuracy.velocity_iterations);
+    info_.reserve(bodies_.size() + scene_.walls.size());
+    for (const BodySpec& b : bodies_) add_body(b);
+    for (const WallSpec& w : scene_.walls) add_wall(w);
+  }
+  ~OdeEngine() override {
+    dJointGroupDestroy(contacts_);
+    dSpaceDestroy(space_);
+    dWorldDestroy(world_);
+  }
+
+  std::string name() const override { return "ode"; }
+  std::string integrator() const override { return quick() ? "ode dWorldQuickStep" : "ode dWorldStep"; }
+  double time() const override { return t_; }
+
+  void advance_to(double t_end) override {
+    const auto start = std::chrono::steady_clock::now();
+    const double h = scene_.accuracy.dt / scene_.accuracy.substeps;
+    while (t_ + h * (1 - 1e-3) <= t_end) {
+      dSpaceCollide(space_, this, &OdeEngine::near_callback);
+      if (quick())
+        dWorldQuickStep(world_, h);
+      else
+        dWorldStep(world_, h);
+      dJointGroupEmpty(contacts_);
+      t_ += h;
+      ++steps_;
+    }
+    wall_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  Frame frame() const override {
+    Frame f;
+    f.time = t_;
+    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+      const dReal* p = dBodyGetPosition(handles_[k]);
+      const dReal* v = dBodyGetLinearVel(handles_[k]);
+      const dReal* w = dBodyGetAngularVel(handles_[k]);
+      const dReal* R = dBodyGetRotation(handles_[k]);
+      f.id.push_back(bodies_[k].id);
+      f.position.insert(f.position.end(), {p[0] / scale_, p[1] / scale_, 0.0});
+      f.velocity.insert(f.velocity.end(), {v[0] / scale_, v[1] / scale_, 0.0});
+      f.angle.push_back(std::atan2(R[4], R[0]));
+      f.spin.push_back(w[2]);
+      f.radius.push_back(bodies_[k].radius);
+      f.shape.push_back(-1);
+    }
+    return f;
+  }
+
+  EnergyReport energies() const override {
+    EnergyReport e;
+    const Frame f = frame();
+    const Vec2 g = scene_.effects.gravity ? scene_.gravity : Vec2{};
+    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+      const BodySpec& b = bodies_[k];
+      e.kinetic_translational +=
+          0.5 * b.mass *
+          (f.velocity[3 * k] * f.velocity[3 * k] + f.velocity[3 * k + 1] * f.velocity[3 * k + 1]);
+      e.kinetic_rotational += 0.5 * b.inertia * f.spin[k] * f.spin[k];
+      e.potential_gravity -= b.mass * (g.x * f.position[3 * k] + g.y * f.position[3 * k + 1]);
+    }
+    return e;
+  }
+
+  std::map<std::string, double> diagnostics() const override {
+    return {{"steps", double(steps_)},
+            {"rejected_steps", 0.0},
+            {"force_evaluations", double(steps_)},
+            {"contacts", double(last_contacts_)},
+            {"wall_seconds", wall_seconds_},
+            {"length_scale_units_per_cm", scale_},
+            {"solver_iterations", double(scene_.accuracy.velocity_iterations)},
+            {"particles", double(bodies_.size())}};
+  }
+  std::vector<std::vector<double>> polygon_shapes() const override { return {}; }
+
+ private:
+  bool quick() const { return scene_.accuracy.stepper == "quick"; }
+
+  double length_scale() const {
+    std::vector<double> sizes;
+    for (const BodySpec& b : bodies_) sizes.push_back(2 * b.radius);
+    if (sizes.empty()) return 1.0;
+    std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+    return 1.0 / sizes[sizes.size() / 2];
+  }
+
+  void add_body(const BodySpec& s) {
+    dBodyID b = dBodyCreate(world_);
+    dMass m;
+    const double I = s.inertia * scale_ * scale_;
+    // Full inertia of the disc as a 3-D body; only I_zz acts under the plane-2D joint.
+    dMassSetParameters(&m, s.mass, 0, 0, 0, I, I, I, 0, 0, 0);
+    dBodySetMass(b, &m);
+    dBodySetPosition(b, s.position.x * scale_, s.position.y * scale_, 0);
+    dBodySetLinearVel(b, s.velocity.x * scale_, s.velocity.y * scale_, 0);
+    dMatrix3 R;
+    dRFromAxisAndAngle(R, 0, 0, 1, s.angle);
+    dBodySetRotation(b, R);
+    dBodySetAngularVel(b, 0, 0, scene_.effects.rotation ? s.spin : 0.0);
+    dBodySetAutoDisableFlag(b, 0);
+    if (!scene_.effects.rotation) dBodySetMaxAngularSpeed(b, 0);
+    dJointID plane = dJointCreatePlane2D(world_, nullptr);
+    dJointAttach(plane, b, nullptr);
+    info_.push_back({s.material, s.mass});
+    dGeomID g = dCreateSphere(space_, s.radius * scale_);
+    dGeomSetBody(g, b);
+    dGeomSetData(g, &info_.back());
+    if (!scene_.effects.normal_contact) dGeomSetCategoryBits(g, 0);
+    handles_.push_back(b);
+  }
+
+  void add_wall(const WallSpec& w) {
+    info_.push_back({w.material, 0.0});
+    dGeomID g;
+    if (w.kind == WallSpec::Kind::Line) {
+      g = dCreatePlane(space_, w.b.x, w.b.y, 0, dot(w.b, w.a) * scale_);
+    } else {  // a thin box along the segment, thickness 1e-3 of a body size
+      const Vec2 d = w.b - w.a, c = (w.a + w.b) * 0.5;
+      const double thick = 1e-3;
+      g = dCreateBox(space_, norm(d) * scale_, thick, 1.0);
+      dGeomSetPosition(g, c.x * scale_, c.y * scale_, 0);
+      dMatrix3 R;
+      dRFromAxisAndAngle(R, 0, 0, 1, std::atan2(d.y, d.x));
+      dGeomSetRotation(g, R);
+    }
+    dGeomSetData(g, &info_.back());
+  }
+
+  static void near_callback(void* data, dGeomID a, dGeomID b) {
+    auto* self = static_cast<OdeEngine*>(data);
+    const dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
+    if (!ba && !bb) return;
+    dContact c[4];
+    const int n = dCollide(a, b, 4, &c[0].geom, sizeof(dContact));
+    if (n == 0) return;
+    const auto* ia = static_cast<const GeomInfo*>(dGeomGetData(a));
+    const auto* ib = static_cast<const GeomInfo*>(dGeomGetData(b));
+    const Material& m = self->scene_.pair(ia->material, ib->material);
+    const double meff = ia->mass == 0   ? ib->mass
+                        : ib->mass == 0 ? ia->mass
+                                        : ia->mass * ib->mass / (ia->mass + ib->mass);
+    for (int k = 0; k < n; ++k) {
+      // dContactApprox1: mu is a coefficient (friction pyramid); without it ODE reads mu as a force limit.
+      c[k].surface.mode = dContactBounce | dContactApprox1;
+      c[k].surface.mu = self->scene_.effects.friction ? m.mu : 0.0;
+      c[k].surface.bounce = impulse_engine_restitution(m, meff);
+      c[k].surface.bounce_vel = 0;
+      dJointID j = dJointCreateContact(self->world_, self->contacts_, &c[k]);
+      dJointAttach(j, ba, bb);
+    }
+    self->last_contacts_ = n;
+  }
+
+  Scene scene_;
+  std::vector<BodySpec> bodies_;
+  dWorldID world_;
+  dSpaceID space_;
+  dJointGroupID contacts_;
+  std::vector<GeomInfo> info_;
+  std::vector<dBodyID> handles_;
+  double scale_ = 1, t_ = 0, wall_seconds_ = 0;
+  std::uint64_t steps_ = 0;
+  int last_contacts_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Engine> make_ode_engine(const Scene& scene) {
+  return std::make_unique<OdeEngine>(scene);
+}
+
+}  // namespace grainlab
