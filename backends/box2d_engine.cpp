@@ -98,19 +98,7 @@ class Box2DEngine final : public Engine {
     return f;
   }
 
-  EnergyReport energies() const override {
-    EnergyReport e;
-    const Frame f = frame();
-    const Vec2 g = scene_.effects.gravity ? scene_.gravity : Vec2{};
-    for (std::size_t k = 0; k < bodies_.size(); ++k) {
-      const BodySpec& b = bodies_[k];
-      const double vx = f.velocity[3 * k], vy = f.velocity[3 * k + 1];
-      e.kinetic_translational += 0.5 * b.mass * (vx * vx + vy * vy);
-      e.kinetic_rotational += 0.5 * b.inertia * f.spin[k] * f.spin[k];
-      e.potential_gravity -= b.mass * (g.x * f.position[3 * k] + g.y * f.position[3 * k + 1]);
-    }
-    return e;  // rigid contacts store no elastic energy
-  }
+  EnergyReport energies() const override { return rigid_body_energies(frame(), bodies_, scene_); }
 
   std::map<std::string, double> diagnostics() const override {
     return {{"steps", double(steps_)},
@@ -142,15 +130,8 @@ class Box2DEngine final : public Engine {
   // per step, which silently clamps velocities; then lengths are scaled down until it fits (with a
   // factor 2 margin for impacts).
   double length_scale() const {
-    std::vector<double> sizes;
-    double vmax = 0;
-    for (const BodySpec& b : bodies_) {
-      sizes.push_back(2 * b.radius);
-      vmax = std::max(vmax, norm(b.velocity) + std::abs(b.spin) * b.radius);
-    }
-    if (sizes.empty()) return 1.0;
-    std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
-    double scale = 1.0 / sizes[sizes.size() / 2];
+    double scale = unit_per_median_diameter(bodies_), vmax = 0;
+    for (const BodySpec& b : bodies_) vmax = std::max(vmax, norm(b.velocity) + std::abs(b.spin) * b.radius);
     if (scene_.effects.gravity) vmax += norm(scene_.gravity) * scene_.duration;
     const double step = scene_.accuracy.dt / scene_.accuracy.substeps;
     if (vmax > 0) scale = std::min(scale, 0.5 * b2_maxTranslation / (vmax * step));

@@ -86,4 +86,25 @@ double impulse_engine_restitution(const Material& m, double meff) {
   return 1.0;
 }
 
+double unit_per_median_diameter(const std::vector<BodySpec>& bodies) {
+  std::vector<double> sizes;
+  for (const BodySpec& b : bodies) sizes.push_back(2 * b.radius);
+  if (sizes.empty()) return 1.0;
+  std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+  return 1.0 / sizes[sizes.size() / 2];
+}
+
+EnergyReport rigid_body_energies(const Frame& f, const std::vector<BodySpec>& bodies, const Scene& scene) {
+  EnergyReport e;
+  const Vec2 g = scene.effects.gravity ? scene.gravity : Vec2{};
+  for (std::size_t k = 0; k < bodies.size(); ++k) {
+    const BodySpec& b = bodies[k];
+    const double vx = f.velocity[3 * k], vy = f.velocity[3 * k + 1];
+    e.kinetic_translational += 0.5 * b.mass * (vx * vx + vy * vy);
+    e.kinetic_rotational += 0.5 * b.inertia * f.spin[k] * f.spin[k];
+    e.potential_gravity -= b.mass * (g.x * f.position[3 * k] + g.y * f.position[3 * k + 1]);
+  }
+  return e;  // rigid contacts store no elastic energy
+}
+
 }  // namespace grainlab

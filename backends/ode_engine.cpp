@@ -33,7 +33,7 @@ class OdeEngine final : public Engine {
     world_ = dWorldCreate();
     space_ = dHashSpaceCreate(nullptr);
     contacts_ = dJointGroupCreate(0);
-    scale_ = length_scale();
+    scale_ = unit_per_median_diameter(bodies_);
     const Vec2 g = scene_.effects.gravity ? scene_.gravity * scale_ : Vec2{};
     dWorldSetGravity(world_, g.x, g.y, 0);
     dWorldSetAutoDisableFlag(world_, 0);
@@ -87,20 +87,7 @@ class OdeEngine final : public Engine {
     return f;
   }
 
-  EnergyReport energies() const override {
-    EnergyReport e;
-    const Frame f = frame();
-    const Vec2 g = scene_.effects.gravity ? scene_.gravity : Vec2{};
-    for (std::size_t k = 0; k < bodies_.size(); ++k) {
-      const BodySpec& b = bodies_[k];
-      e.kinetic_translational +=
-          0.5 * b.mass *
-          (f.velocity[3 * k] * f.velocity[3 * k] + f.velocity[3 * k + 1] * f.velocity[3 * k + 1]);
-      e.kinetic_rotational += 0.5 * b.inertia * f.spin[k] * f.spin[k];
-      e.potential_gravity -= b.mass * (g.x * f.position[3 * k] + g.y * f.position[3 * k + 1]);
-    }
-    return e;
-  }
+  EnergyReport energies() const override { return rigid_body_energies(frame(), bodies_, scene_); }
 
   std::map<std::string, double> diagnostics() const override {
     return {{"steps", double(steps_)},
@@ -116,14 +103,6 @@ class OdeEngine final : public Engine {
 
  private:
   bool quick() const { return scene_.accuracy.stepper == "quick"; }
-
-  double length_scale() const {
-    std::vector<double> sizes;
-    for (const BodySpec& b : bodies_) sizes.push_back(2 * b.radius);
-    if (sizes.empty()) return 1.0;
-    std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
-    return 1.0 / sizes[sizes.size() / 2];
-  }
 
   void add_body(const BodySpec& s) {
     dBodyID b = dBodyCreate(world_);
