@@ -74,6 +74,7 @@ class NativeEngine final : public Engine {
 
 std::unique_ptr<Engine> make_box2d_engine(const Scene& scene);
 std::unique_ptr<Engine> make_ode_engine(const Scene& scene);
+std::unique_ptr<Engine> make_bullet_engine(const Scene& scene);
 
 std::vector<std::string> engine_names() {
   std::vector<std::string> names;
@@ -85,9 +86,9 @@ std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene)
   if (name == "native") return std::make_unique<NativeEngine>(scene);
   if (name == "box2d") return make_box2d_engine(scene);
   if (name == "ode") return make_ode_engine(scene);
-  throw InputError(
-      {"--engine", 0}, "engine",
-      "unknown engine \"" + name + "\"; available: native, box2d, ode (Bullet: issue #3, in progress)");
+  if (name == "bullet") return make_bullet_engine(scene);
+  throw InputError({"--engine", 0}, "engine",
+                   "unknown engine \"" + name + "\"; available: native, box2d, ode, bullet");
 }
 
 }  // namespace grainlab

@@ -14,12 +14,12 @@ using namespace grainlab;
 using validation::bounce_restitution;
 
 TEST(Engines, CatalogListsTheEngines) {
-  EXPECT_EQ(engine_names(), (std::vector<std::string>{"native", "box2d", "ode"}));
+  EXPECT_EQ(engine_names(), (std::vector<std::string>{"native", "box2d", "ode", "bullet"}));
 }
 
 TEST(Engines, RestitutionIsTheScenesOnEveryEngineAndSpeed) {
   // 1 cm/s is far below Box2D's default restitution threshold (1 m/s), which grainlab switches off.
-  for (const char* engine : {"native", "box2d", "ode"})
+  for (const char* engine : {"native", "box2d", "ode", "bullet"})
     for (double v : {1.0, 50.0, 500.0}) {
       EXPECT_NEAR(bounce_restitution(engine, v, "restitution = 0.7"), 0.7, 0.007) << engine << " v=" << v;
     }
