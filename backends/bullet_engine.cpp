@@ -100,7 +100,7 @@ class BulletEngine final : public Engine {
       f.angle.push_back(yaw);
       f.spin.push_back(w.z());
       f.radius.push_back(bodies_[k].radius);
-      f.shape.push_back(-1);
+      f.shape.push_back(shape_of_[k]);
     }
     return f;
   }
@@ -117,7 +117,16 @@ class BulletEngine final : public Engine {
             {"length_scale_units_per_cm", scale_},
             {"particles", double(bodies_.size())}};
   }
-  std::vector<std::vector<double>> polygon_shapes() const override { return {}; }
+  std::vector<std::vector<double>> polygon_shapes() const override {
+    std::vector<std::vector<double>> out;
+    for (const BodySpec& b : bodies_)
+      if (b.shape == BodySpec::Shape::Polygon) {
+        std::vector<double> flat;
+        for (Vec2 v : b.vertices) flat.insert(flat.end(), {v.x, v.y});
+        out.push_back(flat);
+      }
+    return out;
+  }
 
  private:
   void add(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& inertia,
@@ -138,12 +147,24 @@ class BulletEngine final : public Engine {
   }
 
   void add_body(const BodySpec& s) {
-    auto shape = std::make_unique<btSphereShape>(s.radius * scale_);
+    std::unique_ptr<btCollisionShape> shape;
+    if (s.shape == BodySpec::Shape::Disc) {
+      shape = std::make_unique<btSphereShape>(s.radius * scale_);
+    } else {  // a prism one unit deep, its section the polygon; only its in-plane motion is free
+      auto hull = std::make_unique<btConvexHullShape>();
+      for (Vec2 v : s.vertices)
+        for (double z : {-0.5, 0.5}) hull->addPoint(btVector3(v.x * scale_, v.y * scale_, z), false);
+      hull->recalcLocalAabb();
+      hull->setMargin(1e-3);
+      shape = std::move(hull);
+      polygon_index_.push_back(polygons_++);
+    }
     const double I = s.inertia * scale_ * scale_;
     btTransform at;
     at.setIdentity();
     at.setOrigin(btVector3(s.position.x * scale_, s.position.y * scale_, 0));
     at.setRotation(btQuaternion(btVector3(0, 0, 1), s.angle));
+    shape_of_.push_back(s.shape == BodySpec::Shape::Disc ? -1 : polygons_ - 1);
     add(std::move(shape), s.mass, btVector3(I, I, I), at, {&scene_, s.material, s.mass});
     btRigidBody& b = *rigid_.back();
     b.setLinearFactor(btVector3(1, 1, 0));
@@ -178,6 +199,8 @@ class BulletEngine final : public Engine {
   std::vector<ObjectInfo> info_;  // reserved up front: bodies point into it
   std::vector<std::unique_ptr<btCollisionShape>> shapes_;
   std::vector<std::unique_ptr<btRigidBody>> rigid_;
+  std::vector<int> shape_of_, polygon_index_;  // per body: -1 disc, else polygon index
+  int polygons_ = 0;
   double scale_ = 1, t_ = 0, wall_seconds_ = 0;
   std::uint64_t steps_ = 0;
 };

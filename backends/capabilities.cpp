@@ -36,19 +36,17 @@ const std::vector<Capabilities>& engine_catalog() {
        true,
        0,
        "rigid contacts (LCP) with restitution (bounce) and Coulomb friction set per contact; stiffness is "
-       "not "
-       "modelled"},
+       "not modelled"},
       {"bullet",
        "Bullet 3.24 (Debian, float64 libraries), 2-D through linear and angular factors",
        2,
-       {"disc", "segment", "line"},
+       {"disc", "polygon", "segment", "line"},
        known_effect_names(),
        false,
        true,
        0,
        "rigid contacts (sequential impulses) with restitution and Coulomb friction set per contact; "
-       "stiffness "
-       "is not modelled"},
+       "stiffness is not modelled"},
   };
   return all;
 }
