@@ -30,7 +30,7 @@ const std::vector<Capabilities>& engine_catalog() {
       {"ode",
        "ODE 0.16.2 (Debian), double precision, 2-D through plane-2D joints",
        2,
-       {"disc", "segment", "line"},
+       {"disc", "polygon", "segment", "line"},
        known_effect_names(),
        false,
        true,

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <deque>
 
 #include "contact_law.hpp"
 #include "engine.hpp"
@@ -82,7 +83,7 @@ class OdeEngine final : public Engine {
       f.angle.push_back(std::atan2(R[4], R[0]));
       f.spin.push_back(w[2]);
       f.radius.push_back(bodies_[k].radius);
-      f.shape.push_back(-1);
+      f.shape.push_back(shape_of_[k]);
     }
     return f;
   }
@@ -99,7 +100,16 @@ class OdeEngine final : public Engine {
             {"solver_iterations", double(scene_.accuracy.velocity_iterations)},
             {"particles", double(bodies_.size())}};
   }
-  std::vector<std::vector<double>> polygon_shapes() const override { return {}; }
+  std::vector<std::vector<double>> polygon_shapes() const override {
+    std::vector<std::vector<double>> out;
+    for (const BodySpec& b : bodies_)
+      if (b.shape == BodySpec::Shape::Polygon) {
+        std::vector<double> flat;
+        for (Vec2 v : b.vertices) flat.insert(flat.end(), {v.x, v.y});
+        out.push_back(flat);
+      }
+    return out;
+  }
 
  private:
   bool quick() const { return scene_.accuracy.stepper == "quick"; }
@@ -122,11 +132,44 @@ class OdeEngine final : public Engine {
     dJointID plane = dJointCreatePlane2D(world_, nullptr);
     dJointAttach(plane, b, nullptr);
     info_.push_back({s.material, s.mass});
-    dGeomID g = dCreateSphere(space_, s.radius * scale_);
+    dGeomID g =
+        s.shape == BodySpec::Shape::Disc ? dCreateSphere(space_, s.radius * scale_) : prism(s.vertices);
+    shape_of_.push_back(s.shape == BodySpec::Shape::Disc ? -1 : prisms_ - 1);
     dGeomSetBody(g, b);
     dGeomSetData(g, &info_.back());
     if (!scene_.effects.normal_contact) dGeomSetCategoryBits(g, 0);
     handles_.push_back(b);
+  }
+
+  // A convex prism one unit deep with the polygon as its section. ODE keeps pointers to the arrays,
+  // so they live in the engine (std::deque: stable addresses).
+  dGeomID prism(const std::vector<Vec2>& poly) {
+    const std::size_t n = poly.size();
+    const double h = 0.5;
+    Convex& c = convexes_.emplace_back();
+    for (double z : {-h, h})
+      for (Vec2 v : poly) c.points.insert(c.points.end(), {v.x * scale_, v.y * scale_, z});
+    auto face = [&](double nx, double ny, double nz, double d, std::vector<unsigned> idx) {
+      c.planes.insert(c.planes.end(), {nx, ny, nz, d});
+      c.polygons.push_back(static_cast<unsigned>(idx.size()));
+      c.polygons.insert(c.polygons.end(), idx.begin(), idx.end());
+    };
+    std::vector<unsigned> top, bottom;
+    for (std::size_t i = 0; i < n; ++i)
+      top.push_back(static_cast<unsigned>(n + i)), bottom.push_back(static_cast<unsigned>(n - 1 - i));
+    face(0, 0, 1, h, top);
+    face(0, 0, -1, h, bottom);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = (i + 1) % n;
+      const Vec2 e = poly[j] - poly[i];
+      const Vec2 out = Vec2{e.y, -e.x} * (1 / norm(e));  // outward for a counter-clockwise polygon
+      face(out.x, out.y, 0, dot(out, poly[i]) * scale_,
+           {static_cast<unsigned>(i), static_cast<unsigned>(j), static_cast<unsigned>(n + j),
+            static_cast<unsigned>(n + i)});
+    }
+    ++prisms_;
+    return dCreateConvex(space_, c.planes.data(), static_cast<unsigned>(c.planes.size() / 4), c.points.data(),
+                         static_cast<unsigned>(c.points.size() / 3), c.polygons.data());
   }
 
   void add_wall(const WallSpec& w) {
@@ -178,6 +221,13 @@ class OdeEngine final : public Engine {
   dJointGroupID contacts_;
   std::vector<GeomInfo> info_;
   std::vector<dBodyID> handles_;
+  struct Convex {
+    std::vector<dReal> planes, points;
+    std::vector<unsigned> polygons;
+  };
+  std::deque<Convex> convexes_;
+  std::vector<int> shape_of_;
+  int prisms_ = 0;
   double scale_ = 1, t_ = 0, wall_seconds_ = 0;
   std::uint64_t steps_ = 0;
   int last_contacts_ = 0;
