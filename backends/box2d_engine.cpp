@@ -207,12 +207,7 @@ class Box2DEngine final : public Engine {
     for (std::size_t w = 0; w < walls_.size(); ++w) {
       const Motion& m = scene_.walls[w].motion;
       if (!m.active()) continue;
-      auto offset = [&](double t) {
-        const double om = 2 * M_PI * m.frequency;
-        return Vec2{m.amplitude.x * std::sin(om * t + m.phase.x),
-                    m.amplitude.y * std::sin(om * t + m.phase.y)};
-      };
-      const Vec2 v = (offset(t_ + h) - offset(t_)) * (1 / h);
+      const Vec2 v = (wall_offset(m, t_ + h) - wall_offset(m, t_)) * (1 / h);
       walls_[w]->SetLinearVelocity(vec(v));
     }
   }

@@ -79,6 +79,7 @@ class BulletEngine final : public Engine {
     const auto start = std::chrono::steady_clock::now();
     const double h = scene_.accuracy.dt / scene_.accuracy.substeps;
     while (t_ + h * (1 - 1e-3) <= t_end) {
+      move_walls(h);
       world_.stepSimulation(h, 0);  // maxSubSteps = 0: exactly one step of h, no interpolation
       t_ += h;
       ++steps_;
@@ -187,6 +188,23 @@ class BulletEngine final : public Engine {
     }
     shape->setMargin(1e-3);
     add(std::move(shape), 0.0, btVector3(0, 0, 0), at, {&scene_, w.material, 0.0});
+    if (w.motion.active()) {  // kinematic: Bullet derives its velocity from the motion state each step
+      btRigidBody& b = *rigid_.back();
+      motion_states_.push_back(std::make_unique<btDefaultMotionState>(at));
+      b.setMotionState(motion_states_.back().get());
+      b.setCollisionFlags(b.getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+      moving_.push_back({&b, &w, at});
+    }
+  }
+
+  // Place kinematic walls where they must be at the end of the coming step.
+  void move_walls(double h) {
+    for (const Moving& m : moving_) {
+      btTransform at = m.rest;
+      const Vec2 d = wall_offset(m.spec->motion, t_ + h) * scale_;
+      at.setOrigin(at.getOrigin() + btVector3(d.x, d.y, 0));
+      m.body->getMotionState()->setWorldTransform(at);
+    }
   }
 
   Scene scene_;
@@ -199,6 +217,13 @@ class BulletEngine final : public Engine {
   std::vector<ObjectInfo> info_;  // reserved up front: bodies point into it
   std::vector<std::unique_ptr<btCollisionShape>> shapes_;
   std::vector<std::unique_ptr<btRigidBody>> rigid_;
+  struct Moving {
+    btRigidBody* body;
+    const WallSpec* spec;
+    btTransform rest;
+  };
+  std::vector<Moving> moving_;
+  std::vector<std::unique_ptr<btDefaultMotionState>> motion_states_;
   std::vector<int> shape_of_, polygon_index_;  // per body: -1 disc, else polygon index
   int polygons_ = 0;
   double scale_ = 1, t_ = 0, wall_seconds_ = 0;

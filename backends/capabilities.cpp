@@ -30,7 +30,7 @@ const std::vector<Capabilities>& engine_catalog() {
       {"ode",
        "ODE 0.16.2 (Debian), double precision, 2-D through plane-2D joints",
        2,
-       {"disc", "polygon", "segment", "line"},
+       {"disc", "polygon", "segment", "line", "moving wall"},
        known_effect_names(),
        false,
        true,
@@ -40,7 +40,7 @@ const std::vector<Capabilities>& engine_catalog() {
       {"bullet",
        "Bullet 3.24 (Debian, float64 libraries), 2-D through linear and angular factors",
        2,
-       {"disc", "polygon", "segment", "line"},
+       {"disc", "polygon", "segment", "line", "moving wall"},
        known_effect_names(),
        false,
        true,
@@ -93,6 +93,12 @@ double impulse_engine_restitution(const Material& m, double meff) {
       return dem::restitution_from_damping(m.k_n, m.normal_damping.value, meff);
   }
   return 1.0;
+}
+
+Vec2 wall_offset(const Motion& m, double t) {
+  if (!m.active()) return {};
+  const double om = 2 * M_PI * m.frequency;
+  return {m.amplitude.x * std::sin(om * t + m.phase.x), m.amplitude.y * std::sin(om * t + m.phase.y)};
 }
 
 double unit_per_median_diameter(const std::vector<BodySpec>& bodies) {

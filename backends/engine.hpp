@@ -47,6 +47,8 @@ const std::vector<Capabilities>& engine_catalog();
 // The restitution an impulse engine gets for a material at reduced mass m_eff: the given one, or what
 // eq. 2.2 gives for a soft material's stiffness and damping.
 double impulse_engine_restitution(const Material& m, double meff);
+// Displacement of a prescribed-motion wall from its rest position at time t (scene units).
+Vec2 wall_offset(const Motion& m, double t);
 // Engine length units per cm that make the median body diameter one unit (1 when there are no bodies).
 double unit_per_median_diameter(const std::vector<BodySpec>& bodies);
 // Kinetic and gravitational energy of rigid bodies (in the frame's order) from a frame in scene units.
