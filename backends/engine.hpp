@@ -73,7 +73,12 @@ struct RunSummary {
   EnergyReport initial, final;
 };
 
-// Runs a scene to its duration, writing frames, energies, diagnostics and metadata.
+// Engines work in cgs; results are reported in the units the scene file was written in.
+Frame in_scene_units(Frame f, const Scene& scene);
+EnergyReport in_scene_units(EnergyReport e, const Scene& scene);
+std::string units_description(const Scene& scene);
+
+// Runs a scene to its duration, writing frames, energies, diagnostics and metadata (in the scene's units).
 RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& options);
 
 }  // namespace grainlab

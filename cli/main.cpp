@@ -47,8 +47,8 @@ int run_command(const RunArgs& a) {
         "steps {:.0f} (rejected {:.0f}), force evaluations {:.0f}, contacts at end {:.0f}, wall {:.2f} s\n",
         d.at("steps"), d.at("rejected_steps"), d.at("force_evaluations"), d.at("contacts"),
         d.at("wall_seconds"));
-    fmt::print(stderr, "energy: initial {:.6g}, final {:.6g} (erg per cm of thickness)\n", s.initial.total(),
-               s.final.total());
+    fmt::print(stderr, "energy: initial {:.6g}, final {:.6g} ({})\n", s.initial.total(), s.final.total(),
+               scene.units == "si" ? "J" : "erg");
   }
   return 0;
 }

@@ -120,6 +120,59 @@ class SceneReader {
     check_pairs_exist(top);
     check_ids();
     check_initial_overlaps();
+    convert_to_cgs();
+  }
+
+  // Everything in cgs from here on. In 2-D a mass is per unit thickness in the thesis's sense (a disc
+  // of density rho, mass per area, has mass rho pi r^2), so densities scale as mass / length^2.
+  void convert_to_cgs() {
+    const Scene::UnitScale u = s_.to_cgs;
+    if (u.length == 1 && u.mass == 1 && u.time == 1) return;
+    const double L = u.length, M = u.mass, V = u.velocity(), A = L / (u.time * u.time);
+    const double K = M / (u.time * u.time),
+                 C = M / u.time;  // stiffness (force/length), damping (force/velocity)
+    auto len = [L](Vec2& v) { v = v * L; };
+    s_.gravity = s_.gravity * A;
+    if (s_.periodic_x) s_.periodic_x = std::make_pair(s_.periodic_x->first * L, s_.periodic_x->second * L);
+    s_.accuracy.velocity_floor *= V;
+    if (s_.accuracy.skin) *s_.accuracy.skin *= L;
+    auto material = [&](Material& m) {
+      m.k_n *= K;
+      m.k_s *= K;
+      for (Damping* d : {&m.normal_damping, &m.shear_damping})
+        if (d->kind == Damping::Kind::Coefficient) d->value *= C;  // rates and restitutions are unit-free
+    };
+    for (Material& m : s_.materials) material(m);
+    for (auto& [k, m] : s_.pair_materials) material(m);
+    for (BodySpec& b : s_.bodies) {
+      b.radius *= L;
+      for (Vec2& v : b.vertices) len(v);
+      b.mass *= M;
+      b.inertia *= M * L * L;
+      len(b.position);
+      b.velocity = b.velocity * V;
+      b.spin /= u.time;
+    }
+    for (WallSpec& w : s_.walls) {
+      len(w.a);
+      if (w.kind == WallSpec::Kind::Segment) len(w.b);
+      len(w.motion.amplitude);
+      w.motion.frequency /= u.time;
+    }
+    for (AssemblySpec& a : s_.assemblies) {
+      a.spacing *= L;
+      len(a.origin);
+      a.width *= L;
+      a.settle_time *= u.time;
+      a.radius.a *= L;  // fixed radius, minimum or mean
+      a.radius.b *= L;  // maximum or standard deviation
+      a.density *= M / (L * L);
+      a.velocity = a.velocity * V;
+    }
+    s_.duration *= u.time;
+    s_.accuracy.dt *= u.time;
+    s_.accuracy.dt_min *= u.time;
+    s_.accuracy.dt_max *= u.time;
   }
 
  private:
@@ -139,8 +192,10 @@ class SceneReader {
     if (s_.dimension != 2)
       r.fail("dimension", "only 2-D scenes run on the native engine so far (3-D: issue #3)");
     s_.units = r.string_or("units", "cgs");
-    if (s_.units != "cgs")
-      r.fail("units", "only \"cgs\" (cm, g, s) is supported, found \"" + s_.units + "\"");
+    if (s_.units == "si")
+      s_.to_cgs = {100.0, 1000.0, 1.0};
+    else if (s_.units != "cgs")
+      r.fail("units", "must be \"cgs\" (cm, g, s) or \"si\" (m, kg, s), found \"" + s_.units + "\"");
     s_.duration = r.number("duration", Range::positive());
     s_.seed = static_cast<std::uint64_t>(r.integer_or("seed", 0, 0, INT64_MAX));
     s_.gravity = r.vec2_or("gravity", {0, -981.0});

@@ -1,5 +1,6 @@
 #pragma once
-// The scene model: what a scene file says, checked and in scene units. Engines build their own
+// The scene model: what a scene file says, checked, and converted to cgs (cm, g, s) whatever units
+// the file was written in (Scene::units says which, for converting results back). Engines build their own
 // state from it; nothing here knows about any engine.
 #include <cstdint>
 #include <map>
@@ -126,7 +127,13 @@ struct Scene {
   std::vector<std::string> overrides;  // the --set assignments, in order
   std::string name;
   int dimension = 2;
-  std::string units = "cgs";
+  std::string units = "cgs";  // of the file: "cgs" or "si"; values below are always cgs
+  // Factors from the file's units to cgs, for reporting results in the file's units.
+  struct UnitScale {
+    double length = 1, mass = 1, time = 1;
+    double velocity() const { return length / time; }
+    double energy() const { return mass * length * length / (time * time); }
+  } to_cgs;
   double duration = 0;
   std::uint64_t seed = 0;
   Vec2 gravity{0, -981.0};
