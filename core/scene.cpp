@@ -327,6 +327,7 @@ class SceneReader {
         if (!is_convex_ccw(b.vertices))
           r.fail("vertices",
                  "must be a convex polygon listed counter-clockwise (no repeated or collinear points)");
+        raw_vertices_ = b.vertices;
         const PolygonMass pm = polygon_mass(b.vertices);
         for (Vec2& v : b.vertices) v -= pm.centroid;  // body frame at the centroid
         area = pm.area;
@@ -336,6 +337,8 @@ class SceneReader {
         r.fail("shape", "must be \"disc\" or \"polygon\", found \"" + shape + "\"");
       }
       read_mass(r, b, area, polar);
+      if (b.shape == BodySpec::Shape::Polygon && r.has("center_of_mass")) load_polygon(r, b);
+      if (r.has("inertia")) b.inertia = r.number("inertia", Range::positive());
       b.position = r.vec2("position");
       b.velocity = r.vec2_or("velocity", {0, 0});
       b.angle = r.number_or("angle", 0.0);
@@ -344,6 +347,20 @@ class SceneReader {
       r.finish();
       s_.bodies.push_back(std::move(b));
     }
+  }
+
+  // A loaded body: its centre of mass, given in the frame the vertices are written in, becomes the
+  // body's origin (the position is then that of the centre of mass). Unless `inertia` is given, the
+  // moment is the uniform body's about its centroid moved to the centre of mass (parallel axis).
+  void load_polygon(const TomlReader& r, BodySpec& b) {
+    const Vec2 com = r.vec2("center_of_mass");
+    const PolygonMass pm = polygon_mass(raw_vertices_);
+    if (!point_in_convex(com, raw_vertices_))
+      r.fail("center_of_mass", "must lie inside the polygon (in the frame the vertices are given in)");
+    const Vec2 shift = com - pm.centroid;
+    for (Vec2& v : b.vertices) v -= shift;
+    b.inertia += b.mass * dot(shift, shift);
+    b.radius = bounding_radius(b.vertices);
   }
 
   void read_mass(const TomlReader& r, BodySpec& b, double area, double polar) {
@@ -511,6 +528,7 @@ class SceneReader {
   Scene& s_;
   toml::table empty_;
   std::map<std::string, int> material_index_;
+  std::vector<Vec2> raw_vertices_;  // the current polygon's vertices as written
   std::set<int> used_materials_;
 };
 

@@ -2,6 +2,7 @@
 // (issue #3 checks 1-4 in 2-D). The incline is a horizontal floor with gravity tilted by theta.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -136,6 +137,55 @@ radius = 1.0
 density = 2.0
 position = [0.0, 0.9995])toml";
 
+// Geometric rest height of the die's centre of mass with face k down: the lowest vertex, measured
+// from the centre of mass, after rotating the body by k quarter turns.
+double die_expected_height(int face) {
+  double lowest = 1e9;
+  for (Vec2 v : {Vec2{-1, -1}, Vec2{1, -1}, Vec2{1, 1}, Vec2{-1, 1}})
+    lowest = std::min(lowest, rotate(v - Vec2{0.3, 0.3}, face * M_PI / 2).y);
+  return -lowest;
+}
+
+// Centre-of-mass height of a square die (half-side 1 cm, centre of mass moved f = 0.3 of the way to a
+// corner) left to settle on a floor with face k down; nullopt if the engine cannot build it.
+std::optional<double> die_rest_height(const std::string& eng, int face) {
+  const std::string toml =
+      fmt::format(R"toml(
+[scene]
+duration = 1.0
+effects = ["gravity", "normal_contact", "friction", "rotation"]
+[accuracy]
+integrator = "verlet"
+dt = 1e-5
+[materials.m]
+k_n = 1e7
+restitution = 0.2
+k_s = 1e7
+damping_s = 3000
+mu = 0.8
+[[walls]]
+type = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+[[bodies]]
+shape = "polygon"
+vertices = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+center_of_mass = [0.3, 0.3]
+density = 2.0
+position = [0.0, {y}]
+angle = {angle}
+)toml",
+                  fmt::arg("y", die_expected_height(face) + 0.002), fmt::arg("angle", face * M_PI / 2));
+  std::unique_ptr<Engine> e;
+  try {
+    e = engine_for(eng, toml);
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
+  e->advance_to(0.5);
+  return e->frame().position[1];
+}
+
 void checks_for(Report& r, const std::string& eng, std::string& md) {
   free_flight(r, eng);
   for (double v : {1.0, 50.0, 500.0}) {
@@ -163,10 +213,23 @@ void checks_for(Report& r, const std::string& eng, std::string& md) {
   if (roll)
     r.expect_near("incline/disc-rolls", eng, roll->acceleration, a_roll, 0.01 * a_roll,
                   "disc, 20 deg, no slip: g sin / (1 + I/m r^2) within 1 %");
-  md += fmt::format("| {} | {:.4f} | {} | {} | {} |\n", eng,
+  std::vector<double> heights;
+  for (int face = 0; face < 4; ++face)
+    if (auto h = die_rest_height(eng, face)) heights.push_back(*h);
+  std::string die_text = "not supported";
+  if (heights.size() == 4) {
+    const auto [lo, hi] = std::minmax_element(heights.begin(), heights.end());
+    r.expect_near(
+        "loaded-die/rest-energy-spread", eng, *hi - *lo, 0.6, 0.006,
+        "square die, centre of mass 0.3 of the way to a corner: high-face minus low-face rest height "
+        "= 2 f a = 0.6 cm within 1 % (m g times this is the energy difference)");
+    die_text =
+        fmt::format("{:.4f} / {:.4f} / {:.4f} / {:.4f}", heights[0], heights[1], heights[2], heights[3]);
+  }
+  md += fmt::format("| {} | {:.4f} | {} | {} | {} | {} |\n", eng,
                     bounce_restitution(eng, 1.0, "restitution = 0.7"), text(slide, a_slide),
                     stick ? fmt::format("{:.2e}", stick->distance) : std::string("not supported"),
-                    text(roll, a_roll));
+                    text(roll, a_roll), die_text);
 }
 
 }  // namespace
@@ -175,7 +238,9 @@ void run_single_body_suite(Report& r, const SuiteOptions& o) {
   std::string md =
       "## Single body on every engine\n\n| engine | restitution at 1 cm/s (scene 0.7) | sliding block accel "
       "(cm/s^2) | "
-      "sticking block moved (cm) | rolling disc accel (cm/s^2) |\n|---|---|---|---|---|\n";
+      "sticking block moved (cm) | rolling disc accel (cm/s^2) | loaded die rest heights, faces 0-3 "
+      "(geometry: "
+      "1.3 / 1.3 / 0.7 / 0.7 cm) |\n|---|---|---|---|---|---|\n";
   for (const std::string& eng : engine_names()) {
     if (o.log) o.log("single body on " + eng);
     checks_for(r, eng, md);
