@@ -113,16 +113,7 @@ class Box2DEngine final : public Engine {
             {"particles", double(bodies_.size())}};
   }
 
-  std::vector<std::vector<double>> polygon_shapes() const override {
-    std::vector<std::vector<double>> out;
-    for (const BodySpec& b : bodies_)
-      if (b.shape == BodySpec::Shape::Polygon) {
-        std::vector<double> flat;
-        for (Vec2 v : b.vertices) flat.insert(flat.end(), {v.x, v.y});
-        out.push_back(flat);
-      }
-    return out;
-  }
+  std::vector<std::vector<double>> polygon_shapes() const override { return polygon_outlines(bodies_); }
 
  private:
   // Box2D units per cm: a median body diameter becomes one unit, unless the fastest motion the scene

@@ -118,16 +118,7 @@ class BulletEngine final : public Engine {
             {"length_scale_units_per_cm", scale_},
             {"particles", double(bodies_.size())}};
   }
-  std::vector<std::vector<double>> polygon_shapes() const override {
-    std::vector<std::vector<double>> out;
-    for (const BodySpec& b : bodies_)
-      if (b.shape == BodySpec::Shape::Polygon) {
-        std::vector<double> flat;
-        for (Vec2 v : b.vertices) flat.insert(flat.end(), {v.x, v.y});
-        out.push_back(flat);
-      }
-    return out;
-  }
+  std::vector<std::vector<double>> polygon_shapes() const override { return polygon_outlines(bodies_); }
 
  private:
   void add(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& inertia,
@@ -158,7 +149,7 @@ class BulletEngine final : public Engine {
       hull->recalcLocalAabb();
       hull->setMargin(1e-3);
       shape = std::move(hull);
-      polygon_index_.push_back(polygons_++);
+      ++polygons_;
     }
     const double I = s.inertia * scale_ * scale_;
     btTransform at;
@@ -224,7 +215,7 @@ class BulletEngine final : public Engine {
   };
   std::vector<Moving> moving_;
   std::vector<std::unique_ptr<btDefaultMotionState>> motion_states_;
-  std::vector<int> shape_of_, polygon_index_;  // per body: -1 disc, else polygon index
+  std::vector<int> shape_of_;  // per body: -1 disc, else polygon index
   int polygons_ = 0;
   double scale_ = 1, t_ = 0, wall_seconds_ = 0;
   std::uint64_t steps_ = 0;

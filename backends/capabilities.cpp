@@ -109,6 +109,17 @@ double unit_per_median_diameter(const std::vector<BodySpec>& bodies) {
   return 1.0 / sizes[sizes.size() / 2];
 }
 
+std::vector<std::vector<double>> polygon_outlines(const std::vector<BodySpec>& bodies) {
+  std::vector<std::vector<double>> out;
+  for (const BodySpec& b : bodies)
+    if (b.shape == BodySpec::Shape::Polygon) {
+      std::vector<double> flat;
+      for (Vec2 v : b.vertices) flat.insert(flat.end(), {v.x, v.y});
+      out.push_back(flat);
+    }
+  return out;
+}
+
 EnergyReport rigid_body_energies(const Frame& f, const std::vector<BodySpec>& bodies, const Scene& scene) {
   EnergyReport e;
   const Vec2 g = scene.effects.gravity ? scene.gravity : Vec2{};

@@ -51,6 +51,8 @@ double impulse_engine_restitution(const Material& m, double meff);
 Vec2 wall_offset(const Motion& m, double t);
 // Engine length units per cm that make the median body diameter one unit (1 when there are no bodies).
 double unit_per_median_diameter(const std::vector<BodySpec>& bodies);
+// Body-frame outlines of the polygon bodies, flattened x, y (for the output's /shapes).
+std::vector<std::vector<double>> polygon_outlines(const std::vector<BodySpec>& bodies);
 // Kinetic and gravitational energy of rigid bodies (in the frame's order) from a frame in scene units.
 EnergyReport rigid_body_energies(const Frame& f, const std::vector<BodySpec>& bodies, const Scene& scene);
 // Throws InputError naming the engine and what the scene needs that it lacks.

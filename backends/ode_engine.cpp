@@ -110,16 +110,7 @@ class OdeEngine final : public Engine {
             {"solver_iterations", double(scene_.accuracy.velocity_iterations)},
             {"particles", double(bodies_.size())}};
   }
-  std::vector<std::vector<double>> polygon_shapes() const override {
-    std::vector<std::vector<double>> out;
-    for (const BodySpec& b : bodies_)
-      if (b.shape == BodySpec::Shape::Polygon) {
-        std::vector<double> flat;
-        for (Vec2 v : b.vertices) flat.insert(flat.end(), {v.x, v.y});
-        out.push_back(flat);
-      }
-    return out;
-  }
+  std::vector<std::vector<double>> polygon_shapes() const override { return polygon_outlines(bodies_); }
 
  private:
   bool quick() const { return scene_.accuracy.stepper == "quick"; }

@@ -57,7 +57,7 @@ std::vector<BodySpec> pour(const Scene& scene, const AssemblySpec& a, std::int64
   settle.bodies.clear();
   settle.assemblies.clear();
   settle.effects.gravity = settle.effects.normal_contact = true;
-  double kmax = 0, mmin = 1e300, cmax = 0;
+  double kmax = 0, mmin = 1e300;
   for (const Material& m : scene.materials) kmax = std::max(kmax, m.k_n);
   for (int k = 0; k < a.count; ++k) {
     const double r = draw_radius(a.radius, rng);
@@ -67,7 +67,6 @@ std::vector<BodySpec> pour(const Scene& scene, const AssemblySpec& a, std::int64
     settle.bodies.back().velocity = {};
     mmin = std::min(mmin, settle.bodies.back().mass);
   }
-  (void)cmax;
   // Verlet at 1/30 of the stiffest, lightest contact's period is stable for the linear law.
   settle.accuracy.integrator = Integrator::VelocityVerlet;
   settle.accuracy.dt = M_PI * std::sqrt(0.5 * mmin / kmax) / 30;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 #include "narrow_phase.hpp"
@@ -274,10 +275,9 @@ Energies World::energies() const {
   return e;
 }
 
-// Normal-spring energy of the contacts that involve a polygon (body pairs and vertex-wall contacts).
-// Their shear springs are not counted: the history map does not keep the pair's k_s.
-double World::polygon_elastic_energy() const {
-  double u = 0;
+// Every contact that involves a polygon (body pairs and vertex-wall contacts), at the current state.
+void World::visit_polygon_contacts(
+    const std::function<void(const ContactLaw&, const ContactGeometry&)>& visit) const {
   std::vector<Vec2> sa, sb;
   auto pose = [&](std::uint32_t i) {
     return BodyPose{
@@ -287,18 +287,24 @@ double World::polygon_elastic_energy() const {
     BodyPose a = pose(gp.i);
     a.centre.x += gp.shift;
     ContactGeometry c;
-    if (body_body_contact(a, pose(gp.j), c, sa, sb))
-      u += 0.5 * laws_[p_.mat[gp.i] * n_mat_ + p_.mat[gp.j]].k_n * c.depth * c.depth;
+    if (body_body_contact(a, pose(gp.j), c, sa, sb)) visit(laws_[p_.mat[gp.i] * n_mat_ + p_.mat[gp.j]], c);
   }
   for (std::uint32_t i : polygon_particles_)
     for (const Wall& wall : walls_) {
       const BodyPose b = pose(i);
       for (std::size_t v = 0; v < b.vertices->size(); ++v) {
         ContactGeometry c;
-        if (vertex_wall_contact(b, v, wall, c))
-          u += 0.5 * laws_[p_.mat[i] * n_mat_ + wall.spec.material].k_n * c.depth * c.depth;
+        if (vertex_wall_contact(b, v, wall, c)) visit(laws_[p_.mat[i] * n_mat_ + wall.spec.material], c);
       }
     }
+}
+
+// Normal-spring energy of the polygon contacts. Their shear springs are not counted: the history map
+// does not keep the pair's k_s.
+double World::polygon_elastic_energy() const {
+  double u = 0;
+  visit_polygon_contacts(
+      [&](const ContactLaw& L, const ContactGeometry& c) { u += 0.5 * L.k_n * c.depth * c.depth; });
   return u;
 }
 
@@ -316,7 +322,8 @@ std::size_t World::count_contacts() const {
       ContactGeometry c;
       count += disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c);
     }
-  return count + general_xi_.size();
+  visit_polygon_contacts([&](const ContactLaw&, const ContactGeometry&) { ++count; });
+  return count;
 }
 
 std::size_t World::memory_bytes() const {

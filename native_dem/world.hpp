@@ -2,6 +2,7 @@
 // The native 2-D discrete element engine: discs, convex polygons and walls with the thesis's
 // contact law, integrated by the thesis's predictor-corrector or by velocity Verlet.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -12,6 +13,8 @@
 #include "walls.hpp"
 
 namespace grainlab::dem {
+
+struct ContactGeometry;
 
 struct Energies {
   double kinetic_translational = 0, kinetic_rotational = 0, potential_gravity = 0, elastic = 0;
@@ -76,6 +79,8 @@ class World {
   void step_predictor_corrector();
   void wrap_periodic();
   double polygon_elastic_energy() const;
+  void visit_polygon_contacts(
+      const std::function<void(const ContactLaw&, const ContactGeometry&)>& visit) const;
 
   Scene scene_;
   Effects effects_;

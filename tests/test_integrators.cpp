@@ -95,7 +95,8 @@ angle = 0.5
   w.advance_to(3.0);
   const auto& p = w.particles();
   EXPECT_LT(w.energies().kinetic(), 1e-3);
-  EXPECT_NEAR(p.y[0], 1.0, 0.01);  // resting on a face: centre one half-side up
+  EXPECT_NEAR(p.y[0], 1.0, 0.01);     // resting on a face: centre one half-side up
+  EXPECT_EQ(w.count_contacts(), 2u);  // its two lower vertices
   const double a = std::fmod(std::abs(p.th[0]), M_PI / 2);
   EXPECT_LT(std::min(a, M_PI / 2 - a), 0.01);
 }
@@ -196,4 +197,32 @@ velocity = [0.0, -100.0]
   EXPECT_GT(p.vy[disc], 0.0);  // bounced
   EXPECT_NEAR(w.energies().total(), e0, 1e-3 * e0);
   EXPECT_NEAR(w.energies().elastic, 0.0, 1e-9 * e0);  // apart again at the end
+}
+
+TEST(Integrators, FrictionlessPolygonContactsAreCounted) {
+  // Contact counting must not depend on shear history, which a frictionless scene does not keep.
+  const std::string toml = R"toml(
+[scene]
+duration = 1.0
+effects = ["gravity", "normal_contact"]
+[accuracy]
+integrator = "verlet"
+dt = 2e-5
+[materials.rock]
+k_n = 1e6
+restitution = 0.3
+[[walls]]
+type = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+[[bodies]]
+shape = "polygon"
+vertices = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+density = 2.0
+position = [0.0, 0.999]
+)toml";
+  dem::World w(parse_scene(toml, "<frictionless square>"));
+  w.advance_to(0.5);
+  EXPECT_EQ(w.history_entries(), 0u);
+  EXPECT_EQ(w.count_contacts(), 2u);
 }
