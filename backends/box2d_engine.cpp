@@ -87,13 +87,8 @@ class Box2DEngine final : public Engine {
     for (std::size_t k = 0; k < bodies_.size(); ++k) {
       const b2Body* b = handles_[k];
       const b2Vec2 p = b->GetPosition(), v = b->GetLinearVelocity();
-      f.id.push_back(bodies_[k].id);
-      f.position.insert(f.position.end(), {p.x / scale_, p.y / scale_, 0.0});
-      f.velocity.insert(f.velocity.end(), {v.x / scale_, v.y / scale_, 0.0});
-      f.angle.push_back(b->GetAngle());
-      f.spin.push_back(b->GetAngularVelocity());
-      f.radius.push_back(bodies_[k].radius);
-      f.shape.push_back(info_[k].shape);
+      f.add_body(bodies_[k].id, p.x / scale_, p.y / scale_, v.x / scale_, v.y / scale_, b->GetAngle(),
+                 b->GetAngularVelocity(), bodies_[k].radius, info_[k].shape);
     }
     return f;
   }

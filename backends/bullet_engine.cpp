@@ -95,13 +95,8 @@ class BulletEngine final : public Engine {
       const btVector3 p = b.getCenterOfMassPosition(), v = b.getLinearVelocity(), w = b.getAngularVelocity();
       btScalar yaw, pitch, roll;
       b.getCenterOfMassTransform().getBasis().getEulerZYX(yaw, pitch, roll);
-      f.id.push_back(bodies_[k].id);
-      f.position.insert(f.position.end(), {p.x() / scale_, p.y() / scale_, 0.0});
-      f.velocity.insert(f.velocity.end(), {v.x() / scale_, v.y() / scale_, 0.0});
-      f.angle.push_back(yaw);
-      f.spin.push_back(w.z());
-      f.radius.push_back(bodies_[k].radius);
-      f.shape.push_back(shape_of_[k]);
+      f.add_body(bodies_[k].id, p.x() / scale_, p.y() / scale_, v.x() / scale_, v.y() / scale_, yaw, w.z(),
+                 bodies_[k].radius, shape_of_[k]);
     }
     return f;
   }

@@ -27,13 +27,7 @@ class NativeEngine final : public Engine {
     Frame f;
     f.time = world_.time();
     for (std::size_t i : order) {
-      f.id.push_back(p.id[i]);
-      f.position.insert(f.position.end(), {p.x[i], p.y[i], 0.0});
-      f.velocity.insert(f.velocity.end(), {p.vx[i], p.vy[i], 0.0});
-      f.angle.push_back(p.th[i]);
-      f.spin.push_back(p.w[i]);
-      f.radius.push_back(p.r[i]);
-      f.shape.push_back(p.shape[i]);
+      f.add_body(p.id[i], p.x[i], p.y[i], p.vx[i], p.vy[i], p.th[i], p.w[i], p.r[i], p.shape[i]);
     }
     return f;
   }

@@ -87,13 +87,8 @@ class OdeEngine final : public Engine {
       const dReal* v = dBodyGetLinearVel(handles_[k]);
       const dReal* w = dBodyGetAngularVel(handles_[k]);
       const dReal* R = dBodyGetRotation(handles_[k]);
-      f.id.push_back(bodies_[k].id);
-      f.position.insert(f.position.end(), {p[0] / scale_, p[1] / scale_, 0.0});
-      f.velocity.insert(f.velocity.end(), {v[0] / scale_, v[1] / scale_, 0.0});
-      f.angle.push_back(std::atan2(R[4], R[0]));
-      f.spin.push_back(w[2]);
-      f.radius.push_back(bodies_[k].radius);
-      f.shape.push_back(shape_of_[k]);
+      f.add_body(bodies_[k].id, p[0] / scale_, p[1] / scale_, v[0] / scale_, v[1] / scale_,
+                 std::atan2(R[4], R[0]), w[2], bodies_[k].radius, shape_of_[k]);
     }
     return f;
   }

@@ -15,6 +15,18 @@ struct Frame {
   std::vector<double> position, velocity;  // N x 3 (z = 0 in 2-D, so ParaView reads them as points)
   std::vector<double> angle, spin, radius;
   std::vector<std::int32_t> shape;  // -1 disc, else polygon index into /shapes
+
+  // Appends one 2-D body (z = 0).
+  void add_body(std::int64_t body_id, double x, double y, double vx, double vy, double theta, double omega,
+                double r, std::int32_t shape_index) {
+    id.push_back(body_id);
+    position.insert(position.end(), {x, y, 0.0});
+    velocity.insert(velocity.end(), {vx, vy, 0.0});
+    angle.push_back(theta);
+    spin.push_back(omega);
+    radius.push_back(r);
+    shape.push_back(shape_index);
+  }
 };
 
 struct RunMetadata {
