@@ -52,9 +52,15 @@ class BulletEngine final : public Engine {
     // speculative contact brakes an approaching grain before it touches, leaving restitution nothing to
     // reverse (a 50 cm/s impact came to rest with e = 0.7).
     gContactBreakingThreshold = 1e-9;
-    scale_ = unit_per_median_diameter(bodies_);
-    const Vec2 g = scene_.effects.gravity ? scene_.gravity * scale_ : Vec2{};
-    world_.setGravity(btVector3(g.x, g.y, 0));
+    if (three_d()) {
+      scale_ = unit_per_median_diameter(scene_.bodies3d);
+      const Vec3 g = scene_.effects.gravity ? Vec3(scene_.gravity3d * scale_) : Vec3::Zero();
+      world_.setGravity(btVector3(g.x(), g.y(), g.z()));
+    } else {
+      scale_ = unit_per_median_diameter(bodies_);
+      const Vec2 g = scene_.effects.gravity ? scene_.gravity * scale_ : Vec2{};
+      world_.setGravity(btVector3(g.x, g.y, 0));
+    }
     btContactSolverInfo& info = world_.getSolverInfo();
     info.m_restitutionVelocityThreshold = 0;
     // Penetration is always corrected by split impulse (pseudo-velocities that add no kinetic energy):
@@ -63,9 +69,18 @@ class BulletEngine final : public Engine {
     info.m_splitImpulse = true;
     info.m_splitImpulsePenetrationThreshold = 0;
     info.m_numIterations = scene_.accuracy.velocity_iterations;
-    info_.reserve(bodies_.size() + scene_.walls.size());
+    info_.reserve(bodies_.size() + scene_.walls.size() + scene_.bodies3d.size() + scene_.planes.size());
     for (const BodySpec& b : bodies_) add_body(b);
     for (const WallSpec& w : scene_.walls) add_wall(w);
+    for (const Body3Spec& b : scene_.bodies3d) add_body3d(b);
+    for (const PlaneSpec& p : scene_.planes) {
+      auto shape = std::make_unique<btStaticPlaneShape>(btVector3(p.normal.x(), p.normal.y(), p.normal.z()),
+                                                        p.normal.dot(p.point) * scale_);
+      shape->setMargin(1e-3);
+      btTransform at;
+      at.setIdentity();
+      add(std::move(shape), 0.0, btVector3(0, 0, 0), at, {&scene_, p.material, 0.0});
+    }
   }
   ~BulletEngine() override {
     for (auto& b : rigid_) world_.removeRigidBody(b.get());
@@ -90,6 +105,7 @@ class BulletEngine final : public Engine {
   Frame frame() const override {
     Frame f;
     f.time = t_;
+    if (three_d()) return frame3d(f);
     for (std::size_t k = 0; k < bodies_.size(); ++k) {
       const btRigidBody& b = *rigid_[k];
       const btVector3 p = b.getCenterOfMassPosition(), v = b.getLinearVelocity(), w = b.getAngularVelocity();
@@ -101,7 +117,10 @@ class BulletEngine final : public Engine {
     return f;
   }
 
-  EnergyReport energies() const override { return rigid_body_energies(frame(), bodies_, scene_); }
+  EnergyReport energies() const override {
+    return three_d() ? rigid_body_energies(frame(), scene_.bodies3d, scene_)
+                     : rigid_body_energies(frame(), bodies_, scene_);
+  }
 
   std::map<std::string, double> diagnostics() const override {
     return {{"steps", double(steps_)},
@@ -111,11 +130,71 @@ class BulletEngine final : public Engine {
             {"solver_iterations", double(scene_.accuracy.velocity_iterations)},
             {"wall_seconds", wall_seconds_},
             {"length_scale_units_per_cm", scale_},
-            {"particles", double(bodies_.size())}};
+            {"particles", double(bodies_.size() + scene_.bodies3d.size())}};
   }
-  std::vector<std::vector<double>> polygon_shapes() const override { return polygon_outlines(bodies_); }
+  std::vector<std::vector<double>> polygon_shapes() const override {
+    return three_d() ? polyhedron_vertices(scene_.bodies3d) : polygon_outlines(bodies_);
+  }
 
  private:
+  bool three_d() const { return scene_.dimension == 3; }
+
+  // Bullet's body frame is the principal frame; principal_[k] turns it into the scene's body frame.
+  Frame frame3d(Frame& f) const {
+    const std::vector<std::int32_t> shape = polyhedron_indices(scene_.bodies3d);
+    for (std::size_t k = 0; k < scene_.bodies3d.size(); ++k) {
+      const btRigidBody& b = *rigid_[k];
+      const btVector3 p = b.getCenterOfMassPosition() / scale_, v = b.getLinearVelocity() / scale_;
+      const btVector3 w = b.getAngularVelocity();
+      const btQuaternion bq = b.getOrientation();
+      const Quat q = (Quat(bq.w(), bq.x(), bq.y(), bq.z()) * principal_[k].conjugate()).normalized();
+      const double x[3] = {p.x(), p.y(), p.z()}, u[3] = {v.x(), v.y(), v.z()};
+      const double qq[4] = {q.w(), q.x(), q.y(), q.z()}, ww[3] = {w.x(), w.y(), w.z()};
+      f.add_body3d(scene_.bodies3d[k].id, x, u, qq, ww, scene_.bodies3d[k].radius, shape[k]);
+    }
+    return f;
+  }
+
+  // A 3-D body. Bullet takes a diagonal inertia in the body frame, so the body frame becomes the
+  // principal frame (eigenvectors V of the scene's tensor): the hull's vertices are written in it
+  // (V^T v) and the initial orientation is q V.
+  void add_body3d(const Body3Spec& s) {
+    const Eigen::SelfAdjointEigenSolver<Mat3> eig(s.inertia);
+    Mat3 V = eig.eigenvectors();
+    if (V.determinant() < 0) V.col(2) *= -1;
+    const Quat principal(V);
+    principal_.push_back(principal);
+    std::unique_ptr<btCollisionShape> shape;
+    if (s.shape == Body3Spec::Shape::Sphere) {
+      shape = std::make_unique<btSphereShape>(s.radius * scale_);
+    } else {
+      auto hull = std::make_unique<btConvexHullShape>();
+      for (const Vec3& v : s.hull.vertices) {
+        const Vec3 u = V.transpose() * v * scale_;
+        hull->addPoint(btVector3(u.x(), u.y(), u.z()), false);
+      }
+      hull->recalcLocalAabb();
+      hull->setMargin(1e-3);
+      shape = std::move(hull);
+    }
+    const Vec3 I = eig.eigenvalues() * scale_ * scale_;
+    const Quat q = (s.orientation * principal).normalized();
+    btTransform at;
+    at.setIdentity();
+    at.setOrigin(btVector3(s.position.x() * scale_, s.position.y() * scale_, s.position.z() * scale_));
+    at.setRotation(btQuaternion(q.x(), q.y(), q.z(), q.w()));
+    add(std::move(shape), s.mass, btVector3(I.x(), I.y(), I.z()), at, {&scene_, s.material, s.mass});
+    btRigidBody& b = *rigid_.back();
+    const Vec3 v = s.velocity * scale_, w = scene_.effects.rotation ? s.spin : Vec3::Zero();
+    b.setLinearVelocity(btVector3(v.x(), v.y(), v.z()));
+    b.setAngularVelocity(btVector3(w.x(), w.y(), w.z()));
+    if (!scene_.effects.rotation) b.setAngularFactor(btVector3(0, 0, 0));
+    // Explicit gyroscopic forces are off by default in Bullet; without them a torque-free asymmetric
+    // body keeps a constant angular velocity instead of precessing. The implicit body-frame form
+    // conserves angular momentum best of the three Bullet offers.
+    b.setFlags(b.getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
+  }
+
   void add(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& inertia,
            const btTransform& at, ObjectInfo info) {
     info_.push_back(info);
@@ -211,6 +290,7 @@ class BulletEngine final : public Engine {
   std::vector<Moving> moving_;
   std::vector<std::unique_ptr<btDefaultMotionState>> motion_states_;
   std::vector<int> shape_of_;  // per body: -1 disc, else polygon index
+  std::vector<Quat> principal_;  // 3-D: principal frame in the scene's body frame
   int polygons_ = 0;
   double scale_ = 1, t_ = 0, wall_seconds_ = 0;
   std::uint64_t steps_ = 0;

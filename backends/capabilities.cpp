@@ -8,29 +8,34 @@
 namespace grainlab {
 
 const std::vector<Capabilities>& engine_catalog() {
+  const std::vector<std::string> shapes2d = {"disc", "polygon", "segment", "line", "moving wall"};
+  const std::vector<std::string> both = {"disc",   "polygon", "segment",    "line",
+                                         "moving wall", "sphere",  "polyhedron", "plane"};
   static const std::vector<Capabilities> all = {
       {"native",
-       "the thesis's soft-contact DEM (eq. 2.3, predictor-corrector or Verlet), double precision",
-       2,
-       {"disc", "polygon", "segment", "line", "moving wall"},
+       "the thesis's soft-contact DEM (eq. 2.3, predictor-corrector or Verlet), double precision; 3-D for "
+       "few-body scenes (all-pairs broad phase)",
+       {2, 3},
+       both,
        known_effect_names(),
        true,
        true,
        0,
-       "spring-dashpot normal force, incremental shear spring capped at mu f_n"},
+       "spring-dashpot normal force, incremental shear spring capped at mu f_n (kept in the tangent plane "
+       "in 3-D)"},
       {"box2d",
        "Box2D 2.4.1 (Debian), float precision, sequential impulses",
-       2,
-       {"disc", "polygon", "segment", "line", "moving wall"},
+       {2},
+       shapes2d,
        known_effect_names(),
        false,
        true,
        8,
        "rigid contacts with restitution and Coulomb friction set per contact; stiffness is not modelled"},
       {"ode",
-       "ODE 0.16.2 (Debian), double precision, 2-D through plane-2D joints",
-       2,
-       {"disc", "polygon", "segment", "line", "moving wall"},
+       "ODE 0.16.2 (Debian), double precision; 2-D through plane-2D joints",
+       {2, 3},
+       both,
        known_effect_names(),
        false,
        true,
@@ -38,9 +43,9 @@ const std::vector<Capabilities>& engine_catalog() {
        "rigid contacts (LCP) with restitution (bounce) and Coulomb friction set per contact; stiffness is "
        "not modelled"},
       {"bullet",
-       "Bullet 3.24 (Debian, float64 libraries), 2-D through linear and angular factors",
-       2,
-       {"disc", "polygon", "segment", "line", "moving wall"},
+       "Bullet 3.24 (Debian, float64 libraries); 2-D through linear and angular factors",
+       {2, 3},
+       both,
        known_effect_names(),
        false,
        true,
@@ -62,7 +67,8 @@ bool has(const std::vector<std::string>& v, const std::string& s) {
 }  // namespace
 
 void check_engine_supports(const Capabilities& c, const Scene& scene) {
-  if (scene.dimension != c.dimension) missing(c, fmt::format("run a {}-D scene", scene.dimension));
+  if (std::find(c.dimensions.begin(), c.dimensions.end(), scene.dimension) == c.dimensions.end())
+    missing(c, fmt::format("run a {}-D scene", scene.dimension));
   for (const std::string& e : scene.effects.names())
     if (!has(c.effects, e)) missing(c, "simulate the effect \"" + e + "\"");
   if (scene.periodic_x && !c.periodic) missing(c, "do periodic boundaries (scene.periodic_x)");
@@ -74,6 +80,11 @@ void check_engine_supports(const Capabilities& c, const Scene& scene) {
       missing(c, fmt::format("handle a polygon with {} vertices (at most {}; body id {})", b.vertices.size(),
                              c.max_polygon_vertices, b.id));
   }
+  for (const Body3Spec& b : scene.bodies3d) {
+    const std::string shape = b.shape == Body3Spec::Shape::Sphere ? "sphere" : "polyhedron";
+    if (!has(c.shapes, shape)) missing(c, "handle " + shape + " bodies");
+  }
+  if (!scene.planes.empty() && !has(c.shapes, "plane")) missing(c, "handle plane walls");
   for (const WallSpec& w : scene.walls) {
     if (!has(c.shapes, w.kind == WallSpec::Kind::Line ? "line" : "segment"))
       missing(c, "handle this wall type");
@@ -118,6 +129,47 @@ std::vector<std::vector<double>> polygon_outlines(const std::vector<BodySpec>& b
       out.push_back(flat);
     }
   return out;
+}
+
+double unit_per_median_diameter(const std::vector<Body3Spec>& bodies) {
+  std::vector<double> sizes;
+  for (const Body3Spec& b : bodies) sizes.push_back(2 * b.radius);
+  if (sizes.empty()) return 1.0;
+  std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+  return 1.0 / sizes[sizes.size() / 2];
+}
+
+std::vector<std::vector<double>> polyhedron_vertices(const std::vector<Body3Spec>& bodies) {
+  std::vector<std::vector<double>> out;
+  for (const Body3Spec& b : bodies)
+    if (b.shape == Body3Spec::Shape::Polyhedron) {
+      std::vector<double> flat;
+      for (const Vec3& v : b.hull.vertices) flat.insert(flat.end(), {v.x(), v.y(), v.z()});
+      out.push_back(flat);
+    }
+  return out;
+}
+
+std::vector<std::int32_t> polyhedron_indices(const std::vector<Body3Spec>& bodies) {
+  std::vector<std::int32_t> idx;
+  std::int32_t next = 0;
+  for (const Body3Spec& b : bodies) idx.push_back(b.shape == Body3Spec::Shape::Polyhedron ? next++ : -1);
+  return idx;
+}
+
+EnergyReport rigid_body_energies(const Frame& f, const std::vector<Body3Spec>& bodies, const Scene& scene) {
+  EnergyReport e;
+  const Vec3 g = scene.effects.gravity ? scene.gravity3d : Vec3::Zero();
+  for (std::size_t k = 0; k < bodies.size(); ++k) {
+    const Body3Spec& b = bodies[k];
+    const Vec3 x(&f.position[3 * k]), v(&f.velocity[3 * k]), w(&f.angular_velocity[3 * k]);
+    const Quat q(f.orientation[4 * k], f.orientation[4 * k + 1], f.orientation[4 * k + 2], f.orientation[4 * k + 3]);
+    const Mat3 R = q.toRotationMatrix();
+    e.kinetic_translational += 0.5 * b.mass * v.squaredNorm();
+    e.kinetic_rotational += 0.5 * w.dot(R * b.inertia * R.transpose() * w);
+    e.potential_gravity -= b.mass * g.dot(x);
+  }
+  return e;
 }
 
 EnergyReport rigid_body_energies(const Frame& f, const std::vector<BodySpec>& bodies, const Scene& scene) {

@@ -1,6 +1,6 @@
 #pragma once
-// One interface over the engines. For now only the native 2-D engine stands behind it; Box2D,
-// Bullet and ODE adapters arrive with issue #3.
+// One interface over the engines: native (2-D and 3-D), Box2D (2-D), Bullet and ODE (3-D, and 2-D by
+// constraining motion to the plane). Engines work in cgs; results leave through in_scene_units().
 #include <functional>
 #include <map>
 #include <memory>
@@ -21,8 +21,8 @@ struct EnergyReport {
 // missing capability; nothing is silently approximated.
 struct Capabilities {
   std::string name, description;
-  int dimension = 2;
-  std::vector<std::string> shapes;   // "disc", "polygon", "segment", "line", "moving wall"
+  std::vector<int> dimensions;       // 2 and/or 3
+  std::vector<std::string> shapes;   // 2-D: disc, polygon, segment, line, moving wall; 3-D: sphere, polyhedron, plane
   std::vector<std::string> effects;  // effect names from scene.hpp
   bool periodic = false;
   bool generated_assemblies = false;
@@ -53,8 +53,15 @@ Vec2 wall_offset(const Motion& m, double t);
 double unit_per_median_diameter(const std::vector<BodySpec>& bodies);
 // Body-frame outlines of the polygon bodies, flattened x, y (for the output's /shapes).
 std::vector<std::vector<double>> polygon_outlines(const std::vector<BodySpec>& bodies);
+// Centre-of-mass-frame vertices of the polyhedral 3-D bodies, flattened x, y, z.
+std::vector<std::vector<double>> polyhedron_vertices(const std::vector<Body3Spec>& bodies);
+// Index of each 3-D body's polyhedron in polyhedron_vertices(), -1 for spheres.
+std::vector<std::int32_t> polyhedron_indices(const std::vector<Body3Spec>& bodies);
+// Engine length units per cm making the median 3-D body diameter one unit.
+double unit_per_median_diameter(const std::vector<Body3Spec>& bodies);
 // Kinetic and gravitational energy of rigid bodies (in the frame's order) from a frame in scene units.
 EnergyReport rigid_body_energies(const Frame& f, const std::vector<BodySpec>& bodies, const Scene& scene);
+EnergyReport rigid_body_energies(const Frame& f, const std::vector<Body3Spec>& bodies, const Scene& scene);
 // Throws InputError naming the engine and what the scene needs that it lacks.
 void check_engine_supports(const Capabilities& c, const Scene& scene);
 

@@ -3,6 +3,7 @@
 
 #include "engine.hpp"
 #include "world.hpp"
+#include "world3d.hpp"
 
 namespace grainlab {
 
@@ -64,6 +65,58 @@ class NativeEngine final : public Engine {
   dem::World world_;
 };
 
+// The native engine on a 3-D scene.
+class NativeEngine3d final : public Engine {
+ public:
+  explicit NativeEngine3d(const Scene& scene) : world_(scene), shape_index_(polyhedron_indices(scene.bodies3d)) {}
+  std::string name() const override { return "native"; }
+  void advance_to(double t) override { world_.advance_to(t); }
+  double time() const override { return world_.time(); }
+  std::string integrator() const override {
+    return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet" : "predictor-corrector";
+  }
+
+  Frame frame() const override {
+    Frame f;
+    f.time = world_.time();
+    const auto& bodies = world_.bodies();
+    std::vector<std::size_t> order(bodies.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return bodies[a].id < bodies[b].id; });
+    for (std::size_t i : order) {
+      const dem::Body3& b = bodies[i];
+      const double q[4] = {b.q.w(), b.q.x(), b.q.y(), b.q.z()};
+      f.add_body3d(b.id, b.x.data(), b.v.data(), q, b.w.data(), b.radius, shape_index_[i]);
+    }
+    return f;
+  }
+
+  EnergyReport energies() const override {
+    const dem::Energies e = world_.energies();
+    return {e.kinetic_translational, e.kinetic_rotational, e.potential_gravity, e.elastic};
+  }
+
+  std::map<std::string, double> diagnostics() const override {
+    const dem::Diagnostics& d = world_.diagnostics();
+    return {{"steps", double(d.steps)},
+            {"rejected_steps", double(d.rejected_steps)},
+            {"force_evaluations", double(d.force_evaluations)},
+            {"contacts", double(world_.count_contacts())},
+            {"wall_seconds", d.wall_seconds},
+            {"dt_min_used", d.dt_min_used},
+            {"dt_max_used", d.dt_max_used},
+            {"particles", double(world_.bodies().size())}};
+  }
+
+  std::vector<std::vector<double>> polygon_shapes() const override {
+    return polyhedron_vertices(world_.scene().bodies3d);
+  }
+
+ private:
+  dem::World3d world_;
+  std::vector<std::int32_t> shape_index_;
+};
+
 }  // namespace
 
 std::unique_ptr<Engine> make_box2d_engine(const Scene& scene);
@@ -77,6 +130,7 @@ std::vector<std::string> engine_names() {
 }
 
 std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene) {
+  if (name == "native" && scene.dimension == 3) return std::make_unique<NativeEngine3d>(scene);
   if (name == "native") return std::make_unique<NativeEngine>(scene);
   if (name == "box2d") return make_box2d_engine(scene);
   if (name == "ode") return make_ode_engine(scene);

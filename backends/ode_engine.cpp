@@ -39,18 +39,30 @@ class OdeEngine final : public Engine {
     world_ = dWorldCreate();
     space_ = dHashSpaceCreate(nullptr);
     contacts_ = dJointGroupCreate(0);
-    scale_ = unit_per_median_diameter(bodies_);
-    const Vec2 g = scene_.effects.gravity ? scene_.gravity * scale_ : Vec2{};
-    dWorldSetGravity(world_, g.x, g.y, 0);
+    if (three_d()) {
+      scale_ = unit_per_median_diameter(scene_.bodies3d);
+      const Vec3 g = scene_.effects.gravity ? Vec3(scene_.gravity3d * scale_) : Vec3::Zero();
+      dWorldSetGravity(world_, g.x(), g.y(), g.z());
+    } else {
+      scale_ = unit_per_median_diameter(bodies_);
+      const Vec2 g = scene_.effects.gravity ? scene_.gravity * scale_ : Vec2{};
+      dWorldSetGravity(world_, g.x, g.y, 0);
+    }
     dWorldSetAutoDisableFlag(world_, 0);
     // ERP corrects penetration through real velocity: a grain resting 1.5e-3 cm into a wall was
     // launched at 30 cm/s. Capping the correcting velocity (0.05 body sizes per second) keeps recovery
     // from injecting energy; a deep overlap then resolves over several steps instead of one.
     dWorldSetContactMaxCorrectingVel(world_, 0.05);
     if (quick()) dWorldSetQuickStepNumIterations(world_, scene_.accuracy.velocity_iterations);
-    info_.reserve(bodies_.size() + scene_.walls.size());
+    info_.reserve(bodies_.size() + scene_.walls.size() + scene_.bodies3d.size() + scene_.planes.size());
     for (const BodySpec& b : bodies_) add_body(b);
     for (const WallSpec& w : scene_.walls) add_wall(w);
+    for (const Body3Spec& b : scene_.bodies3d) add_body3d(b);
+    for (const PlaneSpec& p : scene_.planes) {
+      info_.push_back({p.material, 0.0});
+      dGeomSetData(dCreatePlane(space_, p.normal.x(), p.normal.y(), p.normal.z(), p.normal.dot(p.point) * scale_),
+                   &info_.back());
+    }
   }
   ~OdeEngine() override {
     dJointGroupDestroy(contacts_);
@@ -82,6 +94,7 @@ class OdeEngine final : public Engine {
   Frame frame() const override {
     Frame f;
     f.time = t_;
+    if (three_d()) return frame3d(f);
     for (std::size_t k = 0; k < bodies_.size(); ++k) {
       const dReal* p = dBodyGetPosition(handles_[k]);
       const dReal* v = dBodyGetLinearVel(handles_[k]);
@@ -93,7 +106,10 @@ class OdeEngine final : public Engine {
     return f;
   }
 
-  EnergyReport energies() const override { return rigid_body_energies(frame(), bodies_, scene_); }
+  EnergyReport energies() const override {
+    return three_d() ? rigid_body_energies(frame(), scene_.bodies3d, scene_)
+                     : rigid_body_energies(frame(), bodies_, scene_);
+  }
 
   std::map<std::string, double> diagnostics() const override {
     return {{"steps", double(steps_)},
@@ -103,12 +119,68 @@ class OdeEngine final : public Engine {
             {"wall_seconds", wall_seconds_},
             {"length_scale_units_per_cm", scale_},
             {"solver_iterations", double(scene_.accuracy.velocity_iterations)},
-            {"particles", double(bodies_.size())}};
+            {"particles", double(bodies_.size() + scene_.bodies3d.size())}};
   }
-  std::vector<std::vector<double>> polygon_shapes() const override { return polygon_outlines(bodies_); }
+  std::vector<std::vector<double>> polygon_shapes() const override {
+    return three_d() ? polyhedron_vertices(scene_.bodies3d) : polygon_outlines(bodies_);
+  }
 
  private:
   bool quick() const { return scene_.accuracy.stepper == "quick"; }
+  bool three_d() const { return scene_.dimension == 3; }
+
+  Frame frame3d(Frame& f) const {
+    const std::vector<std::int32_t> shape = polyhedron_indices(scene_.bodies3d);
+    for (std::size_t k = 0; k < handles_.size(); ++k) {
+      const dReal *p = dBodyGetPosition(handles_[k]), *v = dBodyGetLinearVel(handles_[k]);
+      const dReal *w = dBodyGetAngularVel(handles_[k]), *q = dBodyGetQuaternion(handles_[k]);
+      const double x[3] = {p[0] / scale_, p[1] / scale_, p[2] / scale_};
+      const double u[3] = {v[0] / scale_, v[1] / scale_, v[2] / scale_};
+      const double qq[4] = {q[0], q[1], q[2], q[3]}, ww[3] = {w[0], w[1], w[2]};
+      f.add_body3d(scene_.bodies3d[k].id, x, u, qq, ww, scene_.bodies3d[k].radius, shape[k]);
+    }
+    return f;
+  }
+
+  // A 3-D body: ODE wants the body origin at the centre of mass, which is the scene's body frame too, so
+  // the full inertia tensor goes in as it is and the geometry needs no offset.
+  void add_body3d(const Body3Spec& s) {
+    dBodyID b = dBodyCreate(world_);
+    dMass m;
+    const Mat3 I = s.inertia * scale_ * scale_;
+    dMassSetParameters(&m, s.mass, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+    dBodySetMass(b, &m);
+    const Vec3 x = s.position * scale_, v = s.velocity * scale_;
+    dBodySetPosition(b, x.x(), x.y(), x.z());
+    dBodySetLinearVel(b, v.x(), v.y(), v.z());
+    const dQuaternion q = {s.orientation.w(), s.orientation.x(), s.orientation.y(), s.orientation.z()};
+    dBodySetQuaternion(b, q);
+    const Vec3 w = scene_.effects.rotation ? s.spin : Vec3::Zero();
+    dBodySetAngularVel(b, w.x(), w.y(), w.z());
+    dBodySetAutoDisableFlag(b, 0);
+    if (!scene_.effects.rotation) dBodySetMaxAngularSpeed(b, 0);
+    // Torque-free bodies keep L exactly only with the gyroscopic term on (ODE's default, stated here).
+    dBodySetGyroscopicMode(b, 1);
+    info_.push_back({s.material, s.mass});
+    dGeomID g = s.shape == Body3Spec::Shape::Sphere ? dCreateSphere(space_, s.radius * scale_) : convex(s.hull);
+    dGeomSetBody(g, b);
+    dGeomSetData(g, &info_.back());
+    if (!scene_.effects.normal_contact) dGeomSetCategoryBits(g, 0);
+    handles_.push_back(b);
+  }
+
+  dGeomID convex(const Polyhedron& h) {
+    Convex& c = convexes_.emplace_back();
+    for (const Vec3& v : h.vertices) c.points.insert(c.points.end(), {v.x() * scale_, v.y() * scale_, v.z() * scale_});
+    for (std::size_t f = 0; f < h.faces.size(); ++f) {
+      const Vec3& n = h.normals[f];
+      c.planes.insert(c.planes.end(), {n.x(), n.y(), n.z(), h.offsets[f] * scale_});
+      c.polygons.push_back(static_cast<unsigned>(h.faces[f].size()));
+      for (int i : h.faces[f]) c.polygons.push_back(static_cast<unsigned>(i));
+    }
+    return dCreateConvex(space_, c.planes.data(), static_cast<unsigned>(h.faces.size()), c.points.data(),
+                         static_cast<unsigned>(h.vertices.size()), c.polygons.data());
+  }
 
   void add_body(const BodySpec& s) {
     dBodyID b = dBodyCreate(world_);
@@ -208,8 +280,8 @@ class OdeEngine final : public Engine {
     auto* self = static_cast<OdeEngine*>(data);
     const dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
     if (!ba && !bb) return;
-    dContact c[4];
-    const int n = dCollide(a, b, 4, &c[0].geom, sizeof(dContact));
+    dContact c[8];
+    const int n = dCollide(a, b, 8, &c[0].geom, sizeof(dContact));
     if (n == 0) return;
     const auto* ia = static_cast<const GeomInfo*>(dGeomGetData(a));
     const auto* ib = static_cast<const GeomInfo*>(dGeomGetData(b));

@@ -21,6 +21,7 @@ Frame in_scene_units(Frame f, const Scene& scene) {
   for (double& v : f.velocity) v /= V;
   for (double& r : f.radius) r /= L;
   for (double& w : f.spin) w *= T;
+  for (double& w : f.angular_velocity) w *= T;
   return f;
 }
 
@@ -30,8 +31,9 @@ EnergyReport in_scene_units(EnergyReport e, const Scene& scene) {
 }
 
 std::string units_description(const Scene& scene) {
-  return scene.units == "si" ? "si (m, kg, s; energies in J; 2-D masses as in the thesis, rho pi r^2)"
-                             : "cgs (cm, g, s; energies in erg; 2-D masses as in the thesis, rho pi r^2)";
+  const std::string mass = scene.dimension == 2 ? "; 2-D masses as in the thesis, rho pi r^2" : "";
+  return scene.units == "si" ? "si (m, kg, s; energies in J" + mass + ")"
+                             : "cgs (cm, g, s; energies in erg" + mass + ")";
 }
 
 RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& options) {
@@ -76,7 +78,7 @@ RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& optio
   std::vector<std::vector<double>> polygons = engine.polygon_shapes();
   for (auto& poly : polygons)
     for (double& x : poly) x /= scene.to_cgs.length;
-  writer.set_polygons(polygons);
+  writer.set_polygons(polygons, scene.dimension);
   summary.h5 = options.out;
   summary.xmf = writer.commit();
   return summary;

@@ -88,7 +88,7 @@ int engines_command(bool json) {
     for (const Capabilities& c : engine_catalog())
       j.push_back({{"name", c.name},
                    {"description", c.description},
-                   {"dimension", c.dimension},
+                   {"dimensions", c.dimensions},
                    {"shapes", c.shapes},
                    {"effects", c.effects},
                    {"periodic", c.periodic},
@@ -100,7 +100,7 @@ int engines_command(bool json) {
   }
   for (const Capabilities& c : engine_catalog()) {
     fmt::print("{}: {}\n", c.name, c.description);
-    fmt::print("  dimension {}; shapes: {}; effects: {}; periodic: {}\n", c.dimension,
+    fmt::print("  dimensions {}; shapes: {}; effects: {}; periodic: {}\n", fmt::join(c.dimensions, " and "),
                fmt::join(c.shapes, ", "), fmt::join(c.effects, ", "), c.periodic ? "yes" : "no");
     fmt::print("  contacts: {}\n", c.contact_model);
   }

@@ -91,8 +91,10 @@ void RunWriter::write_h5(const std::string& tmp) const {
     dataset(g, "id", fr.id, n);
     dataset(g, "position", fr.position, n, 3);
     dataset(g, "velocity", fr.velocity, n, 3);
-    dataset(g, "angle", fr.angle, n);
-    dataset(g, "spin", fr.spin, n);
+    if (!fr.angle.empty()) dataset(g, "angle", fr.angle, n);
+    if (!fr.spin.empty()) dataset(g, "spin", fr.spin, n);
+    dataset(g, "orientation", fr.orientation, n, 4);
+    dataset(g, "angular_velocity", fr.angular_velocity, n, 3);
     dataset(g, "radius", fr.radius, n);
     dataset(g, "shape", fr.shape, n);
     H5Gclose(g);
@@ -111,7 +113,8 @@ void RunWriter::write_h5(const std::string& tmp) const {
 
   hid_t sh = H5Gcreate2(f, "/shapes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   for (std::size_t k = 0; k < polygons_.size(); ++k)
-    dataset(sh, fmt::format("polygon_{}", k), polygons_[k], polygons_[k].size() / 2, 2);
+    dataset(sh, fmt::format("{}_{}", shape_columns_ == 2 ? "polygon" : "polyhedron", k), polygons_[k],
+            polygons_[k].size() / shape_columns_, shape_columns_);
   H5Gclose(sh);
 
   hid_t dg = H5Gcreate2(f, "/diagnostics", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
@@ -142,8 +145,11 @@ void RunWriter::write_xdmf(const std::string& tmp) const {
          "    </Geometry>\n";
     x += "    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n" +
          item("velocity", "Float", 8, fmt::format("{} 3", n)) + "    </Attribute>\n";
+    x += "    <Attribute Name=\"angular_velocity\" AttributeType=\"Vector\" Center=\"Node\">\n" +
+         item("angular_velocity", "Float", 8, fmt::format("{} 3", n)) + "    </Attribute>\n";
     for (const char* s : {"angle", "spin", "radius"})
-      x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Node\">\n", s) +
+      if (std::string(s) == "radius" || !frames_[k].angle.empty())
+        x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Node\">\n", s) +
            item(s, "Float", 8, std::to_string(n)) + "    </Attribute>\n";
     x += "    <Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\">\n" +
          item("id", "Int", 8, std::to_string(n)) + "    </Attribute>\n";

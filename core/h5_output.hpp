@@ -2,6 +2,7 @@
 // Run output: HDF5 frames, energies and diagnostics with the metadata needed to reproduce the run,
 // plus an XDMF sidecar so ParaView opens the particles directly. Everything is written under a
 // temporary name and renamed into place when complete, so no half-written file is ever left.
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -13,8 +14,11 @@ struct Frame {
   double time = 0;
   std::vector<std::int64_t> id;
   std::vector<double> position, velocity;  // N x 3 (z = 0 in 2-D, so ParaView reads them as points)
-  std::vector<double> angle, spin, radius;
-  std::vector<std::int32_t> shape;  // -1 disc, else polygon index into /shapes
+  std::vector<double> angle, spin;         // 2-D only
+  std::vector<double> orientation;         // N x 4 unit quaternions (w, x, y, z), body to world
+  std::vector<double> angular_velocity;    // N x 3, world frame
+  std::vector<double> radius;
+  std::vector<std::int32_t> shape;  // -1 disc or sphere, else index into /shapes
 
   // Appends one 2-D body (z = 0).
   void add_body(std::int64_t body_id, double x, double y, double vx, double vy, double theta, double omega,
@@ -24,6 +28,19 @@ struct Frame {
     velocity.insert(velocity.end(), {vx, vy, 0.0});
     angle.push_back(theta);
     spin.push_back(omega);
+    orientation.insert(orientation.end(), {std::cos(theta / 2), 0.0, 0.0, std::sin(theta / 2)});
+    angular_velocity.insert(angular_velocity.end(), {0.0, 0.0, omega});
+    radius.push_back(r);
+    shape.push_back(shape_index);
+  }
+  // Appends one 3-D body; q is (w, x, y, z), shape_index -1 for a sphere, else into /shapes.
+  void add_body3d(std::int64_t body_id, const double x[3], const double v[3], const double q[4],
+                  const double w[3], double r, std::int32_t shape_index) {
+    id.push_back(body_id);
+    position.insert(position.end(), x, x + 3);
+    velocity.insert(velocity.end(), v, v + 3);
+    orientation.insert(orientation.end(), q, q + 4);
+    angular_velocity.insert(angular_velocity.end(), w, w + 3);
     radius.push_back(r);
     shape.push_back(shape_index);
   }
@@ -45,7 +62,11 @@ class RunWriter {
   void add_frame(Frame f) { frames_.push_back(std::move(f)); }
   void add_energy_row(const std::vector<double>& row) { energy_.push_back(row); }
   void set_energy_columns(std::vector<std::string> c) { energy_columns_ = std::move(c); }
-  void set_polygons(std::vector<std::vector<double>> flat_vertices) { polygons_ = std::move(flat_vertices); }
+  // Body-frame vertices of each polygon (x, y) or polyhedron (x, y, z), flattened.
+  void set_polygons(std::vector<std::vector<double>> flat_vertices, int columns = 2) {
+    polygons_ = std::move(flat_vertices);
+    shape_columns_ = columns;
+  }
   void set_metadata(RunMetadata m) { meta_ = std::move(m); }
   void set_diagnostics(std::map<std::string, double> d) { diagnostics_ = std::move(d); }
   // Writes the .h5 and .xmf atomically. Returns the .xmf path.
@@ -60,6 +81,7 @@ class RunWriter {
   std::vector<std::vector<double>> energy_;
   std::vector<std::string> energy_columns_;
   std::vector<std::vector<double>> polygons_;
+  int shape_columns_ = 2;
   RunMetadata meta_;
   std::map<std::string, double> diagnostics_;
 };

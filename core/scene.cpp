@@ -153,6 +153,18 @@ class SceneReader {
       b.velocity = b.velocity * V;
       b.spin /= u.time;
     }
+    for (Body3Spec& b : s_.bodies3d) {
+      b.radius *= L;
+      for (Vec3& v : b.hull.vertices) v *= L;
+      for (double& d : b.hull.offsets) d *= L;
+      b.mass *= M;
+      b.inertia *= M * L * L;
+      b.position *= L;
+      b.velocity *= V;
+      b.spin /= u.time;
+    }
+    s_.gravity3d *= A;
+    for (PlaneSpec& p : s_.planes) p.point *= L;
     for (WallSpec& w : s_.walls) {
       len(w.a);
       if (w.kind == WallSpec::Kind::Segment) len(w.b);
@@ -189,8 +201,6 @@ class SceneReader {
     TomlReader r = section(top, "scene", true);
     s_.name = r.string_or("name", "unnamed");
     s_.dimension = static_cast<int>(r.integer_or("dimension", 2, 2, 3));
-    if (s_.dimension != 2)
-      r.fail("dimension", "only 2-D scenes run on the native engine so far (3-D: issue #3)");
     s_.units = r.string_or("units", "cgs");
     if (s_.units == "si")
       s_.to_cgs = {100.0, 1000.0, 1.0};
@@ -198,7 +208,13 @@ class SceneReader {
       r.fail("units", "must be \"cgs\" (cm, g, s) or \"si\" (m, kg, s), found \"" + s_.units + "\"");
     s_.duration = r.number("duration", Range::positive());
     s_.seed = static_cast<std::uint64_t>(r.integer_or("seed", 0, 0, INT64_MAX));
-    s_.gravity = r.vec2_or("gravity", {0, -981.0});
+    if (s_.dimension == 3) {
+      if (r.has("gravity")) s_.gravity3d = vec3(r.numbers("gravity", 3));
+    } else {
+      s_.gravity = r.vec2_or("gravity", {0, -981.0});
+    }
+    if (r.has("periodic_x") && s_.dimension == 3)
+      r.fail("periodic_x", "periodic boundaries are 2-D only so far");
     if (r.has("periodic_x")) {
       const Vec2 p = r.vec2("periodic_x");
       if (!(p.y > p.x)) r.fail("periodic_x", "must be [xmin, xmax] with xmax > xmin");
@@ -308,6 +324,7 @@ class SceneReader {
   void read_bodies(const TomlReader& top) {
     const toml::array* bodies = top.array_of_tables("bodies");
     if (!bodies) return;
+    if (s_.dimension == 3) return read_bodies3d(*bodies);
     for (size_t i = 0; i < bodies->size(); ++i) {
       TomlReader r(*(*bodies)[i].as_table(), fmt::format("bodies[{}]", i), s_.path);
       BodySpec b;
@@ -374,9 +391,119 @@ class SceneReader {
     b.inertia = b.mass * polar / area;
   }
 
+  static Vec3 vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
+
+  void read_bodies3d(const toml::array& bodies) {
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      TomlReader r(*bodies[i].as_table(), fmt::format("bodies[{}]", i), s_.path);
+      Body3Spec b;
+      b.where = r.where_table();
+      b.id = r.integer_or("id", static_cast<std::int64_t>(i), 0, INT64_MAX);
+      b.kind = r.string_or("shape", "sphere");
+      SolidMass solid;
+      if (b.kind == "sphere") {
+        b.shape = Body3Spec::Shape::Sphere;
+        b.radius = r.number("radius", Range::positive());
+        solid.volume = 4 * M_PI / 3 * std::pow(b.radius, 3);
+        solid.inertia_per_density = Mat3::Identity() * 0.4 * solid.volume * b.radius * b.radius;
+        if (r.has("center_of_mass")) r.fail("center_of_mass", "a sphere's centre of mass is its centre");
+      } else if (b.kind == "box" || b.kind == "polyhedron") {
+        b.shape = Body3Spec::Shape::Polyhedron;
+        if (b.kind == "box") {
+          const Vec3 size = vec3(r.numbers("size", 3));
+          if (size.minCoeff() <= 0) r.fail("size", "edge lengths must be > 0");
+          b.hull = make_box(size / 2);
+        } else {
+          std::vector<Vec3> v;
+          for (const auto& row : r.number_rows("vertices", 3)) v.push_back(vec3(row));
+          const std::string err = make_polyhedron(v, r.index_lists("faces"), b.hull);
+          if (!err.empty()) r.fail("faces", err);
+        }
+        solid = polyhedron_mass(b.hull);
+        b.hull.translate(-solid.centroid);  // body frame at the centroid until a load moves it
+      } else {
+        r.fail("shape", "must be \"sphere\", \"box\" or \"polyhedron\" in a 3-D scene, found \"" + b.kind + "\"");
+      }
+      if (r.has("mass") && r.has("density")) r.fail("density", "give mass or density, not both");
+      if (r.has("mass"))
+        b.mass = r.number("mass", Range::positive());
+      else if (r.has("density"))
+        b.mass = r.number("density", Range::positive()) * solid.volume;
+      else
+        r.fail("density", "required: give the body's density (mass per volume) or its mass");
+      b.inertia = solid.inertia_per_density * (b.mass / solid.volume);
+      if (r.has("center_of_mass")) load_polyhedron(r, b, solid);
+      if (r.has("inertia")) b.inertia = read_inertia(r);
+      if (b.shape == Body3Spec::Shape::Polyhedron) b.radius = b.hull.bounding_radius();
+      b.position = vec3(r.numbers("position", 3));
+      if (r.has("velocity")) b.velocity = vec3(r.numbers("velocity", 3));
+      if (r.has("orientation")) {
+        const std::vector<double> q = r.numbers("orientation", 4);
+        b.orientation = Quat(q[0], q[1], q[2], q[3]);
+        if (b.orientation.norm() < 1e-12) r.fail("orientation", "a quaternion [w, x, y, z] must not be zero");
+        b.orientation.normalize();
+      }
+      if (r.has("spin")) b.spin = vec3(r.numbers("spin", 3));
+      b.material = material_of(r);
+      r.finish();
+      s_.bodies3d.push_back(std::move(b));
+    }
+  }
+
+  // A loaded polyhedron: the centre of mass, in the frame the geometry is written in (a box's centre
+  // is its origin), becomes the body origin; the inertia moves to it by the parallel-axis theorem.
+  void load_polyhedron(const TomlReader& r, Body3Spec& b, const SolidMass& solid) {
+    const Vec3 com = vec3(r.numbers("center_of_mass", 3)) - solid.centroid;  // relative to the centroid
+    if (!b.hull.contains(com)) r.fail("center_of_mass", "must lie inside the body");
+    b.hull.translate(-com);
+    b.inertia += b.mass * (com.squaredNorm() * Mat3::Identity() - com * com.transpose());
+  }
+
+  // Three principal moments along the body axes, or the full symmetric 3 x 3 tensor.
+  Mat3 read_inertia(const TomlReader& r) {
+    Mat3 I = Mat3::Zero();
+    const toml::node* n = r.node("inertia");
+    const bool rows = n && n->as_array() && !n->as_array()->empty() && (*n->as_array())[0].is_array();
+    if (rows) {
+      const auto m = r.number_rows("inertia", 3);
+      if (m.size() != 3) r.fail("inertia", "a tensor needs 3 rows of 3 numbers");
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) I(i, j) = m[i][j];
+      if ((I - I.transpose()).norm() > 1e-12 * I.norm()) r.fail("inertia", "the tensor must be symmetric");
+    } else {
+      const Vec3 d = vec3(r.numbers("inertia", 3));
+      I = d.asDiagonal();
+    }
+    const Eigen::SelfAdjointEigenSolver<Mat3> eig(I);
+    const Vec3 p = eig.eigenvalues();
+    if (p.minCoeff() <= 0) r.fail("inertia", "the principal moments must be > 0");
+    if (p(0) + p(1) < p(2) * (1 - 1e-12))
+      r.fail("inertia", "violates the triangle inequality (no rigid body has these principal moments)");
+    return I;
+  }
+
+  void read_planes(const toml::array& walls) {
+    for (size_t i = 0; i < walls.size(); ++i) {
+      TomlReader r(*walls[i].as_table(), fmt::format("walls[{}]", i), s_.path);
+      PlaneSpec p;
+      p.where = r.where_table();
+      const std::string type = r.string_or("type", "plane");
+      if (type != "plane") r.fail("type", "3-D scenes take walls of type \"plane\", found \"" + type + "\"");
+      p.point = vec3(r.numbers("point", 3));
+      p.normal = vec3(r.numbers("normal", 3));
+      if (p.normal.norm() == 0) r.fail("normal", "must be a non-zero vector");
+      p.normal.normalize();
+      if (r.has("motion")) r.fail("motion", "moving walls are 2-D only so far");
+      p.material = material_of(r);
+      r.finish();
+      s_.planes.push_back(p);
+    }
+  }
+
   void read_walls(const TomlReader& top) {
     const toml::array* walls = top.array_of_tables("walls");
     if (!walls) return;
+    if (s_.dimension == 3) return read_planes(*walls);
     for (size_t i = 0; i < walls->size(); ++i) {
       TomlReader r(*(*walls)[i].as_table(), fmt::format("walls[{}]", i), s_.path);
       WallSpec w;
@@ -406,6 +533,7 @@ class SceneReader {
   void read_assemblies(const TomlReader& top) {
     const toml::array* list = top.array_of_tables("assemblies");
     if (!list) return;
+    if (s_.dimension == 3) top.fail("assemblies", "generated assemblies are 2-D only so far");
     for (size_t i = 0; i < list->size(); ++i) {
       TomlReader r(*(*list)[i].as_table(), fmt::format("assemblies[{}]", i), s_.path);
       AssemblySpec a;
@@ -476,11 +604,15 @@ class SceneReader {
     for (const BodySpec& b : s_.bodies)
       if (!ids.insert(b.id).second)
         throw InputError(b.where, "id", fmt::format("body id {} is used twice", b.id));
+    for (const Body3Spec& b : s_.bodies3d)
+      if (!ids.insert(b.id).second)
+        throw InputError(b.where, "id", fmt::format("body id {} is used twice", b.id));
   }
 
   // Bodies that start overlapped by more than a tolerance would explode on the first step:
   // a mistake in the scene, not physics, so it is rejected.
   void check_initial_overlaps() {
+    check_initial_overlaps3d();
     const auto& B = s_.bodies;
     for (size_t i = 0; i < B.size(); ++i)
       for (size_t j = i + 1; j < B.size(); ++j) {
@@ -493,6 +625,35 @@ class SceneReader {
                           "radius)",
                           B[i].id, depth, allowed));
       }
+  }
+
+  // 3-D: spheres against spheres and every body against the planes (vertices of polyhedra). Two
+  // polyhedra are compared by bounding spheres only when both are spheres; polyhedron pairs are not checked.
+  void check_initial_overlaps3d() {
+    const auto& B = s_.bodies3d;
+    for (size_t j = 0; j < B.size(); ++j) {
+      for (size_t i = 0; i < j; ++i) {
+        if (B[i].shape != Body3Spec::Shape::Sphere || B[j].shape != Body3Spec::Shape::Sphere) continue;
+        const double depth = B[i].radius + B[j].radius - (B[i].position - B[j].position).norm();
+        const double allowed = s_.overlap_tolerance * std::min(B[i].radius, B[j].radius);
+        if (depth > allowed)
+          throw InputError(B[j].where, fmt::format("bodies[{}].position", j),
+                           fmt::format("overlaps body id {} by {:.4g} (allowed {:.4g})", B[i].id, depth, allowed));
+      }
+      for (size_t k = 0; k < s_.planes.size(); ++k) {
+        const PlaneSpec& p = s_.planes[k];
+        double lowest = 1e300;
+        if (B[j].shape == Body3Spec::Shape::Sphere)
+          lowest = p.normal.dot(B[j].position - p.point) - B[j].radius;
+        else
+          for (const Vec3& v : B[j].hull.vertices)
+            lowest = std::min(lowest, p.normal.dot(B[j].position + B[j].orientation * v - p.point));
+        const double allowed = s_.overlap_tolerance * B[j].radius;
+        if (-lowest > allowed)
+          throw InputError(B[j].where, fmt::format("bodies[{}].position", j),
+                           fmt::format("starts {:.4g} inside walls[{}] (allowed {:.4g})", -lowest, k, allowed));
+      }
+    }
   }
 
   static std::vector<Vec2> world_outline(const BodySpec& b) {

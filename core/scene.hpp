@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "input_error.hpp"
+#include "polyhedron.hpp"
 #include "vec2.hpp"
 
 namespace grainlab {
@@ -84,6 +85,31 @@ struct BodySpec {
   SourceLocation where;
 };
 
+// A 3-D rigid body. The body frame has its origin at the centre of mass; `hull` (polyhedra) is given
+// in that frame, so a loaded body's geometric centre sits at -centre_of_mass_offset.
+struct Body3Spec {
+  enum class Shape { Sphere, Polyhedron };
+  std::int64_t id = -1;
+  Shape shape = Shape::Sphere;
+  std::string kind = "sphere";  // as written: sphere, box or polyhedron
+  double radius = 0;            // sphere radius; polyhedron: bounding radius about the centre of mass
+  Polyhedron hull;
+  double mass = 0;
+  Mat3 inertia = Mat3::Identity();  // about the centre of mass, in body axes
+  Vec3 position = Vec3::Zero(), velocity = Vec3::Zero();
+  Quat orientation = Quat::Identity();  // body to world
+  Vec3 spin = Vec3::Zero();             // angular velocity, world frame
+  int material = 0;
+  SourceLocation where;
+};
+
+// An infinite plane wall in 3-D; bodies live on the side the normal points to.
+struct PlaneSpec {
+  Vec3 point = Vec3::Zero(), normal = Vec3::UnitZ();
+  int material = 0;
+  SourceLocation where;
+};
+
 struct WallSpec {
   enum class Kind { Segment, Line };
   Kind kind = Kind::Segment;
@@ -136,7 +162,8 @@ struct Scene {
   } to_cgs;
   double duration = 0;
   std::uint64_t seed = 0;
-  Vec2 gravity{0, -981.0};
+  Vec2 gravity{0, -981.0};              // 2-D
+  Vec3 gravity3d{0.0, 0.0, -981.0};      // 3-D (z up)
   std::optional<std::pair<double, double>> periodic_x;  // [xmin, xmax)
   bool clip_attractive_normal_force = false;
   double overlap_tolerance = 0.01;  // allowed initial overlap as a fraction of the smaller radius
@@ -147,6 +174,8 @@ struct Scene {
   std::vector<BodySpec> bodies;
   std::vector<WallSpec> walls;
   std::vector<AssemblySpec> assemblies;
+  std::vector<Body3Spec> bodies3d;  // 3-D scenes: [[bodies]]
+  std::vector<PlaneSpec> planes;    // 3-D scenes: [[walls]] of type "plane"
   OutputSpec output;
 
   // The material acting between materials a and b. Same material: itself; otherwise the

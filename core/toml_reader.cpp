@@ -112,13 +112,57 @@ bool TomlReader::boolean_or(const std::string& key, bool fallback) const {
   return *n->value<bool>();
 }
 
-static Vec2 to_vec2(const TomlReader& r, const std::string& key, const toml::node& n) {
+static std::vector<double> to_numbers(const TomlReader& r, const std::string& key, const toml::node& n,
+                                      std::size_t count) {
+  static const char* names[] = {"[x]", "[x, y]", "[x, y, z]", "[w, x, y, z]"};
+  const std::string shape = count >= 1 && count <= 4 ? names[count - 1] : std::to_string(count) + " numbers";
   const toml::array* a = n.as_array();
-  if (!a || a->size() != 2 || !(*a)[0].is_number() || !(*a)[1].is_number())
-    r.fail(key, "expected two numbers [x, y], found " + type_name(n));
-  const Vec2 v{(*a)[0].value<double>().value(), (*a)[1].value<double>().value()};
-  if (!std::isfinite(v.x) || !std::isfinite(v.y)) r.fail(key, "components must be finite");
+  bool ok = a && a->size() == count;
+  for (std::size_t i = 0; ok && i < count; ++i) ok = (*a)[i].is_number();
+  if (!ok) r.fail(key, fmt::format("expected {} numbers {}, found {}", count, shape, type_name(n)));
+  std::vector<double> v;
+  for (std::size_t i = 0; i < count; ++i) {
+    v.push_back((*a)[i].value<double>().value());
+    if (!std::isfinite(v.back())) r.fail(key, "components must be finite");
+  }
   return v;
+}
+
+static Vec2 to_vec2(const TomlReader& r, const std::string& key, const toml::node& n) {
+  const std::vector<double> v = to_numbers(r, key, n, 2);
+  return {v[0], v[1]};
+}
+
+std::vector<double> TomlReader::numbers(const std::string& key, std::size_t count) const {
+  return to_numbers(*this, key, need(key), count);
+}
+
+std::vector<std::vector<double>> TomlReader::number_rows(const std::string& key, std::size_t count) const {
+  const toml::node& n = need(key);
+  const toml::array* a = n.as_array();
+  if (!a) fail(key, fmt::format("expected an array of {}-number arrays, found {}", count, type_name(n)));
+  std::vector<std::vector<double>> out;
+  for (const toml::node& e : *a) out.push_back(to_numbers(*this, key, e, count));
+  return out;
+}
+
+std::vector<std::vector<int>> TomlReader::index_lists(const std::string& key) const {
+  const toml::node& n = need(key);
+  const toml::array* a = n.as_array();
+  if (!a) fail(key, "expected an array of arrays of vertex indices, found " + type_name(n));
+  std::vector<std::vector<int>> out;
+  for (const toml::node& e : *a) {
+    const toml::array* row = e.as_array();
+    if (!row) fail(key, "expected an array of vertex indices, found " + type_name(e));
+    out.emplace_back();
+    for (const toml::node& i : *row) {
+      if (!i.is_integer()) fail(key, "vertex indices must be integers, found " + type_name(i));
+      const std::int64_t v = *i.value<std::int64_t>();
+      if (v < 0 || v > 1000000) fail(key, fmt::format("vertex index {} is out of range", v));
+      out.back().push_back(static_cast<int>(v));
+    }
+  }
+  return out;
 }
 
 Vec2 TomlReader::vec2(const std::string& key) const {

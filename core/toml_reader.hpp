@@ -43,8 +43,14 @@ class TomlReader {
   Vec2 vec2(const std::string& key) const;
   Vec2 vec2_or(const std::string& key, Vec2 fallback) const;
   std::vector<Vec2> vec2_list(const std::string& key) const;
+  // Exactly `count` finite numbers; an array of such arrays; an array of arrays of indices.
+  std::vector<double> numbers(const std::string& key, std::size_t count) const;
+  std::vector<std::vector<double>> number_rows(const std::string& key, std::size_t count) const;
+  std::vector<std::vector<int>> index_lists(const std::string& key) const;
   std::vector<std::string> string_list(const std::string& key) const;
   const toml::table* subtable(const std::string& key) const;
+  // The raw node (marks the key as seen); nullptr when absent.
+  const toml::node* node(const std::string& key) const { return get(key); }
   const toml::array* array_of_tables(const std::string& key) const;
 
   // Throws for the first key in the table that no accessor above was asked about.

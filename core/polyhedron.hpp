@@ -1,0 +1,46 @@
+#pragma once
+// Convex polyhedra for 3-D bodies: checked construction from vertices and faces, mass properties
+// (volume, centroid, inertia tensor) and the queries the narrow phase needs.
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+namespace grainlab {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Quat = Eigen::Quaterniond;
+
+struct Polyhedron {
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<int>> faces;  // vertex indices, counter-clockwise seen from outside
+  std::vector<Vec3> normals;            // outward unit normal per face
+  std::vector<double> offsets;          // plane of face f: normals[f] . x = offsets[f]
+  std::vector<std::pair<int, int>> edges;  // each edge once, a < b
+
+  // Signed distance of p from the plane of face f (positive outside).
+  double plane_distance(int f, const Vec3& p) const { return normals[f].dot(p) - offsets[f]; }
+  bool contains(const Vec3& p) const;
+  // The vertex furthest along direction d.
+  int support(const Vec3& d) const;
+  double bounding_radius() const;  // about the frame origin
+  void translate(const Vec3& shift);
+};
+
+// Builds and checks a polyhedron. Returns an empty string on success, else what is wrong (faces not
+// closed, not convex, wrongly oriented, degenerate).
+std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<int>> faces, Polyhedron& out);
+// An axis-aligned box centred on the origin.
+Polyhedron make_box(const Vec3& half_extents);
+
+struct SolidMass {
+  double volume = 0;
+  Vec3 centroid = Vec3::Zero();
+  Mat3 inertia_per_density = Mat3::Zero();  // about the centroid
+};
+SolidMass polyhedron_mass(const Polyhedron& p);
+
+// Rotation vector (axis times angle) as a unit quaternion.
+Quat quat_from_rotation_vector(const Vec3& r);
+
+}  // namespace grainlab

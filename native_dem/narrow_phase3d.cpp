@@ -1,0 +1,241 @@
+#include "narrow_phase3d.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace grainlab::dem {
+
+void Placed3::place() {
+  if (!hull) return;
+  const Mat3 R = q.toRotationMatrix();
+  world_vertices.resize(hull->vertices.size());
+  for (std::size_t i = 0; i < hull->vertices.size(); ++i) world_vertices[i] = x + R * hull->vertices[i];
+  world_normals.resize(hull->normals.size());
+  world_offsets.resize(hull->normals.size());
+  for (std::size_t f = 0; f < hull->normals.size(); ++f) {
+    world_normals[f] = R * hull->normals[f];
+    world_offsets[f] = world_normals[f].dot(world_vertices[hull->faces[f][0]]);
+  }
+}
+
+int sphere_sphere(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out) {
+  const Vec3 d = a.x - b.x;
+  const double dist = d.norm(), depth = a.radius + b.radius - dist;
+  if (depth <= 0 || dist == 0) return 0;
+  const Vec3 n = d / dist;
+  out.push_back({b.x + n * (b.radius - depth / 2), n, depth, 0});
+  return 1;
+}
+
+int body_plane(const Placed3& a, const Plane3& p, std::vector<ContactPoint3>& out) {
+  if (!a.hull) {
+    const double depth = a.radius - p.normal.dot(a.x - p.point);
+    if (depth <= 0) return 0;
+    out.push_back({a.x - p.normal * (a.radius - depth / 2), p.normal, depth, 0});
+    return 1;
+  }
+  // A polyhedron touches a plane at its vertices, as the thesis's die does.
+  if (p.normal.dot(a.x - p.point) > a.radius) return 0;
+  int added = 0;
+  for (std::size_t i = 0; i < a.world_vertices.size(); ++i) {
+    const double depth = -p.normal.dot(a.world_vertices[i] - p.point);
+    if (depth > 0) {
+      out.push_back({a.world_vertices[i], p.normal, depth, static_cast<int>(i)});
+      ++added;
+    }
+  }
+  return added;
+}
+
+namespace {
+
+Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  return a + t * d;
+}
+
+// Closest point of face f (placed) to p, assuming p is on the face's outer side.
+Vec3 closest_on_face(const Placed3& h, int f, const Vec3& p) {
+  const auto& face = h.hull->faces[f];
+  const Vec3& n = h.world_normals[f];
+  const Vec3 proj = p - n * (n.dot(p) - h.world_offsets[f]);
+  bool inside = true;
+  for (std::size_t k = 0; k < face.size() && inside; ++k) {
+    const Vec3 &a = h.world_vertices[face[k]], &b = h.world_vertices[face[(k + 1) % face.size()]];
+    inside = (b - a).cross(proj - a).dot(n) >= 0;
+  }
+  if (inside) return proj;
+  Vec3 best = proj;
+  double best_d = 1e300;
+  for (std::size_t k = 0; k < face.size(); ++k) {
+    const Vec3 c = closest_on_segment(p, h.world_vertices[face[k]], h.world_vertices[face[(k + 1) % face.size()]]);
+    if ((c - p).squaredNorm() < best_d) best_d = (c - p).squaredNorm(), best = c;
+  }
+  return best;
+}
+
+// Projection interval of a placed hull on axis n.
+void project(const Placed3& h, const Vec3& n, double& lo, double& hi) {
+  lo = 1e300, hi = -1e300;
+  for (const Vec3& v : h.world_vertices) {
+    const double s = n.dot(v);
+    lo = std::min(lo, s), hi = std::max(hi, s);
+  }
+}
+
+// Closest points of segments p1-q1 and p2-q2 (clamped), returned as their midpoint.
+Vec3 segment_midpoint(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, double& gap) {
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r), c = d1.dot(r), b = d1.dot(d2);
+  const double den = a * e - b * b;
+  double s = den > 1e-14 * a * e ? std::clamp((b * f - c * e) / den, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+  if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+  const Vec3 c1 = p1 + d1 * s, c2 = p2 + d2 * t;
+  gap = (c1 - c2).norm();
+  return (c1 + c2) / 2;
+}
+
+struct Axis {
+  double overlap = 1e300;
+  Vec3 n;           // from B to A
+  int kind = -1;    // 0: face of A, 1: face of B, 2: edge pair
+  int index = -1;   // face index, or edge pair ea * 4096 + eb
+};
+
+// Overlap of A and B along unit axis n, oriented so that A lies on the positive side. false: separated.
+bool overlap_on(const Placed3& a, const Placed3& b, Vec3 n, Axis& best, int kind, int index, double bias) {
+  double alo, ahi, blo, bhi;
+  project(a, n, alo, ahi);
+  project(b, n, blo, bhi);
+  if (ahi <= blo || bhi <= alo) return false;
+  double ov = bhi - alo;  // A on the + side
+  if (ahi - blo < ov) ov = ahi - blo, n = -n;
+  if (ov * bias < best.overlap) best = {ov * bias, n, kind, index};
+  return true;
+}
+
+// Sutherland-Hodgman: keep the part of the polygon on the inner side of plane n.x <= d.
+std::vector<Vec3> clip(const std::vector<Vec3>& poly, const Vec3& n, double d) {
+  std::vector<Vec3> out;
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const Vec3 &p = poly[k], &q = poly[(k + 1) % poly.size()];
+    const double dp = n.dot(p) - d, dq = n.dot(q) - d;
+    if (dp <= 0) out.push_back(p);
+    if ((dp < 0) != (dq < 0) && dp != dq) out.push_back(p + (q - p) * (dp / (dp - dq)));
+  }
+  return out;
+}
+
+// Face contact: the incident face of `inc` (most opposed to the reference face of `ref`) is clipped by
+// the reference face's side planes; its points below the reference plane are the contacts.
+int face_contacts(const Placed3& ref, int rf, const Placed3& inc, bool ref_is_b, std::vector<ContactPoint3>& out) {
+  const Vec3 nr = ref.world_normals[rf];
+  int inc_face = 0;
+  double most = 1e300;
+  for (std::size_t f = 0; f < inc.world_normals.size(); ++f)
+    if (inc.world_normals[f].dot(nr) < most) most = inc.world_normals[f].dot(nr), inc_face = static_cast<int>(f);
+  std::vector<Vec3> poly;
+  for (int i : inc.hull->faces[inc_face]) poly.push_back(inc.world_vertices[i]);
+  const auto& rface = ref.hull->faces[rf];
+  for (std::size_t k = 0; k < rface.size() && !poly.empty(); ++k) {
+    const Vec3 &a = ref.world_vertices[rface[k]], &b = ref.world_vertices[rface[(k + 1) % rface.size()]];
+    const Vec3 side = (b - a).cross(nr).normalized();  // outward in the reference face's plane
+    poly = clip(poly, side, side.dot(a));
+  }
+  int added = 0;
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const double depth = ref.world_offsets[rf] - nr.dot(poly[k]);
+    if (depth <= 0) continue;
+    // The normal points from B into A: the reference normal if the reference body is B.
+    const Vec3 n = ref_is_b ? nr : Vec3(-nr);
+    out.push_back({poly[k] + nr * (depth / 2), n, depth, 100000 + inc_face * 64 + static_cast<int>(k)});
+    ++added;
+  }
+  return added;
+}
+
+}  // namespace
+
+int sphere_hull(const Placed3& s, const Placed3& h, bool sphere_is_a, std::vector<ContactPoint3>& out) {
+  if ((s.x - h.x).norm() >= s.radius + h.radius) return 0;
+  int deepest = 0;
+  double max_d = -1e300, best_gap = 1e300;
+  Vec3 best = s.x;
+  for (std::size_t f = 0; f < h.world_normals.size(); ++f) {
+    const double d = h.world_normals[f].dot(s.x) - h.world_offsets[f];
+    if (d > max_d) max_d = d, deepest = static_cast<int>(f);
+    if (d > 0) {
+      const Vec3 c = closest_on_face(h, static_cast<int>(f), s.x);
+      if ((c - s.x).norm() < best_gap) best_gap = (c - s.x).norm(), best = c;
+    }
+  }
+  Vec3 n;  // from the hull to the sphere
+  double depth;
+  if (max_d > 0) {
+    if (best_gap >= s.radius || best_gap == 0) return 0;
+    n = (s.x - best) / best_gap;
+    depth = s.radius - best_gap;
+  } else {  // the centre is inside the hull: push out through the nearest face
+    n = h.world_normals[deepest];
+    depth = s.radius - max_d;
+    best = s.x - n * max_d;
+  }
+  out.push_back({best + n * (depth / 2), sphere_is_a ? n : Vec3(-n), depth, 0});
+  return 1;
+}
+
+int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out) {
+  if ((a.x - b.x).norm() >= a.radius + b.radius) return 0;
+  Axis best;
+  for (std::size_t f = 0; f < a.world_normals.size(); ++f)
+    if (!overlap_on(a, b, a.world_normals[f], best, 0, static_cast<int>(f), 1.0)) return 0;
+  for (std::size_t f = 0; f < b.world_normals.size(); ++f)
+    if (!overlap_on(a, b, b.world_normals[f], best, 1, static_cast<int>(f), 1.0)) return 0;
+  const auto& ea = a.hull->edges;
+  const auto& eb = b.hull->edges;
+  // Edge axes must beat the best face axis clearly, so resting face contacts do not flicker to edges.
+  for (std::size_t i = 0; i < ea.size(); ++i)
+    for (std::size_t j = 0; j < eb.size(); ++j) {
+      const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
+      const Vec3 db = b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first];
+      Vec3 n = da.cross(db);
+      if (n.squaredNorm() < 1e-12 * da.squaredNorm() * db.squaredNorm()) continue;  // parallel edges
+      n.normalize();
+      if (!overlap_on(a, b, n, best, 2, static_cast<int>(i * 4096 + j), 1.05)) return 0;
+    }
+  if (best.kind == 0) return face_contacts(a, best.index, b, false, out);
+  if (best.kind == 1) return face_contacts(b, best.index, a, true, out);
+  // Edge-edge: among edge pairs parallel to the winning pair, the closest pair touches.
+  const auto [i0, j0] = std::pair<int, int>{best.index / 4096, best.index % 4096};
+  const Vec3 da0 = (a.world_vertices[ea[i0].second] - a.world_vertices[ea[i0].first]).normalized();
+  const Vec3 db0 = (b.world_vertices[eb[j0].second] - b.world_vertices[eb[j0].first]).normalized();
+  double gap_min = 1e300;
+  Vec3 point = Vec3::Zero();
+  int feature = 0;
+  for (std::size_t i = 0; i < ea.size(); ++i) {
+    const Vec3 da = (a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first]).normalized();
+    if (std::abs(da.dot(da0)) < 1 - 1e-9) continue;
+    for (std::size_t j = 0; j < eb.size(); ++j) {
+      const Vec3 db = (b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first]).normalized();
+      if (std::abs(db.dot(db0)) < 1 - 1e-9) continue;
+      double gap;
+      const Vec3 m = segment_midpoint(a.world_vertices[ea[i].first], a.world_vertices[ea[i].second],
+                                      b.world_vertices[eb[j].first], b.world_vertices[eb[j].second], gap);
+      if (gap < gap_min) gap_min = gap, point = m, feature = 200000 + static_cast<int>(i * 64 + j);
+    }
+  }
+  out.push_back({point, best.n, best.overlap / 1.05, feature});
+  return 1;
+}
+
+int body_body(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out) {
+  if (!a.hull && !b.hull) return sphere_sphere(a, b, out);
+  if (!a.hull) return sphere_hull(a, b, true, out);
+  if (!b.hull) return sphere_hull(b, a, false, out);
+  return hull_hull(a, b, out);
+}
+
+}  // namespace grainlab::dem

@@ -1,0 +1,41 @@
+#pragma once
+// Contact geometry between 3-D bodies: spheres, convex polyhedra and planes. Each contact point carries
+// the normal pointing from body B into body A (the force on A is along +normal), the overlap depth and
+// a feature number that stays the same while the same vertex, edge pair or clipped point is touching,
+// so the tangential spring can be kept from step to step.
+#include <vector>
+
+#include "polyhedron.hpp"
+
+namespace grainlab::dem {
+
+struct ContactPoint3 {
+  Vec3 point, normal;
+  double depth = 0;
+  int feature = 0;
+};
+
+// A body placed in the world. For a polyhedron `world_vertices` and `world_normals` are filled once per
+// force evaluation (place()).
+struct Placed3 {
+  Vec3 x = Vec3::Zero();
+  Quat q = Quat::Identity();
+  double radius = 0;                 // sphere radius, or the polyhedron's bounding radius
+  const Polyhedron* hull = nullptr;  // nullptr: a sphere
+  std::vector<Vec3> world_vertices, world_normals;
+  std::vector<double> world_offsets;
+  void place();
+};
+
+struct Plane3 {
+  Vec3 point, normal;
+};
+
+// Appends the contacts of A with B (or with a plane) to `out`; returns how many were added.
+int sphere_sphere(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out);
+int body_plane(const Placed3& a, const Plane3& p, std::vector<ContactPoint3>& out);
+int sphere_hull(const Placed3& sphere, const Placed3& hull, bool sphere_is_a, std::vector<ContactPoint3>& out);
+int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out);
+int body_body(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out);
+
+}  // namespace grainlab::dem

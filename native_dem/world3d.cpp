@@ -1,0 +1,317 @@
+#include "world3d.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace grainlab::dem {
+
+Mat3 Body3::world_inv_inertia() const {
+  const Mat3 R = q.toRotationMatrix();
+  return R * inv_inertia * R.transpose();
+}
+
+Vec3 Body3::angular_momentum() const {
+  const Mat3 R = q.toRotationMatrix();
+  return R * inertia * R.transpose() * w;
+}
+
+namespace {
+// Orientation after turning at angular velocity w (world frame) for time dt.
+Quat turned(const Quat& q, const Vec3& w, double dt) {
+  return (quat_from_rotation_vector(w * dt) * q).normalized();
+}
+}  // namespace
+
+World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
+  n_mat_ = std::max<int>(1, static_cast<int>(scene_.materials.size()));
+  laws_.assign(static_cast<std::size_t>(n_mat_) * n_mat_, ContactLaw{});
+  for (int a = 0; a < static_cast<int>(scene_.materials.size()); ++a)
+    for (int b = 0; b < static_cast<int>(scene_.materials.size()); ++b)
+      if (a == b || scene_.pair_materials.count({std::min(a, b), std::max(a, b)}))
+        laws_[a * n_mat_ + b] = contact_law(scene_.pair(a, b), scene_.clip_attractive_normal_force);
+  for (const Body3Spec& s : scene_.bodies3d) {
+    Body3 b;
+    b.id = s.id;
+    b.x = s.position;
+    b.v = s.velocity;
+    b.q = s.orientation;
+    b.w = effects_.rotation ? s.spin : Vec3::Zero();
+    b.m = s.mass;
+    b.inv_m = 1 / s.mass;
+    b.inertia = s.inertia;
+    b.inv_inertia = effects_.rotation ? Mat3(s.inertia.inverse()) : Mat3::Zero();
+    b.hull = s.shape == Body3Spec::Shape::Polyhedron ? &s.hull : nullptr;
+    b.radius = s.radius;
+    b.material = s.material;
+    b_.push_back(b);
+    Placed3 p;
+    p.hull = b.hull;
+    p.radius = b.radius;
+    placed_.push_back(p);
+  }
+  for (const PlaneSpec& p : scene_.planes) {
+    planes_.push_back({p.point, p.normal});
+    plane_material_.push_back(p.material);
+  }
+  dt_ = scene_.accuracy.dt;
+}
+
+Vec3 World3d::angular_acceleration(const Body3& b) const {
+  if (!effects_.rotation) return Vec3::Zero();
+  const Mat3 R = b.q.toRotationMatrix();
+  const Mat3 I = R * b.inertia * R.transpose();
+  return R * b.inv_inertia * R.transpose() * (b.tq - b.w.cross(I * b.w));
+}
+
+// ---------------------------------------------------------------- forces
+
+void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law, std::int64_t key_b,
+                          double h) {
+  const Vec3 ra = c.point - a.x, rb = b ? Vec3(c.point - b->x) : Vec3::Zero();
+  Vec3 vrel = a.v + a.w.cross(ra);
+  if (b) vrel -= b->v + b->w.cross(rb);
+  const double vn = c.normal.dot(vrel);
+  const double meff = b ? a.m * b->m / (a.m + b->m) : a.m;
+  const double fn = normal_force(law, c.depth, vn, law.normal.coefficient(meff));
+  Vec3 F = fn * c.normal;
+  if (effects_.friction) {
+    const Vec3 vt = vrel - vn * c.normal;
+    const ContactKey3 key{a.id, key_b, c.feature};
+    Vec3 xi = Vec3::Zero();
+    if (auto it = history_.find(key); it != history_.end()) {
+      // The contact has turned since the spring was stored: lay the spring back into the tangent
+      // plane, keeping its length (a projection alone would shorten it and leak stored force).
+      xi = it->second.xi;
+      const double len = xi.norm();
+      xi -= c.normal * c.normal.dot(xi);
+      if (xi.norm() > 0) xi *= len / xi.norm();
+    }
+    xi += h * vt;
+    Vec3 fs = -law.k_s * xi - law.shear.coefficient(meff) * vt;
+    const double cap = law.mu * std::max(fn, 0.0);
+    if (fs.norm() > cap) {
+      fs *= cap / fs.norm();
+      xi = -fs / law.k_s;  // the anchor slides: the spring holds exactly the friction limit
+    }
+    trial_[key] = {xi, law.k_s};
+    F += fs;
+  }
+  a.f += F;
+  a.tq += ra.cross(F);
+  if (b) {
+    b->f -= F;
+    b->tq -= rb.cross(F);
+  }
+  step_force_[{a.id, key_b}] += fn;
+  ++contacts_now_;
+}
+
+void World3d::compute_forces(double h) {
+  ++diag_.force_evaluations;
+  const Vec3 g = effects_.gravity ? scene_.gravity3d : Vec3::Zero();
+  for (Body3& b : b_) {
+    b.f = b.m * g;
+    b.tq.setZero();
+  }
+  trial_.clear();
+  step_force_.clear();
+  contacts_now_ = 0;
+  if (!effects_.normal_contact) return;
+  for (std::size_t i = 0; i < b_.size(); ++i) {
+    placed_[i].x = b_[i].x;
+    placed_[i].q = b_[i].q;
+    placed_[i].place();
+  }
+  for (std::size_t i = 0; i < b_.size(); ++i) {
+    for (std::size_t j = i + 1; j < b_.size(); ++j) {
+      if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) continue;
+      scratch_.clear();
+      body_body(placed_[i], placed_[j], scratch_);
+      const ContactLaw& law = laws_[b_[i].material * n_mat_ + b_[j].material];
+      for (const ContactPoint3& c : scratch_) add_contact(b_[i], &b_[j], c, law, b_[j].id, h);
+    }
+    for (std::size_t k = 0; k < planes_.size(); ++k) {
+      scratch_.clear();
+      body_plane(placed_[i], planes_[k], scratch_);
+      const ContactLaw& law = laws_[b_[i].material * n_mat_ + plane_material_[k]];
+      for (const ContactPoint3& c : scratch_)
+        add_contact(b_[i], nullptr, c, law, -1 - static_cast<std::int64_t>(k), h);
+    }
+  }
+}
+
+// ---------------------------------------------------------------- integration
+
+void World3d::advance_to(double t_end) {
+  const auto start = std::chrono::steady_clock::now();
+  if (scene_.accuracy.integrator == Integrator::VelocityVerlet) {
+    while (t_ + dt_ * (1 - 1e-3) <= t_end) step();
+  } else {
+    while (t_ < t_end * (1 - 1e-14)) {
+      const double natural = dt_;
+      const bool clamp = t_ + dt_ > t_end;
+      if (clamp) dt_ = t_end - t_;
+      step();
+      if (clamp) dt_ = std::max(dt_, natural);
+    }
+  }
+  diag_.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void World3d::step() {
+  const double before = t_;
+  if (scene_.accuracy.integrator == Integrator::VelocityVerlet)
+    step_verlet();
+  else
+    step_predictor_corrector();
+  ++diag_.steps;
+  const double taken = t_ - before;
+  diag_.dt_last = taken;
+  diag_.dt_min_used = diag_.steps == 1 ? taken : std::min(diag_.dt_min_used, taken);
+  diag_.dt_max_used = std::max(diag_.dt_max_used, taken);
+  impulses_.clear();
+  for (const auto& [pair, fn] : step_force_) impulses_[pair] = fn * taken;
+  last_contacts_ = contacts_now_;
+}
+
+// Velocity Verlet for translation; for rotation the world angular momentum is kicked by the torque and
+// the orientation advanced by the midpoint rule (second order; torque-free, L is conserved exactly).
+void World3d::step_verlet() {
+  const double dt = dt_, h = dt / 2;
+  if (diag_.force_evaluations == 0) {
+    compute_forces(0);
+    commit_history();
+  }
+  for (Body3& b : b_) {
+    b.v += h * b.inv_m * b.f;
+    b.x += dt * b.v;
+    if (!effects_.rotation) continue;
+    const Vec3 L = b.angular_momentum() + h * b.tq;
+    b.w = b.world_inv_inertia() * L;
+    Body3 mid = b;
+    mid.q = turned(b.q, b.w, h);
+    b.q = turned(b.q, mid.world_inv_inertia() * L, dt);
+    b.w = b.world_inv_inertia() * L;
+  }
+  t_ += dt;
+  compute_forces(dt);
+  commit_history();
+  for (Body3& b : b_) {
+    b.v += h * b.inv_m * b.f;
+    if (effects_.rotation) b.w = b.world_inv_inertia() * (b.angular_momentum() + h * b.tq);
+  }
+}
+
+// The thesis's predictor-corrector (eq. 2.4), as in 2-D (world.cpp), with the orientation turned by
+// the step's mean angular velocity and the gyroscopic term in the angular acceleration.
+void World3d::step_predictor_corrector() {
+  const Accuracy& acc = scene_.accuracy;
+  const std::size_t n = b_.size();
+  compute_forces(0);
+  start_ = b_;
+  a0_.resize(n), al0_.resize(n);
+  double vmax = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    a0_[i] = b_[i].f * b_[i].inv_m;
+    al0_[i] = angular_acceleration(b_[i]);
+    vmax = std::max(vmax, b_[i].v.norm());
+  }
+  if (v_prev_.size() != n) v_prev_.assign(n, Vec3::Zero()), w_prev_.assign(n, Vec3::Zero()), have_prev_ = false;
+  const double floor = std::max(acc.velocity_floor, 0.01 * vmax);
+  const bool relative_to_change = acc.error_measure == ErrorMeasure::Change;
+  for (;;) {
+    const double dt = dt_, back = have_prev_ ? dt_prev_ + dt : dt;
+    for (std::size_t i = 0; i < n; ++i) {
+      Body3& b = b_[i];
+      const Body3& s = start_[i];
+      b.v = (have_prev_ ? v_prev_[i] : s.v) + back * a0_[i];
+      b.x = s.x + dt * (s.v + b.v) / 2;
+      if (effects_.rotation) {
+        b.w = (have_prev_ ? w_prev_[i] : s.w) + back * al0_[i];
+        b.q = turned(s.q, (s.w + b.w) / 2, dt);
+      }
+    }
+    compute_forces(dt);
+    double err = 0;
+    auto correct = [&](const Vec3& v0, const Vec3& a0, const Vec3& a1, Vec3& v, double fl) {
+      const Vec3 vc = v0 + dt * (a0 + a1) / 2;
+      for (int k = 0; k < 3; ++k) {
+        const double scale = relative_to_change ? std::abs(vc[k] - v0[k]) : std::abs(vc[k]);
+        err = std::max(err, std::abs(vc[k] - v[k]) / (scale + fl));
+      }
+      v = vc;
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      Body3& b = b_[i];
+      const Body3& s = start_[i];
+      correct(s.v, a0_[i], b.f * b.inv_m, b.v, floor);
+      b.x = s.x + dt * (s.v + b.v) / 2;
+      if (effects_.rotation) {
+        correct(s.w, al0_[i], angular_acceleration(b), b.w, floor / b.radius);
+        b.q = turned(s.q, (s.w + b.w) / 2, dt);
+      }
+    }
+    if (err > acc.tolerance) {
+      if (dt / 2 < acc.dt_min)
+        throw std::runtime_error(fmt::format(
+            "predictor-corrector step underflow at t = {:.6g} s: dt would fall below dt_min = {:.3g} s "
+            "(error {:.3g} > tolerance {:.3g})",
+            t_, acc.dt_min, err, acc.tolerance));
+      ++diag_.rejected_steps;
+      dt_ = dt / 2;
+      have_prev_ = false;
+      b_ = start_;
+      continue;
+    }
+    for (std::size_t i = 0; i < n; ++i) v_prev_[i] = start_[i].v, w_prev_[i] = start_[i].w;
+    dt_prev_ = dt;
+    have_prev_ = true;
+    t_ += dt;
+    commit_history();
+    if (err * 1.44 <= acc.tolerance) dt_ = std::min(dt * 1.2, acc.dt_max);
+    return;
+  }
+}
+
+// ---------------------------------------------------------------- diagnostics
+
+Energies World3d::energies() const {
+  Energies e;
+  const Vec3 g = effects_.gravity ? scene_.gravity3d : Vec3::Zero();
+  for (const Body3& b : b_) {
+    e.kinetic_translational += 0.5 * b.m * b.v.squaredNorm();
+    if (effects_.rotation) e.kinetic_rotational += 0.5 * b.w.dot(b.angular_momentum());
+    e.potential_gravity -= b.m * g.dot(b.x);
+  }
+  if (!effects_.normal_contact) return e;
+  std::vector<Placed3> placed = placed_;
+  for (std::size_t i = 0; i < b_.size(); ++i) {
+    placed[i].x = b_[i].x;
+    placed[i].q = b_[i].q;
+    placed[i].place();
+  }
+  std::vector<ContactPoint3> cs;
+  auto spring = [&](int mat_a, int mat_b) {
+    const ContactLaw& law = laws_[mat_a * n_mat_ + mat_b];
+    for (const ContactPoint3& c : cs) e.elastic += 0.5 * law.k_n * c.depth * c.depth;
+    cs.clear();
+  };
+  for (std::size_t i = 0; i < b_.size(); ++i) {
+    for (std::size_t j = i + 1; j < b_.size(); ++j) {
+      body_body(placed[i], placed[j], cs);
+      spring(b_[i].material, b_[j].material);
+    }
+    for (std::size_t k = 0; k < planes_.size(); ++k) {
+      body_plane(placed[i], planes_[k], cs);
+      spring(b_[i].material, plane_material_[k]);
+    }
+  }
+  if (effects_.friction)
+    for (const auto& [key, s] : history_) e.elastic += 0.5 * s.k_s * s.xi.squaredNorm();
+  return e;
+}
+
+}  // namespace grainlab::dem
