@@ -289,7 +289,7 @@ class BulletEngine final : public Engine {
   };
   std::vector<Moving> moving_;
   std::vector<std::unique_ptr<btDefaultMotionState>> motion_states_;
-  std::vector<int> shape_of_;  // per body: -1 disc, else polygon index
+  std::vector<int> shape_of_;    // per body: -1 disc, else polygon index
   std::vector<Quat> principal_;  // 3-D: principal frame in the scene's body frame
   int polygons_ = 0;
   double scale_ = 1, t_ = 0, wall_seconds_ = 0;

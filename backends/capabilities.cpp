@@ -9,7 +9,7 @@ namespace grainlab {
 
 const std::vector<Capabilities>& engine_catalog() {
   const std::vector<std::string> shapes2d = {"disc", "polygon", "segment", "line", "moving wall"};
-  const std::vector<std::string> both = {"disc",   "polygon", "segment",    "line",
+  const std::vector<std::string> both = {"disc",        "polygon", "segment",    "line",
                                          "moving wall", "sphere",  "polyhedron", "plane"};
   static const std::vector<Capabilities> all = {
       {"native",
@@ -163,7 +163,8 @@ EnergyReport rigid_body_energies(const Frame& f, const std::vector<Body3Spec>& b
   for (std::size_t k = 0; k < bodies.size(); ++k) {
     const Body3Spec& b = bodies[k];
     const Vec3 x(&f.position[3 * k]), v(&f.velocity[3 * k]), w(&f.angular_velocity[3 * k]);
-    const Quat q(f.orientation[4 * k], f.orientation[4 * k + 1], f.orientation[4 * k + 2], f.orientation[4 * k + 3]);
+    const Quat q(f.orientation[4 * k], f.orientation[4 * k + 1], f.orientation[4 * k + 2],
+                 f.orientation[4 * k + 3]);
     const Mat3 R = q.toRotationMatrix();
     e.kinetic_translational += 0.5 * b.mass * v.squaredNorm();
     e.kinetic_rotational += 0.5 * w.dot(R * b.inertia * R.transpose() * w);

@@ -68,12 +68,14 @@ class NativeEngine final : public Engine {
 // The native engine on a 3-D scene.
 class NativeEngine3d final : public Engine {
  public:
-  explicit NativeEngine3d(const Scene& scene) : world_(scene), shape_index_(polyhedron_indices(scene.bodies3d)) {}
+  explicit NativeEngine3d(const Scene& scene)
+      : world_(scene), shape_index_(polyhedron_indices(scene.bodies3d)) {}
   std::string name() const override { return "native"; }
   void advance_to(double t) override { world_.advance_to(t); }
   double time() const override { return world_.time(); }
   std::string integrator() const override {
-    return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet" : "predictor-corrector";
+    return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet"
+                                                                            : "predictor-corrector";
   }
 
   Frame frame() const override {
@@ -82,7 +84,8 @@ class NativeEngine3d final : public Engine {
     const auto& bodies = world_.bodies();
     std::vector<std::size_t> order(bodies.size());
     std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return bodies[a].id < bodies[b].id; });
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return bodies[a].id < bodies[b].id; });
     for (std::size_t i : order) {
       const dem::Body3& b = bodies[i];
       const double q[4] = {b.q.w(), b.q.x(), b.q.y(), b.q.z()};

@@ -60,8 +60,9 @@ class OdeEngine final : public Engine {
     for (const Body3Spec& b : scene_.bodies3d) add_body3d(b);
     for (const PlaneSpec& p : scene_.planes) {
       info_.push_back({p.material, 0.0});
-      dGeomSetData(dCreatePlane(space_, p.normal.x(), p.normal.y(), p.normal.z(), p.normal.dot(p.point) * scale_),
-                   &info_.back());
+      dGeomSetData(
+          dCreatePlane(space_, p.normal.x(), p.normal.y(), p.normal.z(), p.normal.dot(p.point) * scale_),
+          &info_.back());
     }
   }
   ~OdeEngine() override {
@@ -162,7 +163,8 @@ class OdeEngine final : public Engine {
     // Torque-free bodies keep L exactly only with the gyroscopic term on (ODE's default, stated here).
     dBodySetGyroscopicMode(b, 1);
     info_.push_back({s.material, s.mass});
-    dGeomID g = s.shape == Body3Spec::Shape::Sphere ? dCreateSphere(space_, s.radius * scale_) : convex(s.hull);
+    dGeomID g =
+        s.shape == Body3Spec::Shape::Sphere ? dCreateSphere(space_, s.radius * scale_) : convex(s.hull);
     dGeomSetBody(g, b);
     dGeomSetData(g, &info_.back());
     if (!scene_.effects.normal_contact) dGeomSetCategoryBits(g, 0);
@@ -171,7 +173,8 @@ class OdeEngine final : public Engine {
 
   dGeomID convex(const Polyhedron& h) {
     Convex& c = convexes_.emplace_back();
-    for (const Vec3& v : h.vertices) c.points.insert(c.points.end(), {v.x() * scale_, v.y() * scale_, v.z() * scale_});
+    for (const Vec3& v : h.vertices)
+      c.points.insert(c.points.end(), {v.x() * scale_, v.y() * scale_, v.z() * scale_});
     for (std::size_t f = 0; f < h.faces.size(); ++f) {
       const Vec3& n = h.normals[f];
       c.planes.insert(c.planes.end(), {n.x(), n.y(), n.z(), h.offsets[f] * scale_});

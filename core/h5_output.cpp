@@ -150,7 +150,7 @@ void RunWriter::write_xdmf(const std::string& tmp) const {
     for (const char* s : {"angle", "spin", "radius"})
       if (std::string(s) == "radius" || !frames_[k].angle.empty())
         x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Node\">\n", s) +
-           item(s, "Float", 8, std::to_string(n)) + "    </Attribute>\n";
+             item(s, "Float", 8, std::to_string(n)) + "    </Attribute>\n";
     x += "    <Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\">\n" +
          item("id", "Int", 8, std::to_string(n)) + "    </Attribute>\n";
     x += "   </Grid>\n";

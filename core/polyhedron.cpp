@@ -35,7 +35,8 @@ void Polyhedron::translate(const Vec3& shift) {
   for (std::size_t f = 0; f < faces.size(); ++f) offsets[f] += normals[f].dot(shift);
 }
 
-std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<int>> faces, Polyhedron& out) {
+std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<int>> faces,
+                            Polyhedron& out) {
   const int nv = static_cast<int>(vertices.size());
   if (nv < 4) return "a polyhedron needs at least 4 vertices";
   if (faces.size() < 4) return "a polyhedron needs at least 4 faces";

@@ -13,9 +13,9 @@ using Quat = Eigen::Quaterniond;
 
 struct Polyhedron {
   std::vector<Vec3> vertices;
-  std::vector<std::vector<int>> faces;  // vertex indices, counter-clockwise seen from outside
-  std::vector<Vec3> normals;            // outward unit normal per face
-  std::vector<double> offsets;          // plane of face f: normals[f] . x = offsets[f]
+  std::vector<std::vector<int>> faces;     // vertex indices, counter-clockwise seen from outside
+  std::vector<Vec3> normals;               // outward unit normal per face
+  std::vector<double> offsets;             // plane of face f: normals[f] . x = offsets[f]
   std::vector<std::pair<int, int>> edges;  // each edge once, a < b
 
   // Signed distance of p from the plane of face f (positive outside).

@@ -422,7 +422,8 @@ class SceneReader {
         solid = polyhedron_mass(b.hull);
         b.hull.translate(-solid.centroid);  // body frame at the centroid until a load moves it
       } else {
-        r.fail("shape", "must be \"sphere\", \"box\" or \"polyhedron\" in a 3-D scene, found \"" + b.kind + "\"");
+        r.fail("shape",
+               "must be \"sphere\", \"box\" or \"polyhedron\" in a 3-D scene, found \"" + b.kind + "\"");
       }
       if (r.has("mass") && r.has("density")) r.fail("density", "give mass or density, not both");
       if (r.has("mass"))
@@ -637,8 +638,9 @@ class SceneReader {
         const double depth = B[i].radius + B[j].radius - (B[i].position - B[j].position).norm();
         const double allowed = s_.overlap_tolerance * std::min(B[i].radius, B[j].radius);
         if (depth > allowed)
-          throw InputError(B[j].where, fmt::format("bodies[{}].position", j),
-                           fmt::format("overlaps body id {} by {:.4g} (allowed {:.4g})", B[i].id, depth, allowed));
+          throw InputError(
+              B[j].where, fmt::format("bodies[{}].position", j),
+              fmt::format("overlaps body id {} by {:.4g} (allowed {:.4g})", B[i].id, depth, allowed));
       }
       for (size_t k = 0; k < s_.planes.size(); ++k) {
         const PlaneSpec& p = s_.planes[k];
@@ -650,8 +652,9 @@ class SceneReader {
             lowest = std::min(lowest, p.normal.dot(B[j].position + B[j].orientation * v - p.point));
         const double allowed = s_.overlap_tolerance * B[j].radius;
         if (-lowest > allowed)
-          throw InputError(B[j].where, fmt::format("bodies[{}].position", j),
-                           fmt::format("starts {:.4g} inside walls[{}] (allowed {:.4g})", -lowest, k, allowed));
+          throw InputError(
+              B[j].where, fmt::format("bodies[{}].position", j),
+              fmt::format("starts {:.4g} inside walls[{}] (allowed {:.4g})", -lowest, k, allowed));
       }
     }
   }

@@ -162,8 +162,8 @@ struct Scene {
   } to_cgs;
   double duration = 0;
   std::uint64_t seed = 0;
-  Vec2 gravity{0, -981.0};              // 2-D
-  Vec3 gravity3d{0.0, 0.0, -981.0};      // 3-D (z up)
+  Vec2 gravity{0, -981.0};                              // 2-D
+  Vec3 gravity3d{0.0, 0.0, -981.0};                     // 3-D (z up)
   std::optional<std::pair<double, double>> periodic_x;  // [xmin, xmax)
   bool clip_attractive_normal_force = false;
   double overlap_tolerance = 0.01;  // allowed initial overlap as a fraction of the smaller radius

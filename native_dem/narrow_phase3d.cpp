@@ -69,7 +69,8 @@ Vec3 closest_on_face(const Placed3& h, int f, const Vec3& p) {
   Vec3 best = proj;
   double best_d = 1e300;
   for (std::size_t k = 0; k < face.size(); ++k) {
-    const Vec3 c = closest_on_segment(p, h.world_vertices[face[k]], h.world_vertices[face[(k + 1) % face.size()]]);
+    const Vec3 c =
+        closest_on_segment(p, h.world_vertices[face[k]], h.world_vertices[face[(k + 1) % face.size()]]);
     if ((c - p).squaredNorm() < best_d) best_d = (c - p).squaredNorm(), best = c;
   }
   return best;
@@ -100,9 +101,9 @@ Vec3 segment_midpoint(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3
 
 struct Axis {
   double overlap = 1e300;
-  Vec3 n;           // from B to A
-  int kind = -1;    // 0: face of A, 1: face of B, 2: edge pair
-  int index = -1;   // face index, or edge pair ea * 4096 + eb
+  Vec3 n;          // from B to A
+  int kind = -1;   // 0: face of A, 1: face of B, 2: edge pair
+  int index = -1;  // face index, or edge pair ea * 4096 + eb
 };
 
 // Overlap of A and B along unit axis n, oriented so that A lies on the positive side. false: separated.
@@ -131,12 +132,14 @@ std::vector<Vec3> clip(const std::vector<Vec3>& poly, const Vec3& n, double d) {
 
 // Face contact: the incident face of `inc` (most opposed to the reference face of `ref`) is clipped by
 // the reference face's side planes; its points below the reference plane are the contacts.
-int face_contacts(const Placed3& ref, int rf, const Placed3& inc, bool ref_is_b, std::vector<ContactPoint3>& out) {
+int face_contacts(const Placed3& ref, int rf, const Placed3& inc, bool ref_is_b,
+                  std::vector<ContactPoint3>& out) {
   const Vec3 nr = ref.world_normals[rf];
   int inc_face = 0;
   double most = 1e300;
   for (std::size_t f = 0; f < inc.world_normals.size(); ++f)
-    if (inc.world_normals[f].dot(nr) < most) most = inc.world_normals[f].dot(nr), inc_face = static_cast<int>(f);
+    if (inc.world_normals[f].dot(nr) < most)
+      most = inc.world_normals[f].dot(nr), inc_face = static_cast<int>(f);
   std::vector<Vec3> poly;
   for (int i : inc.hull->faces[inc_face]) poly.push_back(inc.world_vertices[i]);
   const auto& rface = ref.hull->faces[rf];

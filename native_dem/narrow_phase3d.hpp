@@ -34,7 +34,8 @@ struct Plane3 {
 // Appends the contacts of A with B (or with a plane) to `out`; returns how many were added.
 int sphere_sphere(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out);
 int body_plane(const Placed3& a, const Plane3& p, std::vector<ContactPoint3>& out);
-int sphere_hull(const Placed3& sphere, const Placed3& hull, bool sphere_is_a, std::vector<ContactPoint3>& out);
+int sphere_hull(const Placed3& sphere, const Placed3& hull, bool sphere_is_a,
+                std::vector<ContactPoint3>& out);
 int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out);
 int body_body(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out);
 

@@ -68,8 +68,8 @@ Vec3 World3d::angular_acceleration(const Body3& b) const {
 
 // ---------------------------------------------------------------- forces
 
-void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law, std::int64_t key_b,
-                          double h) {
+void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law,
+                          std::int64_t key_b, double h) {
   const Vec3 ra = c.point - a.x, rb = b ? Vec3(c.point - b->x) : Vec3::Zero();
   Vec3 vrel = a.v + a.w.cross(ra);
   if (b) vrel -= b->v + b->w.cross(rb);
@@ -219,7 +219,8 @@ void World3d::step_predictor_corrector() {
     al0_[i] = angular_acceleration(b_[i]);
     vmax = std::max(vmax, b_[i].v.norm());
   }
-  if (v_prev_.size() != n) v_prev_.assign(n, Vec3::Zero()), w_prev_.assign(n, Vec3::Zero()), have_prev_ = false;
+  if (v_prev_.size() != n)
+    v_prev_.assign(n, Vec3::Zero()), w_prev_.assign(n, Vec3::Zero()), have_prev_ = false;
   const double floor = std::max(acc.velocity_floor, 0.01 * vmax);
   const bool relative_to_change = acc.error_measure == ErrorMeasure::Change;
   for (;;) {

@@ -246,6 +246,17 @@ void run_single_body_suite(Report& r, const SuiteOptions& o) {
     checks_for(r, eng, md);
   }
   r.markdown.push_back(md);
+  md =
+      "## Single body in 3-D\n\n| engine | sphere restitution at 1 cm/s (0.7) | sliding box accel (cm/s^2) | "
+      "sticking box moved (cm) | rolling sphere accel (cm/s^2) | loaded cube rest heights, faces +x +y +z -x "
+      "-y "
+      "-z (geometry 0.8 x 3, 1.2 x 3 cm) | torque-free box |\n|---|---|---|---|---|---|---|\n";
+  for (const Capabilities& c : engine_catalog()) {
+    if (std::find(c.dimensions.begin(), c.dimensions.end(), 3) == c.dimensions.end()) continue;
+    if (o.log) o.log("single body in 3-D on " + c.name);
+    single_body_3d_checks(r, c.name, md);
+  }
+  r.markdown.push_back(md);
 }
 
 }  // namespace grainlab::validation

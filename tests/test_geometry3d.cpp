@@ -1,0 +1,159 @@
+// 3-D geometry: polyhedron checks and mass properties against closed forms, the narrow phase on
+// configurations whose contacts are known exactly, and the 3-D scene reader's errors.
+#include <gtest/gtest.h>
+
+#include "narrow_phase3d.hpp"
+#include "polyhedron.hpp"
+#include "scene.hpp"
+
+using namespace grainlab;
+using namespace grainlab::dem;
+
+TEST(Polyhedron, BoxMassPropertiesMatchClosedForm) {
+  const Polyhedron box = make_box({0.5, 1.0, 1.5});  // 1 x 2 x 3
+  const SolidMass m = polyhedron_mass(box);
+  EXPECT_NEAR(m.volume, 6.0, 1e-12);
+  EXPECT_NEAR(m.centroid.norm(), 0.0, 1e-12);
+  // I = rho V (b^2 + c^2) / 12 etc., rho = 1
+  EXPECT_NEAR(m.inertia_per_density(0, 0), 6.0 * (4 + 9) / 12, 1e-12);
+  EXPECT_NEAR(m.inertia_per_density(1, 1), 6.0 * (1 + 9) / 12, 1e-12);
+  EXPECT_NEAR(m.inertia_per_density(2, 2), 6.0 * (1 + 4) / 12, 1e-12);
+  EXPECT_NEAR(m.inertia_per_density(0, 1), 0.0, 1e-12);
+}
+
+TEST(Polyhedron, TetrahedronCentroidVolumeAndProducts) {
+  Polyhedron t;
+  ASSERT_EQ(make_polyhedron({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+                            {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}, t),
+            "");
+  const SolidMass m = polyhedron_mass(t);
+  EXPECT_NEAR(m.volume, 1.0 / 6, 1e-14);
+  EXPECT_NEAR((m.centroid - Vec3::Constant(0.25)).norm(), 0, 1e-14);
+  // Unit right tetrahedron about its centroid (rho = 1): Ixx = 1/80, Ixy = +1/480 (tensor sign).
+  EXPECT_NEAR(m.inertia_per_density(0, 0), 1.0 / 80, 1e-14);
+  EXPECT_NEAR(m.inertia_per_density(0, 1), 1.0 / 480, 1e-14);
+}
+
+TEST(Polyhedron, BadSolidsAreRejectedWithReasons) {
+  Polyhedron p;
+  const std::vector<Vec3> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  EXPECT_NE(make_polyhedron(v, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}}, p).find("at least 4 faces"),
+            std::string::npos);
+  EXPECT_NE(make_polyhedron(v, {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}}, p).find("inwards"),
+            std::string::npos);
+  EXPECT_NE(make_polyhedron(v, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 9}}, p).find("does not exist"),
+            std::string::npos);
+}
+
+namespace {
+Placed3 placed_box(const Polyhedron& h, Vec3 x, Quat q = Quat::Identity()) {
+  Placed3 p;
+  p.hull = &h;
+  p.x = x;
+  p.q = q;
+  p.radius = h.bounding_radius();
+  p.place();
+  return p;
+}
+}  // namespace
+
+TEST(NarrowPhase3d, StackedBoxesTouchAtFourCornersWithTheRightDepth) {
+  const Polyhedron h = make_box({1, 1, 1});
+  const Placed3 lower = placed_box(h, {0, 0, 0}), upper = placed_box(h, {0.3, 0.2, 1.99});
+  std::vector<ContactPoint3> c;
+  ASSERT_EQ(body_body(upper, lower, c), 4);
+  for (const ContactPoint3& p : c) {
+    EXPECT_NEAR(p.depth, 0.01, 1e-12);
+    EXPECT_NEAR((p.normal - Vec3::UnitZ()).norm(), 0, 1e-12);  // from the lower box into the upper
+  }
+}
+
+TEST(NarrowPhase3d, CrossedEdgesGiveOneEdgeContact) {
+  const Polyhedron h = make_box({1, 1, 1});
+  // Both boxes stand on an edge: the lower one's top edge along x, the upper one's bottom edge along y.
+  const Quat along_x(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX())),
+      along_y(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitY()));
+  const double reach = std::sqrt(2.0);
+  const Placed3 lower = placed_box(h, {0, 0, 0}, along_x),
+                upper = placed_box(h, {0, 0, 2 * reach - 0.01}, along_y);
+  std::vector<ContactPoint3> c;
+  ASSERT_EQ(body_body(upper, lower, c), 1);
+  EXPECT_NEAR(c[0].depth, 0.01, 1e-9);
+  EXPECT_NEAR((c[0].normal - Vec3::UnitZ()).norm(), 0, 1e-9);
+  EXPECT_NEAR((c[0].point - Vec3(0, 0, reach - 0.005)).norm(), 0, 1e-9);
+}
+
+TEST(NarrowPhase3d, SphereAgainstFaceEdgeAndCorner) {
+  const Polyhedron h = make_box({1, 1, 1});
+  const Placed3 box = placed_box(h, {0, 0, 0});
+  Placed3 s;
+  s.radius = 0.5;
+  std::vector<ContactPoint3> c;
+  s.x = {0.2, 0.1, 1.4};  // above the top face
+  ASSERT_EQ(body_body(s, box, c), 1);
+  EXPECT_NEAR(c[0].depth, 0.1, 1e-12);
+  EXPECT_NEAR((c[0].normal - Vec3::UnitZ()).norm(), 0, 1e-12);
+  c.clear();
+  s.x = Vec3(1, 1, 1) + Vec3(1, 1, 1).normalized() * 0.4;  // off the corner
+  ASSERT_EQ(body_body(s, box, c), 1);
+  EXPECT_NEAR(c[0].depth, 0.1, 1e-12);
+  EXPECT_NEAR((c[0].normal - Vec3(1, 1, 1).normalized()).norm(), 0, 1e-12);
+  c.clear();
+  ASSERT_EQ(body_body(box, s, c), 1);  // the other way round: the normal points into the box
+  EXPECT_NEAR((c[0].normal + Vec3(1, 1, 1).normalized()).norm(), 0, 1e-12);
+}
+
+TEST(NarrowPhase3d, BoxOnPlaneTouchesAtItsLowVertices) {
+  const Polyhedron h = make_box({1, 1, 1});
+  const Placed3 box = placed_box(h, {0, 0, 0.99});
+  std::vector<ContactPoint3> c;
+  EXPECT_EQ(body_plane(box, {Vec3::Zero(), Vec3::UnitZ()}, c), 4);
+  for (const ContactPoint3& p : c) EXPECT_NEAR(p.depth, 0.01, 1e-12);
+}
+
+namespace {
+std::string scene3d_error(const std::string& body) {
+  const std::string text =
+      "[scene]\ndimension = 3\nduration = 1.0\neffects = [\"gravity\"]\n[[bodies]]\n" + body;
+  try {
+    parse_scene(text, "t.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Scene3d, ReadsALoadedBoxWithParallelAxisInertia) {
+  const Scene s = parse_scene(
+      "[scene]\ndimension = 3\nduration = 1.0\neffects = [\"gravity\"]\n[[bodies]]\nshape = \"box\"\n"
+      "size = [2.0, 2.0, 2.0]\nmass = 8.0\ncenter_of_mass = [0.5, 0.0, 0.0]\nposition = [0.0, 0.0, 5.0]\n",
+      "t.toml");
+  ASSERT_EQ(s.bodies3d.size(), 1u);
+  const Body3Spec& b = s.bodies3d[0];
+  EXPECT_NEAR(b.inertia(0, 0), 8.0 * 8 / 12, 1e-12);               // along the shift: unchanged
+  EXPECT_NEAR(b.inertia(1, 1), 8.0 * 8 / 12 + 8.0 * 0.25, 1e-12);  // + m d^2
+  EXPECT_NEAR(s.gravity3d.z(), -981.0, 0);
+  double min_x = 1e9;
+  for (const Vec3& v : b.hull.vertices) min_x = std::min(min_x, v.x());
+  EXPECT_NEAR(min_x, -1.5, 1e-12);  // the body frame sits at the centre of mass
+}
+
+TEST(Scene3d, BadBodiesNameTheProblem) {
+  EXPECT_NE(
+      scene3d_error("shape = \"sphere\"\nradius = 1.0\ndensity = 1.0\ncenter_of_mass = [0.1, 0.0, 0.0]\n"
+                    "position = [0.0, 0.0, 0.0]\n")
+          .find("centre of mass is its centre"),
+      std::string::npos);
+  EXPECT_NE(
+      scene3d_error("shape = \"box\"\nsize = [1.0, 1.0, 1.0]\ndensity = 1.0\ninertia = [1.0, 1.0, 3.0]\n"
+                    "position = [0.0, 0.0, 0.0]\n")
+          .find("triangle inequality"),
+      std::string::npos);
+  EXPECT_NE(scene3d_error("shape = \"disc\"\nradius = 1.0\ndensity = 1.0\nposition = [0.0, 0.0, 0.0]\n")
+                .find("must be \"sphere\""),
+            std::string::npos);
+  EXPECT_NE(scene3d_error("shape = \"sphere\"\nradius = 1.0\ndensity = 1.0\nposition = [0.0, 0.0]\n")
+                .find("expected 3 numbers"),
+            std::string::npos);
+}
