@@ -44,8 +44,21 @@ class PairMaterials : public b2ContactListener {
     contact->SetFriction(scene_.effects.friction ? static_cast<float>(m.mu) : 0.0f);
     contact->SetRestitutionThreshold(0.0f);
   }
+  // Normal impulses per touching pair, summed over a step's solver passes (Box2D units), when asked for.
+  void PostSolve(b2Contact* contact, const b2ContactImpulse* impulse) override {
+    if (!impulses) return;
+    const auto* a = reinterpret_cast<const BodyInfo*>(contact->GetFixtureA()->GetUserData().pointer);
+    const auto* b = reinterpret_cast<const BodyInfo*>(contact->GetFixtureB()->GetUserData().pointer);
+    double sum = 0;
+    for (int k = 0; k < impulse->count; ++k) sum += impulse->normalImpulses[k];
+    (*impulses)[{id(a), id(b)}] += sum;
+  }
+  PairImpulses* impulses = nullptr;
 
  private:
+  static std::int64_t id(const BodyInfo* i) {
+    return i->id >= 0 ? i->id : -1 - static_cast<std::int64_t>(i->wall);
+  }
   const Scene& scene_;
 };
 
@@ -73,9 +86,15 @@ class Box2DEngine final : public Engine {
     const double h = a.dt / a.substeps;
     while (t_ + h * (1 - 1e-3) <= t_end) {
       move_walls(h);
+      PairImpulses step;
+      materials_.impulses = tracking_contacts() ? &step : nullptr;
       world_.Step(static_cast<float>(h), a.velocity_iterations, a.position_iterations);
       t_ += h;
       ++steps_;
+      if (tracking_contacts()) {
+        for (auto& [pair, j] : step) j /= scale_;  // g x units/s -> g cm/s
+        record_contacts(t_, h, step);
+      }
       max_contacts_ = std::max<double>(max_contacts_, world_.GetContactCount());
     }
     wall_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -22,7 +22,8 @@ namespace {
 struct ObjectInfo {
   const Scene* scene = nullptr;
   int material = 0;
-  double mass = 0;  // 0: wall
+  double mass = 0;       // 0: wall
+  std::int64_t id = -1;  // body id; wall or plane k: -1 - k
 };
 
 bool pair_material(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int, int,
@@ -79,7 +80,8 @@ class BulletEngine final : public Engine {
       shape->setMargin(1e-3);
       btTransform at;
       at.setIdentity();
-      add(std::move(shape), 0.0, btVector3(0, 0, 0), at, {&scene_, p.material, 0.0});
+      add(std::move(shape), 0.0, btVector3(0, 0, 0), at,
+          {&scene_, p.material, 0.0, -1 - static_cast<std::int64_t>(&p - scene_.planes.data())});
     }
   }
   ~BulletEngine() override {
@@ -98,6 +100,7 @@ class BulletEngine final : public Engine {
       world_.stepSimulation(h, 0);  // maxSubSteps = 0: exactly one step of h, no interpolation
       t_ += h;
       ++steps_;
+      if (tracking_contacts()) record_contacts(t_, h, step_impulses());
     }
     wall_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
@@ -138,6 +141,20 @@ class BulletEngine final : public Engine {
 
  private:
   bool three_d() const { return scene_.dimension == 3; }
+
+  // Normal impulses of the last step per touching pair, in cgs (Bullet's are in g x units/s).
+  PairImpulses step_impulses() const {
+    PairImpulses out;
+    for (int m = 0; m < dispatcher_.getNumManifolds(); ++m) {
+      const btPersistentManifold* man = dispatcher_.getManifoldByIndexInternal(m);
+      const auto* a = static_cast<const ObjectInfo*>(man->getBody0()->getUserPointer());
+      const auto* b = static_cast<const ObjectInfo*>(man->getBody1()->getUserPointer());
+      double sum = 0;
+      for (int k = 0; k < man->getNumContacts(); ++k) sum += man->getContactPoint(k).getAppliedImpulse();
+      if (sum > 0 && a && b) out[{a->id, b->id}] += sum / scale_;
+    }
+    return out;
+  }
 
   // Bullet's body frame is the principal frame; principal_[k] turns it into the scene's body frame.
   Frame frame3d(Frame& f) const {
@@ -183,7 +200,7 @@ class BulletEngine final : public Engine {
     at.setIdentity();
     at.setOrigin(btVector3(s.position.x() * scale_, s.position.y() * scale_, s.position.z() * scale_));
     at.setRotation(btQuaternion(q.x(), q.y(), q.z(), q.w()));
-    add(std::move(shape), s.mass, btVector3(I.x(), I.y(), I.z()), at, {&scene_, s.material, s.mass});
+    add(std::move(shape), s.mass, btVector3(I.x(), I.y(), I.z()), at, {&scene_, s.material, s.mass, s.id});
     btRigidBody& b = *rigid_.back();
     const Vec3 v = s.velocity * scale_, w = scene_.effects.rotation ? s.spin : Vec3::Zero();
     b.setLinearVelocity(btVector3(v.x(), v.y(), v.z()));
@@ -231,7 +248,7 @@ class BulletEngine final : public Engine {
     at.setOrigin(btVector3(s.position.x * scale_, s.position.y * scale_, 0));
     at.setRotation(btQuaternion(btVector3(0, 0, 1), s.angle));
     shape_of_.push_back(s.shape == BodySpec::Shape::Disc ? -1 : polygons_ - 1);
-    add(std::move(shape), s.mass, btVector3(I, I, I), at, {&scene_, s.material, s.mass});
+    add(std::move(shape), s.mass, btVector3(I, I, I), at, {&scene_, s.material, s.mass, s.id});
     btRigidBody& b = *rigid_.back();
     b.setLinearFactor(btVector3(1, 1, 0));
     b.setAngularFactor(scene_.effects.rotation ? btVector3(0, 0, 1) : btVector3(0, 0, 0));
@@ -252,7 +269,8 @@ class BulletEngine final : public Engine {
       at.setRotation(btQuaternion(btVector3(0, 0, 1), std::atan2(d.y, d.x)));
     }
     shape->setMargin(1e-3);
-    add(std::move(shape), 0.0, btVector3(0, 0, 0), at, {&scene_, w.material, 0.0});
+    add(std::move(shape), 0.0, btVector3(0, 0, 0), at,
+        {&scene_, w.material, 0.0, -1 - static_cast<std::int64_t>(&w - scene_.walls.data())});
     if (w.motion.active()) {  // kinematic: Bullet derives its velocity from the motion state each step
       btRigidBody& b = *rigid_.back();
       motion_states_.push_back(std::make_unique<btDefaultMotionState>(at));

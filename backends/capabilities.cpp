@@ -22,7 +22,8 @@ const std::vector<Capabilities>& engine_catalog() {
        true,
        0,
        "spring-dashpot normal force, incremental shear spring capped at mu f_n (kept in the tangent plane "
-       "in 3-D)"},
+       "in 3-D)",
+       "3-D: normal force of every contact point times the accepted step; 2-D: not yet (events stay empty)"},
       {"box2d",
        "Box2D 2.4.1 (Debian), float precision, sequential impulses",
        {2},
@@ -31,7 +32,8 @@ const std::vector<Capabilities>& engine_catalog() {
        false,
        true,
        8,
-       "rigid contacts with restitution and Coulomb friction set per contact; stiffness is not modelled"},
+       "rigid contacts with restitution and Coulomb friction set per contact; stiffness is not modelled",
+       "2-D: normal impulses from PostSolve, summed per pair and step"},
       {"ode",
        "ODE 0.16.2 (Debian), double precision; 2-D through plane-2D joints",
        {2, 3},
@@ -41,7 +43,8 @@ const std::vector<Capabilities>& engine_catalog() {
        true,
        0,
        "rigid contacts (LCP) with restitution (bounce) and Coulomb friction set per contact; stiffness is "
-       "not modelled"},
+       "not modelled",
+       "2-D and 3-D: contact-joint feedback force along the normal times the step"},
       {"bullet",
        "Bullet 3.24 (Debian, float64 libraries); 2-D through linear and angular factors",
        {2, 3},
@@ -51,7 +54,8 @@ const std::vector<Capabilities>& engine_catalog() {
        true,
        0,
        "rigid contacts (sequential impulses) with restitution and Coulomb friction set per contact; "
-       "stiffness is not modelled"},
+       "stiffness is not modelled",
+       "2-D and 3-D: applied impulses of the contact manifolds after each step"},
   };
   return all;
 }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "contact_events.hpp"
 #include "h5_output.hpp"
 #include "scene.hpp"
 
@@ -29,6 +30,7 @@ struct Capabilities {
   bool generated_assemblies = false;
   int max_polygon_vertices = 0;  // 0: no limit
   std::string contact_model;
+  std::string contact_events;  // which dimensions report contact events, and how they are measured
 };
 
 class Engine {
@@ -42,6 +44,20 @@ class Engine {
   virtual std::map<std::string, double> diagnostics() const = 0;
   virtual std::vector<std::vector<double>> polygon_shapes() const = 0;  // flat x,y per polygon
   virtual std::string integrator() const = 0;
+
+  // Contact events (contact_events.hpp) are recorded from the next step on once asked for; they cost a
+  // walk over the contacts each step, so they are off by default.
+  void track_contacts(bool on) { tracking_ = on; }
+  bool tracking_contacts() const { return tracking_; }
+  std::vector<ContactEvent> contact_events() const { return tracker_.events(); }
+
+ protected:
+  // Engines call this after every step when tracking_contacts().
+  void record_contacts(double t, double dt, const PairImpulses& step) { tracker_.record(t, dt, step); }
+
+ private:
+  bool tracking_ = false;
+  ContactTracker tracker_;
 };
 
 const std::vector<Capabilities>& engine_catalog();

@@ -71,7 +71,14 @@ class NativeEngine3d final : public Engine {
   explicit NativeEngine3d(const Scene& scene)
       : world_(scene), shape_index_(polyhedron_indices(scene.bodies3d)) {}
   std::string name() const override { return "native"; }
-  void advance_to(double t) override { world_.advance_to(t); }
+  void advance_to(double t) override {
+    if (tracking_contacts())
+      world_.set_after_step(
+          [this](double now, double dt) { record_contacts(now, dt, world_.step_impulses()); });
+    else
+      world_.set_after_step(nullptr);
+    world_.advance_to(t);
+  }
   double time() const override { return world_.time(); }
   std::string integrator() const override {
     return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet"

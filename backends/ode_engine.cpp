@@ -23,7 +23,8 @@ namespace {
 
 struct GeomInfo {
   int material = 0;
-  double mass = 0;  // 0: wall
+  double mass = 0;       // 0: wall
+  std::int64_t id = -1;  // body id; wall or plane k: -1 - k
 };
 
 class OdeEngine final : public Engine {
@@ -59,7 +60,7 @@ class OdeEngine final : public Engine {
     for (const WallSpec& w : scene_.walls) add_wall(w);
     for (const Body3Spec& b : scene_.bodies3d) add_body3d(b);
     for (const PlaneSpec& p : scene_.planes) {
-      info_.push_back({p.material, 0.0});
+      info_.push_back({p.material, 0.0, -1 - static_cast<std::int64_t>(&p - scene_.planes.data())});
       dGeomSetData(
           dCreatePlane(space_, p.normal.x(), p.normal.y(), p.normal.z(), p.normal.dot(p.point) * scale_),
           &info_.back());
@@ -85,9 +86,11 @@ class OdeEngine final : public Engine {
         dWorldQuickStep(world_, h);
       else
         dWorldStep(world_, h);
-      dJointGroupEmpty(contacts_);
       t_ += h;
       ++steps_;
+      if (tracking_contacts()) record_contacts(t_, h, step_impulses(h));
+      feedback_.clear();
+      dJointGroupEmpty(contacts_);
     }
     wall_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
@@ -128,6 +131,16 @@ class OdeEngine final : public Engine {
 
  private:
   bool quick() const { return scene_.accuracy.stepper == "quick"; }
+
+  // Normal impulses of the last step per touching pair, in cgs, from the contact joints' feedback.
+  PairImpulses step_impulses(double h) const {
+    PairImpulses out;
+    for (const Feedback& f : feedback_) {
+      const double fn = f.normal.x() * f.fb.f1[0] + f.normal.y() * f.fb.f1[1] + f.normal.z() * f.fb.f1[2];
+      if (fn > 0) out[{f.a, f.b}] += fn * h / scale_;
+    }
+    return out;
+  }
   bool three_d() const { return scene_.dimension == 3; }
 
   Frame frame3d(Frame& f) const {
@@ -162,7 +175,7 @@ class OdeEngine final : public Engine {
     if (!scene_.effects.rotation) dBodySetMaxAngularSpeed(b, 0);
     // Torque-free bodies keep L exactly only with the gyroscopic term on (ODE's default, stated here).
     dBodySetGyroscopicMode(b, 1);
-    info_.push_back({s.material, s.mass});
+    info_.push_back({s.material, s.mass, s.id});
     dGeomID g =
         s.shape == Body3Spec::Shape::Sphere ? dCreateSphere(space_, s.radius * scale_) : convex(s.hull);
     dGeomSetBody(g, b);
@@ -202,7 +215,7 @@ class OdeEngine final : public Engine {
     if (!scene_.effects.rotation) dBodySetMaxAngularSpeed(b, 0);
     dJointID plane = dJointCreatePlane2D(world_, nullptr);
     dJointAttach(plane, b, nullptr);
-    info_.push_back({s.material, s.mass});
+    info_.push_back({s.material, s.mass, s.id});
     dGeomID g =
         s.shape == BodySpec::Shape::Disc ? dCreateSphere(space_, s.radius * scale_) : prism(s.vertices);
     shape_of_.push_back(s.shape == BodySpec::Shape::Disc ? -1 : prisms_ - 1);
@@ -244,7 +257,7 @@ class OdeEngine final : public Engine {
   }
 
   void add_wall(const WallSpec& w) {
-    info_.push_back({w.material, 0.0});
+    info_.push_back({w.material, 0.0, -1 - static_cast<std::int64_t>(&w - scene_.walls.data())});
     dGeomID g;
     if (w.kind == WallSpec::Kind::Line) {
       g = dCreatePlane(space_, w.b.x, w.b.y, 0, dot(w.b, w.a) * scale_);
@@ -300,6 +313,14 @@ class OdeEngine final : public Engine {
       c[k].surface.bounce_vel = 0;
       dJointID j = dJointCreateContact(self->world_, self->contacts_, &c[k]);
       dJointAttach(j, ba, bb);
+      if (self->tracking_contacts()) {  // f1 is the force on body 1 (the geom a's body)
+        const dReal* n = c[k].geom.normal;
+        Feedback& f = self->feedback_.emplace_back();
+        f.a = ia->id, f.b = ib->id, f.normal = Vec3(n[0], n[1], n[2]);
+        dJointSetFeedback(j, &f.fb);
+        // ODE's normal points into geom a's body (a is pushed along +n); a wall geom has no body.
+        if (!ba) f.normal = -f.normal;
+      }
     }
     self->last_contacts_ = n;
   }
@@ -316,6 +337,12 @@ class OdeEngine final : public Engine {
     std::vector<unsigned> polygons;
   };
   std::deque<Convex> convexes_;
+  struct Feedback {
+    std::int64_t a = -1, b = -1;
+    Vec3 normal = Vec3::Zero();
+    dJointFeedback fb{};
+  };
+  std::deque<Feedback> feedback_;  // stable addresses: ODE writes into them during the step
   struct Moving {
     dBodyID body;
     const WallSpec* spec;

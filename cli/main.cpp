@@ -95,7 +95,8 @@ int engines_command(bool json) {
                    {"periodic", c.periodic},
                    {"generated_assemblies", c.generated_assemblies},
                    {"max_polygon_vertices", c.max_polygon_vertices},
-                   {"contact_model", c.contact_model}});
+                   {"contact_model", c.contact_model},
+                   {"contact_events", c.contact_events}});
     fmt::print("{}\n", j.dump(2));
     return 0;
   }
@@ -104,6 +105,7 @@ int engines_command(bool json) {
     fmt::print("  dimensions {}; shapes: {}; effects: {}; periodic: {}\n", fmt::join(c.dimensions, " and "),
                fmt::join(c.shapes, ", "), fmt::join(c.effects, ", "), c.periodic ? "yes" : "no");
     fmt::print("  contacts: {}\n", c.contact_model);
+    fmt::print("  contact events: {}\n", c.contact_events);
   }
   return 0;
 }

@@ -172,9 +172,13 @@ void World3d::step() {
   diag_.dt_last = taken;
   diag_.dt_min_used = diag_.steps == 1 ? taken : std::min(diag_.dt_min_used, taken);
   diag_.dt_max_used = std::max(diag_.dt_max_used, taken);
+  // Trapezoid rule over the step: the force at its start is the one that ended the previous step.
   impulses_.clear();
-  for (const auto& [pair, fn] : step_force_) impulses_[pair] = fn * taken;
+  for (const auto& [pair, fn] : step_force_) impulses_[pair] = fn * taken / 2;
+  for (const auto& [pair, fn] : end_force_) impulses_[pair] += fn * taken / 2;
+  end_force_ = step_force_;
   last_contacts_ = contacts_now_;
+  if (after_step_) after_step_(t_, taken);
 }
 
 // Velocity Verlet for translation; for rotation the world angular momentum is kicked by the torque and

@@ -5,6 +5,7 @@
 // adaptive predictor-corrector, eq. 2.4, and velocity Verlet). The broad phase is all pairs by
 // bounding sphere: this engine is meant for the few-body problems of Ch. II (die, block, impacts).
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <tuple>
 #include <vector>
@@ -46,6 +47,8 @@ class World3d {
   // Per-step normal impulse on each touching pair (body ids; -1 - k for plane k): what contact events
   // are built from.
   const std::map<std::pair<std::int64_t, std::int64_t>, double>& step_impulses() const { return impulses_; }
+  // Called after every accepted step with (time, step length); empty: nothing is called.
+  void set_after_step(std::function<void(double, double)> f) { after_step_ = std::move(f); }
 
  private:
   void step();
@@ -72,13 +75,14 @@ class World3d {
   };
   std::map<ContactKey3, Spring> history_, trial_;
   std::vector<ContactPoint3> scratch_;
-  std::map<std::pair<std::int64_t, std::int64_t>, double> impulses_, step_force_;
+  std::map<std::pair<std::int64_t, std::int64_t>, double> impulses_, step_force_, end_force_;
   double t_ = 0, dt_ = 0, dt_prev_ = 0;
   bool have_prev_ = false;
   std::vector<Body3> start_;  // state at the start of a predictor-corrector step
   std::vector<Vec3> a0_, al0_, v_prev_, w_prev_;
   std::size_t last_contacts_ = 0, contacts_now_ = 0;
   Diagnostics diag_;
+  std::function<void(double, double)> after_step_;
 };
 
 }  // namespace grainlab::dem
