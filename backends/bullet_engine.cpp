@@ -67,9 +67,10 @@ class BulletEngine final : public Engine {
     // Penetration is always corrected by split impulse (pseudo-velocities that add no kinetic energy):
     // below Bullet's default threshold (-0.04 units) Baumgarte feedback in the real velocity pushed a
     // 50 cm/s bounce from the scene's e = 0.7 to 0.9.
-    info.m_splitImpulse = true;
+    info.m_splitImpulse = scene_.accuracy.split_impulse;
     info.m_splitImpulsePenetrationThreshold = 0;
     info.m_numIterations = scene_.accuracy.velocity_iterations;
+    if (scene_.accuracy.erp) info.m_erp = info.m_erp2 = *scene_.accuracy.erp;
     info_.reserve(bodies_.size() + scene_.walls.size() + scene_.bodies3d.size() + scene_.planes.size());
     for (const BodySpec& b : bodies_) add_body(b);
     for (const WallSpec& w : scene_.walls) add_wall(w);

@@ -55,6 +55,8 @@ class OdeEngine final : public Engine {
     // from injecting energy; a deep overlap then resolves over several steps instead of one.
     dWorldSetContactMaxCorrectingVel(world_, 0.05);
     if (quick()) dWorldSetQuickStepNumIterations(world_, scene_.accuracy.velocity_iterations);
+    if (scene_.accuracy.erp) dWorldSetERP(world_, *scene_.accuracy.erp);
+    if (scene_.accuracy.cfm) dWorldSetCFM(world_, *scene_.accuracy.cfm);
     info_.reserve(bodies_.size() + scene_.walls.size() + scene_.bodies3d.size() + scene_.planes.size());
     for (const BodySpec& b : bodies_) add_body(b);
     for (const WallSpec& w : scene_.walls) add_wall(w);

@@ -260,6 +260,9 @@ class SceneReader {
     a.stepper = r.string_or("stepper", "step");
     if (a.stepper != "step" && a.stepper != "quick")
       r.fail("stepper", "must be \"step\" or \"quick\", found \"" + a.stepper + "\"");
+    a.erp = r.optional_number("erp", Range::closed(0, 1));
+    a.cfm = r.optional_number("cfm", Range::non_negative());
+    a.split_impulse = r.boolean_or("split_impulse", true);
     if (a.dt_min > a.dt) r.fail("dt_min", "must not exceed dt");
     if (a.dt_max < a.dt) r.fail("dt_max", "must not be below dt");
     r.finish();

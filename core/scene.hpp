@@ -61,6 +61,10 @@ struct Accuracy {
   int velocity_iterations = 8, position_iterations = 3, substeps = 1;
   std::string stepper =
       "step";  // ODE: "step" (dWorldStep, direct LCP) or "quick" (dWorldQuickStep, iterative)
+  // Penetration feedback of the impulse engines (docs/engines.md): ODE's and Bullet's error reduction
+  // parameter, ODE's constraint force mixing, Bullet's split impulse. Unset: the engine's default.
+  std::optional<double> erp, cfm;
+  bool split_impulse = true;
 };
 
 // Sinusoidal prescribed motion x(t) = x0 + amplitude sin(2 pi f t + phase), per axis.

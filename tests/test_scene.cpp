@@ -162,3 +162,14 @@ max = 1.0
   EXPECT_LT(top, 12.0);  // settled into a bed a few grains deep, not left where it was dropped
   EXPECT_LT(a.energies().kinetic(), 1.0);
 }
+
+TEST(Scene, ImpulseEngineKnobsAreReadAndChecked) {
+  const std::string base = "[scene]\nduration = 1.0\neffects = [\"gravity\"]\n[accuracy]\n";
+  const Scene s = parse_scene(base + "erp = 0.4\ncfm = 1e-6\nsplit_impulse = false\n", "t.toml");
+  ASSERT_TRUE(s.accuracy.erp && s.accuracy.cfm);
+  EXPECT_EQ(*s.accuracy.erp, 0.4);
+  EXPECT_EQ(*s.accuracy.cfm, 1e-6);
+  EXPECT_FALSE(s.accuracy.split_impulse);
+  EXPECT_THROW(parse_scene(base + "erp = 1.5\n", "t.toml"), InputError);
+  EXPECT_THROW(parse_scene(base + "cfm = -1.0\n", "t.toml"), InputError);
+}
