@@ -52,4 +52,14 @@ ContactLaw contact_law(const Material& m, bool clip_attractive) {
   return L;
 }
 
+std::vector<ContactLaw> contact_law_table(const Scene& scene) {
+  const int n = static_cast<int>(scene.materials.size());
+  std::vector<ContactLaw> laws(static_cast<std::size_t>(std::max(1, n) * std::max(1, n)));
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b)
+      if (a == b || scene.pair_materials.count({std::min(a, b), std::max(a, b)}))
+        laws[a * n + b] = contact_law(scene.pair(a, b), scene.clip_attractive_normal_force);
+  return laws;
+}
+
 }  // namespace grainlab::dem

@@ -4,6 +4,7 @@
 // inlined into every contact kernel.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "scene.hpp"
 
@@ -28,6 +29,9 @@ struct ContactLaw {
 
 DampingLaw damping_law(const Damping& d, double k_n);
 ContactLaw contact_law(const Material& m, bool clip_attractive);
+// The law between every pair of the scene's materials, indexed [a * n + b] with n = max(1, materials);
+// pairs the scene does not define (they cannot touch) hold an empty law.
+std::vector<ContactLaw> contact_law_table(const Scene& scene);
 
 // eq. 2.2 with the force-coefficient convention: damping rate gamma = c / m_eff.
 double restitution_from_damping(double k_n, double c, double meff);

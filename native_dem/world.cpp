@@ -1,14 +1,11 @@
 #include "world.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <functional>
-#include <stdexcept>
 
 #include "narrow_phase.hpp"
+#include "stepping.hpp"
 
 namespace grainlab::dem {
 
@@ -37,11 +34,7 @@ World::World(const Scene& scene) : scene_(scene), effects_(scene.effects), g_(sc
 
 void World::setup_laws() {
   n_mat_ = std::max<int>(1, static_cast<int>(scene_.materials.size()));
-  laws_.assign(static_cast<std::size_t>(n_mat_) * n_mat_, ContactLaw{});
-  for (int a = 0; a < static_cast<int>(scene_.materials.size()); ++a)
-    for (int b = 0; b < static_cast<int>(scene_.materials.size()); ++b)
-      if (a == b || scene_.pair_materials.count({std::min(a, b), std::max(a, b)}))
-        laws_[a * n_mat_ + b] = contact_law(scene_.pair(a, b), scene_.clip_attractive_normal_force);
+  laws_ = contact_law_table(scene_);
 }
 
 void World::add_particle(const BodySpec& b) {
@@ -86,29 +79,13 @@ double World::step() {
     step_verlet();
   else
     step_predictor_corrector();
-  ++diag_.steps;
-  const double taken = t_ - t_before;
-  diag_.dt_last = taken;
-  diag_.dt_min_used = diag_.steps == 1 ? taken : std::min(diag_.dt_min_used, taken);
-  diag_.dt_max_used = std::max(diag_.dt_max_used, taken);
-  return taken;
+  count_step(diag_, t_ - t_before);
+  return t_ - t_before;
 }
 
 void World::advance_to(double t_end) {
-  const auto start = std::chrono::steady_clock::now();
-  if (scene_.accuracy.integrator == Integrator::VelocityVerlet) {
-    // Fixed steps: stop at the last step not beyond t_end (within a thousandth of a step).
-    while (t_ + dt_ * (1 - 1e-3) <= t_end) step();
-  } else {
-    while (t_ < t_end * (1 - 1e-14)) {
-      const double natural = dt_;
-      const bool clamp = t_ + dt_ > t_end;
-      if (clamp) dt_ = t_end - t_;
-      step();
-      if (clamp) dt_ = std::max(dt_, natural);  // a short landing step does not shrink the next
-    }
-  }
-  diag_.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  advance_steps(t_, dt_, t_end, scene_.accuracy.integrator == Integrator::VelocityVerlet, diag_,
+                [this] { step(); });
 }
 
 void World::step_verlet() {
@@ -217,14 +194,7 @@ void World::step_predictor_corrector() {
     correct(vy0_, ay0_, p_.fy, p_.inv_m, y0_, p_.vy, p_.y, false);
     if (effects_.rotation) correct(w0_, al0_, p_.tq, p_.inv_inertia, th0_, p_.w, p_.th, true);
 
-    if (err > acc.tolerance) {
-      if (dt / 2 < acc.dt_min)
-        throw std::runtime_error(
-            fmt::format("predictor-corrector step underflow at t = {:.6g} s: dt would fall "
-                        "below dt_min = {:.3g} s (error {:.3g} > tolerance {:.3g})",
-                        t_, acc.dt_min, err, acc.tolerance));
-      ++diag_.rejected_steps;
-      dt_ = dt / 2;
+    if (!control_step(err, dt, t_, acc, dt_, diag_)) {
       // The two-step predictor extrapolates f(t0) back over the whole previous step; when a contact
       // has just begun that error does not shrink with dt0, so the retry predicts from t0 alone.
       have_prev_ = false;
@@ -235,7 +205,6 @@ void World::step_predictor_corrector() {
     have_prev_ = true;
     t_ += dt;
     commit_history();
-    if (err * 1.44 <= acc.tolerance) dt_ = std::min(dt * 1.2, acc.dt_max);
     return;
   }
 }

@@ -11,25 +11,11 @@
 #include "particles.hpp"
 #include "scene.hpp"
 #include "walls.hpp"
+#include "world_types.hpp"
 
 namespace grainlab::dem {
 
 struct ContactGeometry;
-
-struct Energies {
-  double kinetic_translational = 0, kinetic_rotational = 0, potential_gravity = 0, elastic = 0;
-  double total() const { return kinetic_translational + kinetic_rotational + potential_gravity + elastic; }
-  double kinetic() const { return kinetic_translational + kinetic_rotational; }
-};
-
-struct Diagnostics {
-  std::uint64_t steps = 0, rejected_steps = 0, force_evaluations = 0, neighbor_rebuilds = 0;
-  std::size_t contacts = 0, max_contacts = 0;
-  double wall_seconds = 0;
-  double dt_last = 0, dt_min_used = 0, dt_max_used = 0;
-  // Where the time goes (wall seconds).
-  double seconds_forces = 0, seconds_neighbors = 0;
-};
 
 // The scene's bodies with its generated assemblies expanded (a poured bed is settled on this engine),
 // at their initial state: what another engine needs to build the same scene.

@@ -1,10 +1,8 @@
 #include "world3d.hpp"
 
-#include <fmt/format.h>
-
-#include <chrono>
 #include <cmath>
-#include <stdexcept>
+
+#include "stepping.hpp"
 
 namespace grainlab::dem {
 
@@ -27,11 +25,7 @@ Quat turned(const Quat& q, const Vec3& w, double dt) {
 
 World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
   n_mat_ = std::max<int>(1, static_cast<int>(scene_.materials.size()));
-  laws_.assign(static_cast<std::size_t>(n_mat_) * n_mat_, ContactLaw{});
-  for (int a = 0; a < static_cast<int>(scene_.materials.size()); ++a)
-    for (int b = 0; b < static_cast<int>(scene_.materials.size()); ++b)
-      if (a == b || scene_.pair_materials.count({std::min(a, b), std::max(a, b)}))
-        laws_[a * n_mat_ + b] = contact_law(scene_.pair(a, b), scene_.clip_attractive_normal_force);
+  laws_ = contact_law_table(scene_);
   for (const Body3Spec& s : scene_.bodies3d) {
     Body3 b;
     b.id = s.id;
@@ -100,12 +94,12 @@ void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const Cont
     F += fs;
   }
   a.f += F;
-  a.tq += ra.cross(F);
-  if (b) {
-    b->f -= F;
-    b->tq -= rb.cross(F);
+  if (b) b->f -= F;
+  if (effects_.rotation) {
+    a.tq += ra.cross(F);
+    if (b) b->tq -= rb.cross(F);
   }
-  step_force_[{a.id, key_b}] += fn;
+  if (after_step_) step_force_[{a.id, key_b}] += fn;  // contact events only
   ++contacts_now_;
 }
 
@@ -146,19 +140,8 @@ void World3d::compute_forces(double h) {
 // ---------------------------------------------------------------- integration
 
 void World3d::advance_to(double t_end) {
-  const auto start = std::chrono::steady_clock::now();
-  if (scene_.accuracy.integrator == Integrator::VelocityVerlet) {
-    while (t_ + dt_ * (1 - 1e-3) <= t_end) step();
-  } else {
-    while (t_ < t_end * (1 - 1e-14)) {
-      const double natural = dt_;
-      const bool clamp = t_ + dt_ > t_end;
-      if (clamp) dt_ = t_end - t_;
-      step();
-      if (clamp) dt_ = std::max(dt_, natural);
-    }
-  }
-  diag_.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  advance_steps(t_, dt_, t_end, scene_.accuracy.integrator == Integrator::VelocityVerlet, diag_,
+                [this] { step(); });
 }
 
 void World3d::step() {
@@ -167,18 +150,16 @@ void World3d::step() {
     step_verlet();
   else
     step_predictor_corrector();
-  ++diag_.steps;
   const double taken = t_ - before;
-  diag_.dt_last = taken;
-  diag_.dt_min_used = diag_.steps == 1 ? taken : std::min(diag_.dt_min_used, taken);
-  diag_.dt_max_used = std::max(diag_.dt_max_used, taken);
+  count_step(diag_, taken);
+  last_contacts_ = contacts_now_;
+  if (!after_step_) return;
   // Trapezoid rule over the step: the force at its start is the one that ended the previous step.
   impulses_.clear();
   for (const auto& [pair, fn] : step_force_) impulses_[pair] = fn * taken / 2;
   for (const auto& [pair, fn] : end_force_) impulses_[pair] += fn * taken / 2;
   end_force_ = step_force_;
-  last_contacts_ = contacts_now_;
-  if (after_step_) after_step_(t_, taken);
+  after_step_(t_, taken);
 }
 
 // Velocity Verlet for translation; for rotation the world angular momentum is kicked by the torque and
@@ -259,15 +240,8 @@ void World3d::step_predictor_corrector() {
         b.q = turned(s.q, (s.w + b.w) / 2, dt);
       }
     }
-    if (err > acc.tolerance) {
-      if (dt / 2 < acc.dt_min)
-        throw std::runtime_error(fmt::format(
-            "predictor-corrector step underflow at t = {:.6g} s: dt would fall below dt_min = {:.3g} s "
-            "(error {:.3g} > tolerance {:.3g})",
-            t_, acc.dt_min, err, acc.tolerance));
-      ++diag_.rejected_steps;
-      dt_ = dt / 2;
-      have_prev_ = false;
+    if (!control_step(err, dt, t_, acc, dt_, diag_)) {
+      have_prev_ = false;  // as in 2-D: the retry predicts from the step's start alone
       b_ = start_;
       continue;
     }
@@ -276,7 +250,6 @@ void World3d::step_predictor_corrector() {
     have_prev_ = true;
     t_ += dt;
     commit_history();
-    if (err * 1.44 <= acc.tolerance) dt_ = std::min(dt * 1.2, acc.dt_max);
     return;
   }
 }

@@ -13,7 +13,7 @@
 #include "contact_law.hpp"
 #include "narrow_phase3d.hpp"
 #include "scene.hpp"
-#include "world.hpp"
+#include "world_types.hpp"
 
 namespace grainlab::dem {
 
