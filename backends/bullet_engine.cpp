@@ -75,6 +75,7 @@ class BulletEngine final : public Engine {
     for (const BodySpec& b : bodies_) add_body(b);
     for (const WallSpec& w : scene_.walls) add_wall(w);
     for (const Body3Spec& b : scene_.bodies3d) add_body3d(b);
+    if (three_d()) shape_of_ = polyhedron_indices(scene_.bodies3d);
     for (const PlaneSpec& p : scene_.planes) {
       auto shape = std::make_unique<btStaticPlaneShape>(btVector3(p.normal.x(), p.normal.y(), p.normal.z()),
                                                         p.normal.dot(p.point) * scale_);
@@ -159,16 +160,14 @@ class BulletEngine final : public Engine {
 
   // Bullet's body frame is the principal frame; principal_[k] turns it into the scene's body frame.
   Frame frame3d(Frame& f) const {
-    const std::vector<std::int32_t> shape = polyhedron_indices(scene_.bodies3d);
     for (std::size_t k = 0; k < scene_.bodies3d.size(); ++k) {
       const btRigidBody& b = *rigid_[k];
       const btVector3 p = b.getCenterOfMassPosition() / scale_, v = b.getLinearVelocity() / scale_;
       const btVector3 w = b.getAngularVelocity();
       const btQuaternion bq = b.getOrientation();
       const Quat q = (Quat(bq.w(), bq.x(), bq.y(), bq.z()) * principal_[k].conjugate()).normalized();
-      const double x[3] = {p.x(), p.y(), p.z()}, u[3] = {v.x(), v.y(), v.z()};
-      const double qq[4] = {q.w(), q.x(), q.y(), q.z()}, ww[3] = {w.x(), w.y(), w.z()};
-      f.add_body3d(scene_.bodies3d[k].id, x, u, qq, ww, scene_.bodies3d[k].radius, shape[k]);
+      append_body3d(f, scene_.bodies3d[k], shape_of_[k], Vec3(p.x(), p.y(), p.z()), Vec3(v.x(), v.y(), v.z()),
+                    q, Vec3(w.x(), w.y(), w.z()));
     }
     return f;
   }
@@ -308,8 +307,8 @@ class BulletEngine final : public Engine {
   };
   std::vector<Moving> moving_;
   std::vector<std::unique_ptr<btDefaultMotionState>> motion_states_;
-  std::vector<int> shape_of_;    // per body: -1 disc, else polygon index
-  std::vector<Quat> principal_;  // 3-D: principal frame in the scene's body frame
+  std::vector<std::int32_t> shape_of_;  // per body: -1 disc or sphere, else index into the shapes
+  std::vector<Quat> principal_;         // 3-D: principal frame in the scene's body frame
   int polygons_ = 0;
   double scale_ = 1, t_ = 0, wall_seconds_ = 0;
   std::uint64_t steps_ = 0;

@@ -154,6 +154,12 @@ std::vector<std::vector<double>> polyhedron_vertices(const std::vector<Body3Spec
   return out;
 }
 
+void append_body3d(Frame& f, const Body3Spec& b, std::int32_t shape_index, const Vec3& x, const Vec3& v,
+                   const Quat& q, const Vec3& w) {
+  const double qq[4] = {q.w(), q.x(), q.y(), q.z()};
+  f.add_body3d(b.id, x.data(), v.data(), qq, w.data(), b.radius, shape_index);
+}
+
 std::vector<std::int32_t> polyhedron_indices(const std::vector<Body3Spec>& bodies) {
   std::vector<std::int32_t> idx;
   std::int32_t next = 0;

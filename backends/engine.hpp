@@ -72,6 +72,10 @@ double unit_per_median_diameter(const std::vector<BodySpec>& bodies);
 std::vector<std::vector<double>> polygon_outlines(const std::vector<BodySpec>& bodies);
 // Centre-of-mass-frame vertices of the polyhedral 3-D bodies, flattened x, y, z.
 std::vector<std::vector<double>> polyhedron_vertices(const std::vector<Body3Spec>& bodies);
+// Appends a 3-D body to a frame from an engine's state in cgs (position, velocity, orientation body to
+// world, angular velocity in the world frame).
+void append_body3d(Frame& f, const Body3Spec& b, std::int32_t shape_index, const Vec3& x, const Vec3& v,
+                   const Quat& q, const Vec3& w);
 // Index of each 3-D body's polyhedron in polyhedron_vertices(), -1 for spheres.
 std::vector<std::int32_t> polyhedron_indices(const std::vector<Body3Spec>& bodies);
 // Engine length units per cm making the median 3-D body diameter one unit.

@@ -9,6 +9,21 @@ namespace grainlab {
 
 namespace {
 
+EnergyReport to_report(const dem::Energies& e) {
+  return {e.kinetic_translational, e.kinetic_rotational, e.potential_gravity, e.elastic};
+}
+
+std::map<std::string, double> to_map(const dem::Diagnostics& d, std::size_t contacts, std::size_t bodies) {
+  return {{"steps", double(d.steps)},
+          {"rejected_steps", double(d.rejected_steps)},
+          {"force_evaluations", double(d.force_evaluations)},
+          {"contacts", double(contacts)},
+          {"wall_seconds", d.wall_seconds},
+          {"dt_min_used", d.dt_min_used},
+          {"dt_max_used", d.dt_max_used},
+          {"particles", double(bodies)}};
+}
+
 class NativeEngine final : public Engine {
  public:
   explicit NativeEngine(const Scene& scene) : world_(scene) {}
@@ -33,22 +48,12 @@ class NativeEngine final : public Engine {
     return f;
   }
 
-  EnergyReport energies() const override {
-    const dem::Energies e = world_.energies();
-    return {e.kinetic_translational, e.kinetic_rotational, e.potential_gravity, e.elastic};
-  }
+  EnergyReport energies() const override { return to_report(world_.energies()); }
 
   std::map<std::string, double> diagnostics() const override {
-    const dem::Diagnostics& d = world_.diagnostics();
-    return {{"steps", double(d.steps)},
-            {"rejected_steps", double(d.rejected_steps)},
-            {"force_evaluations", double(d.force_evaluations)},
-            {"neighbor_rebuilds", double(d.neighbor_rebuilds)},
-            {"contacts", double(world_.count_contacts())},
-            {"wall_seconds", d.wall_seconds},
-            {"dt_min_used", d.dt_min_used},
-            {"dt_max_used", d.dt_max_used},
-            {"particles", double(world_.particles().size())}};
+    auto d = to_map(world_.diagnostics(), world_.count_contacts(), world_.particles().size());
+    d["neighbor_rebuilds"] = double(world_.diagnostics().neighbor_rebuilds);
+    return d;
   }
 
   std::vector<std::vector<double>> polygon_shapes() const override {
@@ -95,27 +100,15 @@ class NativeEngine3d final : public Engine {
               [&](std::size_t a, std::size_t b) { return bodies[a].id < bodies[b].id; });
     for (std::size_t i : order) {
       const dem::Body3& b = bodies[i];
-      const double q[4] = {b.q.w(), b.q.x(), b.q.y(), b.q.z()};
-      f.add_body3d(b.id, b.x.data(), b.v.data(), q, b.w.data(), b.radius, shape_index_[i]);
+      append_body3d(f, world_.scene().bodies3d[i], shape_index_[i], b.x, b.v, b.q, b.w);
     }
     return f;
   }
 
-  EnergyReport energies() const override {
-    const dem::Energies e = world_.energies();
-    return {e.kinetic_translational, e.kinetic_rotational, e.potential_gravity, e.elastic};
-  }
+  EnergyReport energies() const override { return to_report(world_.energies()); }
 
   std::map<std::string, double> diagnostics() const override {
-    const dem::Diagnostics& d = world_.diagnostics();
-    return {{"steps", double(d.steps)},
-            {"rejected_steps", double(d.rejected_steps)},
-            {"force_evaluations", double(d.force_evaluations)},
-            {"contacts", double(world_.count_contacts())},
-            {"wall_seconds", d.wall_seconds},
-            {"dt_min_used", d.dt_min_used},
-            {"dt_max_used", d.dt_max_used},
-            {"particles", double(world_.bodies().size())}};
+    return to_map(world_.diagnostics(), world_.count_contacts(), world_.bodies().size());
   }
 
   std::vector<std::vector<double>> polygon_shapes() const override {

@@ -61,6 +61,7 @@ class OdeEngine final : public Engine {
     for (const BodySpec& b : bodies_) add_body(b);
     for (const WallSpec& w : scene_.walls) add_wall(w);
     for (const Body3Spec& b : scene_.bodies3d) add_body3d(b);
+    if (three_d()) shape_of_ = polyhedron_indices(scene_.bodies3d);
     for (const PlaneSpec& p : scene_.planes) {
       info_.push_back({p.material, 0.0, -1 - static_cast<std::int64_t>(&p - scene_.planes.data())});
       dGeomSetData(
@@ -146,14 +147,11 @@ class OdeEngine final : public Engine {
   bool three_d() const { return scene_.dimension == 3; }
 
   Frame frame3d(Frame& f) const {
-    const std::vector<std::int32_t> shape = polyhedron_indices(scene_.bodies3d);
     for (std::size_t k = 0; k < handles_.size(); ++k) {
       const dReal *p = dBodyGetPosition(handles_[k]), *v = dBodyGetLinearVel(handles_[k]);
       const dReal *w = dBodyGetAngularVel(handles_[k]), *q = dBodyGetQuaternion(handles_[k]);
-      const double x[3] = {p[0] / scale_, p[1] / scale_, p[2] / scale_};
-      const double u[3] = {v[0] / scale_, v[1] / scale_, v[2] / scale_};
-      const double qq[4] = {q[0], q[1], q[2], q[3]}, ww[3] = {w[0], w[1], w[2]};
-      f.add_body3d(scene_.bodies3d[k].id, x, u, qq, ww, scene_.bodies3d[k].radius, shape[k]);
+      append_body3d(f, scene_.bodies3d[k], shape_of_[k], Vec3(p[0], p[1], p[2]) / scale_,
+                    Vec3(v[0], v[1], v[2]) / scale_, Quat(q[0], q[1], q[2], q[3]), Vec3(w[0], w[1], w[2]));
     }
     return f;
   }
@@ -351,7 +349,7 @@ class OdeEngine final : public Engine {
     Vec2 rest;  // centre at rest, scene units
   };
   std::vector<Moving> moving_;
-  std::vector<int> shape_of_;
+  std::vector<std::int32_t> shape_of_;  // per body: -1 disc or sphere, else index into the shapes
   int prisms_ = 0;
   double scale_ = 1, t_ = 0, wall_seconds_ = 0;
   std::uint64_t steps_ = 0;
