@@ -15,13 +15,6 @@ namespace grainlab::validation {
 
 namespace {
 
-constexpr double kG = 981.0;
-
-std::unique_ptr<Engine> engine3d(const std::string& name, const std::string& toml,
-                                 const std::vector<std::string>& sets = {}) {
-  return make_engine(name, parse_scene(toml, "<single-body 3-D " + name + ">", sets));
-}
-
 Vec3 position(const Frame& f) {
   return {f.position[0], f.position[1], f.position[2]};
 }
@@ -62,7 +55,7 @@ velocity = [100.0, 50.0, 300.0]
   double err[2];
   const double dts[2] = {1e-3, 5e-4};
   for (int k = 0; k < 2; ++k) {
-    auto e = engine3d(eng, toml, {fmt::format("accuracy.dt={}", dts[k])});
+    auto e = engine_for(eng, toml, {fmt::format("accuracy.dt={}", dts[k])});
     e->advance_to(1.0);
     const Vec3 x = position(e->frame());
     err[k] = (x - Vec3(100, 50, exact)).norm();
@@ -71,41 +64,6 @@ velocity = [100.0, 50.0, 300.0]
   r.expect_below("3d/free-flight/position-error", eng, err[0], kG * dts[0],
                  fmt::format("sphere, |x(1 s) - parabola| at dt = 1e-3 s, below g dt; order in dt: {}",
                              std::isfinite(order) ? fmt::format("{:.2f}", order) : std::string("exact")));
-}
-
-double sphere_bounce(const std::string& eng, double speed) {
-  const std::string toml = fmt::format(R"toml(
-[scene]
-dimension = 3
-duration = 1.0
-effects = ["normal_contact"]
-[accuracy]
-dt = 1e-5
-tolerance = 1e-6
-[materials.grain]
-k_n = 5e6
-restitution = 0.7
-[[walls]]
-type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-[[bodies]]
-shape = "sphere"
-radius = 1.0
-density = 2.0
-position = [0.0, 0.0, 1.05]
-velocity = [0.0, 0.0, {}]
-)toml",
-                                       -speed);
-  auto e = engine3d(eng, toml);
-  const double flight = 0.05 / speed;
-  // Until the sphere leaves the plane; the contact lasts ~4 ms, far longer than the fast flights.
-  for (int k = 1; k <= 100000; ++k) {
-    e->advance_to(k * flight / 100);
-    const Frame f = e->frame();
-    if (f.position[2] > 1.0 && f.velocity[2] > 0) return f.velocity[2] / speed;
-  }
-  return NAN;
 }
 
 struct Slide {
@@ -130,7 +88,7 @@ dt = 1e-5
 )toml",
       fmt::arg("gx", kG * std::sin(th)), fmt::arg("gz", -kG * std::cos(th)),
       fmt::arg("material", fmt::format(fmt::runtime(kMaterial), fmt::arg("mu", mu))), fmt::arg("body", body));
-  auto e = engine3d(eng, toml);
+  auto e = engine_for(eng, toml);
   e->advance_to(0.2);
   const Frame a = e->frame();
   e->advance_to(0.6);
@@ -175,7 +133,7 @@ position = [0.0, 0.0, 0.0]
 spin = [{}, {}, {}]
 )toml",
                                        w.x(), w.y(), w.z());
-  auto e = engine3d(eng, toml, sets);
+  auto e = engine_for(eng, toml, sets);
   const Mat3 I = Vec3(13.0, 10.0, 5.0).asDiagonal() * (6.0 / 12.0);  // m (b^2 + c^2) / 12, m = 6 g
   auto state = [&](const Frame& f, double& energy, Vec3& L) {
     const Mat3 R = orientation(f).toRotationMatrix();
@@ -225,7 +183,7 @@ orientation = [{w}, {x}, {y}, {qz}]
                   fmt::arg("material", fmt::format(fmt::runtime(kMaterial), fmt::arg("mu", 0.8))),
                   fmt::arg("z", expected + 0.002), fmt::arg("w", q.w()), fmt::arg("x", q.x()),
                   fmt::arg("y", q.y()), fmt::arg("qz", q.z()));
-  auto e = engine3d(eng, toml);
+  auto e = engine_for(eng, toml);
   e->advance_to(0.5);
   return e->frame().position[2];
 }
@@ -234,10 +192,11 @@ orientation = [{w}, {x}, {y}, {qz}]
 
 void single_body_3d_checks(Report& r, const std::string& eng, std::string& md) {
   free_flight(r, eng);
-  const double e1 = sphere_bounce(eng, 1.0);
+  const double e1 = bounce_restitution(eng, 1.0, "restitution = 0.7", 3);
   for (double v : {1.0, 50.0, 500.0})
-    r.expect_near(fmt::format("3d/bounce/restitution/v={}", v), eng, v == 1.0 ? e1 : sphere_bounce(eng, v),
-                  0.7, 0.007, "sphere on a plane; the scene's restitution within 1 %");
+    r.expect_near(fmt::format("3d/bounce/restitution/v={}", v), eng,
+                  v == 1.0 ? e1 : bounce_restitution(eng, v, "restitution = 0.7", 3), 0.7, 0.007,
+                  "sphere on a plane; the scene's restitution within 1 %");
   const double a_slide = kG * (std::sin(M_PI / 6) - 0.3 * std::cos(M_PI / 6));
   const Slide slide = incline(eng, kBlock, 30, 0.3);
   r.expect_near("3d/incline/block-slides", eng, slide.acceleration, a_slide, 0.01 * a_slide,

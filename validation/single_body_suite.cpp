@@ -11,14 +11,12 @@
 
 namespace grainlab::validation {
 
-namespace {
-
-constexpr double kG = 981.0;
-
 std::unique_ptr<Engine> engine_for(const std::string& name, const std::string& toml,
-                                   const std::vector<std::string>& sets = {}) {
+                                   const std::vector<std::string>& sets) {
   return make_engine(name, parse_scene(toml, "<single-body " + name + ">", sets));
 }
+
+namespace {
 
 void free_flight(Report& r, const std::string& eng) {
   const std::string toml = R"toml(
@@ -49,9 +47,12 @@ velocity = [100.0, 300.0]
 
 }  // namespace
 
-double bounce_restitution(const std::string& eng, double speed, const std::string& material_line) {
-  const std::string toml = fmt::format(R"toml(
+std::string bounce_scene(int dimension, double speed, const std::string& material_line) {
+  const bool three = dimension == 3;
+  return fmt::format(
+      R"toml(
 [scene]
+dimension = {dim}
 duration = 1.0
 effects = ["normal_contact"]
 [accuracy]
@@ -59,24 +60,36 @@ dt = 1e-5
 tolerance = 1e-6
 [materials.grain]
 k_n = 5e6
-{}
+{material}
 [[walls]]
-type = "line"
-point = [0.0, 0.0]
-normal = [0.0, 1.0]
+type = "{wall}"
+point = {origin}
+normal = {up}
 [[bodies]]
+shape = "{shape}"
 radius = 1.0
 density = 2.0
-position = [0.0, 1.05]
-velocity = [0.0, {}]
+position = {start}
+velocity = {velocity}
 )toml",
-                                       material_line, -speed);
-  auto e = engine_for(eng, toml);
+      fmt::arg("dim", dimension), fmt::arg("material", material_line),
+      fmt::arg("wall", three ? "plane" : "line"),
+      fmt::arg("origin", three ? "[0.0, 0.0, 0.0]" : "[0.0, 0.0]"),
+      fmt::arg("up", three ? "[0.0, 0.0, 1.0]" : "[0.0, 1.0]"), fmt::arg("shape", three ? "sphere" : "disc"),
+      fmt::arg("start", three ? "[0.0, 0.0, 1.05]" : "[0.0, 1.05]"),
+      fmt::arg("velocity", three ? fmt::format("[0.0, 0.0, {}]", -speed) : fmt::format("[0.0, {}]", -speed)));
+}
+
+double bounce_restitution(const std::string& eng, double speed, const std::string& material_line,
+                          int dimension) {
+  auto e = engine_for(eng, bounce_scene(dimension, speed, material_line));
+  const std::size_t up = dimension - 1;  // y in 2-D, z in 3-D
   const double flight = 0.05 / speed;
-  for (int k = 1; k <= 4000; ++k) {
+  // Until the body leaves the wall; a contact lasts ~4 ms, far longer than the fast flights.
+  for (int k = 1; k <= 100000; ++k) {
     e->advance_to(k * flight / 100);
     const Frame f = e->frame();
-    if (f.position[1] > 1.0 && f.velocity[1] > 0) return f.velocity[1] / speed;
+    if (f.position[up] > 1.0 && f.velocity[up] > 0) return f.velocity[up] / speed;
   }
   return NAN;
 }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "engine.hpp"
 #include "report.hpp"
 
 namespace grainlab::validation {
@@ -25,8 +26,18 @@ void run_thesis_code_suite(Report& r, const SuiteOptions& o);
 void run_single_body_suite(Report& r, const SuiteOptions& o);
 // The 3-D single-body checks on one engine; appends a row to the markdown table `md`.
 void single_body_3d_checks(Report& r, const std::string& engine, std::string& md);
-// Outgoing / incoming speed of a r = 1 cm disc's first bounce on a line on `engine`; `material_line` is
-// the normal-damping line of its material (e.g. "restitution = 0.7" or "damping_n = 1000.0").
-double bounce_restitution(const std::string& engine, double speed, const std::string& material_line);
+// g in cm/s^2, as the thesis and the analytic references use it.
+inline constexpr double kG = 981.0;
+
+// Builds a scene from TOML text on an engine (the suites' scenes are written inline).
+std::unique_ptr<Engine> engine_for(const std::string& engine, const std::string& toml,
+                                   const std::vector<std::string>& sets = {});
+// A r = 1 cm disc (2-D) or sphere (3-D), density 2, k_n = 5e6, 0.05 cm above a wall and moving onto it at
+// `speed`; `material_line` is the normal-damping line of its material (e.g. "restitution = 0.7" or
+// "damping_n = 1000.0").
+std::string bounce_scene(int dimension, double speed, const std::string& material_line);
+// Outgoing / incoming speed of that body's first bounce on `engine`.
+double bounce_restitution(const std::string& engine, double speed, const std::string& material_line,
+                          int dimension = 2);
 
 }  // namespace grainlab::validation
