@@ -124,6 +124,8 @@ class Box2DEngine final : public Engine {
             {"max_contacts", max_contacts_},
             {"wall_seconds", wall_seconds_},
             {"length_scale_units_per_cm", scale_},
+            // Edges and polygons are b2_polygonRadius thick: bodies touch this much early.
+            {"edge_skin_cm", b2_polygonRadius / scale_},
             {"particles", double(bodies_.size())}};
   }
 

@@ -143,16 +143,20 @@ void RunWriter::write_xdmf(const std::string& tmp) const {
         "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", n);
     x += "    <Geometry GeometryType=\"XYZ\">\n" + item("position", "Float", 8, fmt::format("{} 3", n)) +
          "    </Geometry>\n";
-    x += "    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n" +
-         item("velocity", "Float", 8, fmt::format("{} 3", n)) + "    </Attribute>\n";
-    x += "    <Attribute Name=\"angular_velocity\" AttributeType=\"Vector\" Center=\"Node\">\n" +
-         item("angular_velocity", "Float", 8, fmt::format("{} 3", n)) + "    </Attribute>\n";
-    for (const char* s : {"angle", "spin", "radius"})
-      if (std::string(s) == "radius" || !frames_[k].angle.empty())
-        x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Node\">\n", s) +
-             item(s, "Float", 8, std::to_string(n)) + "    </Attribute>\n";
-    x += "    <Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\">\n" +
-         item("id", "Int", 8, std::to_string(n)) + "    </Attribute>\n";
+    auto attribute = [&](const std::string& name, const char* kind, const char* type,
+                         const std::string& dims) {
+      x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n", name, kind) +
+           item(name, type, 8, dims) + "    </Attribute>\n";
+    };
+    const std::string vec = fmt::format("{} 3", n), scalar = std::to_string(n);
+    attribute("velocity", "Vector", "Float", vec);
+    attribute("angular_velocity", "Vector", "Float", vec);
+    if (!frames_[k].angle.empty()) {  // 2-D only
+      attribute("angle", "Scalar", "Float", scalar);
+      attribute("spin", "Scalar", "Float", scalar);
+    }
+    attribute("radius", "Scalar", "Float", scalar);
+    attribute("id", "Scalar", "Int", scalar);
     x += "   </Grid>\n";
   }
   x += "  </Grid>\n </Domain>\n</Xdmf>\n";

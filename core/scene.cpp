@@ -402,17 +402,17 @@ class SceneReader {
       Body3Spec b;
       b.where = r.where_table();
       b.id = r.integer_or("id", static_cast<std::int64_t>(i), 0, INT64_MAX);
-      b.kind = r.string_or("shape", "sphere");
+      const std::string kind = r.string_or("shape", "sphere");
       SolidMass solid;
-      if (b.kind == "sphere") {
+      if (kind == "sphere") {
         b.shape = Body3Spec::Shape::Sphere;
         b.radius = r.number("radius", Range::positive());
         solid.volume = 4 * M_PI / 3 * std::pow(b.radius, 3);
         solid.inertia_per_density = Mat3::Identity() * 0.4 * solid.volume * b.radius * b.radius;
         if (r.has("center_of_mass")) r.fail("center_of_mass", "a sphere's centre of mass is its centre");
-      } else if (b.kind == "box" || b.kind == "polyhedron") {
+      } else if (kind == "box" || kind == "polyhedron") {
         b.shape = Body3Spec::Shape::Polyhedron;
-        if (b.kind == "box") {
+        if (kind == "box") {
           const Vec3 size = vec3(r.numbers("size", 3));
           if (size.minCoeff() <= 0) r.fail("size", "edge lengths must be > 0");
           b.hull = make_box(size / 2);
@@ -426,7 +426,7 @@ class SceneReader {
         b.hull.translate(-solid.centroid);  // body frame at the centroid until a load moves it
       } else {
         r.fail("shape",
-               "must be \"sphere\", \"box\" or \"polyhedron\" in a 3-D scene, found \"" + b.kind + "\"");
+               "must be \"sphere\", \"box\" or \"polyhedron\" in a 3-D scene, found \"" + kind + "\"");
       }
       if (r.has("mass") && r.has("density")) r.fail("density", "give mass or density, not both");
       if (r.has("mass"))
@@ -631,8 +631,8 @@ class SceneReader {
       }
   }
 
-  // 3-D: spheres against spheres and every body against the planes (vertices of polyhedra). Two
-  // polyhedra are compared by bounding spheres only when both are spheres; polyhedron pairs are not checked.
+  // 3-D: sphere pairs, and every body against the planes (a polyhedron by its vertices). Pairs that
+  // involve a polyhedron are not checked here.
   void check_initial_overlaps3d() {
     const auto& B = s_.bodies3d;
     for (size_t j = 0; j < B.size(); ++j) {

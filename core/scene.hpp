@@ -95,8 +95,7 @@ struct Body3Spec {
   enum class Shape { Sphere, Polyhedron };
   std::int64_t id = -1;
   Shape shape = Shape::Sphere;
-  std::string kind = "sphere";  // as written: sphere, box or polyhedron
-  double radius = 0;            // sphere radius; polyhedron: bounding radius about the centre of mass
+  double radius = 0;  // sphere radius; polyhedron: bounding radius about the centre of mass
   Polyhedron hull;
   double mass = 0;
   Mat3 inertia = Mat3::Identity();  // about the centre of mass, in body axes

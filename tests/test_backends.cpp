@@ -226,9 +226,9 @@ TEST(ContactEvents, OneBounceGivesOneEventWithTheMomentumChange) {
       EXPECT_FALSE(ev.open);
       EXPECT_NEAR(ev.normal_impulse, mass * 50.0 * 1.7, 0.01 * mass * 50.0 * 1.7)
           << c.name << " " << dim << "-D";
-      // Box2D's edges carry a skin of b2_polygonRadius = 0.01 units (0.02 cm at this scale): touch comes
-      // early.
-      const double skin = c.name == "box2d" ? 0.02 : 0.0;
+      // Box2D's edges carry a skin (b2_polygonRadius, reported by the engine): touch comes that much early.
+      const auto diag = e->diagnostics();
+      const double skin = diag.count("edge_skin_cm") ? diag.at("edge_skin_cm") : 0.0;
       EXPECT_NEAR(ev.t_begin, (0.05 - skin) / 50.0, 2e-5) << c.name << " " << dim << "-D";
       EXPECT_GT(ev.peak_force, 0);
     }
