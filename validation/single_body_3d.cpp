@@ -70,12 +70,10 @@ struct Slide {
   double acceleration = 0, distance = 0;
 };
 
-// Downslope (x) acceleration between 0.2 and 0.6 s of a body on a floor with gravity tilted by theta.
-Slide incline(const std::string& eng, const std::string& body, double theta_deg, double mu,
-              const std::vector<std::string>& sets = {}) {
+// A body on a frictional floor (z = 0) with gravity tilted by theta towards +x, integrated by Verlet.
+std::string on_floor_scene(double theta_deg, double mu, const std::string& body) {
   const double th = theta_deg * M_PI / 180;
-  const std::string toml = fmt::format(
-      R"toml(
+  return fmt::format(R"toml(
 [scene]
 dimension = 3
 duration = 1.0
@@ -87,8 +85,15 @@ dt = 1e-5
 {material}
 {body}
 )toml",
-      fmt::arg("gx", kG * std::sin(th)), fmt::arg("gz", -kG * std::cos(th)),
-      fmt::arg("material", fmt::format(fmt::runtime(kMaterial), fmt::arg("mu", mu))), fmt::arg("body", body));
+                     fmt::arg("gx", kG * std::sin(th)), fmt::arg("gz", -kG * std::cos(th)),
+                     fmt::arg("material", fmt::format(fmt::runtime(kMaterial), fmt::arg("mu", mu))),
+                     fmt::arg("body", body));
+}
+
+// Downslope (x) acceleration between 0.2 and 0.6 s, and the distance moved.
+Slide incline(const std::string& eng, const std::string& body, double theta_deg, double mu,
+              const std::vector<std::string>& sets = {}) {
+  const std::string toml = on_floor_scene(theta_deg, mu, body);
   auto e = engine_for(eng, toml, sets);
   e->advance_to(0.2);
   const Frame a = e->frame();
@@ -164,26 +169,16 @@ double cube_rest_height(const std::string& eng, const Vec3& down) {
   const Vec3 com(0.2, 0.2, 0.2);
   const double expected = 1.0 - down.dot(com);
   const std::string toml =
-      fmt::format(R"toml(
-[scene]
-dimension = 3
-duration = 1.0
-effects = ["gravity", "normal_contact", "friction", "rotation"]
-[accuracy]
-integrator = "verlet"
-dt = 1e-5
-{material}
-[[bodies]]
+      on_floor_scene(0.0, 0.8,
+                     fmt::format(R"toml([[bodies]]
 shape = "box"
 size = [2.0, 2.0, 2.0]
 center_of_mass = [0.2, 0.2, 0.2]
 density = 2.0
 position = [0.0, 0.0, {z}]
-orientation = [{w}, {x}, {y}, {qz}]
-)toml",
-                  fmt::arg("material", fmt::format(fmt::runtime(kMaterial), fmt::arg("mu", 0.8))),
-                  fmt::arg("z", expected + 0.002), fmt::arg("w", q.w()), fmt::arg("x", q.x()),
-                  fmt::arg("y", q.y()), fmt::arg("qz", q.z()));
+orientation = [{w}, {x}, {y}, {qz}])toml",
+                                 fmt::arg("z", expected + 0.002), fmt::arg("w", q.w()), fmt::arg("x", q.x()),
+                                 fmt::arg("y", q.y()), fmt::arg("qz", q.z())));
   auto e = engine_for(eng, toml);
   e->advance_to(0.5);
   return e->frame().position[2];
