@@ -23,7 +23,7 @@ const std::vector<Capabilities>& engine_catalog() {
        0,
        "spring-dashpot normal force, incremental shear spring capped at mu f_n (kept in the tangent plane "
        "in 3-D)",
-       "3-D: normal force of every contact point times the accepted step; 2-D: not yet (events stay empty)"},
+       "normal force of every contact, trapezoid over each accepted step (the integrators' own rule)"},
       {"box2d",
        "Box2D 2.4.1 (Debian), float precision, sequential impulses",
        {2},

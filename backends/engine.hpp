@@ -106,6 +106,7 @@ struct RunSummary {
 // Engines work in cgs; results are reported in the units the scene file was written in.
 Frame in_scene_units(Frame f, const Scene& scene);
 EnergyReport in_scene_units(EnergyReport e, const Scene& scene);
+ContactEventTable in_scene_units(const std::vector<ContactEvent>& events, const Scene& scene);
 std::string units_description(const Scene& scene);
 
 // Runs a scene to its duration, writing frames, energies, diagnostics and metadata (in the scene's units).

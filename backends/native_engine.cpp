@@ -24,11 +24,25 @@ std::map<std::string, double> to_map(const dem::Diagnostics& d, std::size_t cont
           {"particles", double(bodies)}};
 }
 
+// The worlds call back after every step while the engine tracks contacts (and cost nothing otherwise).
+template <class World, class Record>
+void hook_contact_events(World& world, bool tracking, Record record) {
+  if (tracking)
+    world.set_after_step([&world, record](double now, double dt) { record(now, dt, world.step_impulses()); });
+  else
+    world.set_after_step(nullptr);
+}
+
 class NativeEngine final : public Engine {
  public:
   explicit NativeEngine(const Scene& scene) : world_(scene) {}
   std::string name() const override { return "native"; }
-  void advance_to(double t) override { world_.advance_to(t); }
+  void advance_to(double t) override {
+    hook_contact_events(world_, tracking_contacts(), [this](double now, double dt, const PairImpulses& s) {
+      record_contacts(now, dt, s);
+    });
+    world_.advance_to(t);
+  }
   double time() const override { return world_.time(); }
   std::string integrator() const override {
     return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet"
@@ -77,11 +91,9 @@ class NativeEngine3d final : public Engine {
       : world_(scene), shape_index_(polyhedron_indices(scene.bodies3d)) {}
   std::string name() const override { return "native"; }
   void advance_to(double t) override {
-    if (tracking_contacts())
-      world_.set_after_step(
-          [this](double now, double dt) { record_contacts(now, dt, world_.step_impulses()); });
-    else
-      world_.set_after_step(nullptr);
+    hook_contact_events(world_, tracking_contacts(), [this](double now, double dt, const PairImpulses& s) {
+      record_contacts(now, dt, s);
+    });
     world_.advance_to(t);
   }
   double time() const override { return world_.time(); }

@@ -30,6 +30,22 @@ EnergyReport in_scene_units(EnergyReport e, const Scene& scene) {
   return {e.kinetic_translational / E, e.kinetic_rotational / E, e.potential_gravity / E, e.elastic / E};
 }
 
+ContactEventTable in_scene_units(const std::vector<ContactEvent>& events, const Scene& scene) {
+  const Scene::UnitScale& u = scene.to_cgs;
+  const double impulse = u.mass * u.velocity(), force = impulse / u.time;
+  ContactEventTable t;
+  for (const ContactEvent& e : events) {
+    t.body_a.push_back(e.body_a);
+    t.body_b.push_back(e.body_b);
+    t.t_begin.push_back(e.t_begin / u.time);
+    t.t_end.push_back(e.t_end / u.time);
+    t.normal_impulse.push_back(e.normal_impulse / impulse);
+    t.peak_force.push_back(e.peak_force / force);
+    t.open.push_back(e.open ? 1 : 0);
+  }
+  return t;
+}
+
 std::string units_description(const Scene& scene) {
   const std::string mass = scene.dimension == 2 ? "; 2-D masses as in the thesis, rho pi r^2" : "";
   return scene.units == "si" ? "si (m, kg, s; energies in J" + mass + ")"
@@ -41,6 +57,7 @@ RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& optio
   writer.set_energy_columns(
       {"time", "kinetic_translational", "kinetic_rotational", "potential_gravity", "elastic", "total"});
   RunSummary summary;
+  engine.track_contacts(scene.output.contacts);
   summary.initial = in_scene_units(engine.energies(), scene);
   const int frames = std::max(1, scene.output.frames);
   const double T = scene.to_cgs.time;
@@ -75,6 +92,7 @@ RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& optio
   meta.numbers["dimension"] = scene.dimension;
   writer.set_metadata(meta);
   writer.set_diagnostics(summary.diagnostics);
+  if (scene.output.contacts) writer.set_contact_events(in_scene_units(engine.contact_events(), scene));
   std::vector<std::vector<double>> polygons = engine.polygon_shapes();
   for (auto& poly : polygons)
     for (double& x : poly) x /= scene.to_cgs.length;

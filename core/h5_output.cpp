@@ -117,6 +117,24 @@ void RunWriter::write_h5(const std::string& tmp) const {
             polygons_[k].size() / shape_columns_, shape_columns_);
   H5Gclose(sh);
 
+  if (contacts_) {
+    const ContactEventTable& c = *contacts_;
+    const hsize_t n = c.body_a.size();
+    hid_t ce = H5Gcreate2(f, "/contact_events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    attr_string(
+        ce, "description",
+        "one row per contact event; body_b = -1 - k for wall k; normal_impulse is the integral of the "
+        "normal force over the contact, peak_force the largest step-mean normal force (scene units)");
+    dataset(ce, "body_a", c.body_a, n);
+    dataset(ce, "body_b", c.body_b, n);
+    dataset(ce, "t_begin", c.t_begin, n);
+    dataset(ce, "t_end", c.t_end, n);
+    dataset(ce, "normal_impulse", c.normal_impulse, n);
+    dataset(ce, "peak_force", c.peak_force, n);
+    dataset(ce, "open", c.open, n);
+    H5Gclose(ce);
+  }
+
   hid_t dg = H5Gcreate2(f, "/diagnostics", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   for (const auto& [k, v] : diagnostics_) attr_double(dg, k, v);
   H5Gclose(dg);

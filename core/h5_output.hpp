@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,13 @@ struct RunMetadata {
   std::map<std::string, double> numbers;    // seed, duration, ...
 };
 
+// Contact events as columns (one row per event), in scene units.
+struct ContactEventTable {
+  std::vector<std::int64_t> body_a, body_b;  // body ids; a wall or plane k is -1 - k (always body_b)
+  std::vector<double> t_begin, t_end, normal_impulse, peak_force;
+  std::vector<std::int32_t> open;  // 1: still touching when the run ended
+};
+
 class RunWriter {
  public:
   // Fails (std::runtime_error) if `path` exists and !overwrite.
@@ -69,6 +77,8 @@ class RunWriter {
   }
   void set_metadata(RunMetadata m) { meta_ = std::move(m); }
   void set_diagnostics(std::map<std::string, double> d) { diagnostics_ = std::move(d); }
+  // Written as /contact_events when set (the scene asked for [output] contacts = true).
+  void set_contact_events(ContactEventTable t) { contacts_ = std::move(t); }
   // Writes the .h5 and .xmf atomically. Returns the .xmf path.
   std::string commit();
 
@@ -84,6 +94,7 @@ class RunWriter {
   int shape_columns_ = 2;
   RunMetadata meta_;
   std::map<std::string, double> diagnostics_;
+  std::optional<ContactEventTable> contacts_;
 };
 
 // Writes `text` to `path` through a temporary file and a rename.

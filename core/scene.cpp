@@ -587,6 +587,7 @@ class SceneReader {
     TomlReader r = section(top, "output", false);
     s_.output.file = r.string_or("file", "");
     s_.output.frames = static_cast<int>(r.integer_or("frames", 50, 0, 1'000'000));
+    s_.output.contacts = r.boolean_or("contacts", false);
     r.finish();
   }
 

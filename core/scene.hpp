@@ -146,8 +146,9 @@ struct AssemblySpec {
 };
 
 struct OutputSpec {
-  std::string file;  // empty: derived from the scene file name
-  int frames = 50;   // equally spaced frames over the duration, plus the initial one
+  std::string file;       // empty: derived from the scene file name
+  int frames = 50;        // equally spaced frames over the duration, plus the initial one
+  bool contacts = false;  // write every contact event (begin, end, impulse, peak force) to /contact_events
 };
 
 struct Scene {

@@ -40,6 +40,7 @@ class ForceKernels {
     const ContactLaw* laws = W.laws_.data();
     const int nm = W.n_mat_;
     const std::size_t n = P.size();
+    const bool track = static_cast<bool>(W.after_step_);
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t kb = off[i], ke = off[i + 1];
       if (kb == ke) continue;
@@ -66,6 +67,7 @@ class ForceKernels {
         const double meff = 1.0 / (imi + im[j]);
         const double vn = dvx * nx + dvy * ny;
         const double fn = normal_force(law, rsum - dist, vn, law.normal.coefficient(meff));
+        if (track) W.pair_force_[{P.id[i], P.id[j]}] += fn;
         double cfx = fn * nx, cfy = fn * ny;
         if constexpr (Friction) {
           // s with s x n = +z (eq. 2.3); v_s = s.(v_i - v_j) + r_i w_i + r_j w_j.
@@ -94,10 +96,11 @@ class ForceKernels {
   }
 
   // One contact with lever arms: used for walls and polygons (few contacts, generality first).
-  // j < 0 means a wall moving at `wall_v`.
+  // j < 0 means a wall moving at `wall_v`; `other` is j's id or -1 - the wall's index.
   template <bool Friction, bool Rotation>
-  static void apply(World& W, std::uint32_t i, long j, Vec2 wall_v, const ContactGeometry& c,
-                    const ContactLaw& law, double h, const double* xi_committed, double* xi_trial) {
+  static void apply(World& W, std::uint32_t i, long j, std::int64_t other, Vec2 wall_v,
+                    const ContactGeometry& c, const ContactLaw& law, double h, const double* xi_committed,
+                    double* xi_trial) {
     Particles& P = W.p_;
     const double inv_mj = j >= 0 ? P.inv_m[j] : 0.0;
     const double meff = 1.0 / (P.inv_m[i] + inv_mj);
@@ -110,6 +113,7 @@ class ForceKernels {
       vrel -= wall_v;
     }
     const double fn = normal_force(law, c.depth, dot(vrel, c.normal), law.normal.coefficient(meff));
+    if (W.after_step_) W.pair_force_[{P.id[i], other}] += fn;
     Vec2 F = c.normal * fn;
     if constexpr (Friction) {
       const Vec2 s{c.normal.y, -c.normal.x};
@@ -141,8 +145,8 @@ class ForceKernels {
           continue;
         }
         const ContactLaw& law = W.laws_[P.mat[i] * W.n_mat_ + wall.spec.material];
-        apply<Friction, Rotation>(W, i, -1, wall.velocity, c, law, h, Friction ? &L.xi[k] : nullptr,
-                                  Friction ? &L.xi_new[k] : nullptr);
+        apply<Friction, Rotation>(W, i, -1, -1 - static_cast<std::int64_t>(wi), wall.velocity, c, law, h,
+                                  Friction ? &L.xi[k] : nullptr, Friction ? &L.xi_new[k] : nullptr);
       }
     }
   }
@@ -163,7 +167,7 @@ class ForceKernels {
         committed = it == W.general_xi_.end() ? nullptr : &it->second;
         trial = &W.general_xi_new_[key];
       }
-      apply<Friction, Rotation>(W, i, j, wall_v, c, law, h, committed, trial);
+      apply<Friction, Rotation>(W, i, j, other_id, wall_v, c, law, h, committed, trial);
     };
     if constexpr (Friction) W.general_xi_new_.clear();
     for (const World::GeneralPair& gp : W.general_pairs_) {
@@ -215,6 +219,7 @@ void World::compute_forces(double t, double shear_h, bool body_forces_ready) {
     }
     if (effects_.rotation) std::fill(p_.tq.begin(), p_.tq.end(), 0.0);
   }
+  pair_force_.clear();
   if (!effects_.normal_contact) return;
   const bool f = effects_.friction, r = effects_.rotation;
   if (f && r)

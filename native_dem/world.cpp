@@ -80,7 +80,16 @@ double World::step() {
   else
     step_predictor_corrector();
   count_step(diag_, t_ - t_before);
+  finish_step_impulses(t_ - t_before);
   return t_ - t_before;
+}
+
+void World::finish_step_impulses(double taken) {
+  if (!after_step_) return;
+  impulses_.clear();
+  for (const auto& [pair, fn] : pair_force_start_) impulses_[pair] = fn * taken / 2;
+  for (const auto& [pair, fn] : pair_force_) impulses_[pair] += fn * taken / 2;
+  after_step_(t_, taken);
 }
 
 void World::advance_to(double t_end) {
@@ -95,6 +104,7 @@ void World::step_verlet() {
     compute_forces(t_, 0.0);
     commit_history();
   }
+  if (after_step_) pair_force_start_ = pair_force_;  // the kick below applies these forces
   // One pass: kick, drift, restart the forces from gravity, and track the largest displacement since
   // the neighbour list was built (memory traffic dominates at large N, so passes are fused).
   const double gx = effects_.gravity ? g_.x : 0.0, gy = effects_.gravity ? g_.y : 0.0;
@@ -151,6 +161,7 @@ void World::step_predictor_corrector() {
   if (needs_rebuild(2 * vmax * dt_)) rebuild_neighbors();
 
   compute_forces(t_, 0.0);
+  if (after_step_) pair_force_start_ = pair_force_;
   x0_ = p_.x, y0_ = p_.y, th0_ = p_.th, vx0_ = p_.vx, vy0_ = p_.vy, w0_ = p_.w;
   ax0_.resize(n), ay0_.resize(n), al0_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {

@@ -3,6 +3,7 @@
 // contact law, integrated by the thesis's predictor-corrector or by velocity Verlet.
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -49,6 +50,12 @@ class World {
   std::size_t history_entries() const;
   // Bytes held by particle state, neighbour lists and contact history.
   std::size_t memory_bytes() const;
+  // Per-step normal impulse on each touching pair (particle ids; -1 - k for wall k): what contact events
+  // are built from. Filled only while an after-step hook is set.
+  const std::map<std::pair<std::int64_t, std::int64_t>, double>& step_impulses() const { return impulses_; }
+  // Called after every accepted step with (time, step length); empty: nothing is called and the force
+  // kernels record nothing (no cost to a run that does not track contacts).
+  void set_after_step(std::function<void(double, double)> f) { after_step_ = std::move(f); }
 
  private:
   friend class ForceKernels;
@@ -65,6 +72,7 @@ class World {
   void step_predictor_corrector();
   void wrap_periodic();
   double polygon_elastic_energy() const;
+  void finish_step_impulses(double taken);
   void visit_polygon_contacts(
       const std::function<void(const ContactLaw&, const ContactGeometry&)>& visit) const;
 
@@ -109,6 +117,11 @@ class World {
   std::vector<double> x0_, y0_, th0_, vx0_, vy0_, w0_, ax0_, ay0_, al0_;
   std::vector<std::uint32_t> order_;
   std::vector<Vec2> outline_a_, outline_b_;
+  // Contact events: the normal force per pair at the latest evaluation and at the step's start; both
+  // integrators apply the trapezoid of the two, so the step's impulse is dt (F_start + F_end) / 2.
+  using PairForces = std::map<std::pair<std::int64_t, std::int64_t>, double>;
+  PairForces pair_force_, pair_force_start_, impulses_;
+  std::function<void(double, double)> after_step_;
 };
 
 }  // namespace grainlab::dem

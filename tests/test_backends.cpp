@@ -213,7 +213,6 @@ TEST(ContactEvents, OneBounceGivesOneEventWithTheMomentumChange) {
   for (const auto& [dim, mass] : {std::pair{3, 2.0 * 4 * M_PI / 3}, std::pair{2, 2.0 * M_PI}})
     for (const Capabilities& c : engine_catalog()) {
       if (std::find(c.dimensions.begin(), c.dimensions.end(), dim) == c.dimensions.end()) continue;
-      if (c.name == "native" && dim == 2) continue;  // not yet: see the catalog's contact_events
       auto e = make_engine(c.name,
                            parse_scene(validation::bounce_scene(dim, 50.0, "restitution = 0.7"), "<events>"));
       e->track_contacts(true);
@@ -231,6 +230,69 @@ TEST(ContactEvents, OneBounceGivesOneEventWithTheMomentumChange) {
       const double skin = diag.count("edge_skin_cm") ? diag.at("edge_skin_cm") : 0.0;
       EXPECT_NEAR(ev.t_begin, (0.05 - skin) / 50.0, 2e-5) << c.name << " " << dim << "-D";
       EXPECT_GT(ev.peak_force, 0);
+    }
+}
+
+// The native 2-D kernels report what they apply, under both integrators: two discs meeting head-on
+// (the fast pair kernel) and a square landing flat on a wall (two vertex contacts summed into one pair).
+// The normal keeps its direction in both, so the event's impulse is exactly the momentum transferred.
+TEST(ContactEvents, Native2dImpulseIsTheMomentumTransferred) {
+  const std::string discs = R"toml(
+[[bodies]]
+radius = 1.0
+density = 2.0
+position = [-1.5, 0.0]
+velocity = [40.0, 0.0]
+[[bodies]]
+radius = 1.0
+density = 2.0
+position = [1.5, 0.0]
+velocity = [-40.0, 0.0]
+)toml";
+  const std::string square = R"toml(
+[[walls]]
+type = "line"
+point = [2.5, 0.0]
+normal = [-1.0, 0.0]
+[[bodies]]
+shape = "polygon"
+vertices = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+density = 2.0
+position = [0.0, 0.0]
+velocity = [40.0, 0.0]
+)toml";
+  for (const char* integrator : {"verlet", "predictor-corrector"})
+    for (const bool pair : {true, false}) {
+      const std::string toml = fmt::format(R"toml(
+[scene]
+duration = 0.1
+effects = ["normal_contact"]
+[accuracy]
+integrator = "{}"
+dt = 1e-5
+tolerance = 1e-5
+[materials.m]
+k_n = 1e6
+restitution = 0.6
+)toml",
+                                           integrator) +
+                               (pair ? discs : square);
+      auto e = make_engine("native", parse_scene(toml, "<events>"));
+      e->track_contacts(true);
+      e->advance_to(0.1);
+      const auto events = e->contact_events();
+      const std::string what = std::string(integrator) + (pair ? " discs" : " square on a wall");
+      ASSERT_EQ(events.size(), 1u) << what;
+      EXPECT_EQ(events[0].body_a, pair ? 1 : 0) << what;
+      EXPECT_EQ(events[0].body_b, pair ? 0 : -1) << what;
+      EXPECT_FALSE(events[0].open) << what;
+      const double mass = pair ? 2.0 * M_PI : 8.0;
+      const double transferred = mass * (40.0 - e->frame().velocity[0]);  // body 0's loss of x-momentum
+      EXPECT_NEAR(events[0].normal_impulse, transferred, 1e-9 * transferred) << what;
+      // Two equal discs: each receives (m/2) 2 v (1 + e), the scene's restitution (eq. 2.2).
+      if (pair) {
+        EXPECT_NEAR(transferred, mass * 40.0 * 1.6, 0.01 * mass * 40.0 * 1.6) << what;
+      }
     }
 }
 

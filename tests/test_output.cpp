@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -87,4 +88,47 @@ TEST(Command, BadInputExitsTwoAndWritesNothing) {
   EXPECT_TRUE(fs::is_empty(d.path / "bad.toml") == false);
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(d.path / "r"));
+}
+
+namespace {
+std::vector<double> read_doubles(hid_t f, const char* path) {
+  hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
+  hid_t s = H5Dget_space(d);
+  std::vector<double> v(static_cast<std::size_t>(H5Sget_simple_extent_npoints(s)));
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(s), H5Dclose(d);
+  return v;
+}
+}  // namespace
+
+// [output] contacts = true: the Table 2.1 collision is one event whose impulse is each grain's momentum
+// change m v (1 + eps) with the thesis's eps = 0.6706, beginning when the 0.2 cm gap has closed.
+TEST(Command, ContactEventsAreWrittenWhenAsked) {
+  TempDir d;
+  const fs::path out = d.path / "pair.h5";
+  ASSERT_EQ(grainlab("run " + kScene + " --quiet --set output.contacts=true --out " + out.string()), 0);
+  hid_t f = H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  ASSERT_GT(H5Lexists(f, "/contact_events", H5P_DEFAULT), 0);
+  const auto a = read_doubles(f, "/contact_events/body_a"), b = read_doubles(f, "/contact_events/body_b");
+  const auto begin = read_doubles(f, "/contact_events/t_begin"),
+             open = read_doubles(f, "/contact_events/open");
+  const auto impulse = read_doubles(f, "/contact_events/normal_impulse");
+  H5Fclose(f);
+  ASSERT_EQ(impulse.size(), 1u);
+  EXPECT_EQ(a[0], 1);
+  EXPECT_EQ(b[0], 0);
+  EXPECT_EQ(open[0], 0);
+  const double m = 2.0 * M_PI;
+  EXPECT_NEAR(impulse[0], m * 50.0 * (1 + 0.67064), 0.005 * m * 50.0 * 1.67064);
+  // t_begin is the start of the step in which the gap closed (steps are at most dt_max = 1e-4 s).
+  EXPECT_LE(begin[0], 0.2 / 100.0);
+  EXPECT_GT(begin[0], 0.2 / 100.0 - 1e-4);
+
+  // Not asked: no group.
+  const fs::path plain = d.path / "plain.h5";
+  ASSERT_EQ(grainlab("run " + kScene + " --quiet --out " + plain.string()), 0);
+  f = H5Fopen(plain.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_EQ(H5Lexists(f, "/contact_events", H5P_DEFAULT), 0);
+  H5Fclose(f);
 }
