@@ -257,9 +257,9 @@ class SceneReader {
     a.velocity_iterations = static_cast<int>(r.integer_or("velocity_iterations", 8, 1, 100000));
     a.position_iterations = static_cast<int>(r.integer_or("position_iterations", 3, 0, 100000));
     a.substeps = static_cast<int>(r.integer_or("substeps", 1, 1, 100000));
-    a.stepper = r.string_or("stepper", "step");
-    if (a.stepper != "step" && a.stepper != "quick")
-      r.fail("stepper", "must be \"step\" or \"quick\", found \"" + a.stepper + "\"");
+    a.stepper = r.string_or("stepper", "auto");
+    if (a.stepper != "step" && a.stepper != "quick" && a.stepper != "auto")
+      r.fail("stepper", "must be \"step\", \"quick\" or \"auto\", found \"" + a.stepper + "\"");
     a.erp = r.optional_number("erp", Range::closed(0, 1));
     a.cfm = r.optional_number("cfm", Range::non_negative());
     a.split_impulse = r.boolean_or("split_impulse", true);

@@ -59,8 +59,9 @@ struct Accuracy {
   std::optional<double> skin;  // neighbour-list skin (length); default 0.25 x smallest grain radius
   // Impulse engines (docs/engines.md): solver iterations and sub-steps per dt.
   int velocity_iterations = 8, position_iterations = 3, substeps = 1;
-  std::string stepper =
-      "step";  // ODE: "step" (dWorldStep, direct LCP) or "quick" (dWorldQuickStep, iterative)
+  // ODE: "step" (dWorldStep, direct LCP), "quick" (dWorldQuickStep, iterative) or "auto": step for
+  // few-body scenes, quick beyond (dWorldStep's dense LCP grows as the cube of the contact count).
+  std::string stepper = "auto";
   // Penetration feedback of the impulse engines (docs/engines.md): ODE's and Bullet's error reduction
   // parameter, ODE's constraint force mixing, Bullet's split impulse. Unset: the engine's default.
   std::optional<double> erp, cfm;

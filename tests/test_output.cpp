@@ -8,6 +8,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "engine.hpp"
+#include "scene.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -23,7 +26,7 @@ struct TempDir {
   ~TempDir() { fs::remove_all(path); }
 };
 
-int grainlab(const std::string& args) {
+int run_grainlab(const std::string& args) {
   const int status = std::system((std::string(GRAINLAB_BINARY) + " " + args + " > /dev/null 2>&1").c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -44,7 +47,7 @@ const std::string kScene = std::string(GRAINLAB_SOURCE_DIR) + "/scenes/two_disc_
 TEST(Command, RunWritesHdf5WithMetadataAndXdmf) {
   TempDir d;
   const fs::path out = d.path / "pair.h5";
-  ASSERT_EQ(grainlab("run " + kScene + " --quiet --out " + out.string()), 0);
+  ASSERT_EQ(run_grainlab("run " + kScene + " --quiet --out " + out.string()), 0);
   ASSERT_TRUE(fs::exists(out));
   ASSERT_TRUE(fs::exists(d.path / "pair.xmf"));
   hid_t f = H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -68,9 +71,9 @@ TEST(Command, ExistingOutputIsNotOverwrittenWithoutForce) {
   TempDir d;
   const fs::path out = d.path / "pair.h5";
   { std::ofstream(out) << "keep me"; }
-  EXPECT_EQ(grainlab("run " + kScene + " --quiet --out " + out.string()), 2);
+  EXPECT_EQ(run_grainlab("run " + kScene + " --quiet --out " + out.string()), 2);
   EXPECT_EQ(fs::file_size(out), 7u);
-  EXPECT_EQ(grainlab("run " + kScene + " --quiet --force --out " + out.string()), 0);
+  EXPECT_EQ(run_grainlab("run " + kScene + " --quiet --force --out " + out.string()), 0);
   EXPECT_GT(fs::file_size(out), 7u);
 }
 
@@ -79,12 +82,12 @@ TEST(Command, BadInputExitsTwoAndWritesNothing) {
   const fs::path out = d.path / "x.h5";
   const fs::path bad = d.path / "bad.toml";
   { std::ofstream(bad) << "[scene]\nduration = -1\neffects = []\n"; }
-  EXPECT_EQ(grainlab("run " + bad.string() + " --quiet --out " + out.string()), 2);
-  EXPECT_EQ(grainlab("run " + kScene + " --quiet --set scene.duration=abc --out " + out.string()), 2);
-  EXPECT_EQ(grainlab("run " + kScene + " --quiet --set accuracy.dt=0 --out " + out.string()), 2);
-  EXPECT_EQ(grainlab("run " + (d.path / "missing.toml").string() + " --quiet"), 2);
-  EXPECT_EQ(grainlab("bench bed --nx 0"), 2);
-  EXPECT_EQ(grainlab("validate --suite no-such-suite --out " + (d.path / "r").string()), 2);
+  EXPECT_EQ(run_grainlab("run " + bad.string() + " --quiet --out " + out.string()), 2);
+  EXPECT_EQ(run_grainlab("run " + kScene + " --quiet --set scene.duration=abc --out " + out.string()), 2);
+  EXPECT_EQ(run_grainlab("run " + kScene + " --quiet --set accuracy.dt=0 --out " + out.string()), 2);
+  EXPECT_EQ(run_grainlab("run " + (d.path / "missing.toml").string() + " --quiet"), 2);
+  EXPECT_EQ(run_grainlab("bench bed --nx 0"), 2);
+  EXPECT_EQ(run_grainlab("validate --suite no-such-suite --out " + (d.path / "r").string()), 2);
   EXPECT_TRUE(fs::is_empty(d.path / "bad.toml") == false);
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(d.path / "r"));
@@ -106,7 +109,7 @@ std::vector<double> read_doubles(hid_t f, const char* path) {
 TEST(Command, ContactEventsAreWrittenWhenAsked) {
   TempDir d;
   const fs::path out = d.path / "pair.h5";
-  ASSERT_EQ(grainlab("run " + kScene + " --quiet --set output.contacts=true --out " + out.string()), 0);
+  ASSERT_EQ(run_grainlab("run " + kScene + " --quiet --set output.contacts=true --out " + out.string()), 0);
   hid_t f = H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(f, 0);
   ASSERT_GT(H5Lexists(f, "/contact_events", H5P_DEFAULT), 0);
@@ -127,8 +130,48 @@ TEST(Command, ContactEventsAreWrittenWhenAsked) {
 
   // Not asked: no group.
   const fs::path plain = d.path / "plain.h5";
-  ASSERT_EQ(grainlab("run " + kScene + " --quiet --out " + plain.string()), 0);
+  ASSERT_EQ(run_grainlab("run " + kScene + " --quiet --out " + plain.string()), 0);
   f = H5Fopen(plain.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   EXPECT_EQ(H5Lexists(f, "/contact_events", H5P_DEFAULT), 0);
   H5Fclose(f);
+}
+
+// Every scene shipped in scenes/ runs on every engine whose capabilities cover it (shortened to 0.01 s
+// of scene time), and any other engine refuses it with exit status 2 and a message naming itself.
+TEST(Command, EveryShippedSceneRunsWhereSupportedAndIsRefusedClearlyElsewhere) {
+  TempDir d;
+  int runs = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(GRAINLAB_SOURCE_DIR) / "scenes")) {
+    if (entry.path().extension() != ".toml") continue;
+    const grainlab::Scene scene = grainlab::load_scene(entry.path().string());
+    for (const grainlab::Capabilities& c : grainlab::engine_catalog()) {
+      bool supported = true;
+      try {
+        grainlab::check_engine_supports(c, scene);
+      } catch (const std::exception&) {
+        supported = false;
+      }
+      const std::string what = c.name + " on " + entry.path().filename().string();
+      EXPECT_TRUE(supported || c.name != "native") << what;
+      const fs::path out = d.path / (c.name + "-" + entry.path().stem().string() + ".h5");
+      const fs::path err = d.path / "stderr.txt";
+      const int status = std::system((std::string(GRAINLAB_BINARY) + " run " + entry.path().string() +
+                                      " --engine " + c.name + " --quiet --set scene.duration=0.01 --out " +
+                                      out.string() + " > /dev/null 2> " + err.string())
+                                         .c_str());
+      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      std::ifstream in(err);
+      const std::string message((std::istreambuf_iterator<char>(in)), {});
+      if (supported) {
+        EXPECT_EQ(code, 0) << what << ": " << message;
+        EXPECT_TRUE(fs::exists(out)) << what;
+        ++runs;
+      } else {
+        EXPECT_EQ(code, 2) << what;
+        EXPECT_NE(message.find(c.name), std::string::npos) << what << ": " << message;
+        EXPECT_FALSE(fs::exists(out)) << what;
+      }
+    }
+  }
+  EXPECT_GE(runs, 10);  // the engines do run most of the shipped scenes
 }
