@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bed_benchmark.hpp"
+#include "die_model_command.hpp"
 #include "engine.hpp"
 #include "input_error.hpp"
 #include "progress.hpp"
@@ -142,6 +143,16 @@ int main(int argc, char** argv) {
   CLI::App* engines_cmd = app.add_subcommand("engines", "list the engines and what each can simulate");
   engines_cmd->add_flag("--json", engines_json, "machine-readable");
 
+  cli::DieModelArgs die;
+  CLI::App* die_cmd = app.add_subcommand(
+      "die-model", "the thesis's loaded 2-D die model (Appendix II.1): probability p_h of a high face up");
+  die_cmd->add_option("--f", die.f, "loading: fraction of the way from centre to corner, in [0, 1)")
+      ->default_val(0.2);
+  die_cmd->add_option("--eps", die.eps, "die-plane coefficient of restitution, in [0, 1)")->default_val(0.7);
+  die_cmd->add_flag("--json", die.json, "machine-readable");
+  die_cmd->add_option("--plot", die.plot_dir,
+                      "also write p_h(f) for several eps (Fig. 2.7) into this folder");
+
   bench::BedOptions bed;
   CLI::App* bench_cmd = app.add_subcommand("bench", "benchmarks");
   bench_cmd->require_subcommand(1);
@@ -182,6 +193,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run);
     if (*val) return validate_command(suites, report_dir, quick, vquiet);
     if (*engines_cmd) return engines_command(engines_json);
+    if (*die_cmd) return cli::die_model_command(die);
     if (*bed_cmd) return bench::run_bed_command(bed);
   } catch (const InputError& e) {
     fmt::print(stderr, "grainlab: error: {}\n", e.what());

@@ -1,0 +1,57 @@
+// The loaded-die model of thesis Appendix II.1 against the geometry of the die itself.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "die_model.hpp"
+
+using namespace grainlab::validation;
+
+// A fair die has no preference whatever the restitution (the thesis: p_h = 1/2).
+TEST(DieModel, FairDieIsFair) {
+  for (double eps : {0.0, 0.3, 0.7, 0.99}) {
+    EXPECT_DOUBLE_EQ(die_model(0, eps, DieModelVariant::Printed).p_h, 0.5);
+    EXPECT_DOUBLE_EQ(die_model(0, eps, DieModelVariant::Geometric).p_h, 0.5);
+  }
+}
+
+// The barriers are the heights the centre of mass climbs when the die pivots over each corner: with
+// half-side a = 1 and the centre of mass at (f, f), a low face is 1 - f below it and a high face 1 + f;
+// the corners are sqrt2 (1 - f), sqrt2 sqrt(1 + f^2) and sqrt2 (1 + f) away.
+TEST(DieModel, BarriersAreTheGeometryOfTheDie) {
+  for (double f : {0.1, 0.25, 0.5}) {
+    const double cx = f, cy = f;
+    auto dist = [&](double x, double y) { return std::hypot(x - cx, y - cy); };
+    const double low_rest = 1 - f, high_rest = 1 + f;
+    const DieModel g = die_model(f, 0.7, DieModelVariant::Geometric);
+    EXPECT_NEAR(g.e_low, dist(1, 1) - low_rest, 1e-14);
+    EXPECT_NEAR(g.e_mid, dist(1, -1) - low_rest, 1e-14);
+    EXPECT_NEAR(g.e_high, dist(-1, -1) - low_rest, 1e-14);
+    EXPECT_NEAR(g.high_well, high_rest - low_rest, 1e-14);
+    // As printed, E_l and E_M are these, but the high-face wells sit at f and E_h is f lower.
+    const DieModel p = die_model(f, 0.7, DieModelVariant::Printed);
+    EXPECT_DOUBLE_EQ(p.e_low, g.e_low);
+    EXPECT_DOUBLE_EQ(p.e_mid, g.e_mid);
+    EXPECT_NEAR(g.e_high - p.e_high, f, 1e-14);
+    EXPECT_NEAR(p.high_well, f, 1e-14);
+  }
+}
+
+// Eq. 2.A.2's worked example: with E_l = 0.29, E_M = 0.78 (f = 0.3), eps = 0.9, the 90 deg window is
+// min(E_M / eps^2, E_l / eps^4) - E_l.
+TEST(DieModel, NinetyDegreeWindowIsEq2A2) {
+  const DieModel d = die_model(0.3, 0.9, DieModelVariant::Printed);
+  const double e2 = 0.81;
+  EXPECT_NEAR(d.window[1], std::min(d.e_mid / e2, d.e_low / (e2 * e2)) - d.e_low, 1e-12);
+  EXPECT_NEAR(d.window[0], std::max(0.0, d.e_low / e2 - d.e_mid), 1e-12);  // closed here: 0
+}
+
+// With the die's own potential, a loaded die lands low face down (high face up) more often, and more so
+// the less energy each collision takes: the thesis's physical reading.
+TEST(DieModel, GeometricModelFavoursTheLowFacesMoreAsEpsRises) {
+  for (double f : {0.1, 0.3, 0.5}) {
+    EXPECT_GT(die_model(f, 0.3, DieModelVariant::Geometric).p_h, 0.5);
+    EXPECT_GE(die_model(f, 0.9, DieModelVariant::Geometric).p_h,
+              die_model(f, 0.3, DieModelVariant::Geometric).p_h);
+  }
+}
