@@ -37,8 +37,8 @@ validation::Report figure_2_7() {
       "2 f m_d g a, a the half-side). Made by `grainlab die-model --plot DIR`.\n\n"
       "| eps | f | p_h printed | p_h geometric |\n|---|---|---|---|\n";
   for (const double eps : {0.1, 0.5, 0.7, 0.9, 0.99}) {
-    validation::PlotSpec::Series printed{fmt::format("eps {} printed", eps), "dashed", {}, {}};
-    validation::PlotSpec::Series geometric{fmt::format("eps {} geometric", eps), "line", {}, {}};
+    validation::PlotSpec::Series printed{fmt::format("eps {} printed", eps), "dashed", {}, {}, {}};
+    validation::PlotSpec::Series geometric{fmt::format("eps {} geometric", eps), "line", {}, {}, {}};
     for (int k = 0; k <= 50; ++k) {
       const double f = 0.6 * k / 50;
       printed.x.push_back(f), geometric.x.push_back(f);

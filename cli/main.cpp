@@ -10,6 +10,7 @@
 #include "die_model_command.hpp"
 #include "engine.hpp"
 #include "input_error.hpp"
+#include "parallel.hpp"
 #include "progress.hpp"
 #include "scene.hpp"
 #include "suites.hpp"
@@ -70,11 +71,23 @@ int validate_command(std::vector<std::string> names, const std::string& out, boo
   validation::Report report;
   validation::SuiteOptions opt;
   opt.quick = quick;
-  if (!quiet) opt.log = [](const std::string& line) { fmt::print(stderr, "  {}\n", line); };
+  // Under mpirun every rank runs the suites (ensembles are dealt out over the ranks); rank 0 speaks and
+  // writes the report.
+  const bool speak = !quiet && parallel::rank() == 0;
+  cli::ProgressBar bar(speak, "runs");
+  if (speak) {
+    opt.log = [&bar](const std::string& line) {
+      bar.finish();
+      fmt::print(stderr, "  {}\n", line);
+    };
+    opt.progress = [&bar](std::size_t done, std::size_t total) { bar.update(double(done), double(total)); };
+  }
   for (const auto* s : chosen) {
-    if (!quiet) fmt::print(stderr, "suite {}: {}\n", s->name, s->description);
+    if (speak) fmt::print(stderr, "suite {}: {}\n", s->name, s->description);
     s->run(report, opt);
   }
+  bar.finish();
+  if (parallel::rank() != 0) return report.passed() ? 0 : 1;
   validation::write_report(report, out);
   int failed = 0, limited = 0;
   for (const auto& c : report.checks)
@@ -114,6 +127,10 @@ int engines_command(bool json) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  parallel::init_if_launched(&argc, &argv);
+  struct Finalize {
+    ~Finalize() { parallel::finalize(); }
+  } finalize_mpi;
   CLI::App app{"grainlab: grain-scale physics of wind-blown sand (Werner 1987), checked across engines"};
   app.require_subcommand(1);
   app.set_version_flag("--version", GRAINLAB_VERSION);

@@ -11,19 +11,27 @@ namespace grainlab::cli {
 
 class ProgressBar {
  public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO)) {}
+  // unit: "" shows done as a time in seconds; otherwise as a count ("runs").
+  explicit ProgressBar(bool enabled, std::string unit = "")
+      : enabled_(enabled && ::isatty(STDERR_FILENO)), unit_(std::move(unit)) {}
   ~ProgressBar() { finish(); }
 
+  // A `done` below the last one starts a new task: the clock (and the estimate of time left) restarts.
   void update(double done, double total) {
     if (!enabled_) return;
+    if (done < last_done_) start_ = clock::now();
+    last_done_ = done;
     const double elapsed = seconds_since(start_);
     if (elapsed < 1.0 || seconds_since(last_) < 0.1) return;
     last_ = clock::now();
     const double f = total > 0 ? std::min(1.0, done / total) : 1.0;
     const int width = 30, filled = static_cast<int>(f * width);
     const double left = f > 0 ? elapsed * (1 - f) / f : 0;
-    std::fprintf(stderr, "\r[%s%s] %5.1f%%  t = %.4g s  elapsed %s  left %s ",
-                 std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), 100 * f, done,
+    const std::string where = unit_.empty()
+                                  ? fmt_number("t = %.4g s", done)
+                                  : fmt_number("%.0f", done) + fmt_number(" of %.0f ", total) + unit_;
+    std::fprintf(stderr, "\r[%s%s] %5.1f%%  %s  elapsed %s  left %s ", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), 100 * f, where.c_str(),
                  clock_text(elapsed).c_str(), clock_text(left).c_str());
     drawn_ = true;
   }
@@ -37,6 +45,11 @@ class ProgressBar {
   static double seconds_since(clock::time_point t) {
     return std::chrono::duration<double>(clock::now() - t).count();
   }
+  static std::string fmt_number(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+  }
   static std::string clock_text(double s) {
     char buf[32];
     const int h = static_cast<int>(s / 3600), m = static_cast<int>(s / 60) % 60,
@@ -48,6 +61,8 @@ class ProgressBar {
     return buf;
   }
   bool enabled_;
+  std::string unit_;
+  double last_done_ = 0;
   bool drawn_ = false;
   clock::time_point start_ = clock::now(), last_ = clock::now() - std::chrono::seconds(1);
 };

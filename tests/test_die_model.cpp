@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "die_model.hpp"
+#include "ensemble.hpp"
+#include "loaded_die.hpp"
 
 using namespace grainlab::validation;
 
@@ -53,5 +55,29 @@ TEST(DieModel, GeometricModelFavoursTheLowFacesMoreAsEpsRises) {
     EXPECT_GT(die_model(f, 0.3, DieModelVariant::Geometric).p_h, 0.5);
     EXPECT_GE(die_model(f, 0.9, DieModelVariant::Geometric).p_h,
               die_model(f, 0.3, DieModelVariant::Geometric).p_h);
+  }
+}
+
+
+// The 95 % Wilson interval for 50 of 100 is [0.4038, 0.5962]; for 0 of 10 it is [0, 0.2775].
+TEST(Ensemble, WilsonIntervalKnownValues) {
+  const Proportion half = wilson_interval(50, 100);
+  EXPECT_NEAR(half.lo, 0.40383, 1e-5);
+  EXPECT_NEAR(half.hi, 0.59617, 1e-5);
+  const Proportion none = wilson_interval(0, 10);
+  EXPECT_DOUBLE_EQ(none.lo, 0.0);
+  EXPECT_NEAR(none.hi, 0.27753, 1e-5);
+  EXPECT_EQ(throws_for_half_width(0.5, 0.02), 2401);
+}
+
+// A throw's outcome depends on (seed, index) alone: the same throw twice is the same, and a fair die
+// thrown on the native engine is captured by a face.
+TEST(Ensemble, ThrowsAreReproducible) {
+  for (std::size_t i : {0u, 7u}) {
+    const DieThrow a = throw_die_2d("native", Die2d{0.0, 0.7, 0.8}, 5, i),
+                   b = throw_die_2d("native", Die2d{0.0, 0.7, 0.8}, 5, i);
+    EXPECT_EQ(a.face_down, b.face_down);
+    EXPECT_EQ(a.time, b.time);
+    EXPECT_GE(a.face_down, 0);
   }
 }

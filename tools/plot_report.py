@@ -20,7 +20,11 @@ STYLES = {"line": dict(linestyle="-", marker=None), "dashed": dict(linestyle="--
 def draw(spec, folder):
     fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
     for s in spec["series"]:
-        ax.plot(s["x"], s["y"], label=s["label"], **STYLES.get(s["style"], STYLES["line"]))
+        style = STYLES.get(s["style"], STYLES["line"])
+        if s.get("err"):
+            ax.errorbar(s["x"], s["y"], yerr=s["err"], label=s["label"], capsize=3, **style)
+        else:
+            ax.plot(s["x"], s["y"], label=s["label"], **style)
     if spec.get("logx"):
         ax.set_xscale("log")
     ax.set_title(spec["title"])

@@ -87,7 +87,7 @@ std::string plots_json(const Report& r) {
   for (const PlotSpec& p : r.plots) {
     nlohmann::json s = nlohmann::json::array();
     for (const auto& ser : p.series)
-      s.push_back({{"label", ser.label}, {"style", ser.style}, {"x", ser.x}, {"y", ser.y}});
+      s.push_back({{"label", ser.label}, {"style", ser.style}, {"x", ser.x}, {"y", ser.y}, {"err", ser.err}});
     j.push_back({{"file", p.file},
                  {"title", p.title},
                  {"xlabel", p.xlabel},

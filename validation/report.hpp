@@ -31,6 +31,7 @@ struct PlotSpec {
   struct Series {
     std::string label, style;  // style: "line", "points", "dashed"
     std::vector<double> x, y;
+    std::vector<double> err;  // optional: half-width of each point's interval (drawn as error bars)
   };
   std::vector<Series> series;
 };

@@ -9,6 +9,10 @@ const std::vector<Suite>& suites() {
        run_thesis_code_suite},
       {"single-body", "one body, analytic answers, on every engine: free flight, bounce, incline, rolling",
        run_single_body_suite},
+      {"loaded-die",
+       "the thesis's loaded 2-D die on every engine: p_h against loading and restitution, beside Appendix "
+       "II.1",
+       run_loaded_die_suite},
   };
   return all;
 }

@@ -10,8 +10,9 @@
 namespace grainlab::validation {
 
 struct SuiteOptions {
-  bool quick = false;                           // smaller versions for CI
-  std::function<void(const std::string&)> log;  // progress lines
+  bool quick = false;                                                 // smaller versions for CI
+  std::function<void(const std::string&)> log;                        // progress lines
+  std::function<void(std::size_t done, std::size_t total)> progress;  // runs of an ensemble
 };
 
 struct Suite {
@@ -24,6 +25,7 @@ const Suite* find_suite(const std::string& name);
 
 void run_thesis_code_suite(Report& r, const SuiteOptions& o);
 void run_single_body_suite(Report& r, const SuiteOptions& o);
+void run_loaded_die_suite(Report& r, const SuiteOptions& o);
 // The 3-D single-body checks on one engine; appends a row to the markdown table `md`.
 void single_body_3d_checks(Report& r, const std::string& engine, std::string& md);
 // g in cm/s^2, as the thesis and the analytic references use it.

@@ -21,9 +21,9 @@ void table21(Report& r, const SuiteOptions& o) {
                 "coefficient of restitution",
                 true,
                 {}};
-  PlotSpec::Series tight{"grainlab, tolerance 1e-6", "points", {}, {}},
-      loose{"grainlab, tolerance 0.005 (thesis)", "points", {}, {}}, th{"thesis measured", "points", {}, {}},
-      eq{"eq. 2.2", "dashed", {}, {}};
+  PlotSpec::Series tight{"grainlab, tolerance 1e-6", "points", {}, {}, {}},
+      loose{"grainlab, tolerance 0.005 (thesis)", "points", {}, {}, {}},
+      th{"thesis measured", "points", {}, {}, {}}, eq{"eq. 2.2", "dashed", {}, {}, {}};
   std::string md =
       "## Table 2.1: restitution of two colliding discs\n\n"
       "r = 1 cm, 2-D density 2 g/cm^2, k_n = 5.0e6 dyn/cm, damping coefficient 1000 g/s "
@@ -88,7 +88,7 @@ void conservation(Report& r, const SuiteOptions& o) {
                  "no walls: |P_end - P_0| / sum m|v| at round-off");
   PlotSpec plot{
       "energy_drift.png", "Elastic gas: total energy (Verlet)", "time (s)", "(E - E0) / E0", false, {}};
-  PlotSpec::Series s{"200 discs in a box", "line", box.times, {}};
+  PlotSpec::Series s{"200 discs in a box", "line", box.times, {}, {}};
   for (double e : box.energies) s.y.push_back(e / box.energies.front() * (1 + 0) - 1);
   plot.series = {s};
   r.plots.push_back(plot);
@@ -116,8 +116,8 @@ void sorting(Report& r, const SuiteOptions& o) {
                      "shaking cycles",
                      "fraction of small discs below the large one",
                      false,
-                     {{"friction mu = 0.5", "line", s.cycles, s.large_height_rank},
-                      {"frictionless", "dashed", smooth.cycles, smooth.large_height_rank}}});
+                     {{"friction mu = 0.5", "line", s.cycles, s.large_height_rank, {}},
+                      {"frictionless", "dashed", smooth.cycles, smooth.large_height_rank, {}}}});
   r.markdown.push_back(fmt::format(
       "## Sorting (Fig. 2.11)\n\n30 discs r = 0.5 cm and one r = 1 cm in a gold pan (4 cm flat bottom, 45 "
       "degree "

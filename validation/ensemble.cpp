@@ -1,0 +1,47 @@
+#include "ensemble.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "parallel.hpp"
+
+namespace grainlab::validation {
+
+std::vector<std::vector<double>> run_ensemble(std::size_t runs, std::size_t width,
+                                              const std::function<std::vector<double>(std::size_t)>& run,
+                                              const EnsembleProgress& progress) {
+  const std::size_t rank = parallel::rank(), ranks = parallel::size();
+  std::vector<double> table(runs * width, 0.0);  // zeros from the other ranks: the sum is exact
+  std::size_t done = 0;
+  for (std::size_t i = rank; i < runs; i += ranks) {
+    const std::vector<double> row = run(i);
+    if (row.size() != width) throw std::logic_error("ensemble run returned the wrong number of values");
+    for (std::size_t c = 0; c < width; ++c) table[i * width + c] = row[c];
+    ++done;
+    if (progress) progress(std::min(runs, done * ranks), runs);  // this rank's share, scaled
+  }
+  parallel::sum_all(table);
+  std::vector<std::vector<double>> rows(runs);
+  for (std::size_t i = 0; i < runs; ++i)
+    rows[i].assign(table.begin() + static_cast<std::ptrdiff_t>(i * width),
+                   table.begin() + static_cast<std::ptrdiff_t>((i + 1) * width));
+  return rows;
+}
+
+Proportion wilson_interval(std::size_t k, std::size_t n) {
+  Proportion r;
+  r.k = k, r.n = n;
+  if (n == 0) return r;
+  const double z = 1.959963984540054, nn = static_cast<double>(n), p = k / nn;
+  const double centre = (p + z * z / (2 * nn)) / (1 + z * z / nn);
+  const double half = z / (1 + z * z / nn) * std::sqrt(p * (1 - p) / nn + z * z / (4 * nn * nn));
+  r.p = p, r.lo = std::max(0.0, centre - half), r.hi = std::min(1.0, centre + half);
+  return r;
+}
+
+double throws_for_half_width(double p, double h) {
+  const double z = 1.959963984540054;
+  return std::ceil(z * z * p * (1 - p) / (h * h));
+}
+
+}  // namespace grainlab::validation

@@ -1,0 +1,29 @@
+#pragma once
+// Ensembles of independent runs. Run i draws its initial conditions from Rng(seed, i), so its result
+// depends on i alone; under mpirun the runs are dealt out over the ranks (rank r takes i = r, r + size,
+// ...) and gathered, so the table is the same on any number of ranks, and with none.
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+namespace grainlab::validation {
+
+using EnsembleProgress = std::function<void(std::size_t done, std::size_t total)>;
+
+// run(i) returns `width` numbers for run i; the result has one row per run, in run order, on every rank.
+std::vector<std::vector<double>> run_ensemble(std::size_t runs, std::size_t width,
+                                              const std::function<std::vector<double>(std::size_t)>& run,
+                                              const EnsembleProgress& progress = {});
+
+// A proportion k / n with its 95 % Wilson score interval.
+struct Proportion {
+  std::size_t k = 0, n = 0;
+  double p = 0, lo = 0, hi = 1;
+  double half_width() const { return (hi - lo) / 2; }
+};
+Proportion wilson_interval(std::size_t k, std::size_t n);
+
+// Throws needed for a 95 % interval of half-width h on a proportion near p (normal approximation).
+double throws_for_half_width(double p, double h);
+
+}  // namespace grainlab::validation

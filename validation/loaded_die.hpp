@@ -1,0 +1,33 @@
+#pragma once
+// The thesis's loaded 2-D die thrown onto a plane (Ch. II section 4): a square of half-side 1 cm whose
+// centre of mass is moved a fraction f of the way to a corner, thrown with random orientation, height,
+// speed and spin, followed until it is captured by one face.
+#include <cstdint>
+#include <string>
+
+namespace grainlab::validation {
+
+struct Die2d {
+  double f = 0;      // loading: centre of mass at (f, f) cm from the centre of the 2 x 2 cm square
+  double eps = 0.7;  // die-plane restitution
+  double mu = 0.8;   // die-plane friction (the model assumes the die rolls rather than slides)
+};
+
+// The scene of one throw (TOML). Faces, counter-clockwise from the bottom one as written: 0 (y = -1) and
+// 3 (x = -1) are the high faces (far from the centre of mass), 1 (x = +1) and 2 (y = +1) the low faces.
+std::string die_scene_2d(const Die2d& die, double angle, double height, double vx, double spin);
+
+struct DieThrow {
+  int face_down = -1;  // 0..3, or -1 if not captured within the time limit
+  double time = 0;     // when it was captured (s)
+  bool high_face_up() const { return face_down == 1 || face_down == 2; }
+};
+
+// Throw number `index` of the ensemble `seed` on `engine`. Initial conditions come from Rng(seed, index):
+// orientation uniform in [0, 2 pi), centre of mass 3-5 cm above the plane, horizontal speed within
+// +-50 cm/s, spin within +-20 rad/s. Captured: the energy above the rest state of the face the die is
+// over is below half the lowest barrier out of that face's well, so (energy not rising) it can no
+// longer tip to another face; docs/validation.md explains why this is exact.
+DieThrow throw_die_2d(const std::string& engine, const Die2d& die, std::uint64_t seed, std::size_t index);
+
+}  // namespace grainlab::validation
