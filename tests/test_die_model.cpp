@@ -58,7 +58,6 @@ TEST(DieModel, GeometricModelFavoursTheLowFacesMoreAsEpsRises) {
   }
 }
 
-
 // The 95 % Wilson interval for 50 of 100 is [0.4038, 0.5962]; for 0 of 10 it is [0, 0.2775].
 TEST(Ensemble, WilsonIntervalKnownValues) {
   const Proportion half = wilson_interval(50, 100);
@@ -79,5 +78,32 @@ TEST(Ensemble, ThrowsAreReproducible) {
     EXPECT_EQ(a.face_down, b.face_down);
     EXPECT_EQ(a.time, b.time);
     EXPECT_GE(a.face_down, 0);
+  }
+}
+
+// The drilled die: removing more mass from the faces with more pips moves the centre of mass toward
+// the one (-z), the two (-y) and the three (-x), in proportion to 6 - 1, 5 - 2 and 4 - 3 pips.
+TEST(LoadedDie3d, DrilledDieLeansTowardTheOne) {
+  const Die3d d = drilled_die(0.5, 0.8);
+  EXPECT_LT(d.com[2], 0);
+  EXPECT_LT(d.com[1], 0);
+  EXPECT_LT(d.com[0], 0);
+  EXPECT_NEAR(d.com[2] / d.com[0], 5.0, 1e-9);
+  EXPECT_NEAR(d.com[1] / d.com[0], 3.0, 1e-9);
+  EXPECT_NEAR(d.mass, 16.0 - 21 * 2.0 * M_PI * 0.15 * 0.15 * 0.06, 1e-12);
+  EXPECT_EQ(die_value(0, 0, -1), 1);
+  EXPECT_EQ(die_value(0, 0, 1), 6);
+  EXPECT_EQ(die_value(-1, 0, 0) + die_value(1, 0, 0), 7);
+}
+
+// Every 3-D engine captures a thrown cube on a face, and the same throw gives the same face twice.
+TEST(LoadedDie3d, ThrowsAreCapturedAndReproducible) {
+  for (const char* engine : {"native", "ode", "bullet"}) {
+    const Die3d fair;
+    const DieThrow3d a = throw_die_3d(engine, fair, 3, 1), b = throw_die_3d(engine, fair, 3, 1);
+    EXPECT_GE(a.value_up, 1) << engine;
+    EXPECT_LE(a.value_up, 6) << engine;
+    EXPECT_EQ(a.value_up, b.value_up) << engine;
+    EXPECT_EQ(a.time, b.time) << engine;
   }
 }

@@ -31,3 +31,37 @@ struct DieThrow {
 DieThrow throw_die_2d(const std::string& engine, const Die2d& die, std::uint64_t seed, std::size_t index);
 
 }  // namespace grainlab::validation
+
+namespace grainlab::validation {
+
+// A cube of half-side 1 cm (density 2 g/cm^3) whose centre of mass sits at `com` from its centre,
+// optionally with its own inertia tensor (about the centre of mass, body axes; empty: the uniform cube's
+// moved by the parallel-axis theorem) and mass (0: density x volume).
+struct Die3d {
+  double com[3] = {0, 0, 0};
+  double inertia[9] = {};  // all zero: from the geometry
+  double mass = 0;
+  double eps = 0.5, mu = 0.8;
+};
+
+// The drilled ("Monopoly") die: 21 pips of depth 0.06 cm and radius 0.15 cm (a 2 cm die) removed from
+// the faces, value v on the face whose outward normal is face_normal(v); returns its centre of mass,
+// inertia and mass (pips as removed cylinders).
+Die3d drilled_die(double eps, double mu);
+
+// Value on the face with outward body normal n (1 on -z, 6 on +z, 2 on -y, 5 on +y, 3 on -x, 4 on +x:
+// opposite faces sum to 7).
+int die_value(double nx, double ny, double nz);
+
+struct DieThrow3d {
+  int value_up = 0;  // 1..6, 0 if not captured within the time limit
+  double time = 0;
+};
+
+// Throw `index` of ensemble `seed` onto the plane z = 0: uniformly random orientation, centre of mass
+// 3-5 cm up, horizontal velocity within +-50 cm/s per axis, spin within +-20 rad/s per axis. Captured
+// as in 2-D: the energy above the rest state of the face the downward vertical through the centre of
+// mass leaves by is below half the lowest barrier (an edge) out of that face.
+DieThrow3d throw_die_3d(const std::string& engine, const Die3d& die, std::uint64_t seed, std::size_t index);
+
+}  // namespace grainlab::validation

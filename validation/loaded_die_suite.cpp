@@ -201,6 +201,7 @@ void run_loaded_die_suite(Report& r, const SuiteOptions& o) {
     md += fmt::format("- {} eps {} f {}: {:.1f} s, capture at {:.2f} s\n", c.engine, c.eps, c.f, c.seconds,
                       c.mean_time);
   r.markdown.push_back(md);
+  run_loaded_die_3d(r, o);
 }
 
 }  // namespace grainlab::validation
