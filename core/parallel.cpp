@@ -30,9 +30,15 @@ void finalize() {
   started = false;
 }
 
-bool active() { return started; }
-int rank() { return my_rank; }
-int size() { return n_ranks; }
+bool active() {
+  return started;
+}
+int rank() {
+  return my_rank;
+}
+int size() {
+  return n_ranks;
+}
 
 void sum_all(std::vector<double>& values) {
   if (!started || n_ranks == 1 || values.empty()) return;
