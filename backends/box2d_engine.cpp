@@ -155,8 +155,8 @@ class Box2DEngine final : public Engine {
   // Continuous collision (Box2D "bullets") where a step could carry a body a quarter of the smallest
   // radius: then a fast grain must not tunnel through a thin bed. Elsewhere it only costs time: with
   // every body a bullet, b2World::SolveTOI took most of a step in the 300-disc poured bed (4.8 s for
-  // 500 steps, against 0.2 s without; there no step can carry
-  // a body more than 0.016 cm, 4 % of the smallest radius).
+  // 500 steps, against 0.2 s without; there no step can carry a body more than 0.016 cm, 4 % of the
+  // smallest radius).
   bool tunnelling_possible() const {
     double rmin = std::numeric_limits<double>::max();
     for (const BodySpec& b : bodies_) rmin = std::min(rmin, b.radius);

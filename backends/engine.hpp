@@ -89,6 +89,8 @@ void check_engine_supports(const Capabilities& c, const Scene& scene);
 // Throws InputError if the engine is unknown.
 std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene);
 std::vector<std::string> engine_names();
+// The engines that can run scenes of this dimension (2 or 3), in catalog order.
+std::vector<std::string> engines_for_dimension(int dimension);
 
 struct RunOptions {
   std::string out;

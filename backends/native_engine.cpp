@@ -144,6 +144,14 @@ std::vector<std::string> engine_names() {
   return names;
 }
 
+std::vector<std::string> engines_for_dimension(int dimension) {
+  std::vector<std::string> names;
+  for (const Capabilities& c : engine_catalog())
+    if (std::find(c.dimensions.begin(), c.dimensions.end(), dimension) != c.dimensions.end())
+      names.push_back(c.name);
+  return names;
+}
+
 std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene) {
   if (name == "native" && scene.dimension == 3) return std::make_unique<NativeEngine3d>(scene);
   if (name == "native") return std::make_unique<NativeEngine>(scene);

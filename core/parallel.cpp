@@ -30,9 +30,6 @@ void finalize() {
   started = false;
 }
 
-bool active() {
-  return started;
-}
 int rank() {
   return my_rank;
 }

@@ -9,7 +9,6 @@ namespace grainlab::parallel {
 void init_if_launched(int* argc, char*** argv);
 // Calls MPI_Finalize if init_if_launched started MPI.
 void finalize();
-bool active();
 int rank();
 int size();
 // Element-wise sum over all ranks, result on every rank (nothing to do on one process).

@@ -39,6 +39,17 @@ Proportion wilson_interval(std::size_t k, std::size_t n) {
   return r;
 }
 
+double family_z(std::size_t m) {
+  // Inverse normal tail by bisection on erfc: to 1e-10, plenty for an interval.
+  const double alpha = 0.05 / static_cast<double>(std::max<std::size_t>(1, m));
+  double lo = 0, hi = 10;
+  for (int k = 0; k < 100; ++k) {
+    const double mid = (lo + hi) / 2;
+    (std::erfc(mid / std::sqrt(2.0)) > alpha ? lo : hi) = mid;
+  }
+  return (lo + hi) / 2;
+}
+
 double throws_for_half_width(double p, double h) {
   const double z = 1.959963984540054;
   return std::ceil(z * z * p * (1 - p) / (h * h));

@@ -23,6 +23,10 @@ struct Proportion {
 };
 Proportion wilson_interval(std::size_t k, std::size_t n);
 
+// z for a family of `m` two-sided 95 % statements (Bonferroni): a suite of many statistical checks
+// must not fail by chance one time in two.
+double family_z(std::size_t m);
+
 // Throws needed for a 95 % interval of half-width h on a proportion near p (normal approximation).
 double throws_for_half_width(double p, double h);
 

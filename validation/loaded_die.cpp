@@ -16,23 +16,13 @@ namespace {
 // Long enough for every throw seen to be captured (mean capture 0.3-0.5 s); Box2D sizes its length
 // unit from g x duration, so a needlessly long limit would shrink the die in Box2D's units.
 constexpr double kTimeLimit = 5.0;
-constexpr double kDensity = 2.0, kMass = kDensity * 4.0;  // 2-D: mass per unit thickness of a 2 x 2 square
-// Vertices relative to the centre of mass (counter-clockwise from (-1, -1)); face k joins k and k + 1.
-std::array<Vec2, 4> body_vertices(double f) {
-  return {Vec2{-1 - f, -1 - f}, Vec2{1 - f, -1 - f}, Vec2{1 - f, 1 - f}, Vec2{-1 - f, 1 - f}};
-}
-// The accuracy each engine runs the die at: the native contact is stiff (1e8 dyn/cm: 0.04 cm
-// penetration at 150 cm/s), 45 Verlet steps per contact; the impulse engines take 1 ms steps.
-std::vector<std::string> accuracy_for(const std::string& engine) {
-  if (engine == "native") return {"accuracy.dt=2e-5"};
-  return {"accuracy.dt=5e-4"};
-}
-}  // namespace
-
-std::string die_scene_2d(const Die2d& d, double angle, double height, double vx, double spin) {
+constexpr double kDensity = 2.0;  // g/cm^2 in 2-D, g/cm^3 in 3-D
+// What the 2-D and 3-D throws share: time limit, effects, integrator and the die-plane material.
+std::string die_scene_header(int dimension, double eps, double mu) {
   return fmt::format(R"toml(
 [scene]
-name = "loaded 2-D die, f = {f}, eps = {eps}"
+dimension = {dim}
+name = "loaded {dim}-D die"
 duration = {limit}
 effects = ["gravity", "normal_contact", "friction", "rotation"]
 [accuracy]
@@ -43,6 +33,20 @@ k_n = 1e8
 restitution = {eps}
 k_s = 1e8
 mu = {mu}
+)toml",
+                     fmt::arg("dim", dimension), fmt::arg("limit", kTimeLimit), fmt::arg("eps", eps),
+                     fmt::arg("mu", mu));
+}
+// The accuracy each engine runs the die at: the native contact is stiff (1e8 dyn/cm: 0.04 cm
+// penetration at 150 cm/s), 45 Verlet steps per contact; the impulse engines take 1 ms steps.
+std::vector<std::string> accuracy_for(const std::string& engine) {
+  if (engine == "native") return {"accuracy.dt=2e-5"};
+  return {"accuracy.dt=5e-4"};
+}
+}  // namespace
+
+std::string die_scene_2d(const Die2d& d, double angle, double height, double vx, double spin) {
+  return die_scene_header(2, d.eps, d.mu) + fmt::format(R"toml(
 [[walls]]
 type = "line"
 point = [0.0, 0.0]
@@ -57,19 +61,23 @@ angle = {angle}
 velocity = [{vx}, 0.0]
 spin = {spin}
 )toml",
-                     fmt::arg("limit", kTimeLimit), fmt::arg("f", d.f), fmt::arg("eps", d.eps),
-                     fmt::arg("mu", d.mu), fmt::arg("rho", kDensity), fmt::arg("h", height),
-                     fmt::arg("angle", angle), fmt::arg("vx", vx), fmt::arg("spin", spin));
+                                                        fmt::arg("f", d.f), fmt::arg("rho", kDensity),
+                                                        fmt::arg("h", height), fmt::arg("angle", angle),
+                                                        fmt::arg("vx", vx), fmt::arg("spin", spin));
 }
 
 DieThrow throw_die_2d(const std::string& engine, const Die2d& d, std::uint64_t seed, std::size_t index) {
   Rng rng(seed, index);
   const double angle = rng.uniform(0, 2 * M_PI), height = rng.uniform(3, 5), vx = rng.uniform(-50, 50),
                spin = rng.uniform(-20, 20);
-  auto e = engine_for(engine, die_scene_2d(d, angle, height, vx, spin), accuracy_for(engine));
-  const auto verts = body_vertices(d.f);
-  const double inertia = kMass * (4.0 / 6.0 + 2 * d.f * d.f);  // square about its centre, moved to (f, f)
-  const double g = kG, m = kMass;
+  const Scene scene =
+      parse_scene(die_scene_2d(d, angle, height, vx, spin), "<die 2-D>", accuracy_for(engine));
+  auto e = make_engine(engine, scene);
+  // Mass, inertia and vertices about the centre of mass as the scene reader made them (face k joins
+  // vertex k and k + 1, counter-clockwise from the (-1, -1) corner).
+  const BodySpec& body = scene.bodies[0];
+  const std::vector<Vec2>& verts = body.vertices;
+  const double g = kG, m = body.mass, inertia = body.inertia;
   DieThrow out;
   // Box2D's polygons and edges each carry a skin: the die rests two skins above the plane.
   const auto diag = e->diagnostics();
@@ -79,7 +87,7 @@ DieThrow throw_die_2d(const std::string& engine, const Die2d& d, std::uint64_t s
     const Frame fr = e->frame();
     const Vec2 c{fr.position[0], fr.position[1]}, v{fr.velocity[0], fr.velocity[1]};
     const double th = fr.angle[0], w = fr.spin[0], cs = std::cos(th), sn = std::sin(th);
-    std::array<Vec2, 4> world;
+    Vec2 world[4];
     for (int k = 0; k < 4; ++k)
       world[k] = c + Vec2{cs * verts[k].x - sn * verts[k].y, sn * verts[k].x + cs * verts[k].y};
     // The face "over" which the die is: facing down, with the centre of mass above its span.
@@ -122,7 +130,7 @@ Die3d drilled_die(double eps, double mu) {
       {{-1, -1}, {-1, 1}, {1, -1}, {1, 1}},
       {{-1, -1}, {-1, 1}, {0, 0}, {1, -1}, {1, 1}},
       {{-1, -1}, {-1, 0}, {-1, 1}, {1, -1}, {1, 0}, {1, 1}}};
-  const double depth = 0.06, radius = 0.15, spacing = 0.5, rho = 2.0;
+  const double depth = 0.06, radius = 0.15, spacing = 0.5, rho = kDensity;
   const double pip_mass = rho * M_PI * radius * radius * depth;
   const Vec3 normals[7] = {Vec3::Zero(),  Vec3(0, 0, -1), Vec3(0, -1, 0), Vec3(-1, 0, 0),
                            Vec3(1, 0, 0), Vec3(0, 1, 0),  Vec3(0, 0, 1)};
@@ -153,7 +161,8 @@ Die3d drilled_die(double eps, double mu) {
 namespace {
 
 std::string die_scene_3d(const Die3d& d, const Quat& q, double height, const Vec3& v, const Vec3& w) {
-  std::string body_mass = d.mass > 0 ? fmt::format("mass = {:.17g}", d.mass) : "density = 2.0";
+  std::string body_mass =
+      d.mass > 0 ? fmt::format("mass = {:.17g}", d.mass) : fmt::format("density = {}", kDensity);
   bool custom_inertia = false;
   for (double x : d.inertia) custom_inertia |= x != 0;
   if (custom_inertia)
@@ -162,20 +171,8 @@ std::string die_scene_3d(const Die3d& d, const Quat& q, double height, const Vec
         "{:.17g}, {:.17g}]]",
         d.inertia[0], d.inertia[1], d.inertia[2], d.inertia[3], d.inertia[4], d.inertia[5], d.inertia[6],
         d.inertia[7], d.inertia[8]);
-  return fmt::format(R"toml(
-[scene]
-dimension = 3
-name = "loaded 3-D die"
-duration = {limit}
-effects = ["gravity", "normal_contact", "friction", "rotation"]
-[accuracy]
-integrator = "verlet"
-dt = 2e-5
-[materials.die]
-k_n = 1e8
-restitution = {eps}
-k_s = 1e8
-mu = {mu}
+  return die_scene_header(3, d.eps, d.mu) +
+         fmt::format(R"toml(
 [[walls]]
 type = "plane"
 point = [0.0, 0.0, 0.0]
@@ -190,7 +187,6 @@ orientation = [{qw:.17g}, {qx:.17g}, {qy:.17g}, {qz:.17g}]
 velocity = [{vx:.17g}, {vy:.17g}, 0.0]
 spin = [{wx:.17g}, {wy:.17g}, {wz:.17g}]
 )toml",
-                     fmt::arg("limit", kTimeLimit), fmt::arg("eps", d.eps), fmt::arg("mu", d.mu),
                      fmt::arg("cx", d.com[0]), fmt::arg("cy", d.com[1]), fmt::arg("cz", d.com[2]),
                      fmt::arg("mass", body_mass), fmt::arg("h", height), fmt::arg("qw", q.w()),
                      fmt::arg("qx", q.x()), fmt::arg("qy", q.y()), fmt::arg("qz", q.z()),

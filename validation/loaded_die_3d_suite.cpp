@@ -58,10 +58,7 @@ void run_loaded_die_3d(Report& r, const SuiteOptions& o) {
   fair.eps = loaded.eps = 0.5;
   for (double& c : loaded.com) c = s;
   const Die3d drilled = drilled_die(0.5, 0.8);
-  std::vector<std::string> engines;
-  for (const Capabilities& c : engine_catalog())
-    if (std::find(c.dimensions.begin(), c.dimensions.end(), 3) != c.dimensions.end())
-      engines.push_back(c.name);
+  const std::vector<std::string> engines = engines_for_dimension(3);
 
   std::string md = fmt::format(
       "## Loaded die, 3-D\n\n"
@@ -74,7 +71,7 @@ void run_loaded_die_3d(Report& r, const SuiteOptions& o) {
       "| die | engine | 1 | 2 | 3 | 4 | 5 | 6 | captured | not captured | time "
       "|\n|---|---|---|---|---|---|---|---|---|---|---|\n",
       s, drilled.com[0], drilled.com[1], drilled.com[2]);
-  const double zf = 2.394;  // two-sided 95 % over 3 engines (Bonferroni)
+  const double zf = family_z(engines.size());
   std::string estimate;
   for (const std::string& eng : engines) {
     const Faces f0 = throw_many(eng, fair, n, o), f1 = throw_many(eng, loaded, n, o),
@@ -102,7 +99,7 @@ void run_loaded_die_3d(Report& r, const SuiteOptions& o) {
     r.expect_below(
         "loaded-die/3d/loaded-bias", eng, -(low_down.p - 0.5) / sigma, -zf,
         fmt::format("loaded cube: P(1, 2 or 3 up) = {:.4f} [{:.4f}, {:.4f}]; value: minus its excess "
-                    "over 1/2 in sigmas (must exceed {} sigmas)",
+                    "over 1/2 in sigmas (must exceed {:.2f} sigmas)",
                     low_down.p, low_down.lo, low_down.hi, zf));
     // The drilled die: a linear response of P(value up) to the centre of mass's displacement along that
     // value's axis, calibrated on the loaded die (thesis: "the linear relation between probability and

@@ -22,19 +22,6 @@ struct Cell {
   double mean_time = 0, seconds = 0;
 };
 
-// z for a family of `m` two-sided 95 % statements (Bonferroni): a suite of many statistical checks
-// must not fail by chance one time in two.
-double family_z(std::size_t m) {
-  // Inverse normal by bisection on erfc: accurate to 1e-10, plenty for an interval.
-  const double alpha = 0.05 / static_cast<double>(std::max<std::size_t>(1, m));
-  double lo = 0, hi = 10;
-  for (int k = 0; k < 100; ++k) {
-    const double mid = (lo + hi) / 2;
-    (std::erfc(mid / std::sqrt(2.0)) > alpha ? lo : hi) = mid;
-  }
-  return (lo + hi) / 2;
-}
-
 double sigma(const Proportion& p) {
   return p.n ? std::sqrt(std::max(p.p * (1 - p.p), 1e-12) / p.n) : 1.0;
 }
@@ -75,10 +62,7 @@ void run_loaded_die_suite(Report& r, const SuiteOptions& o) {
   const std::vector<double> epss =
       o.quick ? std::vector<double>{0.5, 0.9} : std::vector<double>{0.3, 0.5, 0.7, 0.9};
   const std::size_t throws = o.quick ? 400 : static_cast<std::size_t>(throws_for_half_width(0.5, 0.02));
-  std::vector<std::string> engines;
-  for (const Capabilities& c : engine_catalog())
-    if (std::find(c.dimensions.begin(), c.dimensions.end(), 2) != c.dimensions.end())
-      engines.push_back(c.name);
+  const std::vector<std::string> engines = engines_for_dimension(2);
 
   std::vector<Cell> cells;
   for (const std::string& eng : engines)

@@ -264,10 +264,9 @@ void run_single_body_suite(Report& r, const SuiteOptions& o) {
       "sticking box moved (cm) | rolling sphere accel (cm/s^2) | loaded cube rest heights, faces +x +y +z -x "
       "-y "
       "-z (geometry 0.8 x 3, 1.2 x 3 cm) | torque-free box |\n|---|---|---|---|---|---|---|\n";
-  for (const Capabilities& c : engine_catalog()) {
-    if (std::find(c.dimensions.begin(), c.dimensions.end(), 3) == c.dimensions.end()) continue;
-    if (o.log) o.log("single body in 3-D on " + c.name);
-    single_body_3d_checks(r, c.name, md);
+  for (const std::string& eng : engines_for_dimension(3)) {
+    if (o.log) o.log("single body in 3-D on " + eng);
+    single_body_3d_checks(r, eng, md);
   }
   r.markdown.push_back(md);
 }
