@@ -199,6 +199,43 @@ std::string RunWriter::commit() {
   return xmf;
 }
 
+void write_sample_tables(const std::string& path, const std::vector<SampleTable>& tables,
+                         const std::map<std::string, std::string>& metadata) {
+  const std::string tmp = temp_name(path);
+  try {
+    hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (f < 0) throw std::runtime_error("cannot create " + path);
+    for (const auto& [k, v] : metadata) attr_string(f, k, v);
+    // Intermediate groups ("suite/engine") are created as needed.
+    hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    for (const SampleTable& t : tables) {
+      std::vector<double> flat;
+      for (const auto& row : t.rows) {
+        if (row.size() != t.columns.size())
+          throw std::logic_error("sample table " + t.name + ": row width differs from its columns");
+        flat.insert(flat.end(), row.begin(), row.end());
+      }
+      hsize_t dims[2] = {t.rows.size(), t.columns.size()};
+      hid_t space = H5Screate_simple(2, dims, nullptr);
+      hid_t d = H5Dcreate2(f, t.name.c_str(), H5T_NATIVE_DOUBLE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+      if (d < 0) throw std::runtime_error("HDF5: failed to create dataset " + t.name);
+      if (!flat.empty())
+        check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, flat.data()), "write samples");
+      attr_string(d, "columns", fmt::format("{}", fmt::join(t.columns, ",")));
+      attr_string(d, "description", t.description);
+      H5Dclose(d), H5Sclose(space);
+    }
+    H5Pclose(lcpl);
+    check(H5Fclose(f), "close the samples file");
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+  fs::rename(tmp, path);
+}
+
 void write_file_atomically(const std::string& path, const std::string& text) {
   const std::string tmp = temp_name(path);
   {

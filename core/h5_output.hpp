@@ -97,6 +97,19 @@ class RunWriter {
   std::optional<ContactEventTable> contacts_;
 };
 
+// A table of raw samples (one row per run, named columns), for validation studies' results.h5.
+struct SampleTable {
+  std::string name;  // dataset path below the root, e.g. "loaded_die_2d/native"
+  std::string description;
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+};
+
+// Writes the tables to `path` atomically: one 2-D dataset per table with attributes "columns"
+// (comma-separated) and "description", plus string attributes `metadata` on the root.
+void write_sample_tables(const std::string& path, const std::vector<SampleTable>& tables,
+                         const std::map<std::string, std::string>& metadata);
+
 // Writes `text` to `path` through a temporary file and a rename.
 void write_file_atomically(const std::string& path, const std::string& text);
 

@@ -21,14 +21,24 @@ struct Faces {
   double seconds = 0;
 };
 
-Faces throw_many(const std::string& engine, const Die3d& die, std::size_t n, const SuiteOptions& o) {
+// Throws `die` n times on `engine`; the raw throws go to the report's results.h5 as `name`/engine.
+Faces throw_many(Report& report, const std::string& name, const std::string& engine, const Die3d& die,
+                 std::size_t n, const SuiteOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  const auto rows = run_ensemble(
-      n, 1,
-      [&](std::size_t i) { return std::vector<double>{double(throw_die_3d(engine, die, 2026, i).value_up)}; },
+  auto rows = run_ensemble(
+      n, 2,
+      [&](std::size_t i) {
+        const DieThrow3d t = throw_die_3d(engine, die, 2026, i);
+        return std::vector<double>{double(t.value_up), t.time};
+      },
       o.progress);
   Faces f;
   for (const auto& r : rows) ++f.count[static_cast<std::size_t>(r[0])];
+  report.samples.push_back({"loaded_die_3d/" + name + "/" + engine,
+                            "one row per throw (seed 2026, throw index = row): value up (0: not captured), "
+                            "capture time (s)",
+                            {"value_up", "time_s"},
+                            std::move(rows)});
   f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return f;
 }
@@ -74,8 +84,8 @@ void run_loaded_die_3d(Report& r, const SuiteOptions& o) {
   const double zf = family_z(engines.size());
   std::string estimate;
   for (const std::string& eng : engines) {
-    const Faces f0 = throw_many(eng, fair, n, o), f1 = throw_many(eng, loaded, n, o),
-                f2 = throw_many(eng, drilled, n, o);
+    const Faces f0 = throw_many(r, "fair", eng, fair, n, o), f1 = throw_many(r, "loaded", eng, loaded, n, o),
+                f2 = throw_many(r, "drilled", eng, drilled, n, o);
     if (o.log)
       o.log(fmt::format("loaded die 3-D on {}: {} throws each of the fair, loaded and drilled die ({:.0f} s)",
                         eng, n, f0.seconds + f1.seconds + f2.seconds));

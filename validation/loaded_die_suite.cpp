@@ -26,7 +26,9 @@ double sigma(const Proportion& p) {
   return p.n ? std::sqrt(std::max(p.p * (1 - p.p), 1e-12) / p.n) : 1.0;
 }
 
-Cell run_cell(const std::string& engine, double f, double eps, std::size_t throws, const SuiteOptions& o) {
+// Throws the die `throws` times; the raw throws go to the report's results.h5.
+Cell run_cell(Report& report, const std::string& engine, double f, double eps, std::size_t throws,
+              const SuiteOptions& o) {
   Cell c{engine, f, eps, {}, 0, 0, 0};
   const auto start = std::chrono::steady_clock::now();
   const auto rows = run_ensemble(
@@ -49,6 +51,11 @@ Cell run_cell(const std::string& engine, double f, double eps, std::size_t throw
   c.p_h = wilson_interval(high_up, captured);
   c.mean_time = captured ? c.mean_time / captured : 0;
   c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.samples.push_back({fmt::format("loaded_die_2d/{}/eps_{}/f_{}", engine, eps, f),
+                            "one row per throw (seed 1987, throw index = row): face down (0, 3 high faces "
+                            "down; -1 not captured), capture time (s)",
+                            {"face_down", "time_s"},
+                            rows});
   return c;
 }
 
@@ -68,7 +75,7 @@ void run_loaded_die_suite(Report& r, const SuiteOptions& o) {
   for (const std::string& eng : engines)
     for (double eps : epss)
       for (double f : fs) {
-        cells.push_back(run_cell(eng, f, eps, throws, o));
+        cells.push_back(run_cell(r, eng, f, eps, throws, o));
         const Cell& c = cells.back();
         if (o.log)
           o.log(fmt::format(
@@ -124,9 +131,8 @@ void run_loaded_die_suite(Report& r, const SuiteOptions& o) {
       "its 95 % Wilson interval. Model: thesis eqs 2.A.1-2.A.4 as printed, and with the die's own potential "
       "(`grainlab die-model`).\n\n";
   for (double eps : epss) {
-    md += fmt::format("### eps = {}\n\n| f | model (printed) | model (geometric) |", eps);
-    for (const auto& eng : engines) md += " " + eng + " |";
-    md += "\n|---|---|---|" + std::string(engines.size() * 4, '-') + "\n";
+    md += fmt::format("### eps = {}\n\n", eps) +
+          markdown_table_head({"f", "model (printed)", "model (geometric)"}, engines);
     PlotSpec plot{fmt::format("loaded_die_2d_eps{}.png", eps),
                   fmt::format("Loaded 2-D die, eps = {}: p_h against loading", eps),
                   "f",

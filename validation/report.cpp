@@ -100,11 +100,23 @@ std::string plots_json(const Report& r) {
 
 }  // namespace
 
+std::string markdown_table_head(const std::vector<std::string>& columns,
+                                const std::vector<std::string>& engines) {
+  std::string head = "|", rule = "|";
+  for (const auto* list : {&columns, &engines})
+    for (const std::string& c : *list) head += " " + c + " |", rule += "---|";
+  return head + "\n" + rule + "\n";
+}
+
 void write_report(const Report& r, const std::string& dir) {
   fs::create_directories(dir);
   write_file_atomically((fs::path(dir) / "plots.json").string(), plots_json(r));
   write_file_atomically((fs::path(dir) / "report.json").string(), to_json(r));
   write_file_atomically((fs::path(dir) / "report.md").string(), to_markdown(r));
+  if (!r.samples.empty())
+    write_sample_tables(
+        (fs::path(dir) / "results.h5").string(), r.samples,
+        {{"grainlab_version", GRAINLAB_VERSION}, {"contents", "raw samples of grainlab validate"}});
   // Plots are drawn by Debian's matplotlib; a machine without it still gets the numbers.
   const std::string script = std::string(GRAINLAB_SOURCE_DIR) + "/tools/plot_report.py";
   if (!r.plots.empty() && fs::exists(script) && fs::exists("/usr/bin/python3")) {

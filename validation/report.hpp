@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "h5_output.hpp"
+
 namespace grainlab::validation {
 
 struct Check {
@@ -40,6 +42,7 @@ struct Report {
   std::vector<Check> checks;
   std::vector<std::string> markdown;  // sections, in order
   std::vector<PlotSpec> plots;
+  std::vector<SampleTable> samples;  // raw per-run samples, written to results.h5 so any plot can be redone
   bool passed() const;
   // Adds a check: passed when |value - reference| <= tolerance (absolute).
   Check& expect_near(std::string id, std::string engine, double value, double reference, double tolerance,
@@ -48,7 +51,12 @@ struct Report {
   Check& expect_below(std::string id, std::string engine, double value, double limit, std::string note);
 };
 
-// Writes report.json, report.md and the plots into `dir` (created if needed).
+// The head of a markdown table: the given columns, then one per engine, and the separator row.
+std::string markdown_table_head(const std::vector<std::string>& columns,
+                                const std::vector<std::string>& engines);
+
+// Writes report.json, report.md, results.h5 (when there are samples) and the plots into `dir` (created if
+// needed).
 void write_report(const Report& r, const std::string& dir);
 
 }  // namespace grainlab::validation

@@ -13,6 +13,10 @@ const std::vector<Suite>& suites() {
        "the thesis's loaded 2-D die on every engine: p_h against loading and restitution, beside Appendix "
        "II.1",
        run_loaded_die_suite},
+      {"tumbling-polygon",
+       "square, rectangle and hexagon dropped on an incline on every 2-D engine: settled motion, Coulomb "
+       "sliding, the pivot rule, terminal rolling",
+       run_tumbling_polygon_suite},
   };
   return all;
 }
