@@ -17,6 +17,10 @@ const std::vector<Suite>& suites() {
        "square, rectangle and hexagon dropped on an incline on every 2-D engine: settled motion, Coulomb "
        "sliding, the pivot rule, terminal rolling",
        run_tumbling_polygon_suite},
+      {"block-incline",
+       "the thesis's 5 x 5 x 1 cm block rolling down a 40 degree incline on the 3-D engines: rotational "
+       "energy per body axis (Fig. 2.10)",
+       run_block_incline_suite},
   };
   return all;
 }
