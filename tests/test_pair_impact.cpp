@@ -26,3 +26,16 @@ TEST(PairImpact, ImpulseEnginesSlideAsWaltonAtGrazingIncidence) {
           << engine << " " << dim << "-D";
     }
 }
+
+TEST(PairImpact, NativeSlidesAsWaltonAndReboundsTangentiallyWhenItSticks) {
+  // Sliding throughout (85 deg): Walton's sliding value at the impact's own angle.
+  for (int dim : {2, 3}) {
+    const PairImpactResult r = pair_impact("native", dim, 1000.0, 85.0);
+    EXPECT_NEAR(r.tangential_restitution,
+                walton_sliding_beta(0.5, 0.85, dim == 2 ? 0.5 : 0.4, r.impact_angle_deg), 0.01);
+  }
+  // Sticking (45 deg): the shear spring gives tangential motion back, so the contact point reverses
+  // (beta > 0) where an impulse engine stops it (beta = 0).
+  EXPECT_GT(pair_impact("native", 2, 1000.0, 45.0).tangential_restitution, 0.2);
+  EXPECT_NEAR(pair_impact("box2d", 2, 1000.0, 45.0).tangential_restitution, 0.0, 0.01);
+}

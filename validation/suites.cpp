@@ -21,6 +21,10 @@ const std::vector<Suite>& suites() {
        "the thesis's 5 x 5 x 1 cm block rolling down a 40 degree incline on the 3-D engines: rotational "
        "energy per body axis (Fig. 2.10)",
        run_block_incline_suite},
+      {"pair-impact",
+       "two discs and two spheres colliding at the Ch. III scale on every engine: restitution, rebound and "
+       "spin against Walton's rigid-body model",
+       run_pair_impact_suite},
   };
   return all;
 }
