@@ -1,4 +1,4 @@
-// grainlab: the command line. Subcommands: run, validate, bench.
+// grainlab: the command line. Subcommands: run, validate, cost, engines, die-model, bench.
 // Exit status: 0 success; 1 a check failed or a simulation broke down; 2 bad input (nothing written).
 #include <fmt/format.h>
 
@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "accuracy_cost.hpp"
 #include "bed_benchmark.hpp"
 #include "die_model_command.hpp"
 #include "engine.hpp"
@@ -97,6 +98,21 @@ int validate_command(std::vector<std::string> names, const std::string& out, boo
   return report.passed() ? 0 : 1;
 }
 
+int cost_command(validation::CostOptions o, const std::string& out, bool quiet) {
+  const std::vector<validation::CostScene> scenes = validation::cost_scenes(o.quick);
+  for (const std::string& n : o.scenes) {
+    bool known = false;
+    std::string names;
+    for (const auto& s : scenes) known |= s.name == n, names += (names.empty() ? "" : ", ") + s.name;
+    if (!known) throw InputError({"--scene", 0}, n, "unknown cost scene; known scenes: " + names);
+  }
+  if (!quiet) o.log = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
+  const auto rows = validation::run_cost_study(o);
+  validation::write_cost_report(rows, scenes, out, o.quick);
+  fmt::print("{} settings measured; {}/cost.md and {}/cost.json\n", rows.size(), out, out);
+  return 0;
+}
+
 int engines_command(bool json) {
   if (json) {
     nlohmann::json j = nlohmann::json::array();
@@ -156,6 +172,20 @@ int main(int argc, char** argv) {
   val->add_flag("--quick", quick, "shorter versions of long checks (for CI)");
   val->add_flag("--quiet,-q", vquiet, "no progress lines");
 
+  validation::CostOptions cost;
+  std::string cost_dir = "cost";
+  bool cost_quiet = false;
+  CLI::App* cost_cmd = app.add_subcommand(
+      "cost", "what accuracy costs: sweep every engine's accuracy knobs, error against time per scene");
+  cost_cmd->add_flag("--quick", cost.quick, "fewer settings, fewer throws (for CI)");
+  cost_cmd->add_option("--out,-o", cost_dir, "output folder (cost.md, cost.json, plots)")
+      ->default_val("cost");
+  cost_cmd->add_option("--repeats", cost.repeats, "timed repetitions per setting (median reported)")
+      ->default_val(3)
+      ->check(CLI::Range(1, 100));
+  cost_cmd->add_option("--scene", cost.scenes, "scene to study (repeatable; default: all)");
+  cost_cmd->add_flag("--quiet,-q", cost_quiet, "no progress lines");
+
   bool engines_json = false;
   CLI::App* engines_cmd = app.add_subcommand("engines", "list the engines and what each can simulate");
   engines_cmd->add_flag("--json", engines_json, "machine-readable");
@@ -210,6 +240,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run);
     if (*val) return validate_command(suites, report_dir, quick, vquiet);
     if (*engines_cmd) return engines_command(engines_json);
+    if (*cost_cmd) return cost_command(cost, cost_dir, cost_quiet);
     if (*die_cmd) return cli::die_model_command(die);
     if (*bed_cmd) return bench::run_bed_command(bed);
   } catch (const InputError& e) {

@@ -14,7 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 STYLES = {"line": dict(linestyle="-", marker=None), "dashed": dict(linestyle="--", marker=None),
-          "points": dict(linestyle="none", marker="o")}
+          "points": dict(linestyle="none", marker="o"), "linepoints": dict(linestyle="-", marker="o")}
 
 
 def draw(spec, folder):
@@ -27,6 +27,8 @@ def draw(spec, folder):
             ax.plot(s["x"], s["y"], label=s["label"], **style)
     if spec.get("logx"):
         ax.set_xscale("log")
+    if spec.get("logy"):
+        ax.set_yscale("log")
     ax.set_title(spec["title"])
     ax.set_xlabel(spec["xlabel"])
     ax.set_ylabel(spec["ylabel"])

@@ -66,12 +66,14 @@ spin = {spin}
                                                         fmt::arg("vx", vx), fmt::arg("spin", spin));
 }
 
-DieThrow throw_die_2d(const std::string& engine, const Die2d& d, std::uint64_t seed, std::size_t index) {
+DieThrow throw_die_2d(const std::string& engine, const Die2d& d, std::uint64_t seed, std::size_t index,
+                      const std::vector<std::string>& sets) {
   Rng rng(seed, index);
   const double angle = rng.uniform(0, 2 * M_PI), height = rng.uniform(3, 5), vx = rng.uniform(-50, 50),
                spin = rng.uniform(-20, 20);
-  const Scene scene =
-      parse_scene(die_scene_2d(d, angle, height, vx, spin), "<die 2-D>", accuracy_for(engine));
+  std::vector<std::string> all = accuracy_for(engine);
+  all.insert(all.end(), sets.begin(), sets.end());
+  const Scene scene = parse_scene(die_scene_2d(d, angle, height, vx, spin), "<die 2-D>", all);
   auto e = make_engine(engine, scene);
   // Mass, inertia and vertices about the centre of mass as the scene reader made them (face k joins
   // vertex k and k + 1, counter-clockwise from the (-1, -1) corner).

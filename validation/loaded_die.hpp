@@ -4,6 +4,7 @@
 // speed and spin, followed until it is captured by one face.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace grainlab::validation {
 
@@ -28,7 +29,10 @@ struct DieThrow {
 // +-50 cm/s, spin within +-20 rad/s. Captured: the energy above the rest state of the face the die is
 // over is below half the lowest barrier out of that face's well, so (energy not rising) it can no
 // longer tip to another face; docs/validation.md explains why this is exact.
-DieThrow throw_die_2d(const std::string& engine, const Die2d& die, std::uint64_t seed, std::size_t index);
+// `sets` are --set style overrides of the scene (e.g. the native shear spring), applied after the
+// engine's accuracy.
+DieThrow throw_die_2d(const std::string& engine, const Die2d& die, std::uint64_t seed, std::size_t index,
+                      const std::vector<std::string>& sets = {});
 
 }  // namespace grainlab::validation
 

@@ -93,6 +93,7 @@ std::string plots_json(const Report& r) {
                  {"xlabel", p.xlabel},
                  {"ylabel", p.ylabel},
                  {"logx", p.logx},
+                 {"logy", p.logy},
                  {"series", s}});
   }
   return j.dump(1) + "\n";
@@ -108,21 +109,28 @@ std::string markdown_table_head(const std::vector<std::string>& columns,
   return head + "\n" + rule + "\n";
 }
 
+void write_plots(const std::vector<PlotSpec>& plots, const std::string& dir) {
+  fs::create_directories(dir);
+  Report only_plots;
+  only_plots.plots = plots;
+  write_file_atomically((fs::path(dir) / "plots.json").string(), plots_json(only_plots));
+  // Plots are drawn by Debian's matplotlib; a machine without it still gets the numbers.
+  const std::string script = std::string(GRAINLAB_SOURCE_DIR) + "/tools/plot_report.py";
+  if (!plots.empty() && fs::exists(script) && fs::exists("/usr/bin/python3")) {
+    const std::string cmd = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1", script, dir);
+    if (std::system(cmd.c_str()) != 0) fmt::print(stderr, "warning: plotting failed (run: {})\n", cmd);
+  }
+}
+
 void write_report(const Report& r, const std::string& dir) {
   fs::create_directories(dir);
-  write_file_atomically((fs::path(dir) / "plots.json").string(), plots_json(r));
   write_file_atomically((fs::path(dir) / "report.json").string(), to_json(r));
   write_file_atomically((fs::path(dir) / "report.md").string(), to_markdown(r));
   if (!r.samples.empty())
     write_sample_tables(
         (fs::path(dir) / "results.h5").string(), r.samples,
         {{"grainlab_version", GRAINLAB_VERSION}, {"contents", "raw samples of grainlab validate"}});
-  // Plots are drawn by Debian's matplotlib; a machine without it still gets the numbers.
-  const std::string script = std::string(GRAINLAB_SOURCE_DIR) + "/tools/plot_report.py";
-  if (!r.plots.empty() && fs::exists(script) && fs::exists("/usr/bin/python3")) {
-    const std::string cmd = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1", script, dir);
-    if (std::system(cmd.c_str()) != 0) fmt::print(stderr, "warning: plotting failed (run: {})\n", cmd);
-  }
+  write_plots(r.plots, dir);
 }
 
 }  // namespace grainlab::validation

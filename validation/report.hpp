@@ -31,11 +31,12 @@ struct PlotSpec {
   std::string title, xlabel, ylabel;
   bool logx = false;
   struct Series {
-    std::string label, style;  // style: "line", "points", "dashed"
+    std::string label, style;  // style: "line", "points", "dashed", "linepoints"
     std::vector<double> x, y;
     std::vector<double> err;  // optional: half-width of each point's interval (drawn as error bars)
   };
   std::vector<Series> series;
+  bool logy = false;  // last, so the many {file, ..., logx, series} initialisers stay valid
 };
 
 struct Report {
@@ -54,6 +55,9 @@ struct Report {
 // The head of a markdown table: the given columns, then one per engine, and the separator row.
 std::string markdown_table_head(const std::vector<std::string>& columns,
                                 const std::vector<std::string>& engines);
+
+// Writes plots.json into `dir` and draws the PNGs from it (tools/plot_report.py, if python3 is there).
+void write_plots(const std::vector<PlotSpec>& plots, const std::string& dir);
 
 // Writes report.json, report.md, results.h5 (when there are samples) and the plots into `dir` (created if
 // needed).

@@ -1,0 +1,453 @@
+#include "accuracy_cost.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "engine.hpp"
+#include "ensemble.hpp"
+#include "h5_output.hpp"
+#include "loaded_die.hpp"
+#include "suites.hpp"
+
+namespace grainlab::validation {
+
+namespace {
+
+// Runs `toml` with `sets` on the setting's engine to `until`, calling `sample` (if given) every `every`
+// seconds; returns the engine for the caller to read, with cost counters filled into `m`.
+std::unique_ptr<Engine> run(const CostSetting& s, const std::string& toml, double until, CostMeasurement& m,
+                            const std::function<void(const Engine&)>& sample = {}, double every = 0) {
+  auto e = make_engine(s.engine, parse_scene(toml, "<cost " + s.engine + ">", s.sets));
+  if (sample && every > 0) {
+    for (double t = every; t < until + 0.5 * every; t += every) {
+      e->advance_to(std::min(t, until));
+      sample(*e);
+    }
+  } else {
+    e->advance_to(until);
+  }
+  const auto d = e->diagnostics();
+  m.steps = d.at("steps");
+  m.rejected = d.at("rejected_steps");
+  if (d.count("force_evaluations") && s.engine == "native") m.iterations = d.at("force_evaluations");
+  for (const char* k : {"solver_velocity_iterations", "solver_iterations"})
+    if (d.count(k) && s.method != "ode step") m.iterations = m.steps * d.at(k);
+  return e;
+}
+
+// The curves every scene sweeps: native Verlet over dt, the predictor-corrector over its tolerance,
+// native stiffness where it is a modelling choice, and each impulse engine over dt, solver iterations
+// and (Bullet) sub-steps, ODE with both steppers.
+struct Sweep {
+  std::vector<double> native_dt, tolerance, stiffness, impulse_dt;
+  double pc_dt_max = 1e-3;    // a tenth of the scene's contact duration (docs/scenes.md: keep it below)
+  std::string stiffness_key;  // e.g. "materials.m.k_n" (and k_s alongside); empty: no stiffness curve
+};
+
+std::vector<CostSetting> settings_for(const Sweep& w, bool quick) {
+  std::vector<CostSetting> out;
+  auto add = [&](const std::string& engine, const std::string& method, const std::string& knob, double value,
+                 std::vector<std::string> sets) {
+    out.push_back({engine, method, knob, value, std::move(sets)});
+  };
+  for (double dt : w.native_dt)
+    add("native", "native verlet", "dt", dt,
+        {"accuracy.integrator=\"verlet\"", fmt::format("accuracy.dt={}", dt)});
+  for (double tol : w.tolerance)
+    add("native", "native predictor-corrector", "tolerance", tol,
+        {"accuracy.integrator=\"predictor-corrector\"", fmt::format("accuracy.tolerance={}", tol),
+         fmt::format("accuracy.dt={}", w.native_dt.back()), fmt::format("accuracy.dt_max={}", w.pc_dt_max)});
+  if (!w.stiffness_key.empty() && !quick)
+    for (double k : w.stiffness)
+      add("native", "native verlet, stiffness", "k_n", k,
+          {"accuracy.integrator=\"verlet\"",
+           // 40 steps per contact of the stiffest spring's own duration scale
+           fmt::format("accuracy.dt={}", w.native_dt.back() * std::sqrt(w.stiffness.back() / k)),
+           fmt::format("{}.k_n={}", w.stiffness_key, k), fmt::format("{}.k_s={}", w.stiffness_key, k)});
+  const double mid = w.impulse_dt[w.impulse_dt.size() / 2];
+  for (const std::string eng : {"box2d", "bullet", "ode"}) {
+    const std::string base = eng == "ode" ? "ode quick-step" : eng;
+    for (double dt : w.impulse_dt) {
+      std::vector<std::string> sets{fmt::format("accuracy.dt={}", dt)};
+      if (eng == "ode") sets.push_back("accuracy.stepper=\"quick\"");
+      add(eng, base, "dt", dt, sets);
+      if (eng == "ode")
+        add(eng, "ode step", "dt", dt, {fmt::format("accuracy.dt={}", dt), "accuracy.stepper=\"step\""});
+    }
+    if (quick) continue;
+    for (int it : {2, 4, 16, 32}) {
+      std::vector<std::string> sets{fmt::format("accuracy.dt={}", mid),
+                                    fmt::format("accuracy.velocity_iterations={}", it)};
+      if (eng == "ode") sets.push_back("accuracy.stepper=\"quick\"");
+      add(eng, base + ", iterations", "iterations", it, sets);
+    }
+    if (eng == "bullet")
+      for (int sub : {2, 4, 8})
+        add(eng, "bullet, sub-steps", "substeps", sub,
+            {fmt::format("accuracy.dt={}", w.impulse_dt.front()), fmt::format("accuracy.substeps={}", sub)});
+  }
+  return out;
+}
+
+// Scene texts. Every scene is 2-D, so all four engines run it; gravity is tilted for the inclines.
+std::string header(double duration, double gx, double gy, const std::string& effects,
+                   const std::string& material) {
+  return fmt::format(R"toml(
+[scene]
+duration = {d}
+gravity = [{gx:.17g}, {gy:.17g}]
+effects = [{effects}]
+[accuracy]
+integrator = "verlet"
+dt = 1e-5
+[materials.m]
+{material}
+[[walls]]
+type = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+)toml",
+                     fmt::arg("d", duration), fmt::arg("gx", gx), fmt::arg("gy", gy),
+                     fmt::arg("effects", effects), fmt::arg("material", material));
+}
+
+CostScene pair_restitution(bool quick) {
+  // Table 2.1's pair: r = 1, density 2, k_n = 5e6, eps 0.7, head-on at 50 cm/s each. Contact 2.5 ms.
+  const std::string toml = R"toml(
+[scene]
+duration = 0.02
+effects = ["normal_contact"]
+[accuracy]
+integrator = "verlet"
+dt = 1e-5
+[materials.m]
+k_n = 5e6
+restitution = 0.7
+[[bodies]]
+radius = 1.0
+density = 2.0
+position = [-1.05, 0.0]
+velocity = [50.0, 0.0]
+[[bodies]]
+radius = 1.0
+density = 2.0
+position = [1.05, 0.0]
+velocity = [-50.0, 0.0]
+)toml";
+  CostScene s{"pair-restitution",
+              "two discs head-on (Table 2.1: r = 1 cm, k_n = 5e6 dyn/cm, restitution 0.7, 50 cm/s each)",
+              "eq. 2.2: the restitution the material asks for, 0.7",
+              false,
+              {},
+              [] { return CostMeasurement{0.7}; },
+              {}};
+  s.measure = [toml](const CostSetting& c) {
+    CostMeasurement m;
+    auto e = run(c, toml, 0.02, m);
+    const Frame f = e->frame();
+    m.value = (f.velocity[3] - f.velocity[0]) / 100.0;
+    return m;
+  };
+  Sweep w{
+      {5e-4, 2.5e-4, 1e-4, 5e-5, 2.5e-5, 1e-5, 5e-6}, {0.05, 0.02, 0.005, 1e-3, 1e-4}, {}, {}, 2.5e-4, ""};
+  w.impulse_dt = {2e-3, 1e-3, 5e-4, 2e-4, 1e-4};
+  if (quick)
+    w.native_dt = {5e-4, 1e-4, 2.5e-5}, w.tolerance = {0.05, 0.005, 1e-4}, w.impulse_dt = {2e-3, 5e-4, 1e-4};
+  s.settings = settings_for(w, quick);
+  return s;
+}
+
+CostScene bounce_apex(bool quick) {
+  // A disc dropped 10 cm onto the floor, restitution 0.8: the rigid apex after the bounce is 1 + 0.64 x 10
+  // cm. A soft contact lasting t_c loses about g t_c / v of that (stiffness is a modelling choice).
+  const std::string toml =
+      header(1.7, 0, -kG, "\"gravity\", \"normal_contact\"", "k_n = 1e9\nrestitution = 0.8") +
+      R"toml(
+[[bodies]]
+radius = 1.0
+density = 2.0
+position = [0.0, 11.0]
+)toml";
+  CostScene s{
+      "bounce-apex",
+      "a disc dropped 10 cm onto a floor (restitution 0.8, native k_n = 1e9 dyn/cm): height of the first "
+      "apex after the bounce",
+      "rigid bounce: apex = 1 + 0.8^2 x 10 = 7.4 cm",
+      false,
+      {},
+      [] { return CostMeasurement{1 + 0.64 * 10}; },
+      {}};
+  s.measure = [toml](const CostSetting& c) {
+    CostMeasurement m;
+    double apex = 0;
+    bool bounced = false;
+    run(
+        c, toml, 1.7, m,
+        [&](const Engine& e) {
+          const Frame f = e.frame();
+          bounced |= f.velocity[1] > 0;
+          if (bounced) apex = std::max(apex, f.position[1]);
+        },
+        1e-4);
+    m.value = apex;
+    return m;
+  };
+  Sweep w{{1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 2e-6},
+          {0.05, 0.01, 0.002, 5e-4, 1e-4},
+          {1e7, 1e8, 1e9, 1e10},
+          {5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4},
+          2.5e-5,
+          "materials.m"};
+  if (quick)
+    w.native_dt = {1e-4, 1e-5, 2e-6}, w.tolerance = {0.05, 0.002, 1e-4}, w.impulse_dt = {5e-3, 1e-3, 2e-4};
+  s.settings = settings_for(w, quick);
+  return s;
+}
+
+// A body on an incline (gravity tilted by `angle_deg`, the floor y = 0) whose downslope distance after
+// `duration` has an analytic value; the sweep is the same for both such scenes.
+CostScene incline_scene(bool quick, std::string name, std::string description, const std::string& body,
+                        double angle_deg, double mu, double duration, double exact,
+                        const std::string& formula) {
+  const double th = angle_deg * M_PI / 180;
+  const std::string toml =
+      header(duration, kG * std::sin(th), -kG * std::cos(th),
+             "\"gravity\", \"normal_contact\", \"friction\", \"rotation\"",
+             fmt::format("k_n = 1e8\nrestitution = 0.3\nk_s = 1e8\ndamping_s = 3e4\nmu = {}", mu)) +
+      body;
+  CostScene s{std::move(name),
+              std::move(description),
+              fmt::format("{} = {:.3f} cm", formula, exact),
+              false,
+              {},
+              [exact] { return CostMeasurement{exact}; },
+              {}};
+  s.measure = [toml, duration](const CostSetting& c) {
+    CostMeasurement m;
+    auto e = run(c, toml, duration, m);
+    m.value = e->frame().position[0];
+    return m;
+  };
+  // k_n = 1e8 on 8 g: contacts of 0.9 ms, so the predictor-corrector's largest step is 1e-4 s.
+  Sweep w{{1e-4, 5e-5, 2e-5, 1e-5, 5e-6},
+          {0.05, 0.01, 0.002, 5e-4},
+          {1e6, 1e7, 1e8, 1e9},
+          {5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4},
+          1e-4,
+          "materials.m"};
+  if (quick) w.native_dt = {1e-4, 2e-5, 5e-6}, w.tolerance = {0.05, 0.002}, w.impulse_dt = {5e-3, 1e-3, 2e-4};
+  s.settings = settings_for(w, quick);
+  return s;
+}
+
+CostScene slide_to_rest(bool quick) {
+  // A 2 x 2 cm block sliding down a 20 deg incline at 100 cm/s with mu 0.6 stops after
+  // v0^2 / (2 g (mu cos - sin)) = 22.98 cm.
+  const double th = 20 * M_PI / 180, mu = 0.6, v0 = 100;
+  return incline_scene(quick, "slide-to-rest",
+                       "a 2 x 2 cm block sliding at 100 cm/s down a 20 deg incline, mu 0.6: distance to rest",
+                       R"toml(
+[[bodies]]
+shape = "polygon"
+vertices = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+density = 2.0
+position = [0.0, 1.0]
+velocity = [100.0, 0.0]
+)toml",
+                       20, mu, 1.0, v0 * v0 / (2 * kG * (mu * std::cos(th) - std::sin(th))),
+                       "v0^2 / (2 g (mu cos th - sin th))");
+}
+
+CostScene rolling_disc(bool quick) {
+  // A disc rolling from rest down a 30 deg incline without slipping: x(t) = g sin(th) t^2 / 3.
+  const double th = 30 * M_PI / 180, t = 0.5;
+  return incline_scene(quick, "rolling-disc",
+                       "a disc rolling from rest down a 30 deg incline (mu 1): distance after 0.5 s",
+                       R"toml(
+[[bodies]]
+radius = 1.0
+density = 2.0
+position = [0.0, 1.0]
+)toml",
+                       30, 1.0, t, kG * std::sin(th) * t * t / 3, "g sin(th) t^2 / 3");
+}
+
+CostScene loaded_die(bool quick) {
+  // p_h of the 2-D die at f = 0.3, eps = 0.7 (the loaded-die suite's throws); reference: the finest
+  // native run.
+  const std::size_t throws = quick ? 150 : 2401;
+  const Die2d die{0.3, 0.7, 0.8};
+  auto p_h = [die, throws](const std::string& engine, const std::vector<std::string>& sets,
+                           CostMeasurement& m) {
+    const auto rows = run_ensemble(throws, 1, [&](std::size_t i) {
+      return std::vector<double>{double(throw_die_2d(engine, die, 1987, i, sets).face_down)};
+    });
+    std::size_t hi = 0, captured = 0;
+    for (const auto& r : rows)
+      if (r[0] >= 0) ++captured, hi += (r[0] == 1 || r[0] == 2);
+    const Proportion p = wilson_interval(hi, captured);
+    m.value = p.p, m.half_width = p.half_width();
+  };
+  CostScene s{"loaded-die",
+              fmt::format("the 2-D loaded die at f = 0.3, eps = 0.7: p_h from {} throws (error with its 95 % "
+                          "interval, absolute)",
+                          throws),
+              "the finest native run (Verlet, dt = 5e-6 s), with its own interval",
+              true,
+              {},
+              {},
+              {}};
+  s.measure = [p_h](const CostSetting& c) {
+    CostMeasurement m;
+    p_h(c.engine, c.sets, m);
+    return m;
+  };
+  s.reference = [p_h] {
+    CostMeasurement m;
+    p_h("native", {"accuracy.dt=5e-6"}, m);
+    return m;
+  };
+  Sweep w{{1e-4, 5e-5, 2e-5, 1e-5}, {0.05, 0.01, 0.002}, {}, {2e-3, 1e-3, 5e-4, 2e-4}, 1e-4, ""};
+  if (quick) w.native_dt = {1e-4, 2e-5}, w.tolerance = {0.01}, w.impulse_dt = {2e-3, 5e-4};
+  s.settings = settings_for(w, quick);
+  return s;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+}  // namespace
+
+std::vector<CostScene> cost_scenes(bool quick) {
+  return {pair_restitution(quick), bounce_apex(quick), slide_to_rest(quick), rolling_disc(quick),
+          loaded_die(quick)};
+}
+
+std::vector<CostRow> run_cost_study(const CostOptions& o) {
+  std::vector<CostScene> scenes = cost_scenes(o.quick);
+  std::vector<CostRow> rows;
+  for (CostScene& sc : scenes) {
+    if (!o.scenes.empty() && std::find(o.scenes.begin(), o.scenes.end(), sc.name) == o.scenes.end()) continue;
+    const CostMeasurement reference = sc.reference();
+    const double ref = reference.value;
+    if (o.log) o.log(fmt::format("{}: reference {:.6g} ({})", sc.name, ref, sc.reference_note));
+    for (const CostSetting& c : sc.settings) {
+      CostMeasurement m;
+      std::vector<double> seconds;
+      const int repeats = sc.statistical ? 1 : std::max(1, o.repeats);
+      for (int k = 0; k < repeats; ++k) {
+        const auto start = std::chrono::steady_clock::now();
+        m = sc.measure(c);
+        seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      }
+      CostRow r{sc.name, c.engine, c.method,        c.knob,  c.value,    m.value,
+                0,       0,        median(seconds), m.steps, m.rejected, m.iterations};
+      if (sc.statistical) {
+        r.error = std::abs(m.value - ref);
+        r.error_half_width = std::hypot(m.half_width, reference.half_width);
+      } else {
+        r.error = std::abs(m.value - ref) / std::abs(ref);
+      }
+      if (o.log)
+        o.log(fmt::format("  {} {} = {:g}: {:.6g} (error {:.2e}), {:.4f} s, {:.0f} steps", c.method, c.knob,
+                          c.value, m.value, r.error, r.seconds, r.steps));
+      rows.push_back(r);
+    }
+  }
+  return rows;
+}
+
+const CostRow* cheapest_reaching(const std::vector<CostRow>& rows, const std::string& scene,
+                                 const std::string& method, double target) {
+  const CostRow* best = nullptr;
+  for (const CostRow& r : rows)
+    if (r.scene == scene && r.method == method && r.error <= target && (!best || r.seconds < best->seconds))
+      best = &r;
+  return best;
+}
+
+void write_cost_report(const std::vector<CostRow>& rows, const std::vector<CostScene>& scenes,
+                       const std::string& dir, bool quick) {
+  namespace fs = std::filesystem;
+  fs::create_directories(dir);
+  nlohmann::json j = nlohmann::json::array();
+  for (const CostRow& r : rows)
+    j.push_back({{"scene", r.scene},
+                 {"engine", r.engine},
+                 {"method", r.method},
+                 {"knob", r.knob},
+                 {"value", r.value},
+                 {"measured", r.measured},
+                 {"error", r.error},
+                 {"error_half_width", r.error_half_width},
+                 {"seconds", r.seconds},
+                 {"steps", r.steps},
+                 {"rejected_steps", r.rejected},
+                 {"solver_iterations", r.iterations}});
+  write_file_atomically((fs::path(dir) / "cost.json").string(), j.dump(1) + "\n");
+
+  Report plots;  // collects the plots
+  std::string md = fmt::format(
+      "# What accuracy costs ({} mode)\n\nMade by `grainlab cost{} --out {}`. Error: relative to the "
+      "reference, "
+      "except the loaded die's p_h (absolute, with its 95 % interval). Seconds: median wall time of repeated "
+      "runs. Solver iterations: force evaluations (native) or steps x iterations (impulse engines; ODE's "
+      "direct stepper has none).\n\n",
+      quick ? "quick" : "full", quick ? " --quick" : "", dir);
+  for (const CostScene& sc : scenes) {
+    std::vector<std::string> methods;
+    for (const CostRow& r : rows)
+      if (r.scene == sc.name && std::find(methods.begin(), methods.end(), r.method) == methods.end())
+        methods.push_back(r.method);
+    if (methods.empty()) continue;
+    md += fmt::format("## {}\n\n{}. Reference: {}.\n\n", sc.name, sc.description, sc.reference_note);
+    PlotSpec plot{"cost_" + sc.name + ".png",
+                  sc.name + ": error against cost",
+                  "wall time per run (s)",
+                  "error",
+                  true,
+                  {}};
+    plot.logy = true;
+    md += "| curve | error 1e-1 | error 1e-2 | error 1e-3 |\n|---|---|---|---|\n";
+    for (const std::string& method : methods) {
+      PlotSpec::Series s{method, "linepoints", {}, {}, {}};
+      md += "| " + method + " |";
+      for (double target : {1e-1, 1e-2, 1e-3}) {
+        const CostRow* r = cheapest_reaching(rows, sc.name, method, target);
+        md += r ? fmt::format(" {} = {:g}: {:.2g} s |", r->knob, r->value, r->seconds)
+                : std::string(" not reached |");
+      }
+      md += "\n";
+      for (const CostRow& r : rows)
+        if (r.scene == sc.name && r.method == method) {
+          s.x.push_back(std::max(r.seconds, 1e-7));
+          s.y.push_back(std::max(r.error, 1e-12));  // exact results sit on the plot's floor
+        }
+      plot.series.push_back(s);
+    }
+    md +=
+        "\n| curve | setting | measured | error | seconds | steps | rejected | solver iterations |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+    for (const CostRow& r : rows)
+      if (r.scene == sc.name)
+        // An ensemble's step counts are not collected (each throw is its own engine).
+        md += fmt::format(
+            "| {} | {} = {:g} | {:.6g} | {:.2e}{} | {:.3g} | {} |\n", r.method, r.knob, r.value, r.measured,
+            r.error, sc.statistical ? fmt::format(" +- {:.2e}", r.error_half_width) : "", r.seconds,
+            sc.statistical ? std::string("- | - | -")
+                           : fmt::format("{:.0f} | {:.0f} | {:.0f}", r.steps, r.rejected, r.iterations));
+    md += fmt::format("\n![{}]({})\n\n", sc.name, plot.file);
+    plots.plots.push_back(plot);
+  }
+  write_file_atomically((fs::path(dir) / "cost.md").string(), md);
+  write_plots(plots.plots, dir);
+}
+
+}  // namespace grainlab::validation
