@@ -150,6 +150,7 @@ TumbleRun tumble(const std::string& engine, const TumblingShape& s, const Inclin
   const std::vector<Vec2>& verts = b.scene.bodies[0].vertices;
   const double touch = 0.02 * size;  // a vertex this close to the plane is touching it
   double airborne_samples = 0, samples = 0, x0 = 0, a0 = 0, v0 = 0;
+  bool stopped = false;  // the acceleration is measured up to the first stop, if there is one
   TumbleRun out;
   const double start = kTumbleDuration - kTumbleWindow;
   for (int k = 0; k <= static_cast<int>(std::lround(kTumbleWindow / 0.01)); ++k) {
@@ -163,7 +164,10 @@ TumbleRun tumble(const std::string& engine, const TumblingShape& s, const Inclin
     samples += 1;
     out.downslope_speed = (c.x - x0) / kTumbleWindow;
     out.turned = std::abs(fr.angle[0] - a0);
-    out.acceleration = (fr.velocity[0] - v0) / kTumbleWindow;
+    if (k > 0 && !stopped) {
+      out.acceleration = (fr.velocity[0] - v0) / (0.01 * k);
+      stopped = std::abs(fr.velocity[0]) < 1.0;
+    }
   }
   out.airborne = airborne_samples / samples;
   out.motion = classify(out.downslope_speed, out.turned, out.airborne, static_cast<int>(verts.size()));
