@@ -53,7 +53,7 @@ Damping read_damping(const TomlReader& r, const char* rate_key, const char* coef
   else if (r.has(coef_key))
     d = {Damping::Kind::Coefficient, r.number(coef_key, Range::non_negative())};
   else if (rest_key && r.has(rest_key))
-    d = {Damping::Kind::Restitution, r.number(rest_key, {0, 1, true})};
+    d = {Damping::Kind::Restitution, r.number(rest_key, Range::closed(0, 1))};  // 0: critically damped
   return d;
 }
 

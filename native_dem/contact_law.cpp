@@ -5,6 +5,7 @@ namespace grainlab::dem {
 // For the oscillator m x'' + c x' + k x = 0, eq. 2.2 reads eps = exp(-(c/m) T/4) with
 // T = 2 pi / sqrt(k/m - (c/2m)^2). Writing L = -ln eps gives c = 2 L sqrt(k m) / sqrt(pi^2 + L^2).
 double damping_for_restitution(double k_n, double eps, double meff) {
+  if (eps <= 0) return 2 * std::sqrt(k_n * meff);  // the limit: critical damping, no rebound
   const double L = -std::log(eps);
   return 2 * L * std::sqrt(k_n * meff) / std::sqrt(M_PI * M_PI + L * L);
 }

@@ -52,3 +52,12 @@ TEST(ContactLaw, AttractiveNormalForceClippedOnlyWhenAsked) {
   L.clip_attractive = true;
   EXPECT_DOUBLE_EQ(normal_force(L, 0.1, 5.0, 1.0), 0.0);
 }
+
+TEST(ContactLaw, RestitutionZeroIsCriticalDamping) {
+  // eps -> 0 needs L = -ln eps -> infinity; the limit of 2 L sqrt(k m) / sqrt(pi^2 + L^2) is 2 sqrt(k m),
+  // critical damping, where the linear contact no longer rebounds.
+  const double k = 1e8, m = 3.0;
+  EXPECT_DOUBLE_EQ(damping_for_restitution(k, 0.0, m), 2 * std::sqrt(k * m));
+  EXPECT_EQ(restitution_from_damping(k, damping_for_restitution(k, 0.0, m), m), 0.0);
+  EXPECT_LT(damping_for_restitution(k, 1e-9, m), damping_for_restitution(k, 0.0, m));  // approached from below
+}

@@ -108,6 +108,13 @@ PairImpactResult pair_impact(const std::string& engine, int dimension, double sp
   r.tangential_restitution = -out.y() / in.y();
   r.rebound_angle_deg = std::atan2(out.y(), -out.x()) * 180 / M_PI;
   r.spin = after.w[1].z();
+  // Both grains have density 2: mass and moment of inertia of a disc or a sphere.
+  const double m = dimension == 2 ? 2 * M_PI * kRadius * kRadius : 2 * 4.0 / 3 * M_PI * std::pow(kRadius, 3);
+  const double inertia = (dimension == 2 ? 0.5 : 0.4) * m * kRadius * kRadius;
+  double kinetic = 0;
+  for (int k = 0; k < 2; ++k)
+    kinetic += 0.5 * m * after.v[k].squaredNorm() + 0.5 * inertia * after.w[k].squaredNorm();
+  r.kinetic_ratio = kinetic / (0.5 * m * speed * speed);
   return r;
 }
 

@@ -12,6 +12,7 @@ struct PairImpactResult {
   double rebound_angle_deg = 0;       // of the contact point's relative velocity from the normal, after
   double spin = 0;                    // of the moving grain after the impact (rad/s)
   double impact_angle_deg = 0;        // of the incoming relative velocity from the impact's normal
+  double kinetic_ratio = 0;           // kinetic energy (with rotation) after / before
   double normal_turn_deg = 0;         // the impact's normal (line of centres at the deepest overlap)
                                       // against the line of centres at first touch
 };

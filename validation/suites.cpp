@@ -25,6 +25,10 @@ const std::vector<Suite>& suites() {
        "two discs and two spheres colliding at the Ch. III scale on every engine: restitution, rebound and "
        "spin against Walton's rigid-body model",
        run_pair_impact_suite},
+      {"stability",
+       "hard cases on every engine: stiff and soft contacts, mass ratio 1:1000, polygons vertex on vertex, "
+       "restitution 0 and 1, grazing impacts, a grain into a bed at 8100 cm/s, adaptive step underflow",
+       run_stability_suite},
   };
   return all;
 }
