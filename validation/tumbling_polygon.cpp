@@ -152,6 +152,7 @@ TumbleRun tumble(const std::string& engine, const TumblingShape& s, const Inclin
   double airborne_samples = 0, samples = 0, x0 = 0, a0 = 0, v0 = 0;
   bool stopped = false;  // the acceleration is measured up to the first stop, if there is one
   TumbleRun out;
+  out.acceleration = NAN;
   const double start = kTumbleDuration - kTumbleWindow;
   for (int k = 0; k <= static_cast<int>(std::lround(kTumbleWindow / 0.01)); ++k) {
     b.engine->advance_to(start + 0.01 * k);
@@ -164,10 +165,10 @@ TumbleRun tumble(const std::string& engine, const TumblingShape& s, const Inclin
     samples += 1;
     out.downslope_speed = (c.x - x0) / kTumbleWindow;
     out.turned = std::abs(fr.angle[0] - a0);
-    if (k > 0 && !stopped) {
-      out.acceleration = (fr.velocity[0] - v0) / (0.01 * k);
-      stopped = std::abs(fr.velocity[0]) < 1.0;
-    }
+    // Up to the last sample before the first stop: a slide that stops between two samples would
+    // otherwise be credited with the whole interval. NaN if it stopped before the second sample.
+    stopped |= std::abs(fr.velocity[0]) < 1.0;
+    if (k > 0 && !stopped) out.acceleration = (fr.velocity[0] - v0) / (0.01 * k);
   }
   out.airborne = airborne_samples / samples;
   out.motion = classify(out.downslope_speed, out.turned, out.airborne, static_cast<int>(verts.size()));

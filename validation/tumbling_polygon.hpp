@@ -24,8 +24,8 @@ const char* motion_name(Motion m);
 struct TumbleRun {
   Motion motion = Motion::Rest;
   double downslope_speed = 0;  // mean over the settled window (cm/s)
-  double acceleration = 0;     // downslope velocity change / time, over the window or up to the first
-                               // sample in it below 1 cm/s (a slide that stops inside the window)
+  double acceleration = 0;     // downslope velocity change / time, over the window or up to the last
+                               // sample before it first falls below 1 cm/s; NaN if that is the first
   double turned = 0;           // |net rotation| over the window (rad)
   double airborne = 0;         // fraction of the window's samples with no vertex touching
 };
