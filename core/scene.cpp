@@ -102,6 +102,9 @@ SizeDistribution read_size(const TomlReader& r) {
   return s;
 }
 
+// Limits that keep a hostile or mistyped scene from running forever or exhausting memory.
+constexpr double kMaxSteps = 1e12, kMaxGenerated = 1e7;
+
 class SceneReader {
  public:
   SceneReader(const toml::table& root, Scene& scene) : root_(root), s_(scene) {}
@@ -265,6 +268,15 @@ class SceneReader {
     a.split_impulse = r.boolean_or("split_impulse", true);
     if (a.dt_min > a.dt) r.fail("dt_min", "must not exceed dt");
     if (a.dt_max < a.dt) r.fail("dt_max", "must not be below dt");
+    // A run that could never finish is a mistake, not a long run: at least duration / (the largest step)
+    // steps, and beyond 1e12 even one grain takes hours.
+    const double largest = a.integrator == Integrator::VelocityVerlet ? a.dt : a.dt_max;
+    if (s_.duration / largest > kMaxSteps)
+      r.fail(a.integrator == Integrator::VelocityVerlet ? "dt" : "dt_max",
+             fmt::format(
+                 "scene.duration {} s at steps of at most {} s needs at least {:.3g} steps; more than {:.0e} "
+                 "would never finish (shorten the duration or lengthen the step)",
+                 s_.duration, largest, s_.duration / largest, kMaxSteps));
     r.finish();
   }
 
@@ -552,6 +564,9 @@ class SceneReader {
         a.kind = AssemblySpec::Kind::Lattice;
         a.nx = static_cast<int>(r.integer("nx", 1, 10'000'000));
         a.ny = static_cast<int>(r.integer("ny", 1, 10'000'000));
+        if (double(a.nx) * a.ny > kMaxGenerated)
+          r.fail("ny", fmt::format("nx x ny = {:.3g} discs; at most {:.0e} can be generated",
+                                   double(a.nx) * a.ny, kMaxGenerated));
         a.spacing = r.number("spacing", Range::positive());
         if (a.spacing < 2 * max_radius(a.radius))
           r.fail("spacing",
