@@ -1,4 +1,4 @@
-// grainlab: the command line. Subcommands: run, validate, cost, engines, die-model, bench.
+// grainlab: the command line. Subcommands: run, inspect, validate, cost, engines, die-model, bench.
 // Exit status: 0 success; 1 a check failed or a simulation broke down; 2 bad input (nothing written).
 #include <fmt/format.h>
 
@@ -10,6 +10,7 @@
 #include "bed_benchmark.hpp"
 #include "die_model_command.hpp"
 #include "engine.hpp"
+#include "h5_input.hpp"
 #include "input_error.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
@@ -113,6 +114,18 @@ int cost_command(validation::CostOptions o, const std::string& out, bool quiet) 
   return 0;
 }
 
+int inspect_command(const std::string& path) {
+  const RunFileSummary s = read_run_file(path);
+  fmt::print("{}: grainlab {} run of \"{}\" on {}\n", path,
+             s.text.count("grainlab_version") ? s.text.at("grainlab_version") : "?",
+             s.text.count("scene_name") ? s.text.at("scene_name") : "?",
+             s.text.count("engine") ? s.text.at("engine") : "?");
+  fmt::print("  {} frames from t = {} to {} ({}), {} bodies; every dataset read and consistent\n", s.frames,
+             s.first_time, s.last_time, s.text.count("units") ? s.text.at("units") : "?", s.bodies);
+  for (const auto& [k, v] : s.diagnostics) fmt::print("  {} = {}\n", k, v);
+  return 0;
+}
+
 int engines_command(bool json) {
   if (json) {
     nlohmann::json j = nlohmann::json::array();
@@ -186,6 +199,11 @@ int main(int argc, char** argv) {
   cost_cmd->add_option("--scene", cost.scenes, "scene to study (repeatable; default: all)");
   cost_cmd->add_flag("--quiet,-q", cost_quiet, "no progress lines");
 
+  std::string inspect_path;
+  CLI::App* inspect_cmd = app.add_subcommand(
+      "inspect", "read a run file back and check every part (exit 2 if truncated or damaged)");
+  inspect_cmd->add_option("file", inspect_path, "the .h5 file grainlab run wrote")->required();
+
   bool engines_json = false;
   CLI::App* engines_cmd = app.add_subcommand("engines", "list the engines and what each can simulate");
   engines_cmd->add_flag("--json", engines_json, "machine-readable");
@@ -241,6 +259,7 @@ int main(int argc, char** argv) {
     if (*val) return validate_command(suites, report_dir, quick, vquiet);
     if (*engines_cmd) return engines_command(engines_json);
     if (*cost_cmd) return cost_command(cost, cost_dir, cost_quiet);
+    if (*inspect_cmd) return inspect_command(inspect_path);
     if (*die_cmd) return cli::die_model_command(die);
     if (*bed_cmd) return bench::run_bed_command(bed);
   } catch (const InputError& e) {

@@ -1,0 +1,110 @@
+#include "h5_input.hpp"
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include <filesystem>
+#include <vector>
+
+#include "input_error.hpp"
+
+namespace grainlab {
+
+namespace {
+
+// Closes an HDF5 handle when it goes out of scope.
+struct Handle {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Handle() {
+    if (id >= 0) close(id);
+  }
+};
+
+[[noreturn]] void corrupt(const std::string& path, const std::string& what) {
+  throw InputError({path, 0}, "file", what);
+}
+
+struct Dataset {
+  std::vector<hsize_t> dims;
+  std::vector<double> data;
+};
+
+// Reads a whole 1-D or 2-D dataset as doubles.
+Dataset read_all(hid_t parent, const std::string& name, const std::string& path) {
+  Handle d{H5Dopen2(parent, name.c_str(), H5P_DEFAULT), H5Dclose};
+  if (d.id < 0) corrupt(path, name + " is missing or unreadable");
+  Handle space{H5Dget_space(d.id), H5Sclose};
+  const int rank = H5Sget_simple_extent_ndims(space.id);
+  if (rank < 1 || rank > 2) corrupt(path, name + " has an unexpected shape");
+  Dataset out{std::vector<hsize_t>(static_cast<std::size_t>(rank)), {}};
+  H5Sget_simple_extent_dims(space.id, out.dims.data(), nullptr);
+  hsize_t count = 1;
+  for (hsize_t x : out.dims) count *= x;
+  out.data.resize(count);
+  if (count > 0 && H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data.data()) < 0)
+    corrupt(path, name + ": its data cannot be read (the file is truncated or damaged)");
+  return out;
+}
+
+struct AttributeSink {
+  RunFileSummary* summary;
+  bool numbers;  // also keep numeric attributes (as diagnostics)
+};
+
+herr_t take_attribute(hid_t obj, const char* name, const H5A_info_t*, void* data) {
+  auto* sink = static_cast<AttributeSink*>(data);
+  Handle a{H5Aopen(obj, name, H5P_DEFAULT), H5Aclose};
+  if (a.id < 0) return 0;
+  Handle type{H5Aget_type(a.id), H5Tclose};
+  if (H5Tget_class(type.id) == H5T_STRING) {
+    std::string v(H5Tget_size(type.id), '\0');
+    if (H5Aread(a.id, type.id, v.data()) >= 0) sink->summary->text[name] = v.c_str();
+  } else if (sink->numbers) {
+    double v = 0;
+    if (H5Aread(a.id, H5T_NATIVE_DOUBLE, &v) >= 0) sink->summary->diagnostics[name] = v;
+  }
+  return 0;
+}
+
+void read_attributes(hid_t obj, RunFileSummary& s, bool numbers) {
+  AttributeSink sink{&s, numbers};
+  H5Aiterate2(obj, H5_INDEX_NAME, H5_ITER_INC, nullptr, take_attribute, &sink);
+}
+
+}  // namespace
+
+RunFileSummary read_run_file(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError({path, 0}, "file", "does not exist");
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  if (H5Fis_hdf5(path.c_str()) <= 0) corrupt(path, "is not an HDF5 file (or its header is damaged)");
+  Handle f{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
+  if (f.id < 0) corrupt(path, "cannot be opened as HDF5: it is truncated or damaged");
+  RunFileSummary s;
+  read_attributes(f.id, s, false);
+  if (!s.text.count("grainlab_version"))
+    corrupt(path, "is not a grainlab run file (no grainlab_version attribute)");
+  Handle frames{H5Gopen2(f.id, "/frames", H5P_DEFAULT), H5Gclose};
+  if (frames.id < 0) corrupt(path, "has no /frames group");
+  const Dataset times = read_all(frames.id, "time", path);
+  s.frames = times.dims[0];
+  if (s.frames > 0) s.first_time = times.data.front(), s.last_time = times.data.back();
+  for (std::size_t k = 0; k < s.frames; ++k) {
+    const std::string g = fmt::format("/frames/{:06d}", k);
+    Handle group{H5Gopen2(f.id, g.c_str(), H5P_DEFAULT), H5Gclose};
+    if (group.id < 0) corrupt(path, fmt::format("frame {} of {} is missing ({})", k, s.frames, g));
+    const hsize_t n = read_all(group.id, "position", path).dims[0];
+    if (k == 0) s.bodies = n;
+    for (const char* name : {"velocity", "radius", "angular_velocity", "orientation"})
+      if (read_all(group.id, name, path).dims[0] != n)
+        corrupt(path, fmt::format("{}/{} has a different number of bodies than its positions", g, name));
+  }
+  Handle energy{H5Gopen2(f.id, "/energy", H5P_DEFAULT), H5Gclose};
+  if (energy.id < 0) corrupt(path, "has no /energy group");
+  Handle diagnostics{H5Gopen2(f.id, "/diagnostics", H5P_DEFAULT), H5Gclose};
+  if (diagnostics.id < 0) corrupt(path, "has no /diagnostics group");
+  read_attributes(diagnostics.id, s, true);
+  return s;
+}
+
+}  // namespace grainlab
