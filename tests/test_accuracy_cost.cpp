@@ -8,9 +8,9 @@ using namespace grainlab::validation;
 
 TEST(AccuracyCost, CheapestReachingPicksTheFastestSettingUnderTheTarget) {
   std::vector<CostRow> rows(3);
-  rows[0] = {"s", "native", "m", "dt", 1e-3, 0, 0.05, 0, 1.0, 0, 0, 0};
-  rows[1] = {"s", "native", "m", "dt", 1e-4, 0, 0.005, 0, 2.0, 0, 0, 0};
-  rows[2] = {"s", "native", "m", "dt", 1e-5, 0, 0.004, 0, 9.0, 0, 0, 0};
+  rows[0] = {"s", "native", "m", "dt", 1e-3, 0, 0.05, 0, 1.0, 0, 0, 0, ""};
+  rows[1] = {"s", "native", "m", "dt", 1e-4, 0, 0.005, 0, 2.0, 0, 0, 0, ""};
+  rows[2] = {"s", "native", "m", "dt", 1e-5, 0, 0.004, 0, 9.0, 0, 0, 0, ""};
   EXPECT_EQ(cheapest_reaching(rows, "s", "m", 1e-1), &rows[0]);
   EXPECT_EQ(cheapest_reaching(rows, "s", "m", 1e-2), &rows[1]);
   EXPECT_EQ(cheapest_reaching(rows, "s", "m", 1e-3), nullptr);  // "not reached"

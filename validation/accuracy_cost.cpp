@@ -341,23 +341,32 @@ std::vector<CostRow> run_cost_study(const CostOptions& o) {
     for (const CostSetting& c : sc.settings) {
       CostMeasurement m;
       std::vector<double> seconds;
+      std::string failure;
       const int repeats = sc.statistical ? 1 : std::max(1, o.repeats);
-      for (int k = 0; k < repeats; ++k) {
+      for (int k = 0; k < repeats && failure.empty(); ++k) {
         const auto start = std::chrono::steady_clock::now();
-        m = sc.measure(c);
+        try {
+          m = sc.measure(c);
+        } catch (const std::exception& ex) {
+          failure = ex.what();  // a setting that cannot run is a result too
+        }
         seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       }
-      CostRow r{sc.name, c.engine, c.method,        c.knob,  c.value,    m.value,
-                0,       0,        median(seconds), m.steps, m.rejected, m.iterations};
-      if (sc.statistical) {
+      CostRow r{sc.name, c.engine,        c.method, c.knob,     c.value,      m.value, 0,
+                0,       median(seconds), m.steps,  m.rejected, m.iterations, failure};
+      if (!failure.empty()) {
+        r.error = NAN;
+      } else if (sc.statistical) {
         r.error = std::abs(m.value - ref);
         r.error_half_width = std::hypot(m.half_width, reference.half_width);
       } else {
         r.error = std::abs(m.value - ref) / std::abs(ref);
       }
       if (o.log)
-        o.log(fmt::format("  {} {} = {:g}: {:.6g} (error {:.2e}), {:.4f} s, {:.0f} steps", c.method, c.knob,
-                          c.value, m.value, r.error, r.seconds, r.steps));
+        o.log(failure.empty()
+                  ? fmt::format("  {} {} = {:g}: {:.6g} (error {:.2e}), {:.4f} s, {:.0f} steps", c.method,
+                                c.knob, c.value, m.value, r.error, r.seconds, r.steps)
+                  : fmt::format("  {} {} = {:g}: failed: {}", c.method, c.knob, c.value, failure));
       rows.push_back(r);
     }
   }
@@ -380,6 +389,7 @@ void write_cost_report(const std::vector<CostRow>& rows, const std::vector<CostS
   nlohmann::json j = nlohmann::json::array();
   for (const CostRow& r : rows)
     j.push_back({{"scene", r.scene},
+                 {"failure", r.failure},
                  {"engine", r.engine},
                  {"method", r.method},
                  {"knob", r.knob},
@@ -426,7 +436,7 @@ void write_cost_report(const std::vector<CostRow>& rows, const std::vector<CostS
       }
       md += "\n";
       for (const CostRow& r : rows)
-        if (r.scene == sc.name && r.method == method) {
+        if (r.scene == sc.name && r.method == method && r.failure.empty()) {
           s.x.push_back(std::max(r.seconds, 1e-7));
           s.y.push_back(std::max(r.error, 1e-12));  // exact results sit on the plot's floor
         }
@@ -436,7 +446,10 @@ void write_cost_report(const std::vector<CostRow>& rows, const std::vector<CostS
         "\n| curve | setting | measured | error | seconds | steps | rejected | solver iterations |\n"
         "|---|---|---|---|---|---|---|---|\n";
     for (const CostRow& r : rows)
-      if (r.scene == sc.name)
+      if (r.scene == sc.name && !r.failure.empty())
+        md += fmt::format("| {} | {} = {:g} | failed: {} | - | {:.3g} | - | - | - |\n", r.method, r.knob,
+                          r.value, r.failure, r.seconds);
+      else if (r.scene == sc.name)
         // An ensemble's step counts are not collected (each throw is its own engine).
         md += fmt::format(
             "| {} | {} = {:g} | {:.6g} | {:.2e}{} | {:.3g} | {} |\n", r.method, r.knob, r.value, r.measured,
