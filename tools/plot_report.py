@@ -19,6 +19,8 @@ STYLES = {"line": dict(linestyle="-", marker=None), "dashed": dict(linestyle="--
 
 def draw(spec, folder):
     fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+    if len(spec["series"]) > 10:  # the default cycle has 10 colours: keep every curve distinct
+        ax.set_prop_cycle(color=plt.cm.tab20.colors)
     for s in spec["series"]:
         style = STYLES.get(s["style"], STYLES["line"])
         if s.get("err"):
