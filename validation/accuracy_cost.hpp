@@ -24,6 +24,8 @@ struct CostMeasurement {
   double value = 0;
   double half_width = 0;  // 95 % interval of a statistical value (0 otherwise)
   double steps = 0, rejected = 0, iterations = 0;
+  std::vector<double> extra;  // further measured quantities of a scene (the bed: packing, coordination)
+  std::string detail;         // how a scene reports them
 };
 
 struct CostScene {
@@ -34,6 +36,9 @@ struct CostScene {
   // The analytic value, or (statistical scenes) the finest native run with its interval.
   std::function<CostMeasurement()> reference;
   std::vector<CostSetting> settings;
+  bool expensive = false;  // timed once, not repeated (a 1,000-grain pour)
+  // Error of a measurement against the reference; empty: |value - reference| / |reference|.
+  std::function<double(const CostMeasurement&, const CostMeasurement&)> error;
 };
 
 struct CostRow {
@@ -41,6 +46,7 @@ struct CostRow {
   double value = 0, measured = 0, error = 0, error_half_width = 0;  // error: relative, or absolute for p_h
   double seconds = 0, steps = 0, rejected = 0, iterations = 0;
   std::string failure;  // why the run stopped (then error is NaN): e.g. the adaptive step underflowed
+  std::string detail;   // the scene's further quantities, as text
 };
 
 struct CostOptions {
