@@ -12,6 +12,7 @@
 #include "engine.hpp"
 #include "pair_impact.hpp"
 #include "polyhedron.hpp"
+#include "rng.hpp"
 #include "suites.hpp"
 
 namespace grainlab::validation {
@@ -227,6 +228,53 @@ max = 0.6
          {"accuracy.dt=1e-5"},
          {"accuracy.dt=2e-4"},
          [](const Frame& f) { return below_floor(f, 2); }};
+  c.rest_after = 2 * duration / 3;
+  return c;
+}
+
+// A pile of spheres (radii 0.4-0.6 cm) dropped from a loose seeded grid into a 13.5 x 13.5 cm box.
+Case pile3d_case(int count, double duration) {
+  std::string toml = fmt::format(R"toml(
+[scene]
+dimension = 3
+duration = {d}
+effects = ["gravity", "normal_contact", "friction", "rotation"]
+[accuracy]
+integrator = "verlet"
+dt = 1e-5
+[materials.m]
+k_n = 1e8
+restitution = 0.3
+k_s = 1e8
+mu = 0.5
+)toml",
+                                 fmt::arg("d", duration));
+  for (const char* wall : {"[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]", "[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]",
+                           "[13.5, 0.0, 0.0], [-1.0, 0.0, 0.0]", "[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]",
+                           "[0.0, 13.5, 0.0], [0.0, -1.0, 0.0]"}) {
+    const std::string w(wall);
+    const auto comma = w.find("], [");
+    toml += fmt::format("[[walls]]\ntype = \"plane\"\npoint = {}]\nnormal = [{}\n", w.substr(0, comma),
+                        w.substr(comma + 4));
+  }
+  Rng rng(2026);
+  for (int k = 0; k < count; ++k)
+    toml += fmt::format("[[bodies]]\nradius = {:.6f}\ndensity = 2.0\nposition = [{:.4f}, {:.4f}, {:.4f}]\n",
+                        rng.uniform(0.4, 0.6), 0.75 + 1.3 * (k % 10), 0.75 + 1.3 * (k / 10 % 10),
+                        1.0 + 1.3 * (k / 100));
+  Case c{
+      "pile-3d-at-rest",
+      fmt::format(
+          "{} spheres (r 0.4-0.6) dropped from a loose grid into a 13.5 x 13.5 cm box, left {} s: at rest from "
+          "{:.3g} s on",
+          count, duration, 2 * duration / 3),
+      3,
+      toml,
+      duration,
+      0.05,
+      {"accuracy.dt=1e-5"},
+      {"accuracy.dt=2e-4"},
+      [](const Frame& f) { return below_floor(f, 3); }};
   c.rest_after = 2 * duration / 3;
   return c;
 }
@@ -462,6 +510,7 @@ velocity = [7859.0, -1960.0]
                  "the linear contact's own maximum at 8100 cm/s, v sqrt(m_eff/k) = 0.117 cm = 0.234 r"});
   // A pile of discs poured from a loose lattice (radii 0.4-0.6 cm, 40 cm box) left to rest.
   out.push_back(pile_case(quick ? 300 : 2000, quick ? 3.0 : 10.0));
+  out.push_back(pile3d_case(quick ? 100 : 1000, quick ? 3.0 : 10.0));
   // The 3-D die dropped exactly onto a corner and onto an edge (native, ODE, Bullet).
   const double s3 = 1 / std::sqrt(3.0);
   out.push_back(die3d_case("die-3d-on-corner",
