@@ -29,7 +29,18 @@ struct RunArgs {
 };
 
 int run_command(const RunArgs& a) {
-  const Scene scene = load_scene(a.scene, a.sets);
+  const Scene scene =
+      load_scene(a.scene, a.sets);  // every rank checks the input, so every rank exits 2 alike
+  // The native engine does not decompose its domain over ranks yet (issue #6): one rank runs the scene
+  // and writes the file, the others stop, so no two processes ever write the same output.
+  if (parallel::size() > 1) {
+    if (parallel::rank() != 0) return 0;
+    if (!a.quiet)
+      fmt::print(stderr,
+                 "grainlab run: note: {} MPI ranks, but runs are not yet split over ranks; rank 0 runs the "
+                 "whole scene\n",
+                 parallel::size());
+  }
   std::string out = a.out.empty() ? scene.output.file : a.out;
   if (out.empty()) out = fs::path(a.scene).stem().string() + ".h5";
   if (!a.force && fs::exists(out))
