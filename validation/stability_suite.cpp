@@ -262,19 +262,18 @@ mu = 0.5
     toml += fmt::format("[[bodies]]\nradius = {:.6f}\ndensity = 2.0\nposition = [{:.4f}, {:.4f}, {:.4f}]\n",
                         rng.uniform(0.4, 0.6), 0.75 + 1.3 * (k % 10), 0.75 + 1.3 * (k / 10 % 10),
                         1.0 + 1.3 * (k / 100));
-  Case c{
-      "pile-3d-at-rest",
-      fmt::format(
-          "{} spheres (r 0.4-0.6) dropped from a loose grid into a 13.5 x 13.5 cm box, left {} s: at rest from "
-          "{:.3g} s on",
-          count, duration, 2 * duration / 3),
-      3,
-      toml,
-      duration,
-      0.05,
-      {"accuracy.dt=1e-5"},
-      {"accuracy.dt=2e-4"},
-      [](const Frame& f) { return below_floor(f, 3); }};
+  Case c{"pile-3d-at-rest",
+         fmt::format("{} spheres (r 0.4-0.6) dropped from a loose grid into a 13.5 x 13.5 cm box, left {} s: "
+                     "at rest from "
+                     "{:.3g} s on",
+                     count, duration, 2 * duration / 3),
+         3,
+         toml,
+         duration,
+         0.05,
+         {"accuracy.dt=1e-5"},
+         {"accuracy.dt=2e-4"},
+         [](const Frame& f) { return below_floor(f, 3); }};
   c.rest_after = 2 * duration / 3;
   return c;
 }
@@ -309,6 +308,33 @@ orientation = [{:.17g}, {:.17g}, {:.17g}, {:.17g}]
       name, description, 3, toml, 1.0, 1e-3, {"accuracy.dt=2e-5"}, {"accuracy.dt=5e-4"}, [](const Frame& f) {
         return below_floor(f, 3);
       }};
+}
+
+// A 2 x 2 cm square body (TOML) at (x, y), turned by `angle`.
+std::string square_at(double x, double y, double angle = 0) {
+  return fmt::format(R"toml(
+[[bodies]]
+shape = "polygon"
+vertices = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+density = 2.0
+position = [{}, {}]
+angle = {:.17g}
+)toml",
+                     x, y, angle);
+}
+
+// A 2-D case on the floor line y = 0 (k 1e8; native steps 1e-5 s, impulse engines 1e-4 s).
+Case floor_case(std::string name, std::string description, double duration, double restitution, double mu,
+                const std::string& bodies, std::function<bool(const Frame&)> tunnelled) {
+  return {std::move(name),
+          std::move(description),
+          2,
+          floor_header(duration, 1e8, restitution, mu, "1e-5") + bodies,
+          duration,
+          1e-3,
+          {"accuracy.dt=1e-5"},
+          {"accuracy.dt=1e-4"},
+          std::move(tunnelled)};
 }
 
 std::vector<Case> cases(bool quick) {
@@ -390,60 +416,15 @@ position = [3.0, 30.5]
                  {"accuracy.dt=1e-4"},
                  [](const Frame& f) { return f.position[4] < 20.0; }});
   // Polygons meeting vertex on vertex and edge on edge, and a die landing exactly on a corner.
-  const std::string lower = R"toml(
-[[bodies]]
-shape = "polygon"
-vertices = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
-density = 2.0
-position = [0.0, 1.0]
-)toml";
-  out.push_back({"vertex-on-vertex",
-                 "a square dropped corner-first onto the corner of a square on the floor",
-                 2,
-                 floor_header(1.0, 1e8, 0.5, 0.5, "1e-5") + lower + R"toml(
-[[bodies]]
-shape = "polygon"
-vertices = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
-density = 2.0
-position = [1.0, 4.5]
-angle = 0.7853981633974483
-)toml",
-                 1.0,
-                 1e-3,
-                 {"accuracy.dt=1e-5"},
-                 {"accuracy.dt=1e-4"},
-                 two_d});
-  out.push_back({"edge-on-edge",
-                 "a square dropped flat onto a square on the floor",
-                 2,
-                 floor_header(1.0, 1e8, 0.5, 0.5, "1e-5") + lower + R"toml(
-[[bodies]]
-shape = "polygon"
-vertices = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
-density = 2.0
-position = [0.0, 5.0]
-)toml",
-                 1.0,
-                 1e-3,
-                 {"accuracy.dt=1e-5"},
-                 {"accuracy.dt=1e-4"},
-                 [](const Frame& f) { return f.position[4] < f.position[1]; }});
-  out.push_back({"die-on-corner",
-                 "a 2-D die dropped exactly onto a corner (45 deg, no spin)",
-                 2,
-                 floor_header(1.0, 1e8, 0.5, 0.8, "1e-5") + R"toml(
-[[bodies]]
-shape = "polygon"
-vertices = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
-density = 2.0
-position = [0.0, 3.0]
-angle = 0.7853981633974483
-)toml",
-                 1.0,
-                 1e-3,
-                 {"accuracy.dt=1e-5"},
-                 {"accuracy.dt=1e-4"},
-                 two_d});
+  const double corner = M_PI / 4;
+  out.push_back(floor_case("vertex-on-vertex",
+                           "a square dropped corner-first onto the corner of a square on the floor", 1.0, 0.5,
+                           0.5, square_at(0, 1) + square_at(1, 4.5, corner), two_d));
+  out.push_back(floor_case("edge-on-edge", "a square dropped flat onto a square on the floor", 1.0, 0.5, 0.5,
+                           square_at(0, 1) + square_at(0, 5),
+                           [](const Frame& f) { return f.position[4] < f.position[1]; }));
+  out.push_back(floor_case("die-on-corner", "a 2-D die dropped exactly onto a corner (45 deg, no spin)", 1.0,
+                           0.5, 0.8, square_at(0, 3, corner), two_d));
   // Restitution 1 (energy must not grow over many bounces), 0, and zero friction.
   const std::string ball = R"toml(
 [[bodies]]
@@ -452,33 +433,14 @@ density = 2.0
 position = [0.0, 6.0]
 velocity = [30.0, 0.0]
 )toml";
-  out.push_back({"restitution-1",
-                 "a disc bouncing on the floor with restitution 1 for 3 s (about 7 bounces)",
-                 2,
-                 floor_header(3.0, 1e8, 1.0, 0.0, "1e-5") + ball,
-                 quick ? 1.0 : 3.0,
-                 1e-3,
-                 {"accuracy.dt=1e-5"},
-                 {"accuracy.dt=1e-4"},
-                 two_d});
-  out.push_back({"restitution-0",
-                 "a disc dropped on the floor with restitution 0 (critical damping)",
-                 2,
-                 floor_header(1.0, 1e8, 0.0, 0.0, "1e-5") + ball,
-                 1.0,
-                 1e-3,
-                 {"accuracy.dt=1e-5"},
-                 {"accuracy.dt=1e-4"},
-                 two_d});
-  out.push_back({"zero-friction",
-                 "a disc sliding and bouncing with mu = 0 and restitution 0.5",
-                 2,
-                 floor_header(1.0, 1e8, 0.5, 0.0, "1e-5") + ball,
-                 1.0,
-                 1e-3,
-                 {"accuracy.dt=1e-5"},
-                 {"accuracy.dt=1e-4"},
-                 two_d});
+  out.push_back(floor_case("restitution-1",
+                           "a disc bouncing on the floor with restitution 1 for 3 s (about 7 bounces)",
+                           quick ? 1.0 : 3.0, 1.0, 0.0, ball, two_d));
+  out.push_back(floor_case("restitution-0",
+                           "a disc dropped on the floor with restitution 0 (critical damping)", 1.0, 0.0, 0.0,
+                           ball, two_d));
+  out.push_back(floor_case("zero-friction", "a disc sliding and bouncing with mu = 0 and restitution 0.5",
+                           1.0, 0.5, 0.0, ball, two_d));
   // A small grain into a bed of 384 discs at 8100 cm/s (Ch. III CASE I).
   out.push_back({"case-i-impact",
                  "a r = 0.5 cm grain at 8100 cm/s, 14 deg below horizontal, into 384 discs (k 6e9)",
