@@ -1,6 +1,7 @@
 // Hostile input: malformed scene files must end with exit status 2, a message naming the problem, no
 // crash and no output file; a truncated run file must be refused on reading.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -192,4 +193,39 @@ TEST(Fuzz, TruncatedRunFileIsRefusedOnReading) {
   }
   { std::ofstream(cut) << "not hdf5"; }
   EXPECT_EQ(grainlab("inspect " + cut.string(), d.path).status, 2);
+}
+
+TEST(Fuzz, DamagedRunFileDataIsRefusedOnReading) {
+  // Every dataset carries a Fletcher-32 checksum: one flipped byte in frame 0's positions is caught.
+  Dir d;
+  const fs::path good = d.path / "good.h5", bad = d.path / "bad.h5";
+  { std::ofstream(d.path / "s.toml") << kBase; }
+  ASSERT_EQ(
+      grainlab("run " + (d.path / "s.toml").string() + " --quiet --out " + good.string(), d.path).status, 0);
+  haddr_t where = 0;
+  hsize_t size = 0;
+  {
+    hid_t f = H5Fopen(good.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    hid_t ds = H5Dopen2(f, "/frames/000000/position", H5P_DEFAULT);
+    hsize_t offset[2];
+    unsigned mask = 0;
+    hid_t space = H5Dget_space(ds);
+    const herr_t found = H5Dget_chunk_info(ds, space, 0, offset, &mask, &where, &size);
+    H5Sclose(space), H5Dclose(ds), H5Fclose(f);
+    ASSERT_GE(found, 0);
+  }
+  ASSERT_GT(size, 8u);
+  fs::copy_file(good, bad);
+  {
+    std::fstream io(bad, std::ios::in | std::ios::out | std::ios::binary);
+    io.seekg(static_cast<std::streamoff>(where + 3));
+    char c = 0;
+    io.get(c);
+    io.seekp(static_cast<std::streamoff>(where + 3));
+    io.put(static_cast<char>(c ^ 0x40));
+  }
+  const Outcome o = grainlab("inspect " + bad.string(), d.path);
+  EXPECT_EQ(o.status, 2) << o.err;
+  EXPECT_NE(o.err.find("position"), std::string::npos) << o.err;
+  EXPECT_EQ(grainlab("inspect " + good.string(), d.path).status, 0);
 }
