@@ -59,5 +59,6 @@ TEST(ContactLaw, RestitutionZeroIsCriticalDamping) {
   const double k = 1e8, m = 3.0;
   EXPECT_DOUBLE_EQ(damping_for_restitution(k, 0.0, m), 2 * std::sqrt(k * m));
   EXPECT_EQ(restitution_from_damping(k, damping_for_restitution(k, 0.0, m), m), 0.0);
-  EXPECT_LT(damping_for_restitution(k, 1e-9, m), damping_for_restitution(k, 0.0, m));  // approached from below
+  EXPECT_LT(damping_for_restitution(k, 1e-9, m),
+            damping_for_restitution(k, 0.0, m));  // approached from below
 }

@@ -24,7 +24,8 @@ TEST(TumblingPolygon, ImpulseEnginesFollowThePivotRule) {
 }
 
 TEST(TumblingPolygon, ClassifierOrder) {
-  EXPECT_EQ(classify(300, 2.0, 0.9, 4), Motion::Rolling);  // turned more than a quarter: rolling, even hopping
+  EXPECT_EQ(classify(300, 2.0, 0.9, 4),
+            Motion::Rolling);  // turned more than a quarter: rolling, even hopping
   EXPECT_EQ(classify(300, 0.1, 0.5, 4), Motion::Bouncing);
   EXPECT_EQ(classify(0.3, 0.2, 0.0, 4), Motion::Rest);  // rocking in place
   EXPECT_EQ(classify(300, 0.0, 0.0, 4), Motion::Sliding);
