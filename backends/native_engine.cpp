@@ -33,9 +33,11 @@ void hook_contact_events(World& world, bool tracking, Record record) {
     world.set_after_step(nullptr);
 }
 
-class NativeEngine final : public Engine {
+// What the 2-D and 3-D native engines share: their world, stepping with contact events, time, integrator.
+template <class World>
+class NativeEngineBase : public Engine {
  public:
-  explicit NativeEngine(const Scene& scene) : world_(scene) {}
+  explicit NativeEngineBase(const Scene& scene) : world_(scene) {}
   std::string name() const override { return "native"; }
   void advance_to(double t) override {
     hook_contact_events(world_, tracking_contacts(), [this](double now, double dt, const PairImpulses& s) {
@@ -48,6 +50,14 @@ class NativeEngine final : public Engine {
     return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet"
                                                                             : "predictor-corrector";
   }
+
+ protected:
+  World world_;
+};
+
+class NativeEngine final : public NativeEngineBase<dem::World> {
+ public:
+  explicit NativeEngine(const Scene& scene) : NativeEngineBase(scene) {}
 
   Frame frame() const override {
     const dem::Particles& p = world_.particles();
@@ -79,28 +89,13 @@ class NativeEngine final : public Engine {
     }
     return out;
   }
-
- private:
-  dem::World world_;
 };
 
 // The native engine on a 3-D scene.
-class NativeEngine3d final : public Engine {
+class NativeEngine3d final : public NativeEngineBase<dem::World3d> {
  public:
   explicit NativeEngine3d(const Scene& scene)
-      : world_(scene), shape_index_(polyhedron_indices(scene.bodies3d)) {}
-  std::string name() const override { return "native"; }
-  void advance_to(double t) override {
-    hook_contact_events(world_, tracking_contacts(), [this](double now, double dt, const PairImpulses& s) {
-      record_contacts(now, dt, s);
-    });
-    world_.advance_to(t);
-  }
-  double time() const override { return world_.time(); }
-  std::string integrator() const override {
-    return world_.scene().accuracy.integrator == Integrator::VelocityVerlet ? "verlet"
-                                                                            : "predictor-corrector";
-  }
+      : NativeEngineBase(scene), shape_index_(polyhedron_indices(scene.bodies3d)) {}
 
   Frame frame() const override {
     Frame f;
@@ -128,7 +123,6 @@ class NativeEngine3d final : public Engine {
   }
 
  private:
-  dem::World3d world_;
   std::vector<std::int32_t> shape_index_;
 };
 

@@ -23,7 +23,7 @@ namespace {
 // seconds; returns the engine for the caller to read, with cost counters filled into `m`.
 std::unique_ptr<Engine> run(const CostSetting& s, const std::string& toml, double until, CostMeasurement& m,
                             const std::function<void(const Engine&)>& sample = {}, double every = 0) {
-  auto e = make_engine(s.engine, parse_scene(toml, "<cost " + s.engine + ">", s.sets));
+  auto e = engine_for(s.engine, toml, s.sets);
   if (sample && every > 0) {
     for (double t = every; t < until + 0.5 * every; t += every) {
       e->advance_to(std::min(t, until));

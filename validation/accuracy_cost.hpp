@@ -45,8 +45,8 @@ struct CostRow {
   std::string scene, engine, method, knob;
   double value = 0, measured = 0, error = 0, error_half_width = 0;  // error: relative, or absolute for p_h
   double seconds = 0, steps = 0, rejected = 0, iterations = 0;
-  std::string failure;  // why the run stopped (then error is NaN): e.g. the adaptive step underflowed
-  std::string detail;   // the scene's further quantities, as text
+  std::string failure = {};  // why the run stopped (then error is NaN): e.g. the adaptive step underflowed
+  std::string detail = {};   // the scene's further quantities, as text
 };
 
 struct CostOptions {

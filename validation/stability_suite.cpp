@@ -33,7 +33,7 @@ struct Case {
   std::function<bool(const Frame&)> tunnelled;
   bool floor = true;                             // the floor y = 0 counts for penetration
   double penetration_limit = kPenetrationLimit;  // of the smaller radius
-  const char* penetration_note = "";             // why a case has another limit
+  std::string penetration_note = {};             // why a case has another limit
   double energy_floor = 0;                       // erg: the smallest energy scale (cases that start at rest)
   double rest_after = 0;  // > 0: from this time the bodies must be at rest and stay there (a pile)
 };
@@ -80,7 +80,7 @@ Watch watch(const Case& c, const std::string& engine) {
   const auto start = std::chrono::steady_clock::now();
   try {
     const auto sets = engine == "native" ? c.native_sets : c.impulse_sets;
-    auto e = make_engine(engine, parse_scene(c.toml, "<stability " + c.name + ">", sets));
+    auto e = engine_for(engine, c.toml, sets);
     // Mechanical energy (kinetic + gravitational): stored spring energy is left out, so a contact in
     // progress can only lower it and a rise is a real gain (and the engines are measured alike: the
     // impulse engines store none).
@@ -155,6 +155,11 @@ velocity = [{mv}, 0.0]
                      fmt::arg("k", k), fmt::arg("e", e), fmt::arg("mu", mu), fmt::arg("rl", r_left),
                      fmt::arg("xl", -r_left - 0.01), fmt::arg("v", speed), fmt::arg("rr", r_right),
                      fmt::arg("dr", density_right), fmt::arg("xr", r_right + 0.01), fmt::arg("mv", -speed));
+}
+
+// Mass of a disc of radius r and 2-D density rho (g/cm^2), as the scene reader makes it.
+double disc_mass(double r, double rho) {
+  return rho * M_PI * r * r;
 }
 
 // Two bodies that must stay in their left-right order.
@@ -390,11 +395,8 @@ position = [0.0, 3.0]
                  0.01,
                  {"accuracy.dt=2e-7"},
                  {"accuracy.dt=1e-4"},
-                 [](const Frame& f) { return below_floor(f, 2) || f.position[4] < f.position[1]; },
-                 true,
-                 kPenetrationLimit,
-                 "",
-                 6283.0 * kG * 1.0});  // the heavy disc lifted by its radius
+                 [](const Frame& f) { return below_floor(f, 2) || f.position[4] < f.position[1]; }});
+  out.back().energy_floor = disc_mass(1.0, 2000.0) * kG * 1.0;  // the heavy disc lifted by its radius
   // A 1 cm grain dropped onto a 100 cm polygon resting on the floor.
   out.push_back({"grain-on-big-polygon",
                  "a r = 0.5 cm grain dropped 10 cm onto a 100 x 20 cm block on the floor",
@@ -441,7 +443,10 @@ velocity = [30.0, 0.0]
                            ball, two_d));
   out.push_back(floor_case("zero-friction", "a disc sliding and bouncing with mu = 0 and restitution 0.5",
                            1.0, 0.5, 0.0, ball, two_d));
-  // A small grain into a bed of 384 discs at 8100 cm/s (Ch. III CASE I).
+  // A small grain into a bed of 384 discs at 8100 cm/s (Ch. III CASE I). Its penetration limit is the
+  // linear contact's own largest overlap at that speed, undamped: v sqrt(m_eff / k).
+  const double m_grain = disc_mass(0.5, 2.0), m_bed = disc_mass(1.0, 2.0);
+  const double case_i_overlap = 8100 * std::sqrt(m_grain * m_bed / (m_grain + m_bed) / 6e9);
   out.push_back({"case-i-impact",
                  "a r = 0.5 cm grain at 8100 cm/s, 14 deg below horizontal, into 384 discs (k 6e9)",
                  2,
@@ -465,11 +470,11 @@ velocity = [7859.0, -1960.0]
                  2.5e-5,
                  {"accuracy.dt=5e-7"},
                  {"accuracy.dt=2e-6"},
-                 two_d,
-                 true,
-                 // The contact law's own largest overlap at 8100 cm/s: v sqrt(m_eff / k) = 0.117 cm.
-                 0.234,
-                 "the linear contact's own maximum at 8100 cm/s, v sqrt(m_eff/k) = 0.117 cm = 0.234 r"});
+                 two_d});
+  out.back().penetration_limit = case_i_overlap / 0.5;
+  out.back().penetration_note =
+      fmt::format("the linear contact's own maximum at 8100 cm/s, v sqrt(m_eff/k) = {:.3f} cm = {:.3f} r",
+                  case_i_overlap, case_i_overlap / 0.5);
   // A pile of discs poured from a loose lattice (radii 0.4-0.6 cm, 40 cm box) left to rest.
   out.push_back(pile_case(quick ? 300 : 2000, quick ? 3.0 : 10.0));
   out.push_back(pile3d_case(quick ? 100 : 1000, quick ? 3.0 : 10.0));
@@ -517,7 +522,7 @@ velocity = [{vx:.17g}, 0.0, {vz:.17g}]
                                        fmt::arg("vx", v * std::sin(a)), fmt::arg("vz", -v * std::cos(a)));
   const std::vector<std::string> sets =
       engine == "native" ? std::vector<std::string>{} : std::vector<std::string>{"accuracy.dt=1e-6"};
-  auto e = make_engine(engine, parse_scene(toml, "<sphere on plane>", sets));
+  auto e = engine_for(engine, toml, sets);
   auto kinetic = [](const EnergyReport& er) { return er.kinetic_translational + er.kinetic_rotational; };
   const double before = kinetic(e->energies());
   e->advance_to(duration);
@@ -580,9 +585,9 @@ void adaptive_underflow(Report& r, std::string& md) {
   const auto start = std::chrono::steady_clock::now();
   std::string message;
   try {
-    auto e = make_engine("native", parse_scene(pair_toml(5e6, 0.7, 50, 1, 1, 2), "<stability underflow>",
-                                               {"accuracy.integrator=\"predictor-corrector\"",
-                                                "accuracy.tolerance=1e-15", "accuracy.dt_min=1e-9"}));
+    auto e = engine_for(
+        "native", pair_toml(5e6, 0.7, 50, 1, 1, 2),
+        {"accuracy.integrator=\"predictor-corrector\"", "accuracy.tolerance=1e-15", "accuracy.dt_min=1e-9"});
     e->advance_to(0.01);
   } catch (const std::exception& ex) {
     message = ex.what();
@@ -644,7 +649,7 @@ void run_stability_suite(Report& r, const SuiteOptions& o) {
   }
   md += "\nPenetration limits other than 5 %:\n\n";
   for (const Case& c : cases(o.quick))
-    if (*c.penetration_note) md += fmt::format("- {}: {}\n", c.name, c.penetration_note);
+    if (!c.penetration_note.empty()) md += fmt::format("- {}: {}\n", c.name, c.penetration_note);
   grazing_impacts(r, md);
   adaptive_underflow(r, md);
   r.markdown.push_back(md);
