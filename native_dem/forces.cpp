@@ -25,29 +25,32 @@ std::uint64_t history_key(std::int64_t a, std::int64_t b, int sub) {
 
 class ForceKernels {
  public:
+  // Disc pairs in two passes so that every particle sums its forces in one canonical order, whatever
+  // the particles' memory order or the ranks' domains: (1) each listed pair's force is computed once, in
+  // the orientation of its lower id, and stored; (2) each owned particle adds its pairs' forces in
+  // ascending partner id. Pass 2 makes a dense bed bitwise reproducible on any number of ranks.
   template <bool Friction, bool Rotation, bool Periodic>
   static void disc_pairs(World& W, double h) {
     Particles& P = W.p_;
     World::PairList& L = W.discs_;
     const double *x = P.x.data(), *y = P.y.data(), *vx = P.vx.data(), *vy = P.vy.data(), *w = P.w.data();
     const double *r = P.r.data(), *im = P.inv_m.data();
-    double *fx = P.fx.data(), *fy = P.fy.data(), *tq = P.tq.data();
     const std::int32_t* mat = P.mat.data();
     const std::uint32_t *off = L.offset.data(), *nb = L.j.data();
     const double* shift = L.shift.data();
     const double* xi_old = L.xi.data();
     double* xi_new = L.xi_new.data();
+    double *pfx = L.fx.data(), *pfy = L.fy.data(), *ptq = L.torque.data();
     const ContactLaw* laws = W.laws_.data();
     const int nm = W.n_mat_;
-    const std::size_t n = P.size();
+    const std::size_t rows = L.offset.empty() ? 0 : L.offset.size() - 1;
     const bool track = static_cast<bool>(W.after_step_);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < rows; ++i) {
       const std::uint32_t kb = off[i], ke = off[i + 1];
       if (kb == ke) continue;
       const double xi = x[i], yi = y[i], ri = r[i], vxi = vx[i], vyi = vy[i], imi = im[i];
       const double wi = Rotation ? w[i] : 0.0;
       const ContactLaw* row = laws + mat[i] * nm;
-      double fxi = 0, fyi = 0, tqi = 0;
       for (std::uint32_t k = kb; k < ke; ++k) {
         const std::uint32_t j = nb[k];
         double dx = xi - x[j];
@@ -57,6 +60,8 @@ class ForceKernels {
         const double d2 = dx * dx + dy * dy;
         if (d2 >= rsum * rsum) {
           if constexpr (Friction) xi_new[k] = 0;  // contact open: the shear spring is released
+          pfx[k] = pfy[k] = 0;
+          if constexpr (Rotation) ptq[2 * k] = ptq[2 * k + 1] = 0;
           continue;
         }
         const ContactLaw& law = row[mat[j]];
@@ -80,18 +85,41 @@ class ForceKernels {
           cfx += fs * sx;
           cfy += fs * sy;
           if constexpr (Rotation) {
-            tqi += ri * fs;
-            tq[j] += r[j] * fs;
+            ptq[2 * k] = ri * fs;
+            ptq[2 * k + 1] = r[j] * fs;
           }
+        } else if constexpr (Rotation) {
+          ptq[2 * k] = ptq[2 * k + 1] = 0;
         }
-        fxi += cfx;
-        fyi += cfy;
-        fx[j] -= cfx;
-        fy[j] -= cfy;
+        pfx[k] = cfx;
+        pfy[k] = cfy;
       }
-      fx[i] += fxi;
-      fy[i] += fyi;
-      if constexpr (Rotation) tq[i] += tqi;
+    }
+    sum_disc_pairs<Rotation>(W);
+  }
+
+  // Pass 2: each owned particle's pair forces in ascending partner id (entry 2k: the row's particle
+  // of pair k, 2k + 1: its partner, which takes the force negated; negation is exact).
+  template <bool Rotation>
+  static void sum_disc_pairs(World& W) {
+    Particles& P = W.p_;
+    const World::PairList& L = W.discs_;
+    const std::uint32_t *io = L.inc_offset.data(), *inc = L.inc.data();
+    const double *pfx = L.fx.data(), *pfy = L.fy.data(), *ptq = L.torque.data();
+    double *fx = P.fx.data(), *fy = P.fy.data(), *tq = P.tq.data();
+    const std::size_t owned = L.inc_offset.empty() ? 0 : L.inc_offset.size() - 1;
+    for (std::size_t i = 0; i < owned; ++i) {
+      double sx = fx[i], sy = fy[i], st = Rotation ? tq[i] : 0.0;
+      for (std::uint32_t e = io[i]; e < io[i + 1]; ++e) {
+        const std::uint32_t code = inc[e], k = code >> 1;
+        const double sign = (code & 1) ? -1.0 : 1.0;
+        sx += sign * pfx[k];
+        sy += sign * pfy[k];
+        if constexpr (Rotation) st += ptq[code];
+      }
+      fx[i] = sx;
+      fy[i] = sy;
+      if constexpr (Rotation) tq[i] = st;
     }
   }
 
@@ -209,15 +237,16 @@ void World::compute_forces(double t, double shear_h, bool body_forces_ready) {
     ~Stopwatch() { total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
   } watch{start, diag_.seconds_forces};
   ++diag_.force_evaluations;
+  update_ghosts();
   for (Wall& wall : walls_) wall.at(t);
   if (!body_forces_ready) {
-    const std::size_t n = p_.size();
+    const std::size_t n = n_own_;
     const double gx = effects_.gravity ? g_.x : 0.0, gy = effects_.gravity ? g_.y : 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       p_.fx[i] = p_.m[i] * gx;
       p_.fy[i] = p_.m[i] * gy;
     }
-    if (effects_.rotation) std::fill(p_.tq.begin(), p_.tq.end(), 0.0);
+    if (effects_.rotation) std::fill(p_.tq.begin(), p_.tq.begin() + static_cast<long>(n), 0.0);
   }
   pair_force_.clear();
   if (!effects_.normal_contact) return;

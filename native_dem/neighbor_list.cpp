@@ -1,196 +1,278 @@
 // Broad phase: cell lists rebuilt into a half neighbour list with a skin, after sorting particles by
-// cell so that neighbours sit close in memory. Shear history moves to the new list by stable ids.
+// cell so that neighbours sit close in memory. Shear history moves to the new list by stable ids. In a
+// distributed world the rebuild is also when particles migrate between ranks and ghosts are renewed.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
+#include "domain.hpp"
 #include "narrow_phase.hpp"
 #include "world.hpp"
 
 namespace grainlab::dem {
 
-namespace {
-std::uint64_t pair_key(std::int64_t a, std::int64_t b) {
+std::uint64_t World::shear_key(std::int64_t a, std::int64_t b) {
   if (a > b) std::swap(a, b);
   return (static_cast<std::uint64_t>(a) << 32) ^ static_cast<std::uint64_t>(b) ^
          (static_cast<std::uint64_t>(a) >> 32) * 0x9E3779B97F4A7C15ull;
 }
-struct SavedShear {
-  std::uint64_t key;
-  std::int64_t a, b;
-  double xi;
-  bool operator<(const SavedShear& o) const { return key < o.key; }
-};
-const SavedShear* find_saved(const std::vector<SavedShear>& saved, std::uint64_t key, std::int64_t a,
-                             std::int64_t b) {
-  auto it = std::lower_bound(saved.begin(), saved.end(), SavedShear{key, 0, 0, 0});
+
+namespace {
+const World::SavedShear* find_saved(const std::vector<World::SavedShear>& saved, std::uint64_t key,
+                                    std::int64_t a, std::int64_t b) {
+  auto it = std::lower_bound(saved.begin(), saved.end(), World::SavedShear{key, 0, 0, 0});
   for (; it != saved.end() && it->key == key; ++it)
     if ((it->a == a && it->b == b) || (it->a == b && it->b == a)) return &*it;
   return nullptr;
 }
-}  // namespace
 
-bool World::needs_rebuild(double lookahead) const {
-  if (x_build_.size() != p_.size()) return true;
-  const double limit = 0.5 * skin_ - lookahead;
-  if (limit <= 0) return true;
-  const double limit2 = limit * limit;
-  const std::size_t n = p_.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const double dx = p_.x[i] - x_build_[i], dy = p_.y[i] - y_build_[i];
-    if (dx * dx + dy * dy > limit2) return true;
-  }
-  return false;
-}
+// A uniform cell grid over a set of points (wrapping in x when periodic), bucketed by counting sort.
+struct CellGrid {
+  double xlo = 0, ylo = 0, cw = 1, ch = 1;
+  int ncx = 1, ncy = 1;
+  bool periodic = false;
+  std::vector<std::uint32_t> start, members;
 
-void World::wrap_periodic() {
-  if (period_ <= 0) return;
-  for (double& x : p_.x) x -= period_ * std::floor((x - xmin_) / period_);
-}
+  int cell_x(double x) const { return std::clamp(static_cast<int>((x - xlo) / cw), 0, ncx - 1); }
+  int cell_y(double y) const { return std::clamp(static_cast<int>((y - ylo) / ch), 0, ncy - 1); }
+  int cell_of(double x, double y) const { return cell_y(y) * ncx + cell_x(x); }
 
-void World::rebuild_neighbors() {
-  const auto started = std::chrono::steady_clock::now();
-  ++diag_.neighbor_rebuilds;
-  const std::size_t n = p_.size();
-  // 1. Save the committed shear history by stable ids.
-  std::vector<SavedShear> saved;
-  if (effects_.friction) {
-    for (std::size_t i = 0; i + 1 < discs_.offset.size(); ++i)
-      for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k)
-        if (discs_.xi[k] != 0) {
-          const std::int64_t a = p_.id[i], b = p_.id[discs_.j[k]];
-          saved.push_back({pair_key(a, b), a, b, discs_.xi[k]});
-        }
-    for (std::size_t w = 0; w < wall_lists_.size(); ++w)
-      for (std::size_t k = 0; k < wall_lists_[w].particle.size(); ++k)
-        if (wall_lists_[w].xi[k] != 0) {
-          const std::int64_t a = p_.id[wall_lists_[w].particle[k]], b = -1 - static_cast<std::int64_t>(w);
-          saved.push_back({pair_key(a, b), a, b, wall_lists_[w].xi[k]});
-        }
-    std::sort(saved.begin(), saved.end());
-  }
-  wrap_periodic();
-
-  // 2. Cell grid over the particles' extent (wrapping in x when periodic).
-  double rmax = 0, xlo = 1e300, xhi = -1e300, ylo = 1e300, yhi = -1e300;
-  for (std::size_t i = 0; i < n; ++i) {
-    rmax = std::max(rmax, p_.r[i]);
-    xlo = std::min(xlo, p_.x[i]), xhi = std::max(xhi, p_.x[i]);
-    ylo = std::min(ylo, p_.y[i]), yhi = std::max(yhi, p_.y[i]);
-  }
-  double cell = 2 * rmax + skin_;
-  if (period_ > 0) xlo = xmin_, xhi = xmin_ + period_;
-  // Keep the grid no larger than a few cells per particle (a grain far from the bed must not blow it up).
-  auto count_cells = [&](double c) {
-    return (std::floor((xhi - xlo) / c) + 1) * (std::floor((yhi - ylo) / c) + 1);
-  };
-  while (n > 0 && count_cells(cell) > 4.0 * n + 64) cell *= 1.5;
-  int ncx = n ? static_cast<int>(std::floor((xhi - xlo) / cell)) + 1 : 1;
-  const int ncy = n ? static_cast<int>(std::floor((yhi - ylo) / cell)) + 1 : 1;
-  if (period_ > 0) {
-    ncx = std::max(1, static_cast<int>(std::floor(period_ / cell)));
-    if (period_ < 2 * (2 * rmax + skin_))
-      throw std::runtime_error("periodic_x period is shorter than two interaction ranges; make it wider");
-  }
-  const double cw = period_ > 0 ? period_ / ncx : cell;
-  auto cell_x = [&](double x) { return std::clamp(static_cast<int>((x - xlo) / cw), 0, ncx - 1); };
-  auto cell_y = [&](double y) { return std::clamp(static_cast<int>((y - ylo) / cell), 0, ncy - 1); };
-
-  // 3. Counting sort by cell, then reorder the particle arrays (locality for the force loop).
-  const std::size_t ncell = static_cast<std::size_t>(ncx) * ncy;
-  std::vector<std::uint32_t> start(ncell + 1, 0), cell_of(n);
-  for (std::size_t i = 0; i < n; ++i) ++start[(cell_of[i] = cell_y(p_.y[i]) * ncx + cell_x(p_.x[i])) + 1];
-  for (std::size_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
-  order_.assign(n, 0);
-  {
+  // reach: the largest interaction range (cell edge); period > 0: periodic in x from xmin.
+  CellGrid(const std::vector<double>& x, const std::vector<double>& y, std::size_t n, double reach,
+           double xmin, double period) {
+    double xl = 1e300, xh = -1e300, yl = 1e300, yh = -1e300;
+    for (std::size_t i = 0; i < n; ++i) {
+      xl = std::min(xl, x[i]), xh = std::max(xh, x[i]);
+      yl = std::min(yl, y[i]), yh = std::max(yh, y[i]);
+    }
+    periodic = period > 0;
+    if (periodic) xl = xmin, xh = xmin + period;
+    double cell = reach;
+    // Keep the grid no larger than a few cells per particle (a grain far from the bed must not blow it up).
+    auto count_cells = [&](double c) { return (std::floor((xh - xl) / c) + 1) * (std::floor((yh - yl) / c) + 1); };
+    while (n > 0 && count_cells(cell) > 4.0 * n + 64) cell *= 1.5;
+    ncx = n ? static_cast<int>(std::floor((xh - xl) / cell)) + 1 : 1;
+    ncy = n ? static_cast<int>(std::floor((yh - yl) / cell)) + 1 : 1;
+    if (periodic) ncx = std::max(1, static_cast<int>(std::floor(period / cell)));
+    xlo = xl, ylo = yl, ch = cell;
+    cw = periodic ? period / ncx : cell;
+    const std::size_t ncell = static_cast<std::size_t>(ncx) * ncy;
+    start.assign(ncell + 1, 0);
+    std::vector<std::uint32_t> cell_of_i(n);
+    for (std::size_t i = 0; i < n; ++i) ++start[(cell_of_i[i] = cell_of(x[i], y[i])) + 1];
+    for (std::size_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
+    members.assign(n, 0);
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) order_[fill[cell_of[i]]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < n; ++i) members[fill[cell_of_i[i]]++] = static_cast<std::uint32_t>(i);
   }
-  p_.permute(order_);
 
-  // 4. Half list: each pair once (j > i), within the sum of radii plus the skin.
-  discs_.offset.assign(n + 1, 0);
-  discs_.j.clear();
-  discs_.shift.clear();
-  general_pairs_.clear();
-  polygon_particles_.clear();
-  int stencil[9];
-  for (std::size_t i = 0; i < n; ++i) {
-    const int cx = cell_x(p_.x[i]), cy = cell_y(p_.y[i]);
+  // The distinct cells around (x, y), wrapped when periodic.
+  int stencil(double x, double y, int* out) const {
+    const int cx = cell_x(x), cy = cell_y(y);
     int ns = 0;
     for (int oy = -1; oy <= 1; ++oy) {
       const int yy = cy + oy;
       if (yy < 0 || yy >= ncy) continue;
       for (int ox = -1; ox <= 1; ++ox) {
         int xx = cx + ox;
-        if (period_ > 0)
+        if (periodic)
           xx = (xx + ncx) % ncx;
         else if (xx < 0 || xx >= ncx)
           continue;
         const int c = yy * ncx + xx;
-        if (std::find(stencil, stencil + ns, c) == stencil + ns) stencil[ns++] = c;  // narrow periodic grids
+        if (std::find(out, out + ns, c) == out + ns) out[ns++] = c;  // narrow periodic grids
       }
     }
-    const bool disc_i = p_.shape[i] < 0;
-    if (!disc_i) polygon_particles_.push_back(static_cast<std::uint32_t>(i));
+    return ns;
+  }
+};
+}  // namespace
+
+bool World::needs_rebuild(double lookahead) const {
+  bool mine = x_build_.size() != n_own_;
+  const double limit = 0.5 * skin_ - lookahead;
+  if (limit <= 0) mine = true;
+  const double limit2 = limit * limit;
+  for (std::size_t i = 0; i < n_own_ && !mine; ++i) {
+    const double dx = p_.x[i] - x_build_[i], dy = p_.y[i] - y_build_[i];
+    if (dx * dx + dy * dy > limit2) mine = true;
+  }
+  return any_rank(mine);
+}
+
+void World::wrap_periodic() {
+  if (period_ <= 0) return;
+  for (std::size_t i = 0; i < n_own_; ++i) p_.x[i] -= period_ * std::floor((p_.x[i] - xmin_) / period_);
+}
+
+std::vector<World::SavedShear> World::save_history() const {
+  std::vector<SavedShear> saved;
+  if (!effects_.friction) return saved;
+  for (std::size_t i = 0; i + 1 < discs_.offset.size(); ++i)
+    for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k)
+      if (discs_.xi[k] != 0) {
+        const std::int64_t a = p_.id[i], b = p_.id[discs_.j[k]];
+        saved.push_back({World::shear_key(a, b), a, b, discs_.xi[k]});
+      }
+  for (std::size_t w = 0; w < wall_lists_.size(); ++w)
+    for (std::size_t k = 0; k < wall_lists_[w].particle.size(); ++k)
+      if (wall_lists_[w].xi[k] != 0) {
+        const std::int64_t a = p_.id[wall_lists_[w].particle[k]], b = -1 - static_cast<std::int64_t>(w);
+        saved.push_back({World::shear_key(a, b), a, b, wall_lists_[w].xi[k]});
+      }
+  return saved;
+}
+
+void World::rebuild_neighbors() {
+  const auto started = std::chrono::steady_clock::now();
+  ++diag_.neighbor_rebuilds;
+  std::vector<SavedShear> saved = save_history();
+  p_.resize(n_own_);  // ghosts are renewed below
+  wrap_periodic();
+  if (domain_) {
+    if (decomposition_.balance_every > 0 && diag_.steps >= domain_->next_balance_step) balance_slabs();
+    migrate(saved);
+  }
+  std::sort(saved.begin(), saved.end());
+  sort_owned_by_cell();
+  if (domain_) receive_ghosts();
+  build_pair_lists();
+  build_incidence();
+  restore_history(saved);
+  x_build_.assign(p_.x.begin(), p_.x.begin() + static_cast<long>(n_own_));
+  y_build_.assign(p_.y.begin(), p_.y.begin() + static_cast<long>(n_own_));
+  load_.owned = n_own_;
+  load_.ghosts = p_.size() - n_own_;
+  load_.pairs = discs_.j.size();
+  diag_.seconds_neighbors +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+}
+
+// Counting sort of the owned particles by cell: neighbours end up close in memory.
+void World::sort_owned_by_cell() {
+  double rmax = 0;
+  for (std::size_t i = 0; i < n_own_; ++i) rmax = std::max(rmax, p_.r[i]);
+  if (period_ > 0 && period_ < 2 * (2 * rmax + skin_))
+    throw std::runtime_error("periodic_x period is shorter than two interaction ranges; make it wider");
+  const CellGrid grid(p_.x, p_.y, n_own_, 2 * rmax + skin_, xmin_, period_);
+  order_ = grid.members;
+  p_.permute(order_);
+}
+
+// Half list over owned particles and ghosts (never two ghosts): each pair once, within the sum of
+// radii plus the skin, in the row of its lower-id particle.
+void World::build_pair_lists() {
+  const std::size_t n = p_.size();
+  double rmax = 0;
+  for (std::size_t i = 0; i < n; ++i) rmax = std::max(rmax, p_.r[i]);
+  const CellGrid grid(p_.x, p_.y, n, 2 * rmax + skin_, xmin_, period_);
+  struct Found {
+    std::uint32_t a, b;
+    double shift;
+  };
+  std::vector<Found> found;
+  general_pairs_.clear();
+  polygon_particles_.clear();
+  int stencil[9];
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool disc_i = p_.shape[i] < 0, ghost_i = i >= n_own_;
+    if (!disc_i && !ghost_i) polygon_particles_.push_back(static_cast<std::uint32_t>(i));
+    const int ns = grid.stencil(p_.x[i], p_.y[i], stencil);
     for (int s = 0; s < ns; ++s)
-      for (std::uint32_t j = start[stencil[s]]; j < start[stencil[s] + 1]; ++j) {
-        if (j <= i) continue;
-        double dx = p_.x[i] - p_.x[j];
+      for (std::uint32_t m = grid.start[stencil[s]]; m < grid.start[stencil[s] + 1]; ++m) {
+        const std::uint32_t j = grid.members[m];
+        if (j <= i || (ghost_i && j >= n_own_)) continue;
+        // Orient by id: the same pair gives the same bits on every rank.
+        const bool swap = p_.id[j] < p_.id[i];
+        const std::uint32_t a = swap ? j : static_cast<std::uint32_t>(i), b = swap ? static_cast<std::uint32_t>(i) : j;
+        double dx = p_.x[a] - p_.x[b];
         const double shift = period_ > 0 ? -period_ * std::round(dx / period_) : 0.0;
         dx += shift;
-        const double dy = p_.y[i] - p_.y[j], reach = p_.r[i] + p_.r[j] + skin_;
+        const double dy = p_.y[a] - p_.y[b], reach = p_.r[a] + p_.r[b] + skin_;
         if (dx * dx + dy * dy >= reach * reach) continue;
-        if (disc_i && p_.shape[j] < 0) {
-          discs_.j.push_back(j);
-          discs_.shift.push_back(shift);
-        } else {
-          general_pairs_.push_back({static_cast<std::uint32_t>(i), j, shift});
-        }
+        if (disc_i && p_.shape[j] < 0)
+          found.push_back({a, b, shift});
+        else
+          general_pairs_.push_back({a, b, shift});
       }
-    discs_.offset[i + 1] = static_cast<std::uint32_t>(discs_.j.size());
   }
+  discs_.offset.assign(n + 1, 0);
+  for (const Found& f : found) ++discs_.offset[f.a + 1];
+  for (std::size_t i = 0; i < n; ++i) discs_.offset[i + 1] += discs_.offset[i];
+  discs_.j.resize(found.size());
+  discs_.shift.resize(found.size());
+  std::vector<std::uint32_t> fill(discs_.offset.begin(), discs_.offset.end() - 1);
+  for (const Found& f : found) {
+    const std::uint32_t k = fill[f.a]++;
+    discs_.j[k] = f.b;
+    discs_.shift[k] = f.shift;
+  }
+  discs_.fx.assign(found.size(), 0.0);
+  discs_.fy.assign(found.size(), 0.0);
+  discs_.torque.assign(effects_.rotation ? 2 * found.size() : 0, 0.0);
 
-  // 5. Discs near each wall (walls that move are given their whole reach).
+  // Discs near each wall (walls that move are given their whole reach); owned discs only.
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     WallList& L = wall_lists_[w];
     L.particle.clear();
     Wall rest = walls_[w];
     rest.at(t_);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < n_own_; ++i) {
       if (p_.shape[i] >= 0) continue;
       ContactGeometry c;
       if (disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i] + skin_ + 2 * rest.reach(), rest, c))
         L.particle.push_back(static_cast<std::uint32_t>(i));
     }
   }
+}
 
-  // 6. Restore shear history into the new slots.
-  if (effects_.friction) {
-    discs_.xi.assign(discs_.j.size(), 0.0);
-    discs_.xi_new.assign(discs_.j.size(), 0.0);
-    if (!saved.empty())
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
-          const std::int64_t a = p_.id[i], b = p_.id[discs_.j[k]];
-          if (const SavedShear* s = find_saved(saved, pair_key(a, b), a, b)) discs_.xi[k] = s->xi;
-        }
-    for (std::size_t w = 0; w < wall_lists_.size(); ++w) {
-      WallList& L = wall_lists_[w];
-      L.xi.assign(L.particle.size(), 0.0);
-      L.xi_new.assign(L.particle.size(), 0.0);
-      if (saved.empty()) continue;
-      for (std::size_t k = 0; k < L.particle.size(); ++k) {
-        const std::int64_t a = p_.id[L.particle[k]], b = -1 - static_cast<std::int64_t>(w);
-        if (const SavedShear* s = find_saved(saved, pair_key(a, b), a, b)) L.xi[k] = s->xi;
+// For every owned particle, its pairs sorted by partner id: the order its forces are summed in.
+void World::build_incidence() {
+  std::vector<std::uint32_t>& io = discs_.inc_offset;
+  io.assign(n_own_ + 1, 0);
+  const std::size_t rows = discs_.offset.size() - 1;
+  for (std::size_t i = 0; i < rows; ++i)
+    for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
+      if (i < n_own_) ++io[i + 1];
+      if (discs_.j[k] < n_own_) ++io[discs_.j[k] + 1];
+    }
+  for (std::size_t i = 0; i < n_own_; ++i) io[i + 1] += io[i];
+  std::vector<std::pair<std::int64_t, std::uint32_t>> entries(io[n_own_]);
+  std::vector<std::uint32_t> fill(io.begin(), io.end() - 1);
+  for (std::size_t i = 0; i < rows; ++i)
+    for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
+      const std::uint32_t j = discs_.j[k];
+      if (i < n_own_) entries[fill[i]++] = {p_.id[j], 2 * k};
+      if (j < n_own_) entries[fill[j]++] = {p_.id[i], 2 * k + 1};
+    }
+  discs_.inc.resize(entries.size());
+  for (std::size_t i = 0; i < n_own_; ++i) {
+    std::sort(entries.begin() + io[i], entries.begin() + io[i + 1]);
+    for (std::uint32_t e = io[i]; e < io[i + 1]; ++e) discs_.inc[e] = entries[e].second;
+  }
+}
+
+void World::restore_history(std::vector<SavedShear>& saved) {
+  if (!effects_.friction) return;
+  discs_.xi.assign(discs_.j.size(), 0.0);
+  discs_.xi_new.assign(discs_.j.size(), 0.0);
+  if (!saved.empty())
+    for (std::size_t i = 0; i + 1 < discs_.offset.size(); ++i)
+      for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
+        const std::int64_t a = p_.id[i], b = p_.id[discs_.j[k]];
+        if (const SavedShear* s = find_saved(saved, World::shear_key(a, b), a, b)) discs_.xi[k] = s->xi;
       }
+  for (std::size_t w = 0; w < wall_lists_.size(); ++w) {
+    WallList& L = wall_lists_[w];
+    L.xi.assign(L.particle.size(), 0.0);
+    L.xi_new.assign(L.particle.size(), 0.0);
+    if (saved.empty()) continue;
+    for (std::size_t k = 0; k < L.particle.size(); ++k) {
+      const std::int64_t a = p_.id[L.particle[k]], b = -1 - static_cast<std::int64_t>(w);
+      if (const SavedShear* s = find_saved(saved, World::shear_key(a, b), a, b)) L.xi[k] = s->xi;
     }
   }
-  x_build_ = p_.x;
-  y_build_ = p_.y;
-  diag_.seconds_neighbors +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 }
 
 }  // namespace grainlab::dem

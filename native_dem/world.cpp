@@ -5,11 +5,13 @@
 #include <functional>
 
 #include "narrow_phase.hpp"
+#include "parallel.hpp"
 #include "stepping.hpp"
 
 namespace grainlab::dem {
 
-World::World(const Scene& scene) : scene_(scene), effects_(scene.effects), g_(scene.gravity) {
+World::World(const Scene& scene, Decomposition decomposition)
+    : scene_(scene), effects_(scene.effects), decomposition_(decomposition), g_(scene.gravity) {
   if (scene.periodic_x) {
     xmin_ = scene.periodic_x->first;
     period_ = scene.periodic_x->second - scene.periodic_x->first;
@@ -29,6 +31,8 @@ World::World(const Scene& scene) : scene_(scene), effects_(scene.effects), g_(sc
   skin_ = scene.accuracy.skin.value_or(p_.size() ? 0.25 * rmin : 1.0);
   dt_ = scene.accuracy.dt;
   std::fill(p_.vx_prev.begin(), p_.vx_prev.end(), 0.0);
+  n_own_ = p_.size();
+  if (decomposition_.distributed && parallel::size() > 1) distribute_initial();
   rebuild_neighbors();
 }
 
@@ -98,7 +102,7 @@ void World::advance_to(double t_end) {
 }
 
 void World::step_verlet() {
-  const std::size_t n = p_.size();
+  const std::size_t n = n_own_;
   const double dt = dt_, h = 0.5 * dt;
   if (diag_.force_evaluations == 0) {
     compute_forces(t_, 0.0);
@@ -136,16 +140,17 @@ void World::step_verlet() {
     }
   }
   t_ += dt;
-  if (!listed || max_d2 > 0.25 * skin_ * skin_) rebuild_neighbors();
+  if (any_rank(!listed || max_d2 > 0.25 * skin_ * skin_)) rebuild_neighbors();
   compute_forces(t_, dt, true);  // dashpots see the half-step velocities, as in LAMMPS
   commit_history();
-  // A rebuild re-sorts (and reallocates) the particle arrays: no pointer from above survives it.
-  for (std::size_t i = 0; i < n; ++i) {
+  // A rebuild re-sorts (and reallocates) the particle arrays, and migration changes how many this
+  // rank owns: no pointer or count from above survives it.
+  for (std::size_t i = 0; i < n_own_; ++i) {
     p_.vx[i] += h * p_.fx[i] * p_.inv_m[i];
     p_.vy[i] += h * p_.fy[i] * p_.inv_m[i];
   }
   if (effects_.rotation)
-    for (std::size_t i = 0; i < n; ++i) p_.w[i] += h * p_.tq[i] * p_.inv_inertia[i];
+    for (std::size_t i = 0; i < n_own_; ++i) p_.w[i] += h * p_.tq[i] * p_.inv_inertia[i];
 }
 
 // The thesis's first-order predictor-corrector (eq. 2.4) with its step control: reject and halve
@@ -154,11 +159,12 @@ void World::step_verlet() {
 // the difference is small enough that the grown step should still pass (error ~ dt^2, so err * 1.2^2 <=
 // tolerance).
 void World::step_predictor_corrector() {
-  const std::size_t n = p_.size();
   const Accuracy& acc = scene_.accuracy;
   double vmax = 0;
-  for (std::size_t i = 0; i < n; ++i) vmax = std::max(vmax, std::hypot(p_.vx[i], p_.vy[i]));
+  for (std::size_t i = 0; i < n_own_; ++i) vmax = std::max(vmax, std::hypot(p_.vx[i], p_.vy[i]));
+  if (domain_) vmax = parallel::max_all(vmax);
   if (needs_rebuild(2 * vmax * dt_)) rebuild_neighbors();
+  const std::size_t n = n_own_;
 
   compute_forces(t_, 0.0);
   if (after_step_) pair_force_start_ = pair_force_;
@@ -205,6 +211,7 @@ void World::step_predictor_corrector() {
     correct(vy0_, ay0_, p_.fy, p_.inv_m, y0_, p_.vy, p_.y, false);
     if (effects_.rotation) correct(w0_, al0_, p_.tq, p_.inv_inertia, th0_, p_.w, p_.th, true);
 
+    if (domain_) err = parallel::max_all(err);  // every rank accepts or rejects the same step
     if (!control_step(err, dt, t_, acc, dt_, diag_)) {
       // The two-step predictor extrapolates f(t0) back over the whole previous step; when a contact
       // has just begun that error does not shrink with dt0, so the retry predicts from t0 alone.
@@ -222,36 +229,55 @@ void World::step_predictor_corrector() {
 
 // ---------------------------------------------------------------- diagnostics
 
+// Each owned particle's share (its kinetic and potential energy, half of each pair spring, all of its
+// wall springs) is summed in id order over all ranks: the same bits whatever the decomposition.
 Energies World::energies() const {
-  Energies e;
-  const std::size_t n = p_.size();
   const double gx = effects_.gravity ? g_.x : 0, gy = effects_.gravity ? g_.y : 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    e.kinetic_translational += 0.5 * p_.m[i] * (p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i]);
-    if (effects_.rotation) e.kinetic_rotational += 0.5 * p_.inertia[i] * p_.w[i] * p_.w[i];
-    e.potential_gravity -= p_.m[i] * (gx * p_.x[i] + gy * p_.y[i]);
+  std::vector<double> share(5 * n_own_, 0.0);  // id, translational, rotational, gravity, elastic
+  for (std::size_t i = 0; i < n_own_; ++i) {
+    double* e = &share[5 * i];
+    e[0] = static_cast<double>(p_.id[i]);
+    e[1] = 0.5 * p_.m[i] * (p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i]);
+    if (effects_.rotation) e[2] = 0.5 * p_.inertia[i] * p_.w[i] * p_.w[i];
+    e[3] = -p_.m[i] * (gx * p_.x[i] + gy * p_.y[i]);
   }
-  if (!effects_.normal_contact) return e;
-  // Elastic energy stored in the normal springs and the committed shear springs.
-  for (std::size_t i = 0; i + 1 < discs_.offset.size() && i < n; ++i)
-    for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
-      const std::uint32_t j = discs_.j[k];
-      const double dx = p_.x[i] - p_.x[j] + discs_.shift[k], dy = p_.y[i] - p_.y[j];
-      const double depth = p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy);
-      const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + p_.mat[j]];
-      if (depth > 0) e.elastic += 0.5 * L.k_n * depth * depth;
-      if (effects_.friction) e.elastic += 0.5 * L.k_s * discs_.xi[k] * discs_.xi[k];
-    }
-  for (std::size_t w = 0; w < walls_.size(); ++w)
-    for (std::size_t k = 0; k < wall_lists_[w].particle.size(); ++k) {
-      const std::uint32_t i = wall_lists_[w].particle[k];
-      ContactGeometry c;
-      const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + walls_[w].spec.material];
-      if (disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c))
-        e.elastic += 0.5 * L.k_n * c.depth * c.depth;
-      if (effects_.friction) e.elastic += 0.5 * L.k_s * wall_lists_[w].xi[k] * wall_lists_[w].xi[k];
-    }
-  e.elastic += polygon_elastic_energy();
+  if (effects_.normal_contact) {
+    // Normal springs and committed shear springs, half to each owned partner.
+    for (std::size_t i = 0; i + 1 < discs_.offset.size(); ++i)
+      for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
+        const std::uint32_t j = discs_.j[k];
+        const double dx = p_.x[i] - p_.x[j] + discs_.shift[k], dy = p_.y[i] - p_.y[j];
+        const double depth = p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy);
+        const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + p_.mat[j]];
+        double u = 0;
+        if (depth > 0) u += 0.5 * L.k_n * depth * depth;
+        if (effects_.friction) u += 0.5 * L.k_s * discs_.xi[k] * discs_.xi[k];
+        if (i < n_own_) share[5 * i + 4] += 0.5 * u;
+        if (j < n_own_) share[5 * j + 4] += 0.5 * u;
+      }
+    for (std::size_t w = 0; w < walls_.size(); ++w)
+      for (std::size_t k = 0; k < wall_lists_[w].particle.size(); ++k) {
+        const std::uint32_t i = wall_lists_[w].particle[k];
+        ContactGeometry c;
+        const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + walls_[w].spec.material];
+        if (disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c))
+          share[5 * i + 4] += 0.5 * L.k_n * c.depth * c.depth;
+        if (effects_.friction) share[5 * i + 4] += 0.5 * L.k_s * wall_lists_[w].xi[k] * wall_lists_[w].xi[k];
+      }
+  }
+  std::vector<double> all = domain_ ? parallel::gather_all(share) : std::move(share);
+  const std::size_t n = all.size() / 5;
+  std::vector<std::size_t> order(n);
+  for (std::size_t k = 0; k < n; ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all[5 * a] < all[5 * b]; });
+  Energies e;
+  for (std::size_t k : order) {
+    e.kinetic_translational += all[5 * k + 1];
+    e.kinetic_rotational += all[5 * k + 2];
+    e.potential_gravity += all[5 * k + 3];
+    e.elastic += all[5 * k + 4];
+  }
+  if (effects_.normal_contact) e.elastic += polygon_elastic_energy();
   return e;
 }
 
@@ -290,7 +316,8 @@ double World::polygon_elastic_energy() const {
 
 std::size_t World::count_contacts() const {
   std::size_t count = 0;
-  for (std::size_t i = 0; i + 1 < discs_.offset.size(); ++i)
+  // A pair with a ghost is on two ranks; the rank owning its row (lower-id) particle counts it.
+  for (std::size_t i = 0; i + 1 < discs_.offset.size() && i < n_own_; ++i)
     for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
       const std::uint32_t j = discs_.j[k];
       const double dx = p_.x[i] - p_.x[j] + discs_.shift[k], dy = p_.y[i] - p_.y[j];
@@ -303,7 +330,10 @@ std::size_t World::count_contacts() const {
       count += disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c);
     }
   visit_polygon_contacts([&](const ContactLaw&, const ContactGeometry&) { ++count; });
-  return count;
+  if (!domain_) return count;
+  std::vector<std::uint64_t> total{count};
+  parallel::sum_all(total);
+  return total[0];
 }
 
 std::size_t World::memory_bytes() const {

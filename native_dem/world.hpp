@@ -4,11 +4,13 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "contact_law.hpp"
+#include "domain.hpp"
 #include "particles.hpp"
 #include "scene.hpp"
 #include "walls.hpp"
@@ -18,13 +20,31 @@ namespace grainlab::dem {
 
 struct ContactGeometry;
 
+// How a world is spread over MPI ranks. Serial: this process holds every particle. Distributed: the
+// ranks split the domain into slabs along x, each owns the particles in its slab and keeps copies
+// (ghosts) of its neighbours' particles within reach; results are bitwise those of the serial run.
+struct Decomposition {
+  bool distributed = false;
+  // Move the slab boundaries to even out the load every this many steps (0: never).
+  std::uint64_t balance_every = 0;
+};
+
 // The scene's bodies with its generated assemblies expanded (a poured bed is settled on this engine),
 // at their initial state: what another engine needs to build the same scene.
 std::vector<BodySpec> expanded_bodies(const Scene& scene);
 
 class World {
  public:
-  explicit World(const Scene& scene);
+  // A committed shear-spring extension keyed by the pair's ids (b < 0: wall -1 - b), which is how
+  // history survives reordering and travels with migrating particles.
+  struct SavedShear {
+    std::uint64_t key;
+    std::int64_t a, b;
+    double xi;
+    bool operator<(const SavedShear& o) const { return key < o.key; }
+  };
+  static std::uint64_t shear_key(std::int64_t a, std::int64_t b);
+  explicit World(const Scene& scene, Decomposition decomposition = {});
 
   // Advances to time `t_end` (not beyond). Throws std::runtime_error if the step underflows.
   void advance_to(double t_end);
@@ -32,7 +52,19 @@ class World {
   double step();
 
   double time() const { return t_; }
+  // This rank's particles: the first owned_count() are its own, the rest ghosts (none when serial).
   const Particles& particles() const { return p_; }
+  std::size_t owned_count() const { return n_own_; }
+  bool distributed() const { return domain_.has_value(); }
+  // Every particle of the world, ordered by id: on rank 0 (collective in a distributed world; the
+  // other ranks get none).
+  Particles gather_particles() const;
+  // Where this rank's time went and what it holds (for load balance and scaling reports).
+  struct RankLoad {
+    double seconds_compute = 0, seconds_communication = 0;
+    std::size_t owned = 0, ghosts = 0, pairs = 0, balances = 0;
+  };
+  const RankLoad& rank_load() const { return load_; }
   Particles& particles() { return p_; }
   const std::vector<std::vector<Vec2>>& polygon_shapes() const { return polygons_; }
   const std::vector<Wall>& walls() const { return walls_; }
@@ -42,7 +74,7 @@ class World {
   Energies energies() const;
   // Index of the particle with stable id `id`, or -1.
   long index_of(std::int64_t id) const;
-  // Counts contacts at the current state (a diagnostic pass).
+  // Counts contacts at the current state (a diagnostic pass; collective in a distributed world).
   std::size_t count_contacts() const;
   // Sets the step used by Verlet (and the next predictor-corrector step).
   void set_dt(double dt) { dt_ = dt; }
@@ -64,6 +96,18 @@ class World {
   void expand_assemblies();
   void setup_laws();
   void rebuild_neighbors();
+  std::vector<SavedShear> save_history() const;
+  void restore_history(std::vector<SavedShear>& saved);
+  void sort_owned_by_cell();
+  void build_pair_lists();
+  void build_incidence();
+  // Distributed worlds (domain.cpp).
+  void distribute_initial();
+  void migrate(std::vector<SavedShear>& saved);
+  void receive_ghosts();
+  void update_ghosts();
+  void balance_slabs();
+  bool any_rank(bool mine) const;
   bool needs_rebuild(double lookahead) const;
   // body_forces_ready: the caller has already set forces to m g and torques to zero.
   void compute_forces(double t, double shear_h, bool body_forces_ready = false);
@@ -79,6 +123,10 @@ class World {
   Scene scene_;
   Effects effects_;
   Particles p_;
+  std::size_t n_own_ = 0;
+  Decomposition decomposition_;
+  std::optional<Domain> domain_;
+  RankLoad load_;
   std::vector<std::vector<Vec2>> polygons_;
   std::vector<Wall> walls_;
   std::vector<ContactLaw> laws_;  // [mat_a * n_mat + mat_b]
@@ -92,10 +140,15 @@ class World {
 
  public:
   // Neighbour list (half list, CSR) with its per-pair shear history; public for the kernels and tests.
+  // Rows are the pairs' lower-id particles, so each pair is computed in one orientation everywhere.
   struct PairList {
     std::vector<std::uint32_t> offset, j;
     std::vector<double> shift;       // x image shift added to x_i - x_j
     std::vector<double> xi, xi_new;  // committed and trial shear-spring extension per pair
+    std::vector<double> fx, fy;      // force on the row's particle (the partner takes its negative)
+    std::vector<double> torque;      // [2k]: torque on pair k's row particle, [2k + 1]: on its partner
+    // Each owned particle's pairs in ascending partner id: 2k (it is the row) or 2k + 1 (the partner).
+    std::vector<std::uint32_t> inc_offset, inc;
   };
   struct WallList {
     std::vector<std::uint32_t> particle;  // discs near the wall

@@ -40,11 +40,12 @@ TEST(Conservation, MomentumWithoutWallsAtRoundOff) {
   EXPECT_LT(g.momentum_error, 1e-12);
 }
 
+// One shaken pile's rise time is chaotic (a change in the last bit of a force sum moves it by many
+// cycles), so the thesis's claim that friction speeds sorting is tested on an ensemble of jittered piles.
 TEST(Sorting, LargeDiscRisesFasterWithFriction) {
-  const Sorting with = gold_pan_sorting(30, true);
-  ASSERT_GT(with.cycles_to_top, 0) << "the large disc never reached the top";
-  const Sorting without = gold_pan_sorting(30, false);
-  if (without.cycles_to_top > 0) {
-    EXPECT_LT(with.cycles_to_top, without.cycles_to_top);
-  }
+  const SortingEnsemble with = gold_pan_ensemble(30, true, 8);
+  const SortingEnsemble without = gold_pan_ensemble(30, false, 8);
+  EXPECT_GE(with.fraction_risen, 0.5) << "the large disc rose in too few frictional piles";
+  EXPECT_GT(with.fraction_risen, without.fraction_risen);
+  EXPECT_LT(with.median, without.median);
 }

@@ -40,6 +40,14 @@ struct Sorting {
   std::vector<double> cycles, large_height_rank;  // fraction of small discs below the large one, per sample
   std::vector<double> large_height;
 };
-Sorting gold_pan_sorting(double cycles, bool friction);
+// realization 0: the discs on their grid; k > 0: each small disc moved by a seeded jitter (run k).
+Sorting gold_pan_sorting(double cycles, bool friction, int realization = 0);
+// Realizations 1..runs: each one's rise time (infinity if the large disc did not stay on top within
+// `cycles`), their median, and the fraction that rose.
+struct SortingEnsemble {
+  std::vector<double> cycles_to_top;
+  double median = 0, fraction_risen = 0;
+};
+SortingEnsemble gold_pan_ensemble(double cycles, bool friction, int runs);
 
 }  // namespace grainlab::validation
