@@ -127,11 +127,13 @@ void exchange(const std::vector<int>& to, const std::vector<std::vector<double>>
   req.reserve(to.size() + from.size());
   for (std::size_t k = 0; k < from.size(); ++k) {
     req.emplace_back();
-    MPI_Irecv(recv[k].data(), static_cast<int>(recv[k].size()), MPI_DOUBLE, from[k], 0, MPI_COMM_WORLD, &req.back());
+    MPI_Irecv(recv[k].data(), static_cast<int>(recv[k].size()), MPI_DOUBLE, from[k], 0, MPI_COMM_WORLD,
+              &req.back());
   }
   for (std::size_t k = 0; k < to.size(); ++k) {
     req.emplace_back();
-    MPI_Isend(send[k].data(), static_cast<int>(send[k].size()), MPI_DOUBLE, to[k], 0, MPI_COMM_WORLD, &req.back());
+    MPI_Isend(send[k].data(), static_cast<int>(send[k].size()), MPI_DOUBLE, to[k], 0, MPI_COMM_WORLD,
+              &req.back());
   }
   MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
 }

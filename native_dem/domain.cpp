@@ -198,6 +198,7 @@ void World::receive_ghosts() {
   d.send_buf.assign(d.to.size(), {});
   d.recv_buf.assign(d.from.size(), {});
   for (std::size_t k = 0; k < d.from.size(); ++k) d.recv_buf[k].resize(5 * d.recv_count[k]);
+  ghosts_fresh_ = true;
   load_.seconds_communication += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -209,7 +210,8 @@ void World::update_ghosts() {
   for (std::size_t k = 0; k < d.to.size(); ++k) {
     std::vector<double>& b = d.send_buf[k];
     b.clear();
-    for (std::uint32_t i : d.send_index[k]) b.insert(b.end(), {p_.x[i], p_.y[i], p_.vx[i], p_.vy[i], p_.w[i]});
+    for (std::uint32_t i : d.send_index[k])
+      b.insert(b.end(), {p_.x[i], p_.y[i], p_.vx[i], p_.vy[i], p_.w[i]});
   }
   parallel::exchange(d.to, d.send_buf, d.from, d.recv_buf);
   std::size_t g = n_own_;
@@ -217,6 +219,7 @@ void World::update_ghosts() {
     for (std::size_t k = 0; k < b.size(); k += 5, ++g) {
       p_.x[g] = b[k], p_.y[g] = b[k + 1], p_.vx[g] = b[k + 2], p_.vy[g] = b[k + 3], p_.w[g] = b[k + 4];
     }
+  ghosts_fresh_ = true;
   load_.seconds_communication += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -226,7 +229,8 @@ void World::balance_slabs() {
   Domain& d = *domain_;
   std::vector<double> mine;
   for (std::size_t i = 0; i < n_own_; ++i) {
-    const double pairs = discs_.inc_offset.size() > i + 1 ? discs_.inc_offset[i + 1] - discs_.inc_offset[i] : 0;
+    const double pairs =
+        discs_.inc_offset.size() > i + 1 ? discs_.inc_offset[i + 1] - discs_.inc_offset[i] : 0;
     mine.insert(mine.end(), {p_.x[i], 1.0 + pairs, static_cast<double>(p_.id[i])});
   }
   d.cut = weighted_cuts(parallel::gather_all(mine), d.size);

@@ -237,7 +237,8 @@ void World::compute_forces(double t, double shear_h, bool body_forces_ready) {
     ~Stopwatch() { total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
   } watch{start, diag_.seconds_forces};
   ++diag_.force_evaluations;
-  update_ghosts();
+  if (!ghosts_fresh_) update_ghosts();
+  ghosts_fresh_ = false;  // the integrator moves the owned particles next
   for (Wall& wall : walls_) wall.at(t);
   if (!body_forces_ready) {
     const std::size_t n = n_own_;

@@ -50,7 +50,9 @@ struct CellGrid {
     if (periodic) xl = xmin, xh = xmin + period;
     double cell = reach;
     // Keep the grid no larger than a few cells per particle (a grain far from the bed must not blow it up).
-    auto count_cells = [&](double c) { return (std::floor((xh - xl) / c) + 1) * (std::floor((yh - yl) / c) + 1); };
+    auto count_cells = [&](double c) {
+      return (std::floor((xh - xl) / c) + 1) * (std::floor((yh - yl) / c) + 1);
+    };
     while (n > 0 && count_cells(cell) > 4.0 * n + 64) cell *= 1.5;
     ncx = n ? static_cast<int>(std::floor((xh - xl) / cell)) + 1 : 1;
     ncy = n ? static_cast<int>(std::floor((yh - yl) / cell)) + 1 : 1;
@@ -185,7 +187,8 @@ void World::build_pair_lists() {
         if (j <= i || (ghost_i && j >= n_own_)) continue;
         // Orient by id: the same pair gives the same bits on every rank.
         const bool swap = p_.id[j] < p_.id[i];
-        const std::uint32_t a = swap ? j : static_cast<std::uint32_t>(i), b = swap ? static_cast<std::uint32_t>(i) : j;
+        const std::uint32_t a = swap ? j : static_cast<std::uint32_t>(i),
+                            b = swap ? static_cast<std::uint32_t>(i) : j;
         double dx = p_.x[a] - p_.x[b];
         const double shift = period_ > 0 ? -period_ * std::round(dx / period_) : 0.0;
         dx += shift;

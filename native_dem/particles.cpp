@@ -15,7 +15,7 @@ void for_each_array(Particles& p, F&& f) {
 
 template <typename T>
 void apply_order(std::vector<T>& a, const std::vector<std::uint32_t>& order, std::vector<T>& scratch) {
-  scratch.resize(a.size());
+  scratch.resize(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) scratch[k] = a[order[k]];
   a.swap(scratch);
 }

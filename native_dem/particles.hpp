@@ -20,7 +20,8 @@ struct Particles {
 
   std::size_t size() const { return x.size(); }
   void resize(std::size_t n);
-  // Reorders every array so that new[k] = old[order[k]] (spatial sorting for cache locality).
+  // Reorders every array so that new[k] = old[order[k]] (spatial sorting for cache locality); an order
+  // shorter than size() keeps only the particles it lists.
   void permute(const std::vector<std::uint32_t>& order);
   static constexpr std::size_t bytes_per_particle() { return 21 * sizeof(double) + 8 + 4 + 4; }
 };

@@ -223,6 +223,7 @@ void World::step_predictor_corrector() {
     have_prev_ = true;
     t_ += dt;
     commit_history();
+    update_ghosts();  // the corrected state, for energies, contacts and the next step
     return;
   }
 }
@@ -242,19 +243,20 @@ Energies World::energies() const {
     e[3] = -p_.m[i] * (gx * p_.x[i] + gy * p_.y[i]);
   }
   if (effects_.normal_contact) {
-    // Normal springs and committed shear springs, half to each owned partner.
+    // Normal springs and committed shear springs, half to each partner, added in partner-id order.
+    std::vector<double> pair_u(discs_.j.size(), 0.0);
     for (std::size_t i = 0; i + 1 < discs_.offset.size(); ++i)
       for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k) {
         const std::uint32_t j = discs_.j[k];
         const double dx = p_.x[i] - p_.x[j] + discs_.shift[k], dy = p_.y[i] - p_.y[j];
         const double depth = p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy);
         const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + p_.mat[j]];
-        double u = 0;
-        if (depth > 0) u += 0.5 * L.k_n * depth * depth;
-        if (effects_.friction) u += 0.5 * L.k_s * discs_.xi[k] * discs_.xi[k];
-        if (i < n_own_) share[5 * i + 4] += 0.5 * u;
-        if (j < n_own_) share[5 * j + 4] += 0.5 * u;
+        if (depth > 0) pair_u[k] += 0.5 * L.k_n * depth * depth;
+        if (effects_.friction) pair_u[k] += 0.5 * L.k_s * discs_.xi[k] * discs_.xi[k];
       }
+    for (std::size_t i = 0; i < n_own_; ++i)
+      for (std::uint32_t e = discs_.inc_offset[i]; e < discs_.inc_offset[i + 1]; ++e)
+        share[5 * i + 4] += 0.5 * pair_u[discs_.inc[e] >> 1];
     for (std::size_t w = 0; w < walls_.size(); ++w)
       for (std::size_t k = 0; k < wall_lists_[w].particle.size(); ++k) {
         const std::uint32_t i = wall_lists_[w].particle[k];
@@ -269,7 +271,8 @@ Energies World::energies() const {
   const std::size_t n = all.size() / 5;
   std::vector<std::size_t> order(n);
   for (std::size_t k = 0; k < n; ++k) order[k] = k;
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all[5 * a] < all[5 * b]; });
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return all[5 * a] < all[5 * b]; });
   Energies e;
   for (std::size_t k : order) {
     e.kinetic_translational += all[5 * k + 1];

@@ -126,6 +126,7 @@ class World {
   std::size_t n_own_ = 0;
   Decomposition decomposition_;
   std::optional<Domain> domain_;
+  bool ghosts_fresh_ = false;  // the ghosts hold their owners' current positions and velocities
   RankLoad load_;
   std::vector<std::vector<Vec2>> polygons_;
   std::vector<Wall> walls_;

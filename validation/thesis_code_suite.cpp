@@ -104,7 +104,8 @@ void sorting(Report& r, const SuiteOptions& o) {
   const double cycles = o.quick ? 30 : 40;
   const int runs = o.quick ? 8 : 24;
   if (o.log)
-    o.log(fmt::format("gold-pan sorting: {} jittered piles of {} cycles, with and without friction", runs, cycles));
+    o.log(fmt::format("gold-pan sorting: {} jittered piles of {} cycles, with and without friction", runs,
+                      cycles));
   const SortingEnsemble with = gold_pan_ensemble(cycles, true, runs);
   const SortingEnsemble without = gold_pan_ensemble(cycles, false, runs);
   r.expect_below("sorting/large-disc-rises", "native", 1 - with.fraction_risen, 0.5,
