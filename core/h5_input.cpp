@@ -16,6 +16,10 @@ namespace {
 struct Handle {
   hid_t id;
   herr_t (*close)(hid_t);
+  Handle(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id(o.id), close(o.close) { o.id = -1; }
   ~Handle() {
     if (id >= 0) close(id);
   }
@@ -72,14 +76,29 @@ void read_attributes(hid_t obj, RunFileSummary& s, bool numbers) {
   H5Aiterate2(obj, H5_INDEX_NAME, H5_ITER_INC, nullptr, take_attribute, &sink);
 }
 
-}  // namespace
-
-RunFileSummary read_run_file(const std::string& path) {
+Handle open_checked(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError({path, 0}, "file", "does not exist");
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   if (H5Fis_hdf5(path.c_str()) <= 0) corrupt(path, "is not an HDF5 file (or its header is damaged)");
   Handle f{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
   if (f.id < 0) corrupt(path, "cannot be opened as HDF5: it is truncated or damaged");
+  return f;
+}
+
+std::string string_attribute(hid_t obj, const char* name) {
+  Handle a{H5Aopen(obj, name, H5P_DEFAULT), H5Aclose};
+  if (a.id < 0) return {};
+  Handle type{H5Aget_type(a.id), H5Tclose};
+  if (H5Tget_class(type.id) != H5T_STRING) return {};
+  std::string v(H5Tget_size(type.id), '\0');
+  if (H5Aread(a.id, type.id, v.data()) < 0) return {};
+  return v.c_str();
+}
+
+}  // namespace
+
+RunFileSummary read_run_file(const std::string& path) {
+  Handle f = open_checked(path);
   RunFileSummary s;
   read_attributes(f.id, s, false);
   if (!s.text.count("grainlab_version"))
@@ -105,6 +124,29 @@ RunFileSummary read_run_file(const std::string& path) {
   if (diagnostics.id < 0) corrupt(path, "has no /diagnostics group");
   read_attributes(diagnostics.id, s, true);
   return s;
+}
+
+TableFile read_sample_tables(const std::string& path,
+                             const std::map<std::string, std::vector<std::string>>& wanted) {
+  Handle f = open_checked(path);
+  TableFile out;
+  RunFileSummary attributes;
+  read_attributes(f.id, attributes, false);
+  out.metadata = attributes.text;
+  for (const auto& [name, columns] : wanted) {
+    const Dataset d = read_all(f.id, name, path);
+    const std::string expected = fmt::format("{}", fmt::join(columns, ","));
+    Handle ds{H5Dopen2(f.id, name.c_str(), H5P_DEFAULT), H5Dclose};
+    const std::string found = string_attribute(ds.id, "columns");
+    if (found != expected || d.dims.size() != 2 || d.dims[1] != columns.size())
+      corrupt(path, fmt::format("table {} has columns \"{}\", expected \"{}\"", name, found, expected));
+    SampleTable t{name, string_attribute(ds.id, "description"), columns, {}};
+    for (hsize_t r = 0; r < d.dims[0]; ++r)
+      t.rows.emplace_back(d.data.begin() + static_cast<long>(r * d.dims[1]),
+                          d.data.begin() + static_cast<long>((r + 1) * d.dims[1]));
+    out.tables[name] = std::move(t);
+  }
+  return out;
 }
 
 }  // namespace grainlab

@@ -3,6 +3,9 @@
 // is reported as such instead of half-read.
 #include <map>
 #include <string>
+#include <vector>
+
+#include "h5_output.hpp"
 
 namespace grainlab {
 
@@ -16,5 +19,15 @@ struct RunFileSummary {
 // Opens `path` and reads every frame's datasets and the energy table, checking their shapes against
 // each other. Throws InputError (key "file") naming what is missing, unreadable or inconsistent.
 RunFileSummary read_run_file(const std::string& path);
+
+// A file of named tables written by write_sample_tables (checkpoints, results.h5).
+struct TableFile {
+  std::map<std::string, std::string> metadata;  // root string attributes
+  std::map<std::string, SampleTable> tables;
+};
+// Reads the root attributes and the named tables, checking each one's columns against `columns`
+// (its attribute). Throws InputError (key "file") naming what is missing, unreadable or different.
+TableFile read_sample_tables(const std::string& path,
+                             const std::map<std::string, std::vector<std::string>>& wanted);
 
 }  // namespace grainlab

@@ -230,7 +230,13 @@ void write_sample_tables(const std::string& path, const std::vector<SampleTable>
       }
       hsize_t dims[2] = {t.rows.size(), t.columns.size()};
       hid_t space = H5Screate_simple(2, dims, nullptr);
-      hid_t d = H5Dcreate2(f, t.name.c_str(), H5T_NATIVE_DOUBLE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+      hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+      if (!flat.empty()) {  // checksummed, as run files are: a damaged table is refused on reading
+        H5Pset_chunk(dcpl, 2, dims);
+        H5Pset_fletcher32(dcpl);
+      }
+      hid_t d = H5Dcreate2(f, t.name.c_str(), H5T_NATIVE_DOUBLE, space, lcpl, dcpl, H5P_DEFAULT);
+      H5Pclose(dcpl);
       if (d < 0) throw std::runtime_error("HDF5: failed to create dataset " + t.name);
       if (!flat.empty())
         check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, flat.data()), "write samples");

@@ -62,9 +62,11 @@ double wrapped(double x, double xmin, double period) {
   return period > 0 ? x - period * std::floor((x - xmin) / period) : x;
 }
 
+}  // namespace
+
 // Boundaries splitting weighted points (x, w) into `size` runs of equal weight; ties in x are
 // broken by id so every rank computes the same cuts from the same data.
-std::vector<double> weighted_cuts(std::vector<double> xw_id, int size) {
+std::vector<double> weighted_cuts(const std::vector<double>& xw_id, int size) {
   const std::size_t n = xw_id.size() / 3;
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), 0);
@@ -86,7 +88,6 @@ std::vector<double> weighted_cuts(std::vector<double> xw_id, int size) {
   }
   return cut;
 }
-}  // namespace
 
 bool World::any_rank(bool mine) const {
   return domain_ ? parallel::any_all(mine) : mine;
@@ -171,10 +172,11 @@ void World::receive_ghosts() {
   const double lo = d.lo(d.rank), hi = d.hi(d.rank);
   for (std::size_t i = 0; i < n_own_; ++i) {
     const double x = p_.x[i];
-    const bool near_edge = x - lo < d.halo || hi - x <= d.halo;
+    const double halo = d.halo + extra_reach_;
+    const bool near_edge = x - lo < halo || hi - x <= halo;
     if (!near_edge) continue;
     for (int q = 0; q < d.size; ++q)
-      if (q != d.rank && d.distance_to_slab(x, q) < d.halo)
+      if (q != d.rank && d.distance_to_slab(x, q) < halo)
         d.send_index[q].push_back(static_cast<std::uint32_t>(i));
   }
   std::vector<std::vector<double>> send(d.size);

@@ -36,4 +36,8 @@ struct Domain {
   double distance_to_slab(double x, int q) const;
 };
 
+// Boundaries splitting points given as (x, weight, id) triples into `size` runs of equal weight; ties
+// in x are broken by id, so every rank computes the same cuts from the same data.
+std::vector<double> weighted_cuts(const std::vector<double>& xw_id, int size);
+
 }  // namespace grainlab::dem

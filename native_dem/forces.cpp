@@ -238,7 +238,6 @@ void World::compute_forces(double t, double shear_h, bool body_forces_ready) {
   } watch{start, diag_.seconds_forces};
   ++diag_.force_evaluations;
   if (!ghosts_fresh_) update_ghosts();
-  ghosts_fresh_ = false;  // the integrator moves the owned particles next
   for (Wall& wall : walls_) wall.at(t);
   if (!body_forces_ready) {
     const std::size_t n = n_own_;

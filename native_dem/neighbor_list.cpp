@@ -129,6 +129,7 @@ std::vector<World::SavedShear> World::save_history() const {
 void World::rebuild_neighbors() {
   const auto started = std::chrono::steady_clock::now();
   ++diag_.neighbor_rebuilds;
+  extra_reach_ = 0;
   std::vector<SavedShear> saved = save_history();
   p_.resize(n_own_);  // ghosts are renewed below
   wrap_periodic();
@@ -168,7 +169,7 @@ void World::build_pair_lists() {
   const std::size_t n = p_.size();
   double rmax = 0;
   for (std::size_t i = 0; i < n; ++i) rmax = std::max(rmax, p_.r[i]);
-  const CellGrid grid(p_.x, p_.y, n, 2 * rmax + skin_, xmin_, period_);
+  const CellGrid grid(p_.x, p_.y, n, 2 * rmax + skin_ + extra_reach_, xmin_, period_);
   struct Found {
     std::uint32_t a, b;
     double shift;
@@ -192,7 +193,7 @@ void World::build_pair_lists() {
         double dx = p_.x[a] - p_.x[b];
         const double shift = period_ > 0 ? -period_ * std::round(dx / period_) : 0.0;
         dx += shift;
-        const double dy = p_.y[a] - p_.y[b], reach = p_.r[a] + p_.r[b] + skin_;
+        const double dy = p_.y[a] - p_.y[b], reach = p_.r[a] + p_.r[b] + skin_ + extra_reach_;
         if (dx * dx + dy * dy >= reach * reach) continue;
         if (disc_i && p_.shape[j] < 0)
           found.push_back({a, b, shift});
@@ -224,7 +225,7 @@ void World::build_pair_lists() {
     for (std::size_t i = 0; i < n_own_; ++i) {
       if (p_.shape[i] >= 0) continue;
       ContactGeometry c;
-      if (disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i] + skin_ + 2 * rest.reach(), rest, c))
+      if (disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i] + skin_ + extra_reach_ + 2 * rest.reach(), rest, c))
         L.particle.push_back(static_cast<std::uint32_t>(i));
     }
   }

@@ -140,6 +140,7 @@ void World::step_verlet() {
     }
   }
   t_ += dt;
+  ghosts_fresh_ = false;
   if (any_rank(!listed || max_d2 > 0.25 * skin_ * skin_)) rebuild_neighbors();
   compute_forces(t_, dt, true);  // dashpots see the half-step velocities, as in LAMMPS
   commit_history();
@@ -192,6 +193,7 @@ void World::step_predictor_corrector() {
     predict(p_.vx_prev, vx0_, ax0_, x0_, p_.vx, p_.x);
     predict(p_.vy_prev, vy0_, ay0_, y0_, p_.vy, p_.y);
     if (effects_.rotation) predict(p_.w_prev, w0_, al0_, th0_, p_.w, p_.th);
+    ghosts_fresh_ = false;
     compute_forces(t_ + dt, dt);
 
     double err = 0;

@@ -11,6 +11,7 @@
 
 #include "contact_law.hpp"
 #include "domain.hpp"
+#include "h5_output.hpp"
 #include "particles.hpp"
 #include "scene.hpp"
 #include "walls.hpp"
@@ -32,6 +33,9 @@ struct Decomposition {
 // The scene's bodies with its generated assemblies expanded (a poured bed is settled on this engine),
 // at their initial state: what another engine needs to build the same scene.
 std::vector<BodySpec> expanded_bodies(const Scene& scene);
+
+// Everything a world needs to continue exactly where it was: what a checkpoint holds.
+struct WorldState;
 
 class World {
  public:
@@ -65,6 +69,11 @@ class World {
     std::size_t owned = 0, ghosts = 0, pairs = 0, balances = 0;
   };
   const RankLoad& rank_load() const { return load_; }
+  // The whole state, particles ordered by id, on rank 0 (collective; other ranks get an empty state).
+  WorldState save_state() const;
+  // Continues from a saved state (every rank passes the whole state; each keeps its slab). The scene
+  // must be the one the state was saved from. Throws std::runtime_error if the particles do not match.
+  void restore_state(const WorldState& s);
   Particles& particles() { return p_; }
   const std::vector<std::vector<Vec2>>& polygon_shapes() const { return polygons_; }
   const std::vector<Wall>& walls() const { return walls_; }
@@ -96,6 +105,7 @@ class World {
   void expand_assemblies();
   void setup_laws();
   void rebuild_neighbors();
+  void rebuild_after_restore(std::vector<SavedShear> history);
   std::vector<SavedShear> save_history() const;
   void restore_history(std::vector<SavedShear>& saved);
   void sort_owned_by_cell();
@@ -126,7 +136,10 @@ class World {
   std::size_t n_own_ = 0;
   Decomposition decomposition_;
   std::optional<Domain> domain_;
-  bool ghosts_fresh_ = false;  // the ghosts hold their owners' current positions and velocities
+  bool ghosts_fresh_ = false;
+  // Added to the pair and ghost reach for a list built away from its particles' build positions (after a
+  // restart): they may then move a whole skin, not half, before the next rebuild.
+  double extra_reach_ = 0;  // the ghosts hold their owners' current positions and velocities
   RankLoad load_;
   std::vector<std::vector<Vec2>> polygons_;
   std::vector<Wall> walls_;
@@ -177,5 +190,20 @@ class World {
   PairForces pair_force_, pair_force_start_, impulses_;
   std::function<void(double, double)> after_step_;
 };
+
+struct WorldState {
+  Particles particles;                     // ordered by id
+  std::vector<double> x_build, y_build;    // where each particle was at the last neighbour-list build
+  std::vector<World::SavedShear> history;  // committed shear springs (b < 0: wall -1 - b)
+  double t = 0, dt = 0, dt_prev = 0;
+  bool have_prev = false;
+  Diagnostics diagnostics;
+};
+
+// A state as tables (prefix + "particles", "history", "clock") for a checkpoint file, and back.
+std::vector<SampleTable> state_tables(const WorldState& s, const std::string& prefix);
+std::map<std::string, std::vector<std::string>> state_table_columns(const std::string& prefix);
+// Throws std::runtime_error if the tables are inconsistent.
+WorldState state_from_tables(const std::map<std::string, SampleTable>& tables, const std::string& prefix);
 
 }  // namespace grainlab::dem

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "h5_input.hpp"
 #include "parallel.hpp"
 #include "world.hpp"
 
@@ -41,10 +42,31 @@ bool same_bits(double a, double b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-// Runs `steps` steps distributed and (on rank 0) serially; returns the number of failures.
+// A world that runs steps/2, writes its state to a checkpoint file, is replaced by a fresh world that
+// reads the file on every rank, and runs the other half.
+dem::World interrupted_and_restarted(const Scene& scene, int steps, const std::string& file) {
+  dem::World first(scene, {true, 500});
+  for (int s = 0; s < steps / 2; ++s) first.step();
+  const dem::WorldState saved = first.save_state();
+  if (parallel::rank() == 0)
+    write_sample_tables(file, dem::state_tables(saved, "state/"), {{"kind", "test"}});
+  parallel::barrier();
+  const TableFile read = read_sample_tables(file, dem::state_table_columns("state/"));
+  dem::World second(scene, {true, 500});
+  second.restore_state(dem::state_from_tables(read.tables, "state/"));
+  for (int s = steps / 2; s < steps; ++s) second.step();
+  return second;
+}
+
+// Runs `steps` steps distributed (straight through, and interrupted by a checkpoint halfway) and (on
+// rank 0) serially; returns the number of failures.
 int check(const std::string& name, const Scene& scene, int steps, bool perturb_check) {
   dem::World distributed(scene, {true, 500});
   for (int s = 0; s < steps; ++s) distributed.step();
+  const std::string file = fmt::format("decomposition-checkpoint-{}.h5", parallel::size());
+  const dem::World restarted = interrupted_and_restarted(scene, steps, file);
+  const dem::Particles after_restart = restarted.gather_particles();
+  const dem::Energies e_restart = restarted.energies();
   const dem::Energies e = distributed.energies();
   const std::size_t contacts = distributed.count_contacts();
   const dem::Particles all = distributed.gather_particles();
@@ -56,6 +78,16 @@ int check(const std::string& name, const Scene& scene, int steps, bool perturb_c
   const dem::Energies es = serial.energies();
   const bool energies_same = same_bits(e.total(), es.total()) && same_bits(e.elastic, es.elastic);
   int failures = 0;
+  const Difference r = compare(after_restart, reference);
+  if (r.mismatched || !same_bits(e_restart.total(), es.total()) || restarted.time() != serial.time() ||
+      restarted.diagnostics().steps != serial.diagnostics().steps) {
+    fmt::print(stderr,
+               "{} on {} ranks, restarted from a checkpoint at step {}: {} values differ (largest {:.3g})\n",
+               name, parallel::size(), steps / 2, r.mismatched, r.largest);
+    ++failures;
+  } else {
+    fmt::print("  interrupted at step {}, restarted from {}: bitwise identical\n", steps / 2, file);
+  }
   if (d.mismatched || !energies_same || contacts != serial.count_contacts() ||
       distributed.time() != serial.time()) {
     fmt::print(stderr,
