@@ -45,6 +45,16 @@ class Engine {
   virtual std::vector<std::vector<double>> polygon_shapes() const = 0;  // flat x,y per polygon
   virtual std::string integrator() const = 0;
 
+  // Checkpoints (the native 2-D engine): the whole state as tables, and back. save_state is collective
+  // in a distributed engine (rank 0 gets the tables); restore_state is given the whole state on every
+  // rank and throws std::runtime_error if it does not fit the scene.
+  virtual bool checkpointable() const { return false; }
+  virtual std::vector<SampleTable> save_state() const { return {}; }
+  virtual std::map<std::string, std::vector<std::string>> state_columns() const { return {}; }
+  virtual void restore_state(const std::map<std::string, SampleTable>& /*tables*/) {}
+  // How many MPI ranks share this engine's scene (1 unless distributed).
+  virtual int ranks() const { return 1; }
+
   // Contact events (contact_events.hpp) are recorded from the next step on once asked for; they cost a
   // walk over the contacts each step, so they are off by default.
   void track_contacts(bool on) { tracking_ = on; }
@@ -88,6 +98,11 @@ void check_engine_supports(const Capabilities& c, const Scene& scene);
 
 // Throws InputError if the engine is unknown.
 std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene);
+// Why this run cannot be spread over MPI ranks (empty if it can): only the native engine's 2-D disc
+// scenes without contact events are distributed so far.
+std::string why_not_distributed(const std::string& engine, const Scene& scene);
+// The native 2-D engine spread over all MPI ranks, slabs re-split every `balance_every` steps (0: never).
+std::unique_ptr<Engine> make_distributed_native_engine(const Scene& scene, std::uint64_t balance_every);
 std::vector<std::string> engine_names();
 // The engines that can run scenes of this dimension (2 or 3), in catalog order.
 std::vector<std::string> engines_for_dimension(int dimension);
@@ -97,10 +112,21 @@ struct RunOptions {
   bool overwrite = false;
   // Called with (simulated time, duration) after every frame and regularly in between.
   std::function<void(double, double)> progress;
+  // This process writes the files (rank 0 of a distributed run; the others compute only).
+  bool write = true;
+  // Checkpoints: written to `checkpoint` after every `checkpoint_every`-th frame (0: never).
+  int checkpoint_every = 0;
+  std::string checkpoint = {};
+  // Stop after this frame's checkpoint, without writing the run file (0: run to the end).
+  int stop_after_frame = 0;
+  // Continue from this checkpoint file (empty: start from the scene).
+  std::string restart = {};
 };
 
 struct RunSummary {
   std::string h5, xmf;
+  bool stopped = false;  // stopped at options.stop_after_frame: only the checkpoint was written
+  int restarted_from_frame = 0;
   std::map<std::string, double> diagnostics;
   EnergyReport initial, final;
 };

@@ -1,7 +1,10 @@
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <numeric>
 
 #include "engine.hpp"
+#include "parallel.hpp"
 #include "world.hpp"
 #include "world3d.hpp"
 
@@ -37,7 +40,8 @@ void hook_contact_events(World& world, bool tracking, Record record) {
 template <class World>
 class NativeEngineBase : public Engine {
  public:
-  explicit NativeEngineBase(const Scene& scene) : world_(scene) {}
+  template <class... Options>
+  explicit NativeEngineBase(const Scene& scene, Options... options) : world_(scene, options...) {}
   std::string name() const override { return "native"; }
   void advance_to(double t) override {
     hook_contact_events(world_, tracking_contacts(), [this](double now, double dt, const PairImpulses& s) {
@@ -57,25 +61,24 @@ class NativeEngineBase : public Engine {
 
 class NativeEngine final : public NativeEngineBase<dem::World> {
  public:
-  explicit NativeEngine(const Scene& scene) : NativeEngineBase(scene) {}
+  explicit NativeEngine(const Scene& scene, dem::Decomposition d = {}) : NativeEngineBase(scene, d) {}
 
+  // Gathered to rank 0 in a distributed world (the other ranks return an empty frame).
   Frame frame() const override {
-    const dem::Particles& p = world_.particles();
-    std::vector<std::size_t> order(p.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+    const dem::Particles p = world_.gather_particles();
     Frame f;
     f.time = world_.time();
-    for (std::size_t i : order) {
+    for (std::size_t i = 0; i < p.size(); ++i)
       f.add_body(p.id[i], p.x[i], p.y[i], p.vx[i], p.vy[i], p.th[i], p.w[i], p.r[i], p.shape[i]);
-    }
     return f;
   }
 
   EnergyReport energies() const override { return to_report(world_.energies()); }
 
   std::map<std::string, double> diagnostics() const override {
-    auto d = to_map(world_.diagnostics(), world_.count_contacts(), world_.particles().size());
+    std::vector<std::uint64_t> owned{world_.owned_count()};
+    if (world_.distributed()) parallel::sum_all(owned);
+    auto d = to_map(world_.diagnostics(), world_.count_contacts(), owned[0]);
     d["neighbor_rebuilds"] = double(world_.diagnostics().neighbor_rebuilds);
     return d;
   }
@@ -89,6 +92,19 @@ class NativeEngine final : public NativeEngineBase<dem::World> {
     }
     return out;
   }
+
+  // Polygon contacts keep their shear history in a map the state does not carry yet.
+  bool checkpointable() const override { return world_.polygon_shapes().empty(); }
+  std::vector<SampleTable> save_state() const override {
+    return dem::state_tables(world_.save_state(), "state/");
+  }
+  std::map<std::string, std::vector<std::string>> state_columns() const override {
+    return dem::state_table_columns("state/");
+  }
+  void restore_state(const std::map<std::string, SampleTable>& tables) override {
+    world_.restore_state(dem::state_from_tables(tables, "state/"));
+  }
+  int ranks() const override { return world_.distributed() ? parallel::size() : 1; }
 };
 
 // The native engine on a 3-D scene.
@@ -144,6 +160,19 @@ std::vector<std::string> engines_for_dimension(int dimension) {
     if (std::find(c.dimensions.begin(), c.dimensions.end(), dimension) != c.dimensions.end())
       names.push_back(c.name);
   return names;
+}
+
+std::string why_not_distributed(const std::string& engine, const Scene& scene) {
+  if (engine != "native") return fmt::format("the {} engine runs on one process", engine);
+  if (scene.dimension != 2) return "3-D scenes run on one process so far";
+  for (const BodySpec& b : scene.bodies)
+    if (b.shape == BodySpec::Shape::Polygon) return "scenes with polygons run on one process so far";
+  if (scene.output.contacts) return "contact events ([output] contacts) are recorded on one process so far";
+  return {};
+}
+
+std::unique_ptr<Engine> make_distributed_native_engine(const Scene& scene, std::uint64_t balance_every) {
+  return std::make_unique<NativeEngine>(scene, dem::Decomposition{true, balance_every});
 }
 
 std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene) {

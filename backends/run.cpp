@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <optional>
 
 #include "engine.hpp"
+#include "h5_input.hpp"
+#include "input_error.hpp"
 
 namespace grainlab {
 
@@ -52,36 +55,162 @@ std::string units_description(const Scene& scene) {
                              : "cgs (cm, g, s; energies in erg" + mass + ")";
 }
 
+namespace {
+
+const std::vector<std::string> kFrameColumns = {"frame", "time",  "id",   "x",      "y",    "vx",
+                                                "vy",    "angle", "spin", "radius", "shape"};
+const std::vector<std::string> kEnergyColumns = {
+    "time", "kinetic_translational", "kinetic_rotational", "potential_gravity", "elastic", "total"};
+const std::vector<std::string> kProgressColumns = {"frames_done", "kinetic_translational",
+                                                   "kinetic_rotational", "potential_gravity", "elastic"};
+constexpr const char* kCheckpointKind = "grainlab checkpoint 1";
+
+std::string joined_overrides(const Scene& scene) {
+  return fmt::format("{}", fmt::join(scene.overrides, "\n"));
+}
+
+// What a run has written so far, kept so a checkpoint can carry it (the run file is written once, at
+// the end, so a restarted run's file holds every frame).
+struct Written {
+  std::vector<Frame> frames;
+  std::vector<std::vector<double>> energy;
+};
+
+void write_checkpoint(const std::string& path, const Scene& scene, const Engine& engine,
+                      const std::vector<SampleTable>& state, const Written& w, int frames_done,
+                      const EnergyReport& initial) {
+  SampleTable frames{"run/frames", "the frames written so far (scene units)", kFrameColumns, {}};
+  for (std::size_t k = 0; k < w.frames.size(); ++k) {
+    const Frame& f = w.frames[k];
+    for (std::size_t i = 0; i < f.id.size(); ++i)
+      frames.rows.push_back({double(k), f.time, double(f.id[i]), f.position[3 * i], f.position[3 * i + 1],
+                             f.velocity[3 * i], f.velocity[3 * i + 1], f.angle[i], f.spin[i], f.radius[i],
+                             double(f.shape[i])});
+  }
+  SampleTable energy{"run/energy", "the energy rows written so far", kEnergyColumns, w.energy};
+  SampleTable progress{"run/progress",
+                       "frames done and the initial energies",
+                       kProgressColumns,
+                       {{double(frames_done), initial.kinetic_translational, initial.kinetic_rotational,
+                         initial.potential_gravity, initial.elastic}}};
+  std::vector<SampleTable> tables = {frames, energy, progress};
+  tables.insert(tables.end(), state.begin(), state.end());
+  write_sample_tables(path, tables,
+                      {{"kind", kCheckpointKind},
+                       {"grainlab_version", GRAINLAB_VERSION},
+                       {"scene_file", scene.path},
+                       {"scene_text", scene.text},
+                       {"scene_overrides", joined_overrides(scene)},
+                       {"engine", engine.name()},
+                       {"integrator", engine.integrator()},
+                       {"frames", std::to_string(scene.output.frames)}});
+}
+
+// Reads a checkpoint and puts the engine and the written frames back; returns the frames done.
+// A file from another scene, engine or version, or a damaged one, is refused with InputError.
+int restore_checkpoint(const std::string& path, const Scene& scene, Engine& engine, Written& w,
+                       EnergyReport& initial) {
+  auto wanted = engine.state_columns();
+  wanted["run/frames"] = kFrameColumns;
+  wanted["run/energy"] = kEnergyColumns;
+  wanted["run/progress"] = kProgressColumns;
+  const TableFile file = read_sample_tables(path, wanted);
+  auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
+  auto meta = [&](const char* key) {
+    auto it = file.metadata.find(key);
+    return it == file.metadata.end() ? std::string() : it->second;
+  };
+  if (meta("kind") != kCheckpointKind) refuse("is not a grainlab checkpoint (kind \"" + meta("kind") + "\")");
+  if (meta("grainlab_version") != GRAINLAB_VERSION)
+    refuse("was written by grainlab " + meta("grainlab_version") + ", this is " + GRAINLAB_VERSION);
+  if (meta("scene_text") != scene.text)
+    refuse("was written for a different scene (" + meta("scene_file") + ")");
+  if (meta("scene_overrides") != joined_overrides(scene))
+    refuse(fmt::format("was written with other --set overrides (\"{}\"; this run: \"{}\")",
+                       meta("scene_overrides"), joined_overrides(scene)));
+  if (meta("engine") != engine.name() || meta("integrator") != engine.integrator())
+    refuse("was written by the " + meta("engine") + " engine [" + meta("integrator") + "]");
+  const auto& progress = file.tables.at("run/progress").rows;
+  if (progress.size() != 1) refuse("has no progress row");
+  const int done = static_cast<int>(progress[0][0]);
+  if (done < 0 || done > scene.output.frames) refuse("is at an impossible frame");
+  initial = {progress[0][1], progress[0][2], progress[0][3], progress[0][4]};
+  w.frames.assign(static_cast<std::size_t>(done) + 1, Frame{});
+  for (const auto& r : file.tables.at("run/frames").rows) {
+    const auto k = static_cast<std::size_t>(r[0]);
+    if (r[0] < 0 || k >= w.frames.size()) refuse("has a frame row beyond its progress");
+    w.frames[k].time = r[1];
+    w.frames[k].add_body(static_cast<std::int64_t>(r[2]), r[3], r[4], r[5], r[6], r[7], r[8], r[9],
+                         static_cast<std::int32_t>(r[10]));
+  }
+  w.energy = file.tables.at("run/energy").rows;
+  if (w.energy.size() != w.frames.size()) refuse("has a different number of energy rows and frames");
+  try {
+    engine.restore_state(file.tables);
+  } catch (const std::runtime_error& e) {
+    refuse(std::string("does not fit this scene: ") + e.what());
+  }
+  return done;
+}
+
+}  // namespace
+
 RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& options) {
-  RunWriter writer(options.out, options.overwrite);  // refuses to overwrite before any work is done
-  writer.set_energy_columns(
-      {"time", "kinetic_translational", "kinetic_rotational", "potential_gravity", "elastic", "total"});
+  std::optional<RunWriter> writer;  // refuses to overwrite before any work is done
+  if (options.write && options.stop_after_frame == 0) writer.emplace(options.out, options.overwrite);
+  if ((options.checkpoint_every > 0 || !options.restart.empty()) && !engine.checkpointable())
+    throw InputError({"--checkpoint-every", 0}, engine.name(),
+                     "checkpoints are written by the native 2-D engine for disc scenes only so far");
+  if ((options.checkpoint_every > 0 || !options.restart.empty()) && scene.output.contacts)
+    throw InputError({"--checkpoint-every", 0}, "contacts",
+                     "a run recording contact events ([output] contacts) cannot be checkpointed yet");
   RunSummary summary;
   engine.track_contacts(scene.output.contacts);
-  summary.initial = in_scene_units(engine.energies(), scene);
   const int frames = std::max(1, scene.output.frames);
   const double T = scene.to_cgs.time;
-  writer.add_frame(in_scene_units(engine.frame(), scene));
-  writer.add_energy_row(energy_row(engine.time() / T, summary.initial));
+  Written written;
+  int start = 0;
+  if (!options.restart.empty()) {
+    start = restore_checkpoint(options.restart, scene, engine, written, summary.initial);
+    summary.restarted_from_frame = start;
+  } else {
+    summary.initial = in_scene_units(engine.energies(), scene);
+    written.frames.push_back(in_scene_units(engine.frame(), scene));
+    written.energy.push_back(energy_row(engine.time() / T, summary.initial));
+  }
   // Between frames, advance in slices so the progress display stays live on long runs.
   const int slices = 20;
-  for (int k = 1; k <= frames; ++k) {
+  for (int k = start + 1; k <= frames; ++k) {
     const double t0 = scene.duration * (k - 1) / frames, t1 = scene.duration * k / frames;
     for (int s = 1; s <= slices; ++s) {
       engine.advance_to(t0 + (t1 - t0) * s / slices);
       if (options.progress) options.progress(engine.time() / T, scene.duration / T);
     }
-    writer.add_frame(in_scene_units(engine.frame(), scene));
-    writer.add_energy_row(energy_row(engine.time() / T, in_scene_units(engine.energies(), scene)));
+    written.frames.push_back(in_scene_units(engine.frame(), scene));
+    written.energy.push_back(energy_row(engine.time() / T, in_scene_units(engine.energies(), scene)));
+    const bool stop = k == options.stop_after_frame;
+    if ((options.checkpoint_every > 0 && k % options.checkpoint_every == 0 && k < frames) || stop) {
+      const std::vector<SampleTable> state = engine.save_state();  // collective
+      if (options.write)
+        write_checkpoint(options.checkpoint, scene, engine, state, written, k, summary.initial);
+    }
+    if (stop) {
+      summary.stopped = true;
+      return summary;
+    }
   }
   summary.final = in_scene_units(engine.energies(), scene);
   summary.diagnostics = engine.diagnostics();
+  if (!writer) return summary;
+  for (Frame& f : written.frames) writer->add_frame(std::move(f));
+  writer->set_energy_columns(kEnergyColumns);
+  for (const auto& row : written.energy) writer->add_energy_row(row);
 
   RunMetadata meta;
   meta.text["grainlab_version"] = GRAINLAB_VERSION;
   meta.text["scene_file"] = scene.path;
   meta.text["scene_text"] = scene.text;
-  meta.text["scene_overrides"] = fmt::format("{}", fmt::join(scene.overrides, "\n"));
+  meta.text["scene_overrides"] = joined_overrides(scene);
   meta.text["scene_name"] = scene.name;
   meta.text["units"] = units_description(scene);
   meta.text["active_effects"] = fmt::format("{}", fmt::join(scene.effects.names(), ","));
@@ -90,15 +219,17 @@ RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& optio
   meta.numbers["seed"] = static_cast<double>(scene.seed);
   meta.numbers["duration"] = scene.duration / T;
   meta.numbers["dimension"] = scene.dimension;
-  writer.set_metadata(meta);
-  writer.set_diagnostics(summary.diagnostics);
-  if (scene.output.contacts) writer.set_contact_events(in_scene_units(engine.contact_events(), scene));
+  meta.numbers["mpi_ranks"] = engine.ranks();
+  meta.numbers["restarted_from_frame"] = summary.restarted_from_frame;
+  writer->set_metadata(meta);
+  writer->set_diagnostics(summary.diagnostics);
+  if (scene.output.contacts) writer->set_contact_events(in_scene_units(engine.contact_events(), scene));
   std::vector<std::vector<double>> polygons = engine.polygon_shapes();
   for (auto& poly : polygons)
     for (double& x : poly) x /= scene.to_cgs.length;
-  writer.set_polygons(polygons, scene.dimension);
+  writer->set_polygons(polygons, scene.dimension);
   summary.h5 = options.out;
-  summary.xmf = writer.commit();
+  summary.xmf = writer->commit();
   return summary;
 }
 

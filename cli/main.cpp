@@ -23,48 +23,74 @@ using namespace grainlab;
 namespace {
 
 struct RunArgs {
-  std::string scene, out, engine = "native";
+  std::string scene, out, engine = "native", checkpoint, restart;
   std::vector<std::string> sets;
   bool force = false, quiet = false;
+  int checkpoint_every = 0, stop_after_frame = 0;
+  std::uint64_t balance_every = 1000;
 };
 
+// The engine for this process: under mpirun the native 2-D engine spreads the scene over every rank;
+// a scene it cannot spread yet runs on rank 0 alone (the others get none and stop).
+std::unique_ptr<Engine> engine_for_run(const RunArgs& a, const Scene& scene) {
+  if (parallel::size() == 1) return make_engine(a.engine, scene);
+  const std::string why = why_not_distributed(a.engine, scene);
+  if (why.empty()) return make_distributed_native_engine(scene, a.balance_every);
+  if (parallel::rank() != 0) return nullptr;
+  if (!a.quiet)
+    fmt::print(stderr, "grainlab run: note: {}; rank 0 runs the whole scene, the other {} ranks stop\n", why,
+               parallel::size() - 1);
+  return make_engine(a.engine, scene);
+}
+
 int run_command(const RunArgs& a) {
-  const Scene scene =
-      load_scene(a.scene, a.sets);  // every rank checks the input, so every rank exits 2 alike
-  // The native engine does not decompose its domain over ranks yet (issue #6): one rank runs the scene
-  // and writes the file, the others stop, so no two processes ever write the same output.
-  if (parallel::size() > 1) {
-    if (parallel::rank() != 0) return 0;
-    if (!a.quiet)
-      fmt::print(stderr,
-                 "grainlab run: note: {} MPI ranks, but runs are not yet split over ranks; rank 0 runs the "
-                 "whole scene\n",
-                 parallel::size());
-  }
+  // Every rank reads and checks the input, so every rank exits 2 alike on bad input.
+  const Scene scene = load_scene(a.scene, a.sets);
   std::string out = a.out.empty() ? scene.output.file : a.out;
   if (out.empty()) out = fs::path(a.scene).stem().string() + ".h5";
-  if (!a.force && fs::exists(out))
+  if (!a.force && fs::exists(out) && a.stop_after_frame == 0)
     throw InputError({"--out", 0}, out, "exists; pass --force to overwrite it");
-  auto engine = make_engine(a.engine, scene);
-  if (!a.quiet)
-    fmt::print(stderr, "grainlab run: {} ({} bodies, {} s) on {} [{}], effects: {}\n", scene.name,
+  if (a.stop_after_frame > scene.output.frames)
+    throw InputError({"--stop-after-frame", 0}, std::to_string(a.stop_after_frame),
+                     fmt::format("the scene has only {} frames", scene.output.frames));
+  auto engine = engine_for_run(a, scene);
+  if (!engine) return 0;
+  const bool speak = !a.quiet && parallel::rank() == 0;
+  if (speak)
+    fmt::print(stderr, "grainlab run: {} ({} bodies, {} s) on {} [{}]{}, effects: {}\n", scene.name,
                static_cast<long>(engine->diagnostics().at("particles")), scene.duration, engine->name(),
-               engine->integrator(), fmt::join(scene.effects.names(), ", "));
-  cli::ProgressBar bar(!a.quiet);
+               engine->integrator(),
+               engine->ranks() > 1 ? fmt::format(" over {} MPI ranks", engine->ranks()) : std::string(),
+               fmt::join(scene.effects.names(), ", "));
+  else
+    engine->diagnostics();  // collective in a distributed engine: every rank takes part
+  cli::ProgressBar bar(speak);
   RunOptions opt{out, a.force, [&](double t, double total) { bar.update(t, total); }};
+  opt.write = parallel::rank() == 0;
+  opt.checkpoint_every = a.checkpoint_every;
+  opt.checkpoint =
+      a.checkpoint.empty() ? fs::path(out).replace_extension(".checkpoint.h5").string() : a.checkpoint;
+  opt.stop_after_frame = a.stop_after_frame;
+  opt.restart = a.restart;
   const RunSummary s = run_scene(scene, *engine, opt);
   bar.finish();
-  if (!a.quiet) {
-    const auto& d = s.diagnostics;
-    fmt::print(stderr, "wrote {} and {}\n", s.h5, s.xmf);
-    fmt::print(
-        stderr,
-        "steps {:.0f} (rejected {:.0f}), force evaluations {:.0f}, contacts at end {:.0f}, wall {:.2f} s\n",
-        d.at("steps"), d.at("rejected_steps"), d.at("force_evaluations"), d.at("contacts"),
-        d.at("wall_seconds"));
-    fmt::print(stderr, "energy: initial {:.6g}, final {:.6g} ({})\n", s.initial.total(), s.final.total(),
-               scene.units == "si" ? "J" : "erg");
+  if (!speak) return 0;
+  if (s.stopped) {
+    fmt::print(stderr, "stopped after frame {} as asked; continue with --restart {}\n", a.stop_after_frame,
+               opt.checkpoint);
+    return 0;
   }
+  const auto& d = s.diagnostics;
+  if (s.restarted_from_frame > 0)
+    fmt::print(stderr, "continued from frame {} of {}\n", s.restarted_from_frame, a.restart);
+  fmt::print(stderr, "wrote {} and {}\n", s.h5, s.xmf);
+  fmt::print(
+      stderr,
+      "steps {:.0f} (rejected {:.0f}), force evaluations {:.0f}, contacts at end {:.0f}, wall {:.2f} s\n",
+      d.at("steps"), d.at("rejected_steps"), d.at("force_evaluations"), d.at("contacts"),
+      d.at("wall_seconds"));
+  fmt::print(stderr, "energy: initial {:.6g}, final {:.6g} ({})\n", s.initial.total(), s.final.total(),
+             scene.units == "si" ? "J" : "erg");
   return 0;
 }
 
@@ -185,6 +211,21 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--engine", run.engine, "engine to run on")->default_val("native");
   run_cmd->add_flag("--force", run.force, "overwrite an existing output file");
   run_cmd->add_flag("--quiet,-q", run.quiet, "no progress bar or summary");
+  run_cmd
+      ->add_option("--checkpoint-every", run.checkpoint_every,
+                   "write a checkpoint after every N-th frame (native 2-D engine)")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--checkpoint", run.checkpoint, "checkpoint file (default: OUT with .checkpoint.h5)");
+  run_cmd->add_option("--restart", run.restart, "continue from this checkpoint file")
+      ->check(CLI::ExistingFile);
+  run_cmd
+      ->add_option("--stop-after-frame", run.stop_after_frame,
+                   "stop after frame N with a checkpoint, writing no run file (continue with --restart)")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd
+      ->add_option("--balance-every", run.balance_every,
+                   "under mpirun: re-split the ranks' slabs by load every N steps (0: never)")
+      ->default_val(1000);
 
   std::vector<std::string> suites;
   std::string report_dir = "report";

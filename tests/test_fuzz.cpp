@@ -10,40 +10,11 @@
 #include <random>
 #include <sstream>
 
-namespace fs = std::filesystem;
+#include "cli_helpers.hpp"
 
 namespace {
 
-struct Outcome {
-  int status = -1;  // exit status; -1 if killed by a signal
-  std::string err;
-};
-
-// Runs grainlab with `args` (at most 20 s), stderr captured.
-Outcome grainlab(const std::string& args, const fs::path& dir) {
-  const fs::path err = dir / "stderr.txt";
-  const std::string cmd =
-      "timeout 20 " + std::string(GRAINLAB_BINARY) + " " + args + " > /dev/null 2> " + err.string();
-  const int raw = std::system(cmd.c_str());
-  Outcome o;
-  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::ifstream in(err);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  o.err = ss.str();
-  return o;
-}
-
-struct Dir {
-  fs::path path;
-  Dir() {
-    path = fs::temp_directory_path() / ("grainlab-fuzz-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Dir() { fs::remove_all(path); }
-};
+using namespace cli_test;
 
 const std::string kBase = R"toml([scene]
 duration = 0.002
@@ -202,28 +173,7 @@ TEST(Fuzz, DamagedRunFileDataIsRefusedOnReading) {
   { std::ofstream(d.path / "s.toml") << kBase; }
   ASSERT_EQ(
       grainlab("run " + (d.path / "s.toml").string() + " --quiet --out " + good.string(), d.path).status, 0);
-  haddr_t where = 0;
-  hsize_t size = 0;
-  {
-    hid_t f = H5Fopen(good.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    hid_t ds = H5Dopen2(f, "/frames/000000/position", H5P_DEFAULT);
-    hsize_t offset[2];
-    unsigned mask = 0;
-    hid_t space = H5Dget_space(ds);
-    const herr_t found = H5Dget_chunk_info(ds, space, 0, offset, &mask, &where, &size);
-    H5Sclose(space), H5Dclose(ds), H5Fclose(f);
-    ASSERT_GE(found, 0);
-  }
-  ASSERT_GT(size, 8u);
-  fs::copy_file(good, bad);
-  {
-    std::fstream io(bad, std::ios::in | std::ios::out | std::ios::binary);
-    io.seekg(static_cast<std::streamoff>(where + 3));
-    char c = 0;
-    io.get(c);
-    io.seekp(static_cast<std::streamoff>(where + 3));
-    io.put(static_cast<char>(c ^ 0x40));
-  }
+  ASSERT_TRUE(copy_with_damaged_data(good, bad, "/frames/000000/position"));
   const Outcome o = grainlab("inspect " + bad.string(), d.path);
   EXPECT_EQ(o.status, 2) << o.err;
   EXPECT_NE(o.err.find("position"), std::string::npos) << o.err;
