@@ -294,6 +294,10 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   bed_cmd->add_flag("--frictionless", bed.frictionless, "drop the friction effect (no shear history)");
   bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file");
+  bed_cmd
+      ->add_option("--balance-every", bed.balance_every,
+                   "under mpirun: re-split the ranks' slabs by load every N steps (0: never)")
+      ->default_val(1000);
 
   try {
     app.parse(argc, argv);

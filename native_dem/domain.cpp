@@ -90,7 +90,11 @@ std::vector<double> weighted_cuts(const std::vector<double>& xw_id, int size) {
 }
 
 bool World::any_rank(bool mine) const {
-  return domain_ ? parallel::any_all(mine) : mine;
+  if (!domain_) return mine;
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool any = parallel::any_all(mine);
+  load_.seconds_communication += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return any;
 }
 
 // Every rank built the whole scene identically; each keeps the slab holding an equal share of it.

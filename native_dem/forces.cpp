@@ -40,7 +40,7 @@ class ForceKernels {
     const double* shift = L.shift.data();
     const double* xi_old = L.xi.data();
     double* xi_new = L.xi_new.data();
-    double *pfx = L.fx.data(), *pfy = L.fy.data(), *ptq = L.torque.data();
+    double* pf = L.force.data();
     const ContactLaw* laws = W.laws_.data();
     const int nm = W.n_mat_;
     const std::size_t rows = L.offset.empty() ? 0 : L.offset.size() - 1;
@@ -60,8 +60,7 @@ class ForceKernels {
         const double d2 = dx * dx + dy * dy;
         if (d2 >= rsum * rsum) {
           if constexpr (Friction) xi_new[k] = 0;  // contact open: the shear spring is released
-          pfx[k] = pfy[k] = 0;
-          if constexpr (Rotation) ptq[2 * k] = ptq[2 * k + 1] = 0;
+          pf[3 * k] = pf[3 * k + 1] = pf[3 * k + 2] = 0;
           continue;
         }
         const ContactLaw& law = row[mat[j]];
@@ -85,14 +84,13 @@ class ForceKernels {
           cfx += fs * sx;
           cfy += fs * sy;
           if constexpr (Rotation) {
-            ptq[2 * k] = ri * fs;
-            ptq[2 * k + 1] = r[j] * fs;
+            pf[3 * k + 2] = fs;
           }
         } else if constexpr (Rotation) {
-          ptq[2 * k] = ptq[2 * k + 1] = 0;
+          pf[3 * k + 2] = 0;
         }
-        pfx[k] = cfx;
-        pfy[k] = cfy;
+        pf[3 * k] = cfx;
+        pf[3 * k + 1] = cfy;
       }
     }
     sum_disc_pairs<Rotation>(W);
@@ -105,17 +103,20 @@ class ForceKernels {
     Particles& P = W.p_;
     const World::PairList& L = W.discs_;
     const std::uint32_t *io = L.inc_offset.data(), *inc = L.inc.data();
-    const double *pfx = L.fx.data(), *pfy = L.fy.data(), *ptq = L.torque.data();
+    const double* pf = L.force.data();
     double *fx = P.fx.data(), *fy = P.fy.data(), *tq = P.tq.data();
+    const double* r = P.r.data();
     const std::size_t owned = L.inc_offset.empty() ? 0 : L.inc_offset.size() - 1;
     for (std::size_t i = 0; i < owned; ++i) {
       double sx = fx[i], sy = fy[i], st = Rotation ? tq[i] : 0.0;
+      const double ri = r[i];
       for (std::uint32_t e = io[i]; e < io[i + 1]; ++e) {
         const std::uint32_t code = inc[e], k = code >> 1;
         const double sign = (code & 1) ? -1.0 : 1.0;
-        sx += sign * pfx[k];
-        sy += sign * pfy[k];
-        if constexpr (Rotation) st += ptq[code];
+        const double* f = pf + 3 * k;
+        sx += sign * f[0];
+        sy += sign * f[1];
+        if constexpr (Rotation) st += ri * f[2];  // the shear force turns both discs the same way
       }
       fx[i] = sx;
       fy[i] = sy;

@@ -212,9 +212,7 @@ void World::build_pair_lists() {
     discs_.j[k] = f.b;
     discs_.shift[k] = f.shift;
   }
-  discs_.fx.assign(found.size(), 0.0);
-  discs_.fy.assign(found.size(), 0.0);
-  discs_.torque.assign(effects_.rotation ? 2 * found.size() : 0, 0.0);
+  discs_.force.assign(3 * found.size(), 0.0);
 
   // Discs near each wall (walls that move are given their whole reach); owned discs only.
   for (std::size_t w = 0; w < walls_.size(); ++w) {

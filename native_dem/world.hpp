@@ -140,7 +140,7 @@ class World {
   // Added to the pair and ghost reach for a list built away from its particles' build positions (after a
   // restart): they may then move a whole skin, not half, before the next rebuild.
   double extra_reach_ = 0;  // the ghosts hold their owners' current positions and velocities
-  RankLoad load_;
+  mutable RankLoad load_;   // bookkeeping, also updated by the const collectives
   std::vector<std::vector<Vec2>> polygons_;
   std::vector<Wall> walls_;
   std::vector<ContactLaw> laws_;  // [mat_a * n_mat + mat_b]
@@ -159,8 +159,9 @@ class World {
     std::vector<std::uint32_t> offset, j;
     std::vector<double> shift;       // x image shift added to x_i - x_j
     std::vector<double> xi, xi_new;  // committed and trial shear-spring extension per pair
-    std::vector<double> fx, fy;      // force on the row's particle (the partner takes its negative)
-    std::vector<double> torque;      // [2k]: torque on pair k's row particle, [2k + 1]: on its partner
+    // Per pair k, together: force on the row's particle (x, y; the partner takes its negative) and the
+    // shear force, which gives each disc the torque r_i f_s.
+    std::vector<double> force;
     // Each owned particle's pairs in ascending partner id: 2k (it is the row) or 2k + 1 (the partner).
     std::vector<std::uint32_t> inc_offset, inc;
   };
