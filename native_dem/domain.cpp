@@ -39,15 +39,21 @@ void pack(const Particles& p, std::size_t i, std::vector<double>& out) {
   out.push_back(p.mat[i]);
 }
 
-void unpack(Particles& p, const double* in) {
-  const std::size_t i = p.size();
-  p.resize(i + 1);
+// Writes one packed particle into slot i.
+void unpack_at(Particles& p, std::size_t i, const double* in) {
   for (auto* a : {&p.x, &p.y, &p.th, &p.vx, &p.vy, &p.w, &p.vx_prev, &p.vy_prev, &p.w_prev, &p.fx, &p.fy,
                   &p.tq, &p.m, &p.inv_m, &p.inertia, &p.inv_inertia, &p.r})
     (*a)[i] = *in++;
   p.id[i] = static_cast<std::int64_t>(in[0]);
   p.shape[i] = static_cast<std::int32_t>(in[1]);
   p.mat[i] = static_cast<std::int32_t>(in[2]);
+}
+
+// Appends `count` packed particles.
+void unpack(Particles& p, const double* in, std::size_t count) {
+  const std::size_t first = p.size();
+  p.resize(first + count);
+  for (std::size_t k = 0; k < count; ++k) unpack_at(p, first + k, in + k * kFields);
 }
 
 // Keeps the particles with keep[i], in order.
@@ -157,7 +163,8 @@ void World::migrate(std::vector<SavedShear>& saved) {
     if (q == d.rank || recv[q].empty()) continue;
     const std::size_t count = static_cast<std::size_t>(recv[q][0]);
     const double* in = recv[q].data() + 1;
-    for (std::size_t k = 0; k < count; ++k, in += kFields) unpack(p_, in);
+    unpack(p_, in, count);
+    in += count * kFields;
     for (const double* end = recv[q].data() + recv[q].size(); in + 2 < end; in += 3) {
       const auto a = static_cast<std::int64_t>(in[0]), b = static_cast<std::int64_t>(in[1]);
       saved.push_back({shear_key(a, b), a, b, in[2]});
@@ -198,7 +205,7 @@ void World::receive_ghosts() {
     if (recv[q].empty()) continue;
     d.from.push_back(q);
     d.recv_count.push_back(recv[q].size() / kFields);
-    for (std::size_t k = 0; k < recv[q].size(); k += kFields) unpack(p_, recv[q].data() + k);
+    unpack(p_, recv[q].data(), recv[q].size() / kFields);
   }
   d.send_index = std::move(lists);
   d.send_buf.assign(d.to.size(), {});
@@ -245,16 +252,21 @@ void World::balance_slabs() {
 }
 
 Particles World::gather_particles() const {
-  std::vector<double> mine;
-  for (std::size_t i = 0; i < n_own_; ++i) pack(p_, i, mine);
-  const std::vector<double> all = domain_ ? parallel::gather_to_root(mine) : mine;
-  Particles unsorted;
-  for (std::size_t k = 0; k < all.size(); k += kFields) unpack(unsorted, all.data() + k);
-  std::vector<std::uint32_t> order(unsorted.size());
+  Particles all;
+  if (domain_) {
+    std::vector<double> mine;
+    mine.reserve(n_own_ * kFields);
+    for (std::size_t i = 0; i < n_own_; ++i) pack(p_, i, mine);
+    const std::vector<double> gathered = parallel::gather_to_root(mine);
+    unpack(all, gathered.data(), gathered.size() / kFields);
+  } else {
+    all = p_;
+  }
+  std::vector<std::uint32_t> order(all.size());
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return unsorted.id[a] < unsorted.id[b]; });
-  unsorted.permute(order);
-  return unsorted;
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return all.id[a] < all.id[b]; });
+  all.permute(order);
+  return all;
 }
 
 }  // namespace grainlab::dem
