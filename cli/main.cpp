@@ -322,7 +322,9 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "grainlab: error: {}\n", e.what());
     return 2;
   } catch (const std::exception& e) {
+    // Bad input is refused by every rank alike (above); any other failure may be one rank's alone.
     fmt::print(stderr, "grainlab: failed: {}\n", e.what());
+    parallel::abort_all(1);
     return 1;
   }
   return 0;

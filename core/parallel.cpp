@@ -138,6 +138,10 @@ void exchange(const std::vector<int>& to, const std::vector<std::vector<double>>
   MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
 }
 
+void abort_all(int status) {
+  if (many()) MPI_Abort(MPI_COMM_WORLD, status);
+}
+
 void barrier() {
   if (many()) MPI_Barrier(MPI_COMM_WORLD);
 }

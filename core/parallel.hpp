@@ -32,5 +32,8 @@ std::vector<std::vector<double>> all_to_all(const std::vector<std::vector<double
 void exchange(const std::vector<int>& to, const std::vector<std::vector<double>>& send,
               const std::vector<int>& from, std::vector<std::vector<double>>& recv);
 void barrier();
+// Ends every rank at once (MPI_Abort) when one rank fails alone, so the others do not wait forever in
+// a collective; on one process, just returns.
+void abort_all(int status);
 
 }  // namespace grainlab::parallel
