@@ -101,8 +101,10 @@ std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene)
 // Why this run cannot be spread over MPI ranks (empty if it can): only the native engine's 2-D disc
 // scenes without contact events are distributed so far.
 std::string why_not_distributed(const std::string& engine, const Scene& scene);
-// The native 2-D engine spread over all MPI ranks, slabs re-split every `balance_every` steps (0: never).
-std::unique_ptr<Engine> make_distributed_native_engine(const Scene& scene, std::uint64_t balance_every);
+// The native 2-D engine spread over all MPI ranks in a grid of `ranks_y` rows (1: slabs along x),
+// regions re-split every `balance_every` steps (0: never).
+std::unique_ptr<Engine> make_distributed_native_engine(const Scene& scene, std::uint64_t balance_every,
+                                                       int ranks_y = 1);
 std::vector<std::string> engine_names();
 // The engines that can run scenes of this dimension (2 or 3), in catalog order.
 std::vector<std::string> engines_for_dimension(int dimension);

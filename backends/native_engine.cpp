@@ -171,8 +171,9 @@ std::string why_not_distributed(const std::string& engine, const Scene& scene) {
   return {};
 }
 
-std::unique_ptr<Engine> make_distributed_native_engine(const Scene& scene, std::uint64_t balance_every) {
-  return std::make_unique<NativeEngine>(scene, dem::Decomposition{true, balance_every});
+std::unique_ptr<Engine> make_distributed_native_engine(const Scene& scene, std::uint64_t balance_every,
+                                                       int ranks_y) {
+  return std::make_unique<NativeEngine>(scene, dem::Decomposition{true, balance_every, ranks_y});
 }
 
 std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene) {

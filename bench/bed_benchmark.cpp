@@ -64,7 +64,7 @@ double median(std::vector<double> v) {
 BedResult run_bed(const BedOptions& o) {
   const Scene scene = parse_scene(bed_scene_toml(o), "<bench bed>");
   const bool distributed = parallel::size() > 1;
-  dem::World settled(scene, {distributed, o.balance_every});
+  dem::World settled(scene, {distributed, o.balance_every, o.ranks_y});
   for (int s = 0; s < o.settle_steps; ++s) settled.step();
   std::vector<double> seconds;
   BedResult r;

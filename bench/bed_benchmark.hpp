@@ -13,7 +13,8 @@ struct BedOptions {
   int settle_steps = 2000, timed_steps = 10000, repeats = 3;
   double spacing = 2.02, first_row = 2.5;  // 2.0 and 1.0: discs start touching (dense variant)
   bool frictionless = false;
-  std::uint64_t balance_every = 1000;  // distributed runs: re-split the slabs every so many steps
+  std::uint64_t balance_every = 1000;  // distributed runs: re-split the regions every so many steps
+  int ranks_y = 1;                     // distributed runs: rows of the grid of ranks
   std::string json;
 };
 

@@ -28,14 +28,19 @@ struct RunArgs {
   bool force = false, quiet = false;
   int checkpoint_every = 0, stop_after_frame = 0;
   std::uint64_t balance_every = 1000;
+  int ranks_y = 1;
 };
 
 // The engine for this process: under mpirun the native 2-D engine spreads the scene over every rank;
 // a scene it cannot spread yet runs on rank 0 alone (the others get none and stop).
 std::unique_ptr<Engine> engine_for_run(const RunArgs& a, const Scene& scene) {
   if (parallel::size() == 1) return make_engine(a.engine, scene);
+  if (parallel::size() % a.ranks_y != 0)
+    throw InputError(
+        {"--ranks-y", 0}, std::to_string(a.ranks_y),
+        fmt::format("{} MPI ranks cannot form a grid with {} rows", parallel::size(), a.ranks_y));
   const std::string why = why_not_distributed(a.engine, scene);
-  if (why.empty()) return make_distributed_native_engine(scene, a.balance_every);
+  if (why.empty()) return make_distributed_native_engine(scene, a.balance_every, a.ranks_y);
   if (parallel::rank() != 0) return nullptr;
   if (!a.quiet)
     fmt::print(stderr, "grainlab run: note: {}; rank 0 runs the whole scene, the other {} ranks stop\n", why,

@@ -3,6 +3,8 @@
 // their per-step update, and the periodic re-split that evens out the load.
 #include "domain.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -15,15 +17,33 @@
 
 namespace grainlab::dem {
 
-int Domain::owner(double x) const {
-  return static_cast<int>(std::upper_bound(cut.begin(), cut.end(), x) - cut.begin());
+int Domain::owner(double x, double y) const {
+  const int ix = static_cast<int>(std::upper_bound(xcut.begin(), xcut.end(), x) - xcut.begin());
+  const int iy = static_cast<int>(std::upper_bound(ycut.begin(), ycut.end(), y) - ycut.begin());
+  return iy * px + ix;
 }
 
-double Domain::distance_to_slab(double x, int q) const {
-  const double a = lo(q), b = hi(q);
-  auto gap = [&](double v) { return v < a ? a - v : (v >= b ? v - b : 0.0); };
-  if (!periodic) return gap(x);
-  return std::min({gap(x), gap(x - period), gap(x + period)});
+double Domain::distance_to_region(double x, double y, int q) const {
+  auto gap = [](double v, double a, double b) { return v < a ? a - v : (v >= b ? v - b : 0.0); };
+  const double a = x_lo(q % px), b = x_hi(q % px);
+  double gx = gap(x, a, b);
+  if (periodic) gx = std::min({gx, gap(x - period, a, b), gap(x + period, a, b)});
+  return std::hypot(gx, gap(y, y_lo(q / px), y_hi(q / px)));
+}
+
+double Domain::distance_to_own_edge(double x, double y) const {
+  const int ix = rank % px, iy = rank / px;
+  return std::min({x - x_lo(ix), x_hi(ix) - x, y - y_lo(iy), y_hi(iy) - y});
+}
+
+void Domain::cut_evenly(const std::vector<double>& xy_w_id) {
+  std::vector<double> xs, ys;
+  for (std::size_t k = 0; k + 3 < xy_w_id.size(); k += 4) {
+    xs.insert(xs.end(), {xy_w_id[k], xy_w_id[k + 2], xy_w_id[k + 3]});
+    ys.insert(ys.end(), {xy_w_id[k + 1], xy_w_id[k + 2], xy_w_id[k + 3]});
+  }
+  xcut = weighted_cuts(xs, px);
+  ycut = weighted_cuts(ys, py);
 }
 
 namespace {
@@ -73,6 +93,7 @@ double wrapped(double x, double xmin, double period) {
 // Boundaries splitting weighted points (x, w) into `size` runs of equal weight; ties in x are
 // broken by id so every rank computes the same cuts from the same data.
 std::vector<double> weighted_cuts(const std::vector<double>& xw_id, int size) {
+  if (size <= 1) return {};
   const std::size_t n = xw_id.size() / 3;
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), 0);
@@ -118,13 +139,19 @@ void World::distribute_initial() {
     rmax = std::max(rmax, p_.r[i]);
   }
   d.halo = 2 * rmax + skin_;
-  std::vector<double> xw_id;
+  d.py = decomposition_.ranks_y;
+  if (d.py < 1 || d.size % d.py != 0)
+    throw std::runtime_error(fmt::format("{} ranks cannot form a grid with {} rows", d.size, d.py));
+  d.px = d.size / d.py;
+  std::vector<double> points;
   for (std::size_t i = 0; i < p_.size(); ++i)
-    xw_id.insert(xw_id.end(), {wrapped(p_.x[i], xmin_, period_), 1.0, static_cast<double>(p_.id[i])});
-  d.cut = weighted_cuts(xw_id, d.size);
+    points.insert(points.end(),
+                  {wrapped(p_.x[i], xmin_, period_), p_.y[i], 1.0, static_cast<double>(p_.id[i])});
+  d.cut_evenly(points);
   d.next_balance_step = decomposition_.balance_every;
   std::vector<char> keep(p_.size());
-  for (std::size_t i = 0; i < p_.size(); ++i) keep[i] = d.owner(wrapped(p_.x[i], xmin_, period_)) == d.rank;
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    keep[i] = d.owner(wrapped(p_.x[i], xmin_, period_), p_.y[i]) == d.rank;
   compact(p_, keep);
   n_own_ = p_.size();
   domain_ = std::move(d);
@@ -139,7 +166,7 @@ void World::migrate(std::vector<SavedShear>& saved) {
   std::vector<char> keep(n_own_, 1);
   std::unordered_map<std::int64_t, int> leaving;
   for (std::size_t i = 0; i < n_own_; ++i) {
-    const int q = d.owner(p_.x[i]);
+    const int q = d.owner(p_.x[i], p_.y[i]);
     if (q == d.rank) continue;
     keep[i] = 0;
     leaving[p_.id[i]] = q;
@@ -180,14 +207,12 @@ void World::receive_ghosts() {
   const auto t0 = std::chrono::steady_clock::now();
   Domain& d = *domain_;
   d.send_index.assign(d.size, {});
-  const double lo = d.lo(d.rank), hi = d.hi(d.rank);
+  const double halo = d.halo + extra_reach_;
   for (std::size_t i = 0; i < n_own_; ++i) {
-    const double x = p_.x[i];
-    const double halo = d.halo + extra_reach_;
-    const bool near_edge = x - lo < halo || hi - x <= halo;
-    if (!near_edge) continue;
+    const double x = p_.x[i], y = p_.y[i];
+    if (d.distance_to_own_edge(x, y) > halo) continue;
     for (int q = 0; q < d.size; ++q)
-      if (q != d.rank && d.distance_to_slab(x, q) < halo)
+      if (q != d.rank && d.distance_to_region(x, y, q) < halo)
         d.send_index[q].push_back(static_cast<std::uint32_t>(i));
   }
   std::vector<std::vector<double>> send(d.size);
@@ -244,9 +269,9 @@ void World::balance_slabs() {
   for (std::size_t i = 0; i < n_own_; ++i) {
     const double pairs =
         discs_.inc_offset.size() > i + 1 ? discs_.inc_offset[i + 1] - discs_.inc_offset[i] : 0;
-    mine.insert(mine.end(), {p_.x[i], 1.0 + pairs, static_cast<double>(p_.id[i])});
+    mine.insert(mine.end(), {p_.x[i], p_.y[i], 1.0 + pairs, static_cast<double>(p_.id[i])});
   }
-  d.cut = weighted_cuts(parallel::gather_all(mine), d.size);
+  d.cut_evenly(parallel::gather_all(mine));
   d.next_balance_step = diag_.steps + decomposition_.balance_every;
   ++load_.balances;
 }

@@ -1,6 +1,7 @@
 #pragma once
-// How a distributed world's x axis is split into slabs, one per MPI rank, and which particles each
-// rank copies to its neighbours as ghosts. Pure bookkeeping: the World moves the data (domain.cpp).
+// How a distributed world's plane is split into regions, one per MPI rank: a grid of px columns (cuts
+// along x) by py rows (cuts along y); py = 1 gives slabs along x. Which particles each rank copies
+// to the others as ghosts is kept here too. Pure bookkeeping: the World moves the data (domain.cpp).
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -9,12 +10,13 @@ namespace grainlab::dem {
 
 struct Domain {
   int rank = 0, size = 1;
-  bool periodic = false;
+  int px = 1, py = 1;     // rank q is column q % px, row q / px
+  bool periodic = false;  // in x
   double xmin = 0, period = 0;
-  // A ghost is a particle within `halo` of a slab: the largest pair reach plus the skin, so the ghosts
-  // found at a rebuild cover every pair until the next one.
+  // A ghost is a particle within `halo` of a region: the largest pair reach plus the skin, so the
+  // ghosts found at a rebuild cover every pair until the next one.
   double halo = 0;
-  std::vector<double> cut;  // size - 1 ascending boundaries; rank q owns [cut[q - 1], cut[q])
+  std::vector<double> xcut, ycut;  // px - 1 and py - 1 ascending boundaries
   std::uint64_t next_balance_step = 0;
   // Ghost plan, fixed between rebuilds: owned indices sent to rank to[k]; counts received from from[k].
   std::vector<int> to, from;
@@ -22,22 +24,30 @@ struct Domain {
   std::vector<std::size_t> recv_count;
   std::vector<std::vector<double>> send_buf, recv_buf;
 
-  double lo(int q) const {
-    if (q > 0) return cut[q - 1];
+  // Bounds of column ix and row iy (the outer ones open, except x when periodic).
+  double x_lo(int ix) const {
+    if (ix > 0) return xcut[ix - 1];
     return periodic ? xmin : -std::numeric_limits<double>::infinity();
   }
-  double hi(int q) const {
-    if (q < size - 1) return cut[q];
+  double x_hi(int ix) const {
+    if (ix < px - 1) return xcut[ix];
     return periodic ? xmin + period : std::numeric_limits<double>::infinity();
   }
-  // The rank owning a (wrapped) x.
-  int owner(double x) const;
-  // Distance from x to rank q's slab (across the period when periodic).
-  double distance_to_slab(double x, int q) const;
+  double y_lo(int iy) const { return iy > 0 ? ycut[iy - 1] : -std::numeric_limits<double>::infinity(); }
+  double y_hi(int iy) const { return iy < py - 1 ? ycut[iy] : std::numeric_limits<double>::infinity(); }
+  // The rank owning a point (x wrapped already when periodic).
+  int owner(double x, double y) const;
+  // Distance from (x, y) to rank q's region (across the period when periodic).
+  double distance_to_region(double x, double y, int q) const;
+  // Distance from (x, y), inside this rank's region, to its nearest edge.
+  double distance_to_own_edge(double x, double y) const;
+  // Cuts that split points (x, y, weight, id: 4 doubles each) into px columns and py rows of equal
+  // weight; every rank computes the same cuts from the same points.
+  void cut_evenly(const std::vector<double>& xy_w_id);
 };
 
-// Boundaries splitting points given as (x, weight, id) triples into `size` runs of equal weight; ties
-// in x are broken by id, so every rank computes the same cuts from the same data.
-std::vector<double> weighted_cuts(const std::vector<double>& xw_id, int size);
+// Boundaries splitting points given as (value, weight, id) triples into `size` runs of equal weight;
+// ties are broken by id, so every rank computes the same cuts from the same data.
+std::vector<double> weighted_cuts(const std::vector<double>& vw_id, int size);
 
 }  // namespace grainlab::dem

@@ -81,14 +81,15 @@ void World::restore_state(const WorldState& s) {
       throw std::runtime_error(
           fmt::format("particle {} of the scene is not in the saved state as it is in the scene", p_.id[i]));
   }
-  // Each rank keeps its slab of the saved particles (split by count, as at the start).
+  // Each rank keeps its region of the saved particles (split by count, as at the start).
   std::vector<std::uint32_t> mine;
   if (domain_) {
-    std::vector<double> xw_id;
-    for (std::size_t k = 0; k < q.size(); ++k) xw_id.insert(xw_id.end(), {q.x[k], 1.0, double(q.id[k])});
-    domain_->cut = weighted_cuts(xw_id, domain_->size);
+    std::vector<double> points;
     for (std::size_t k = 0; k < q.size(); ++k)
-      if (domain_->owner(q.x[k]) == domain_->rank) mine.push_back(static_cast<std::uint32_t>(k));
+      points.insert(points.end(), {q.x[k], q.y[k], 1.0, double(q.id[k])});
+    domain_->cut_evenly(points);
+    for (std::size_t k = 0; k < q.size(); ++k)
+      if (domain_->owner(q.x[k], q.y[k]) == domain_->rank) mine.push_back(static_cast<std::uint32_t>(k));
   } else {
     mine.resize(q.size());
     std::iota(mine.begin(), mine.end(), 0u);

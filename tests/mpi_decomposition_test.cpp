@@ -1,7 +1,8 @@
 // Run under mpirun by ctest (1, 2 and 3 ranks): the distributed native engine gives, bit for bit, the
 // serial run's positions, velocities, spins and energies:
 //   - scenes/parallel_bed.toml, 5,000 discs, 10^4 Verlet steps (periodic in x, particles migrate);
-//   - the same bed in a box of walls with the adaptive predictor-corrector (step size agreed by all).
+//   - the same bed in a box of walls with the adaptive predictor-corrector (step size agreed by all);
+//   - both again on a grid of ranks (cuts along y too).
 // The bed is chaotic; so that this test can fail, rank 0 also shows that moving one disc by 1e-12 cm
 // changes the end state.
 #include <fmt/format.h>
@@ -44,15 +45,16 @@ bool same_bits(double a, double b) {
 
 // A world that runs steps/2, writes its state to a checkpoint file, is replaced by a fresh world that
 // reads the file on every rank, and runs the other half.
-dem::World interrupted_and_restarted(const Scene& scene, int steps, const std::string& file) {
-  dem::World first(scene, {true, 500});
+dem::World interrupted_and_restarted(const Scene& scene, int steps, const std::string& file,
+                                     dem::Decomposition how) {
+  dem::World first(scene, how);
   for (int s = 0; s < steps / 2; ++s) first.step();
   const dem::WorldState saved = first.save_state();
   if (parallel::rank() == 0)
     write_sample_tables(file, dem::state_tables(saved, "state/"), {{"kind", "test"}});
   parallel::barrier();
   const TableFile read = read_sample_tables(file, dem::state_table_columns("state/"));
-  dem::World second(scene, {true, 500});
+  dem::World second(scene, how);
   second.restore_state(dem::state_from_tables(read.tables, "state/"));
   for (int s = steps / 2; s < steps; ++s) second.step();
   return second;
@@ -60,11 +62,12 @@ dem::World interrupted_and_restarted(const Scene& scene, int steps, const std::s
 
 // Runs `steps` steps distributed (straight through, and interrupted by a checkpoint halfway) and (on
 // rank 0) serially; returns the number of failures.
-int check(const std::string& name, const Scene& scene, int steps, bool perturb_check) {
-  dem::World distributed(scene, {true, 500});
+int check(const std::string& name, const Scene& scene, int steps, bool perturb_check, int ranks_y = 1) {
+  const dem::Decomposition how{true, 500, ranks_y};
+  dem::World distributed(scene, how);
   for (int s = 0; s < steps; ++s) distributed.step();
   const std::string file = fmt::format("decomposition-checkpoint-{}.h5", parallel::size());
-  const dem::World restarted = interrupted_and_restarted(scene, steps, file);
+  const dem::World restarted = interrupted_and_restarted(scene, steps, file, how);
   const dem::Particles after_restart = restarted.gather_particles();
   const dem::Energies e_restart = restarted.energies();
   const dem::Energies e = distributed.energies();
@@ -97,10 +100,10 @@ int check(const std::string& name, const Scene& scene, int steps, bool perturb_c
                serial.count_contacts(), distributed.time(), serial.time());
     ++failures;
   }
-  fmt::print(
-      "{}: {} discs, {} steps (t = {:.6g} s, {} rejected), {} contacts, {} ranks ({} slab moves): {}\n", name,
-      reference.size(), steps, serial.time(), serial.diagnostics().rejected_steps, contacts, parallel::size(),
-      distributed.rank_load().balances, failures ? "MISMATCH" : "bitwise identical to the serial run");
+  fmt::print("{}: {} discs, {} steps (t = {:.6g} s, {} rejected), {} contacts, {} ranks ({} re-splits): {}\n",
+             name, reference.size(), steps, serial.time(), serial.diagnostics().rejected_steps, contacts,
+             parallel::size(), distributed.rank_load().balances,
+             failures ? "MISMATCH" : "bitwise identical to the serial run");
   if (perturb_check) {
     Scene moved = scene;
     dem::World nudged(moved);
@@ -172,6 +175,13 @@ max = 1.0
 )toml",
                                     "<walled bed>");
     failures += check("walled bed, predictor-corrector", boxed, 2000, false);
+    // A grid of ranks: cuts along y as well (on 2 or 3 ranks, rows only; on 4, 2 x 2).
+    if (parallel::size() > 1) {
+      const int rows = parallel::size() % 2 == 0 && parallel::size() >= 4 ? 2 : parallel::size();
+      const std::string grid = fmt::format(", {} x {} grid", parallel::size() / rows, rows);
+      failures += check("parallel bed, Verlet" + grid, load_scene(scene_path), 4000, false, rows);
+      failures += check("walled bed, predictor-corrector" + grid, boxed, 2000, false, rows);
+    }
   } catch (const std::exception& e) {
     fmt::print(stderr, "rank {}: {}\n", parallel::rank(), e.what());
     ++failures;
