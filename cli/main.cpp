@@ -229,8 +229,13 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   run_cmd
       ->add_option("--balance-every", run.balance_every,
-                   "under mpirun: re-split the ranks' slabs by load every N steps (0: never)")
+                   "under mpirun: re-split the ranks' regions by load every N steps (0: never)")
       ->default_val(1000);
+  run_cmd
+      ->add_option("--ranks-y", run.ranks_y,
+                   "under mpirun: rows of the grid of ranks (1: slabs along x; must divide the ranks)")
+      ->default_val(1)
+      ->check(CLI::PositiveNumber);
 
   std::vector<std::string> suites;
   std::string report_dir = "report";
@@ -301,8 +306,13 @@ int main(int argc, char** argv) {
   bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file");
   bed_cmd
       ->add_option("--balance-every", bed.balance_every,
-                   "under mpirun: re-split the ranks' slabs by load every N steps (0: never)")
+                   "under mpirun: re-split the ranks' regions by load every N steps (0: never)")
       ->default_val(1000);
+  bed_cmd
+      ->add_option("--ranks-y", bed.ranks_y,
+                   "under mpirun: rows of the grid of ranks (1: slabs along x; must divide the ranks)")
+      ->default_val(1)
+      ->check(CLI::PositiveNumber);
 
   try {
     app.parse(argc, argv);
