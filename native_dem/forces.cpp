@@ -41,6 +41,7 @@ class ForceKernels {
     const double* xi_old = L.xi.data();
     double* xi_new = L.xi_new.data();
     double* pf = L.force.data();
+    std::uint8_t* touching = L.touching.data();
     const ContactLaw* laws = W.laws_.data();
     const int nm = W.n_mat_;
     const std::size_t rows = L.offset.empty() ? 0 : L.offset.size() - 1;
@@ -60,7 +61,7 @@ class ForceKernels {
         const double d2 = dx * dx + dy * dy;
         if (d2 >= rsum * rsum) {
           if constexpr (Friction) xi_new[k] = 0;  // contact open: the shear spring is released
-          pf[3 * k] = pf[3 * k + 1] = pf[3 * k + 2] = 0;
+          touching[k] = 0;                        // pass 2 skips it: no force to add
           continue;
         }
         const ContactLaw& law = row[mat[j]];
@@ -91,6 +92,7 @@ class ForceKernels {
         }
         pf[3 * k] = cfx;
         pf[3 * k + 1] = cfy;
+        touching[k] = 1;
       }
     }
     sum_disc_pairs<Rotation>(W);
@@ -104,6 +106,7 @@ class ForceKernels {
     const World::PairList& L = W.discs_;
     const std::uint32_t *io = L.inc_offset.data(), *inc = L.inc.data();
     const double* pf = L.force.data();
+    const std::uint8_t* touching = L.touching.data();
     double *fx = P.fx.data(), *fy = P.fy.data(), *tq = P.tq.data();
     const double* r = P.r.data();
     const std::size_t owned = L.inc_offset.empty() ? 0 : L.inc_offset.size() - 1;
@@ -112,6 +115,7 @@ class ForceKernels {
       const double ri = r[i];
       for (std::uint32_t e = io[i]; e < io[i + 1]; ++e) {
         const std::uint32_t code = inc[e], k = code >> 1;
+        if (!touching[k]) continue;
         const double sign = (code & 1) ? -1.0 : 1.0;
         const double* f = pf + 3 * k;
         sx += sign * f[0];

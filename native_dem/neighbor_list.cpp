@@ -213,6 +213,7 @@ void World::build_pair_lists() {
     discs_.shift[k] = f.shift;
   }
   discs_.force.assign(3 * found.size(), 0.0);
+  discs_.touching.assign(found.size(), 0);
 
   // Discs near each wall (walls that move are given their whole reach); owned discs only.
   for (std::size_t w = 0; w < walls_.size(); ++w) {

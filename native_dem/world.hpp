@@ -165,6 +165,7 @@ class World {
     // Per pair k, together: force on the row's particle (x, y; the partner takes its negative) and the
     // shear force, which gives each disc the torque r_i f_s.
     std::vector<double> force;
+    std::vector<std::uint8_t> touching;  // pair k touched at the latest evaluation (else force is stale)
     // Each owned particle's pairs in ascending partner id: 2k (it is the row) or 2k + 1 (the partner).
     std::vector<std::uint32_t> inc_offset, inc;
   };
