@@ -42,6 +42,9 @@ class ForceKernels {
     double* xi_new = L.xi_new.data();
     double* pf = L.force.data();
     std::uint8_t* touching = L.touching.data();
+    // Which particles touch anything: pass 2 skips the rest (most grains in flight touch nothing).
+    L.particle_touching.assign(P.size(), 0);
+    std::uint8_t* any = L.particle_touching.data();
     const ContactLaw* laws = W.laws_.data();
     const int nm = W.n_mat_;
     const std::size_t rows = L.offset.empty() ? 0 : L.offset.size() - 1;
@@ -93,6 +96,7 @@ class ForceKernels {
         pf[3 * k] = cfx;
         pf[3 * k + 1] = cfy;
         touching[k] = 1;
+        any[i] = any[j] = 1;
       }
     }
     sum_disc_pairs<Rotation>(W);
@@ -107,10 +111,12 @@ class ForceKernels {
     const std::uint32_t *io = L.inc_offset.data(), *inc = L.inc.data();
     const double* pf = L.force.data();
     const std::uint8_t* touching = L.touching.data();
+    const std::uint8_t* any = L.particle_touching.data();
     double *fx = P.fx.data(), *fy = P.fy.data(), *tq = P.tq.data();
     const double* r = P.r.data();
     const std::size_t owned = L.inc_offset.empty() ? 0 : L.inc_offset.size() - 1;
     for (std::size_t i = 0; i < owned; ++i) {
+      if (!any[i]) continue;
       double sx = fx[i], sy = fy[i], st = Rotation ? tq[i] : 0.0;
       const double ri = r[i];
       for (std::uint32_t e = io[i]; e < io[i + 1]; ++e) {

@@ -166,6 +166,7 @@ class World {
     // shear force, which gives each disc the torque r_i f_s.
     std::vector<double> force;
     std::vector<std::uint8_t> touching;  // pair k touched at the latest evaluation (else force is stale)
+    std::vector<std::uint8_t> particle_touching;  // particle i touched something then
     // Each owned particle's pairs in ascending partner id: 2k (it is the row) or 2k + 1 (the partner).
     std::vector<std::uint32_t> inc_offset, inc;
   };
