@@ -347,6 +347,8 @@ std::size_t World::memory_bytes() const {
   };
   std::size_t b = p_.size() * Particles::bytes_per_particle();
   b += bytes(discs_.offset) + bytes(discs_.j) + bytes(discs_.shift) + bytes(discs_.xi) + bytes(discs_.xi_new);
+  b += bytes(discs_.force) + bytes(discs_.touching) + bytes(discs_.particle_touching) + bytes(discs_.inc) +
+       bytes(discs_.inc_offset);
   b += bytes(x_build_) + bytes(y_build_) + bytes(general_pairs_);
   for (const WallList& L : wall_lists_) b += bytes(L.particle) + bytes(L.xi) + bytes(L.xi_new);
   for (const auto* v : {&x0_, &y0_, &th0_, &vx0_, &vy0_, &w0_, &ax0_, &ay0_, &al0_}) b += bytes(*v);
