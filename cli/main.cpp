@@ -99,6 +99,17 @@ int run_command(const RunArgs& a) {
   return 0;
 }
 
+// How `run` and `bench bed` spread a scene over MPI ranks.
+void add_decomposition_options(CLI::App* cmd, std::uint64_t& balance_every, int& ranks_y) {
+  cmd->add_option("--balance-every", balance_every,
+                  "under mpirun: re-split the ranks' regions by load every N steps (0: never)")
+      ->default_val(1000);
+  cmd->add_option("--ranks-y", ranks_y,
+                  "under mpirun: rows of the grid of ranks (1: slabs along x; must divide the ranks)")
+      ->default_val(1)
+      ->check(CLI::PositiveNumber);
+}
+
 int validate_command(std::vector<std::string> names, const std::string& out, bool quick, bool quiet) {
   if (names.empty())
     for (const auto& s : validation::suites()) names.push_back(s.name);
@@ -227,15 +238,7 @@ int main(int argc, char** argv) {
       ->add_option("--stop-after-frame", run.stop_after_frame,
                    "stop after frame N with a checkpoint, writing no run file (continue with --restart)")
       ->check(CLI::NonNegativeNumber);
-  run_cmd
-      ->add_option("--balance-every", run.balance_every,
-                   "under mpirun: re-split the ranks' regions by load every N steps (0: never)")
-      ->default_val(1000);
-  run_cmd
-      ->add_option("--ranks-y", run.ranks_y,
-                   "under mpirun: rows of the grid of ranks (1: slabs along x; must divide the ranks)")
-      ->default_val(1)
-      ->check(CLI::PositiveNumber);
+  add_decomposition_options(run_cmd, run.balance_every, run.ranks_y);
 
   std::vector<std::string> suites;
   std::string report_dir = "report";
@@ -304,15 +307,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   bed_cmd->add_flag("--frictionless", bed.frictionless, "drop the friction effect (no shear history)");
   bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file");
-  bed_cmd
-      ->add_option("--balance-every", bed.balance_every,
-                   "under mpirun: re-split the ranks' regions by load every N steps (0: never)")
-      ->default_val(1000);
-  bed_cmd
-      ->add_option("--ranks-y", bed.ranks_y,
-                   "under mpirun: rows of the grid of ranks (1: slabs along x; must divide the ranks)")
-      ->default_val(1)
-      ->check(CLI::PositiveNumber);
+  add_decomposition_options(bed_cmd, bed.balance_every, bed.ranks_y);
 
   try {
     app.parse(argc, argv);

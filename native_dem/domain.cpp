@@ -263,7 +263,7 @@ void World::update_ghosts() {
 
 // Re-splits the slabs so that each holds an equal share of the load. A particle's load is one (its
 // integration) plus its listed pairs (force work), measured on the lists in hand.
-void World::balance_slabs() {
+void World::balance_regions() {
   Domain& d = *domain_;
   std::vector<double> mine;
   for (std::size_t i = 0; i < n_own_; ++i) {

@@ -134,7 +134,7 @@ void World::rebuild_neighbors() {
   p_.resize(n_own_);  // ghosts are renewed below
   wrap_periodic();
   if (domain_) {
-    if (decomposition_.balance_every > 0 && diag_.steps >= domain_->next_balance_step) balance_slabs();
+    if (decomposition_.balance_every > 0 && diag_.steps >= domain_->next_balance_step) balance_regions();
     migrate(saved);
   }
   std::sort(saved.begin(), saved.end());

@@ -119,7 +119,7 @@ class World {
   void migrate(std::vector<SavedShear>& saved);
   void receive_ghosts();
   void update_ghosts();
-  void balance_slabs();
+  void balance_regions();
   bool any_rank(bool mine) const;
   bool needs_rebuild(double lookahead) const;
   // body_forces_ready: the caller has already set forces to m g and torques to zero.
