@@ -1,4 +1,5 @@
-// grainlab: the command line. Subcommands: run, inspect, validate, cost, engines, die-model, bench.
+// grainlab: the command line. Subcommands: run, inspect, validate, cost, engines, die-model, bench, bed,
+// impact, rebound-model.
 // Exit status: 0 success; 1 a check failed or a simulation broke down; 2 bad input (nothing written).
 #include <fmt/format.h>
 
@@ -11,6 +12,7 @@
 #include "die_model_command.hpp"
 #include "engine.hpp"
 #include "h5_input.hpp"
+#include "impact_commands.hpp"
 #include "input_error.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
@@ -309,6 +311,9 @@ int main(int argc, char** argv) {
   bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file");
   add_decomposition_options(bed_cmd, bed.balance_every, bed.ranks_y);
 
+  cli::ImpactCommands impacts;
+  impacts.add(app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -328,6 +333,7 @@ int main(int argc, char** argv) {
     if (*inspect_cmd) return inspect_command(inspect_path);
     if (*die_cmd) return cli::die_model_command(die);
     if (*bed_cmd) return bench::run_bed_command(bed);
+    if (const int status = impacts.dispatch(); status >= 0) return status;
   } catch (const InputError& e) {
     fmt::print(stderr, "grainlab: error: {}\n", e.what());
     return 2;

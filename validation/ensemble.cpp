@@ -28,6 +28,25 @@ std::vector<std::vector<double>> run_ensemble(std::size_t runs, std::size_t widt
   return rows;
 }
 
+MeanInterval mean_interval(const std::vector<double>& values) {
+  MeanInterval m;
+  double sum = 0;
+  for (double v : values)
+    if (std::isfinite(v)) sum += v, ++m.n;
+  if (m.n == 0) {
+    m.mean = m.sd = m.lo = m.hi = std::nan("");
+    return m;
+  }
+  m.mean = sum / m.n;
+  double ss = 0;
+  for (double v : values)
+    if (std::isfinite(v)) ss += (v - m.mean) * (v - m.mean);
+  m.sd = m.n > 1 ? std::sqrt(ss / (m.n - 1)) : 0;
+  const double half = 1.959963984540054 * m.sd / std::sqrt(static_cast<double>(m.n));
+  m.lo = m.mean - half, m.hi = m.mean + half;
+  return m;
+}
+
 Proportion wilson_interval(std::size_t k, std::size_t n) {
   Proportion r;
   r.k = k, r.n = n;

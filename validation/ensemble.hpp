@@ -15,6 +15,15 @@ std::vector<std::vector<double>> run_ensemble(std::size_t runs, std::size_t widt
                                               const std::function<std::vector<double>(std::size_t)>& run,
                                               const EnsembleProgress& progress = {});
 
+// Mean, standard deviation and the 95 % interval of the mean (normal approximation) of the finite values
+// of a sample (NaN marks "undefined for this run" and is skipped).
+struct MeanInterval {
+  std::size_t n = 0;
+  double mean = 0, sd = 0, lo = 0, hi = 0;
+  double half_width() const { return (hi - lo) / 2; }
+};
+MeanInterval mean_interval(const std::vector<double>& values);
+
 // A proportion k / n with its 95 % Wilson score interval.
 struct Proportion {
   std::size_t k = 0, n = 0;

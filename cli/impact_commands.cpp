@@ -1,0 +1,207 @@
+#include "impact_commands.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "impact_bed.hpp"
+#include "impacts.hpp"
+#include "input_error.hpp"
+#include "parallel.hpp"
+#include "progress.hpp"
+#include "rebound_model.hpp"
+
+namespace grainlab::cli {
+
+namespace {
+
+using namespace grainlab::validation;
+namespace fs = std::filesystem;
+
+nlohmann::json stat_json(const MeanInterval& m) {
+  auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  return {{"mean", num(m.mean)}, {"sd", num(m.sd)}, {"lo", num(m.lo)}, {"hi", num(m.hi)}, {"n", m.n}};
+}
+
+nlohmann::json bed_json(const BedStats& s) {
+  return {{"packing_fraction", s.packing_fraction}, {"coordination", s.coordination}, {"top", s.top},
+          {"roughness", s.roughness},               {"brinks", s.brinks},             {"anti_brinks", s.anti_brinks},
+          {"kinetic_energy", s.kinetic_energy},     {"build_seconds", s.build_seconds}};
+}
+
+int bed_command(const ImpactCommands& a) {
+  if (!a.bed_force && fs::exists(a.bed_out))
+    throw InputError({"--out", 0}, a.bed_out, "exists; pass --force to overwrite it");
+  if (!(a.width > 4) || a.count < 1)
+    throw InputError({"--width", 0}, fmt::format("{}", a.width), "the bed needs a width above 4 cm and discs");
+  BedSpec spec;
+  spec.preparation = a.preparation, spec.seed = a.bed_seed, spec.periodic = a.periodic;
+  spec.width = a.width, spec.count = a.count;
+  const Bed bed = build_bed(spec, [&](const std::string& line) {
+    if (!a.bed_json) fmt::print(stderr, "grainlab bed: {}\n", line);
+  });
+  write_bed(bed, a.bed_out, a.bed_force);
+  if (a.bed_json) {
+    nlohmann::json j = bed_json(bed.stats);
+    j["file"] = a.bed_out, j["preparation"] = spec.preparation, j["seed"] = spec.seed, j["count"] = spec.count;
+    fmt::print("{}\n", j.dump(2));
+    return 0;
+  }
+  const BedStats& s = bed.stats;
+  fmt::print("wrote {} ({} bed, {} discs, seed {}, built in {:.1f} s)\n", a.bed_out, spec.preparation, spec.count,
+             spec.seed, s.build_seconds);
+  fmt::print("  packing fraction {:.4f}, coordination {:.2f}, top {:.2f} cm, roughness {:.3f} cm, "
+             "{} brinks, {} anti-brinks\n",
+             s.packing_fraction, s.coordination, s.top, s.roughness, s.brinks, s.anti_brinks);
+  return 0;
+}
+
+std::vector<Bed> beds_for(const ImpactCommands& a, const ImpactCase& c, bool speak) {
+  std::vector<Bed> beds;
+  for (const std::string& f : a.bed_files) beds.push_back(read_bed(f));
+  if (!beds.empty()) return beds;
+  for (std::size_t k = 0; k < a.beds; ++k) {
+    BedSpec spec;
+    spec.preparation = c.bed, spec.seed = k + 1;
+    beds.push_back(build_bed(spec, [&](const std::string& line) {
+      if (speak) fmt::print(stderr, "grainlab impact: bed {}: {}\n", k + 1, line);
+    }));
+  }
+  return beds;
+}
+
+int impact_command(const ImpactCommands& a) {
+  const ImpactCase& c = impact_case(a.case_name);
+  if (a.runs < 1) throw InputError({"--runs", 0}, "0", "must be at least 1");
+  if (!a.record.empty() && !a.force && fs::exists(a.record))
+    throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
+  const bool speak = !a.quiet && !a.impact_json && parallel::rank() == 0;
+  const std::vector<Bed> beds = beds_for(a, c, speak);
+  ImpactOptions o;
+  o.engine = a.engine;
+  ProgressBar bar(speak, "impacts");
+  if (speak)
+    fmt::print(stderr, "grainlab impact: CASE {} (v_i {} cm/s, alpha_i {} deg, mu {}, r_i {} cm), {} impacts on "
+               "{} {} bed(s), engine {}{}\n",
+               c.name, c.speed, c.alpha_deg, c.mu, c.radius, a.runs, beds.size(), c.bed, a.engine,
+               parallel::size() > 1 ? fmt::format(", {} MPI ranks", parallel::size()) : "");
+  const ImpactEnsemble e = run_impact_ensemble(beds, c, a.seed, a.runs, o, [&](std::size_t d, std::size_t t) {
+    bar.update(static_cast<double>(d), static_cast<double>(t));
+  });
+  bar.finish();
+  if (!a.record.empty() && parallel::rank() == 0) {
+    ImpactOptions ro = o;
+    ro.record = a.record, ro.overwrite = a.force;
+    run_impact(beds[0], c, a.seed, 0, ro);
+  }
+  if (parallel::rank() != 0) return 0;
+  const ImpactSummary s = summarize_impacts(e.impacts, beds[0].spec.restitution);
+  const auto thesis = thesis_impact_values(c.name);
+  if (a.impact_json) {
+    nlohmann::json j{{"case", c.name}, {"engine", a.engine},      {"runs", a.runs},
+                     {"seed", a.seed}, {"rebounds", s.rebounds}, {"ejecta", s.ejecta},
+                     {"beds", beds.size()}, {"median_wall_seconds", s.median_wall_seconds},
+                     {"mean_steps", s.mean_steps}, {"ejecta_dropped", e.ejecta_dropped}};
+    for (const auto& [k, m] : s.q) {
+      j[k] = stat_json(m);
+      if (thesis.count(k)) j[k]["thesis"] = {thesis.at(k).first, thesis.at(k).second};
+    }
+    fmt::print("{}\n", j.dump(2));
+    return 0;
+  }
+  fmt::print("CASE {}: {} impacts, {} rebounded, {} ejecta; median {:.2f} s per impact ({:.0f} steps)\n", c.name,
+             s.impacts, s.rebounds, s.ejecta, s.median_wall_seconds, s.mean_steps);
+  fmt::print("{:<16} {:>10} {:>20} {:>10} {:>16}\n", "quantity", "mean", "95 % interval", "sd", "thesis (spread)");
+  for (const auto& [k, m] : s.q) {
+    const std::string th =
+        thesis.count(k) ? fmt::format("{:.3g} ({:.2g})", thesis.at(k).first, thesis.at(k).second) : "-";
+    fmt::print("{:<16} {:>10.4g} {:>20} {:>10.3g} {:>16}\n", k, m.mean, fmt::format("[{:.4g}, {:.4g}]", m.lo, m.hi),
+               m.sd, th);
+  }
+  return 0;
+}
+
+int rebound_command(const ImpactCommands& a) {
+  if (a.model_case != 1 && a.model_case != 2)
+    throw InputError({"--case", 0}, std::to_string(a.model_case), "must be 1 or 2 (Table 3.10)");
+  if (!(a.alpha > 0 && a.alpha < 90)) throw InputError({"--alpha", 0}, fmt::format("{}", a.alpha), "must lie in (0, 90) degrees");
+  ReboundParams p = rebound_case(a.model_case, a.alpha);
+  if (a.mass_ratio > 0) p.mass_ratio = a.mass_ratio;
+  if (a.sigma >= -1) p.sigma = a.sigma;
+  if (a.sigma < -1 && a.sigma != -2)
+    throw InputError({"--sigma", 0}, fmt::format("{}", a.sigma), "must lie in [-1, 1]");
+  if (a.sigma > 1) throw InputError({"--sigma", 0}, fmt::format("{}", a.sigma), "must lie in [-1, 1]");
+  if (a.gap < 0) throw InputError({"--gap", 0}, fmt::format("{}", a.gap), "must be >= 0");
+  if (!(a.radius_ratio > 0)) throw InputError({"--radius-ratio", 0}, fmt::format("{}", a.radius_ratio), "must be > 0");
+  p.spin = a.spin, p.bed_gap = a.gap, p.radius_ratio = a.radius_ratio;
+  const ReboundAverages r = rebound_model(p);
+  if (a.model_json) {
+    fmt::print("{}\n", nlohmann::json{{"case", a.model_case},   {"alpha", a.alpha},
+                                      {"mass_ratio", p.mass_ratio}, {"sigma", p.sigma},
+                                      {"eps_ix", r.eps_ix},     {"eps_iy", r.eps_iy},
+                                      {"eps_i", r.eps_i},       {"theta_i", r.theta_i_deg},
+                                      {"beta", r.beta_deg},     {"nabbed_fraction", r.nabbed_fraction},
+                                      {"below_one_fraction", r.below_one_fraction}}
+                           .dump(2));
+    return 0;
+  }
+  fmt::print("rebound model (thesis Appendix III.1), CASE {} of Table 3.10 at alpha_i = {} deg\n", a.model_case, a.alpha);
+  fmt::print("  m_i/m_beff {}, sigma {}, eps {}, kappa_beff {}, r_i/r_b {}, gap {} r_b, spin w r/v {}\n", p.mass_ratio,
+             p.sigma, p.restitution, p.kappa_beff, p.radius_ratio, p.bed_gap, p.spin);
+  fmt::print("  mean eps_ix {:.4f}, eps_iy {:.4f}, eps_i {:.4f}, theta_i {:.2f} deg, beta {:.2f} deg\n", r.eps_ix,
+             r.eps_iy, r.eps_i, r.theta_i_deg, r.beta_deg);
+  fmt::print("  nabbed {:.3f}, eps_iy < 1 in {:.3f} of impacts\n", r.nabbed_fraction, r.below_one_fraction);
+  return 0;
+}
+
+}  // namespace
+
+void ImpactCommands::add(CLI::App& app) {
+  bed_cmd = app.add_subcommand("bed", "build a Ch. III impact bed (384 discs, loose or dense) as a run file");
+  bed_cmd->add_option("--preparation", preparation, "loose (poured with friction) or dense (poured frictionless)")
+      ->default_val("loose")
+      ->check(CLI::IsMember({"loose", "dense"}));
+  bed_cmd->add_option("--seed", bed_seed, "seed of the pour")->default_val(1);
+  bed_cmd->add_flag("--periodic", periodic, "periodic in x (a floor, no side walls)");
+  bed_cmd->add_option("--width", width, "box width or period, cm")->default_val(67.3)->check(CLI::PositiveNumber);
+  bed_cmd->add_option("--count", count, "discs")->default_val(384)->check(CLI::Range(1, 1000000));
+  bed_cmd->add_option("--out,-o", bed_out, "the bed's run file (.h5 + .xmf)")->required();
+  bed_cmd->add_flag("--force", bed_force, "overwrite an existing file");
+  bed_cmd->add_flag("--json", bed_json, "print the bed's statistics as JSON");
+
+  impact_cmd = app.add_subcommand("impact", "impacts of one case of Table 3.1 on a bed; thesis Tables 3.2-3.9");
+  impact_cmd->add_option("--case", case_name, "A..I")->required();
+  impact_cmd->add_option("--engine", engine, "engine")->default_val("native");
+  impact_cmd->add_option("--runs", runs, "impacts (spread over MPI ranks)")->default_val(10)->check(CLI::Range(1, 100000));
+  impact_cmd->add_option("--seed", seed, "seed: impact i draws its point from (seed, i)")->default_val(1);
+  impact_cmd->add_option("--bed", bed_files, "bed file from `grainlab bed` (repeatable; impact i uses bed i mod N)")
+      ->check(CLI::ExistingFile);
+  impact_cmd->add_option("--beds", beds, "without --bed: build this many beds of the case's preparation")
+      ->default_val(1)
+      ->check(CLI::Range(1, 100));
+  impact_cmd->add_option("--record", record, "also write impact 0 as a run file (ParaView)");
+  impact_cmd->add_flag("--force", force, "overwrite the --record file");
+  impact_cmd->add_flag("--json", impact_json, "print one JSON object with every quantity");
+  impact_cmd->add_flag("--quiet,-q", quiet, "no progress");
+
+  rebound_cmd = app.add_subcommand("rebound-model", "the thesis's rebound model (Appendix III.1, Table 3.10)");
+  rebound_cmd->add_option("--case", model_case, "1 or 2 (Table 3.10)")->default_val(2);
+  rebound_cmd->add_option("--alpha", alpha, "incident angle from the horizontal, degrees")->default_val(15);
+  rebound_cmd->add_option("--mass-ratio", mass_ratio, "m_i / m_beff (default: the case's 0.5)");
+  rebound_cmd->add_option("--sigma", sigma, "friction restitution in [-1, 1] (default: the case's)");
+  rebound_cmd->add_option("--spin", spin, "incident spin w_i r_i / v_i (counter-clockwise positive)")->default_val(0);
+  rebound_cmd->add_option("--gap", gap, "gap between bed discs, in r_b")->default_val(0);
+  rebound_cmd->add_option("--radius-ratio", radius_ratio, "r_i / r_b")->default_val(1);
+  rebound_cmd->add_flag("--json", model_json, "print {eps_ix, eps_iy, theta_i, beta, nabbed_fraction, ...}");
+}
+
+int ImpactCommands::dispatch() const {
+  if (bed_cmd && *bed_cmd) return bed_command(*this);
+  if (impact_cmd && *impact_cmd) return impact_command(*this);
+  if (rebound_cmd && *rebound_cmd) return rebound_command(*this);
+  return -1;
+}
+
+}  // namespace grainlab::cli

@@ -1,0 +1,35 @@
+#pragma once
+// The Ch. III commands: `grainlab bed` (build an impact bed), `grainlab impact` (impacts of one case of
+// Table 3.1) and `grainlab rebound-model` (Appendix III.1).
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace grainlab::cli {
+
+struct ImpactCommands {
+  // grainlab bed
+  std::string preparation = "loose", bed_out;
+  std::uint64_t bed_seed = 1;
+  bool periodic = false, bed_force = false, bed_json = false;
+  double width = 67.3;
+  int count = 384;
+  // grainlab impact
+  std::string case_name, engine = "native", record;
+  std::vector<std::string> bed_files;
+  std::size_t runs = 10, beds = 1;
+  std::uint64_t seed = 1;
+  bool impact_json = false, quiet = false, force = false;
+  // grainlab rebound-model
+  int model_case = 2;
+  double alpha = 15, mass_ratio = -1, sigma = -2, spin = 0, gap = 0, radius_ratio = 1;
+  bool model_json = false;
+
+  CLI::App *bed_cmd = nullptr, *impact_cmd = nullptr, *rebound_cmd = nullptr;
+  void add(CLI::App& app);
+  // Runs the command that was asked for; -1 if none of these was.
+  int dispatch() const;
+};
+
+}  // namespace grainlab::cli
