@@ -38,7 +38,7 @@ int bed_command(const ImpactCommands& a) {
     throw InputError({"--width", 0}, fmt::format("{}", a.width), "the bed needs a width above 4 cm and discs");
   BedSpec spec;
   spec.preparation = a.preparation, spec.seed = a.bed_seed, spec.periodic = a.periodic;
-  spec.width = a.width, spec.count = a.count;
+  spec.width = a.width, spec.count = a.count, spec.levelled = !a.unlevelled;
   const Bed bed = build_bed(spec, [&](const std::string& line) {
     if (!a.bed_json) fmt::print(stderr, "grainlab bed: {}\n", line);
   });
@@ -81,6 +81,15 @@ int impact_command(const ImpactCommands& a) {
   const std::vector<Bed> beds = beds_for(a, c, speak);
   ImpactOptions o;
   o.engine = a.engine;
+  if (a.engine != "native") {
+    // An impulse engine must hold the bed at rest first, or its "ejecta" are the bed falling apart.
+    const BedHold h = hold_bed(beds[0], a.engine, o.duration, o.rigid_dt);
+    if (speak)
+      fmt::print(stderr, "grainlab impact: {} holding the bed alone for {} s: largest displacement {:.3g} cm, "
+                 "largest speed {:.3g} cm/s, kinetic energy {:.3g} erg\n", a.engine, o.duration,
+                 h.max_displacement, h.max_speed, h.kinetic_energy);
+    check_bed_held(h, a.engine);
+  }
   ProgressBar bar(speak, "impacts");
   if (speak)
     fmt::print(stderr, "grainlab impact: CASE {} (v_i {} cm/s, alpha_i {} deg, mu {}, r_i {} cm), {} impacts on "
@@ -165,6 +174,7 @@ void ImpactCommands::add(CLI::App& app) {
       ->check(CLI::IsMember({"loose", "dense"}));
   bed_cmd->add_option("--seed", bed_seed, "seed of the pour")->default_val(1);
   bed_cmd->add_flag("--periodic", periodic, "periodic in x (a floor, no side walls)");
+  bed_cmd->add_flag("--unlevelled", unlevelled, "keep the poured surface (no scraping)");
   bed_cmd->add_option("--width", width, "box width or period, cm")->default_val(67.3)->check(CLI::PositiveNumber);
   bed_cmd->add_option("--count", count, "discs")->default_val(384)->check(CLI::Range(1, 1000000));
   bed_cmd->add_option("--out,-o", bed_out, "the bed's run file (.h5 + .xmf)")->required();

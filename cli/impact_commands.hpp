@@ -12,7 +12,7 @@ struct ImpactCommands {
   // grainlab bed
   std::string preparation = "loose", bed_out;
   std::uint64_t bed_seed = 1;
-  bool periodic = false, bed_force = false, bed_json = false;
+  bool periodic = false, unlevelled = false, bed_force = false, bed_json = false;
   double width = 67.3;
   int count = 384;
   // grainlab impact

@@ -42,7 +42,8 @@ std::string header_toml(const BedSpec& s, const std::string& name, double durati
   const double m = s.density * M_PI * s.radius * s.radius;
   return fmt::format(
       "{tag} preparation={prep} seed={seed} count={n} width={w:.17g} height={h:.17g} periodic={per} "
-      "radius={r:.17g} density={rho:.17g} k_n={k:.17g} restitution={e:.17g} mu={mu:.17g}\n"
+      "radius={r:.17g} density={rho:.17g} k_n={k:.17g} restitution={e:.17g} mu={mu:.17g} "
+      "levelled={lev}\n"
       "[scene]\nname = \"{name}\"\nduration = {d:.17g}\nseed = {seed}\n{periodic}"
       "effects = [\"gravity\", \"normal_contact\", \"friction\", \"rotation\"]\n"
       "[accuracy]\nintegrator = \"verlet\"\ndt = {dt:.17g}\n"
@@ -50,7 +51,7 @@ std::string header_toml(const BedSpec& s, const std::string& name, double durati
       fmt::arg("tag", kBedTag), fmt::arg("prep", s.preparation), fmt::arg("seed", s.seed),
       fmt::arg("n", s.count), fmt::arg("w", s.width), fmt::arg("h", s.height),
       fmt::arg("per", s.periodic ? "true" : "false"), fmt::arg("r", s.radius), fmt::arg("rho", s.density),
-      fmt::arg("k", s.k_n), fmt::arg("e", s.restitution), fmt::arg("mu", s.mu), fmt::arg("name", name),
+      fmt::arg("k", s.k_n), fmt::arg("e", s.restitution), fmt::arg("mu", s.mu), fmt::arg("lev", s.levelled ? "true" : "false"), fmt::arg("name", name),
       fmt::arg("d", duration),
       fmt::arg("periodic", s.periodic ? fmt::format("periodic_x = [0.0, {:.17g}]\n", s.width) : ""),
       fmt::arg("dt", contact_time(k_n, m / 2) / 30), fmt::arg("kn", k_n), fmt::arg("en", restitution),
@@ -166,6 +167,7 @@ BedSpec parse_tag(const std::string& text, const std::string& path) {
       else if (k == "k_n") s.k_n = std::stod(v);
       else if (k == "restitution") s.restitution = std::stod(v);
       else if (k == "mu") s.mu = std::stod(v);
+      else if (k == "levelled") s.levelled = v == "true";
     } catch (const std::exception&) {
       throw InputError({path, 0}, "scene_text", fmt::format("bed description: {} is not a valid value", item));
     }
@@ -293,18 +295,36 @@ Bed build_bed(const BedSpec& spec, const std::function<void(const std::string&)>
   const auto start = std::chrono::steady_clock::now();
   Rng rng(spec.seed, 0);
   double column_top = 0;
-  std::vector<BodySpec> bodies = rain(spec, rng, column_top);
+  // A levelled bed is poured with 15 % more discs and scraped: the highest discs are taken away until
+  // `count` remain, as an experimenter levels a sand bed with a straight edge.
+  BedSpec pour_spec = spec;
+  if (spec.levelled) pour_spec.count = static_cast<int>(std::ceil(spec.count * 1.15));
+  std::vector<BodySpec> bodies = rain(pour_spec, rng, column_top);
   // Loose: the grains keep their friction while they pile up, and lock into an open packing. Dense: they
   // pour frictionless, slide into near close packing, and get their friction back once at rest.
   const double pour_mu = spec.preparation == "loose" ? spec.mu : 0.0;
   const double pour_time = std::sqrt(2 * column_top / 981.0) + 1.5;
   if (log) log(fmt::format("pouring {} discs ({} bed, seed {}, {:.2f} s simulated)", spec.count, spec.preparation, spec.seed, pour_time));
-  bodies = settle(header_toml(spec, "pour", pour_time, spec.k_n / kSoftening, kPourRestitution, pour_mu,
+  bodies = settle(header_toml(pour_spec, "pour", pour_time, spec.k_n / kSoftening, kPourRestitution, pour_mu,
                               column_top + 10) +
                       bodies_toml(bodies, spec.density),
                   spec.density);
   if (log) log(fmt::format("poured: kinetic energy {:.4g} erg", kinetic(bodies)));
   for (BodySpec& b : bodies) b.velocity = {}, b.spin = 0;
+  if (spec.levelled) {
+    std::stable_sort(bodies.begin(), bodies.end(),
+                     [](const BodySpec& a, const BodySpec& b) { return a.position.y < b.position.y; });
+    bodies.resize(static_cast<std::size_t>(spec.count));
+    std::sort(bodies.begin(), bodies.end(), [](const BodySpec& a, const BodySpec& b) { return a.id < b.id; });
+    for (std::size_t i = 0; i < bodies.size(); ++i) bodies[i].id = static_cast<std::int64_t>(i);
+    if (log) log(fmt::format("levelled: the {} highest discs scraped off", pour_spec.count - spec.count));
+    // Let the scraped surface settle before stiffening.
+    bodies = settle(header_toml(spec, "settle", 0.3, spec.k_n / kSoftening, kPourRestitution, pour_mu,
+                                column_top + 10) +
+                        bodies_toml(bodies, spec.density),
+                    spec.density);
+    for (BodySpec& b : bodies) b.velocity = {}, b.spin = 0;
+  }
   // Stiffen in ten steps of 10^0.2, critically damped: each step releases only ~(10^0.2)^2 times the
   // new equilibrium's own elastic energy, so no grain is thrown (one jump to the bed's k_n would release
   // 100^2 times it and loosen the bed).

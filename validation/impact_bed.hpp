@@ -18,6 +18,7 @@ struct BedSpec {
   int count = 384;
   double width = 67.3, height = 24.1;  // the box (a periodic bed: period and nominal height)
   bool periodic = false;
+  bool levelled = true;  // poured with 15 % extra discs, the highest scraped off (a flat surface)
   double radius = 1.0, density = 2.0, k_n = 6e9, restitution = 0.85, mu = 0.5;
 };
 

@@ -72,7 +72,7 @@ Scene impact_scene(const Bed& bed, const ImpactCase& c, const Aim& aim, const Im
   const double mb = bed.spec.density * M_PI * bed.spec.radius * bed.spec.radius;
   const double tc = std::min(contact_time(bed.spec.k_n, mb, mb), contact_time(bed.spec.k_n, mb, in.mass));
   s.accuracy.integrator = Integrator::VelocityVerlet;
-  s.accuracy.dt = tc / o.steps_per_contact;
+  s.accuracy.dt = o.engine == "native" ? tc / o.steps_per_contact : o.rigid_dt;
   s.output.frames = static_cast<int>(std::round(o.duration / 1e-3));  // 1 ms frames when recorded
   return s;
 }
@@ -169,6 +169,34 @@ ImpactResult run_impact(const Bed& bed, const ImpactCase& c, std::uint64_t seed,
     run_scene(scene, *again, ro);
   }
   return r;
+}
+
+BedHold hold_bed(const Bed& bed, const std::string& engine, double duration, double rigid_dt) {
+  Scene s = bed.scene;
+  s.duration = duration;
+  if (engine != "native") s.accuracy.dt = rigid_dt;
+  auto e = make_engine(engine, s);
+  e->advance_to(duration);
+  const Frame f = e->frame();
+  BedHold h;
+  for (std::size_t i = 0; i < f.id.size(); ++i) {
+    const BodySpec& b = s.bodies[i];
+    const double vx = f.velocity[3 * i], vy = f.velocity[3 * i + 1];
+    h.max_displacement = std::max(h.max_displacement, std::hypot(wrap(f.position[3 * i] - b.position.x, bed.spec),
+                                                                 f.position[3 * i + 1] - b.position.y));
+    h.max_speed = std::max(h.max_speed, std::hypot(vx, vy));
+    h.kinetic_energy += 0.5 * b.mass * (vx * vx + vy * vy) + 0.5 * b.inertia * f.spin[i] * f.spin[i];
+  }
+  return h;
+}
+
+void check_bed_held(const BedHold& h, const std::string& engine) {
+  if (h.max_speed <= 1.0 && h.max_displacement <= 0.05) return;
+  throw InputError({"--engine", 0}, engine,
+                   fmt::format("cannot hold the impact bed at rest: alone for 0.07 s its discs move up to {:.3g} "
+                               "cm at up to {:.3g} cm/s (allowed 0.05 cm, more than any engine's contact skin, and 1 cm/s), so its impacts would "
+                               "measure the bed's own motion",
+                               h.max_displacement, h.max_speed));
 }
 
 double effective_mass_two_body(double alpha_deg, double beta_deg, double eps_ix, double eps_iy,

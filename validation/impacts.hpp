@@ -34,6 +34,7 @@ struct ImpactOptions {
   double steps_per_contact = 30;  // Verlet: dt = shortest contact time / this
   double check_interval = 2e-5;   // s between looks at the grains
   double window = 0.3;            // impact points uniform over this middle fraction of the bed
+  double rigid_dt = 1e-5;         // the step of impulse engines (Box2D, ODE, Bullet): no contact to resolve
   std::string record;             // non-empty: also write this impact as a run file (ParaView)
   bool overwrite = false;
 };
@@ -86,6 +87,18 @@ double effective_mass_two_body(double alpha_deg, double beta_deg, double eps_ix,
 }  // namespace grainlab::validation
 
 namespace grainlab::validation {
+
+// How well an engine holds a bed at rest with nothing hitting it: the bed alone for `duration`.
+struct BedHold {
+  double max_displacement = 0;  // cm, largest of any disc
+  double max_speed = 0;         // cm/s, largest of any disc at the end
+  double kinetic_energy = 0;    // erg at the end
+};
+BedHold hold_bed(const Bed& bed, const std::string& engine, double duration, double rigid_dt);
+// Throws InputError (a capability error) when the bed moved: a disc faster than 1 cm/s (it would rise
+// 0.5 mm, far below the 2 cm of an ejection) or one displaced by more than 0.05 r_b (more than the
+// engines' contact skins: the bed is then rearranging, not at rest).
+void check_bed_held(const BedHold& h, const std::string& engine);
 
 // `runs` impacts of case `c`, run i on bed i % beds.size() with Rng(seed, i), dealt out over the MPI
 // ranks (the result is the same on any rank count). An impact ejecting more than kMaxEjecta grains keeps
