@@ -128,6 +128,8 @@ int validate_command(std::vector<std::string> names, const std::string& out, boo
   validation::Report report;
   validation::SuiteOptions opt;
   opt.quick = quick;
+  opt.out_dir = out;
+  if (parallel::rank() == 0) fs::create_directories(out);
   // Under mpirun every rank runs the suites (ensembles are dealt out over the ranks); rank 0 speaks and
   // writes the report.
   const bool speak = !quiet && parallel::rank() == 0;

@@ -129,6 +129,10 @@ struct ImpactSummary {
   double median_wall_seconds = 0, mean_steps = 0;
 };
 ImpactSummary summarize_impacts(const std::vector<ImpactResult>& r, double restitution);
+// m_beff / m_b from the rebounds' mean eps_ix, eps_iy and beta through the two-body law (the summary's
+// "m_beff"; "m_beff_per_impact" averages single inversions), with a bootstrap 95 % interval; sd is the
+// single-impact spread the bootstrap implies.
+MeanInterval effective_mass_of_means(const std::vector<ImpactResult>& r, double restitution);
 
 // The thesis's mean and half-width for a case and key (Tables 3.2-3.5, 3.7-3.9); none if not printed.
 std::map<std::string, std::pair<double, double>> thesis_impact_values(const std::string& case_name);

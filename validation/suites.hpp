@@ -13,6 +13,7 @@ struct SuiteOptions {
   bool quick = false;                                                 // smaller versions for CI
   std::function<void(const std::string&)> log;                        // progress lines
   std::function<void(std::size_t done, std::size_t total)> progress;  // runs of an ensemble
+  std::string out_dir;  // the report folder: suites may write example run files there (rank 0)
 };
 
 struct Suite {
@@ -30,7 +31,8 @@ void run_loaded_die_3d(Report& r, const SuiteOptions& o);
 void run_tumbling_polygon_suite(Report& r, const SuiteOptions& o);
 void run_block_incline_suite(Report& r, const SuiteOptions& o);
 void run_pair_impact_suite(Report& r, const SuiteOptions& o);
-void run_stability_suite(Report& r, const SuiteOptions& o);  // the 3-D part of the suite
+void run_stability_suite(Report& r, const SuiteOptions& o);
+void run_impacts_suite(Report& r, const SuiteOptions& o);  // the 3-D part of the suite
 // The 3-D single-body checks on one engine; appends a row to the markdown table `md`.
 void single_body_3d_checks(Report& r, const std::string& engine, std::string& md);
 // g in cm/s^2, as the thesis and the analytic references use it.
