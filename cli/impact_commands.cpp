@@ -12,6 +12,8 @@
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "rebound_model.hpp"
+#include "splash_file.hpp"
+#include "splash_measurement.hpp"
 
 namespace grainlab::cli {
 
@@ -165,6 +167,58 @@ int rebound_command(const ImpactCommands& a) {
   return 0;
 }
 
+int splash_command(const ImpactCommands& a) {
+  if (!a.splash_force && fs::exists(a.splash_out))
+    throw InputError({"--out", 0}, a.splash_out, "exists; pass --force to overwrite it");
+  const bool speak = !a.splash_quiet && !a.splash_json && parallel::rank() == 0;
+  saltation::SplashFile f;
+  if (a.sand_gun) {
+    f = saltation::sand_gun_splash();
+  } else {
+    SplashOptions o = a.splash_quick ? quick_splash_options() : SplashOptions{};
+    if (a.splash_runs > 0) o.runs = a.splash_runs;
+    if (a.splash_beds > 0) o.beds = a.splash_beds;
+    o.seed = a.splash_seed, o.engine = a.splash_engine;
+    if (!a.splash_speeds.empty()) o.speeds_cm_s = a.splash_speeds;
+    if (!a.splash_angles.empty()) o.angles_deg = a.splash_angles;
+    for (double v : o.speeds_cm_s)
+      if (!(v > 0)) throw InputError({"--speeds", 0}, fmt::format("{}", v), "speeds must be positive (cm/s)");
+    for (double v : o.angles_deg)
+      if (!(v > 0 && v < 90)) throw InputError({"--angles", 0}, fmt::format("{}", v), "angles must lie in (0, 90) degrees");
+    ProgressBar bar(speak, "impacts");
+    if (speak) o.log = [&](const std::string& line) { bar.finish(), fmt::print(stderr, "grainlab splash: {}\n", line); };
+    o.progress = [&](std::size_t d, std::size_t t) { bar.update(double(d), double(t)); };
+    f = measure_splash(o);
+  }
+  if (parallel::rank() != 0) return 0;
+  saltation::write_splash_file(a.splash_out, f, a.splash_force);
+  const saltation::SplashFile back = saltation::read_splash_file(a.splash_out);  // what a model will read
+  if (a.splash_json) {
+    nlohmann::json cells = nlohmann::json::array();
+    for (const auto& c : back.cells) {
+      nlohmann::json m;
+      for (const auto& [k, v] : c.moments) m[k] = {{"mean", v.mean}, {"sd", v.sd}, {"lo", v.lo}, {"hi", v.hi}};
+      cells.push_back({{"speed", c.speed}, {"angle", c.angle_deg}, {"impacts", c.impacts}, {"ejecta", c.ejecta.size()},
+                       {"moments", m}});
+    }
+    fmt::print("{}\n", nlohmann::json{{"file", a.splash_out}, {"schema", back.text.at("schema")},
+                                      {"kind", back.text.at("kind")}, {"velocity_scale_cm_s", back.velocity_scale()},
+                                      {"grain_diameter_cm", back.grain_diameter_cm}, {"cells", cells}}
+                           .dump(2));
+    return 0;
+  }
+  fmt::print("wrote {} ({}, {} cells, velocity scale sqrt(g d) = {:.4g} cm/s)\n", a.splash_out, back.text.at("kind"),
+             back.cells.size(), back.velocity_scale());
+  fmt::print("{:>8} {:>6} {:>8} {:>10} {:>8} {:>12} {:>10}\n", "v/sqrt(gd)", "alpha", "impacts", "P(rebound)", "eps_iy",
+             "ejecta/imp", "ej v_y");
+  for (const auto& c : back.cells) {
+    auto m = [&](const char* k) { return c.moments.count(k) ? c.moments.at(k).mean : std::nan(""); };
+    fmt::print("{:>8.3g} {:>6.0f} {:>8} {:>10.3g} {:>8.3g} {:>12.3g} {:>10.3g}\n", c.speed, c.angle_deg, c.impacts,
+               m("rebound_probability"), m("eps_iy"), m("ejecta_per_impact"), m("ejecta_vy"));
+  }
+  return 0;
+}
+
 }  // namespace
 
 void ImpactCommands::add(CLI::App& app) {
@@ -196,6 +250,21 @@ void ImpactCommands::add(CLI::App& app) {
   impact_cmd->add_flag("--json", impact_json, "print one JSON object with every quantity");
   impact_cmd->add_flag("--quiet,-q", quiet, "no progress");
 
+  splash_cmd = app.add_subcommand("splash", "measure the splash function over incident speed and angle; write a "
+                                           "grainlab-splash/1 file for the saltation and ripple models");
+  splash_cmd->add_option("--out,-o", splash_out, "the splash file (.h5)")->required();
+  splash_cmd->add_flag("--quick", splash_quick, "2 impacts per cell on one bed (for CI)");
+  splash_cmd->add_option("--runs", splash_runs, "impacts per cell (default 100; quick 2)")->check(CLI::Range(1, 100000));
+  splash_cmd->add_option("--beds", splash_beds, "independent loose beds (default 3; quick 1)")->check(CLI::Range(1, 100));
+  splash_cmd->add_option("--seed", splash_seed, "seed of the impact points")->default_val(1);
+  splash_cmd->add_option("--engine", splash_engine, "engine")->default_val("native");
+  splash_cmd->add_option("--speeds", splash_speeds, "incident speeds, cm/s (default 300 1000 2000 4000 8100)");
+  splash_cmd->add_option("--angles", splash_angles, "incident angles from the horizontal, deg (default 5 15 25 45 70)");
+  splash_cmd->add_flag("--sand-gun", sand_gun, "write the thesis's sand-gun measurements (Tables 3.11, 3.12) instead");
+  splash_cmd->add_flag("--force", splash_force, "overwrite an existing file");
+  splash_cmd->add_flag("--json", splash_json, "print the cells' moments as JSON");
+  splash_cmd->add_flag("--quiet,-q", splash_quiet, "no progress");
+
   rebound_cmd = app.add_subcommand("rebound-model", "the thesis's rebound model (Appendix III.1, Table 3.10)");
   rebound_cmd->add_option("--case", model_case, "1 or 2 (Table 3.10)")->default_val(2);
   rebound_cmd->add_option("--alpha", alpha, "incident angle from the horizontal, degrees")->default_val(15);
@@ -208,6 +277,7 @@ void ImpactCommands::add(CLI::App& app) {
 }
 
 int ImpactCommands::dispatch() const {
+  if (splash_cmd && *splash_cmd) return splash_command(*this);
   if (bed_cmd && *bed_cmd) return bed_command(*this);
   if (impact_cmd && *impact_cmd) return impact_command(*this);
   if (rebound_cmd && *rebound_cmd) return rebound_command(*this);

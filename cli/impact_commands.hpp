@@ -1,6 +1,7 @@
 #pragma once
 // The Ch. III commands: `grainlab bed` (build an impact bed), `grainlab impact` (impacts of one case of
-// Table 3.1) and `grainlab rebound-model` (Appendix III.1).
+// Table 3.1), `grainlab rebound-model` (Appendix III.1) and `grainlab splash` (the splash function as a
+// grainlab-splash/1 file).
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
@@ -26,7 +27,15 @@ struct ImpactCommands {
   double alpha = 15, mass_ratio = -1, sigma = -2, spin = 0, gap = 0, radius_ratio = 1;
   bool model_json = false;
 
-  CLI::App *bed_cmd = nullptr, *impact_cmd = nullptr, *rebound_cmd = nullptr;
+  // grainlab splash
+  std::string splash_out;
+  bool splash_quick = false, sand_gun = false, splash_force = false, splash_json = false, splash_quiet = false;
+  std::size_t splash_runs = 0, splash_beds = 0;
+  std::uint64_t splash_seed = 1;
+  std::string splash_engine = "native";
+  std::vector<double> splash_speeds, splash_angles;
+
+  CLI::App *bed_cmd = nullptr, *impact_cmd = nullptr, *rebound_cmd = nullptr, *splash_cmd = nullptr;
   void add(CLI::App& app);
   // Runs the command that was asked for; -1 if none of these was.
   int dispatch() const;

@@ -103,7 +103,7 @@ void check_bed_held(const BedHold& h, const std::string& engine);
 // `runs` impacts of case `c`, run i on bed i % beds.size() with Rng(seed, i), dealt out over the MPI
 // ranks (the result is the same on any rank count). An impact ejecting more than kMaxEjecta grains keeps
 // the first kMaxEjecta (counted in `ejecta_dropped`).
-inline constexpr std::size_t kMaxEjecta = 64;
+inline constexpr std::size_t kMaxEjecta = 160;
 struct ImpactEnsemble {
   std::vector<ImpactResult> impacts;
   std::size_t ejecta_dropped = 0;

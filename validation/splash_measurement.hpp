@@ -1,0 +1,30 @@
+#pragma once
+// The splash function measured: impacts over a grid of incident speed and angle on loose beds, written
+// as a grainlab-splash/1 file (saltation/splash_file.hpp, docs/splash-file.md) for the saltation and
+// ripple models.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "splash_file.hpp"
+
+namespace grainlab::validation {
+
+struct SplashOptions {
+  std::string engine = "native";
+  std::size_t runs = 100;  // impacts per cell
+  std::size_t beds = 3;    // independent loose beds (impact i uses bed i mod beds)
+  std::uint64_t seed = 1;
+  std::vector<double> speeds_cm_s = {300, 1000, 2000, 4000, 8100};
+  std::vector<double> angles_deg = {5, 15, 25, 45, 70};
+  std::function<void(const std::string&)> log;
+  std::function<void(std::size_t, std::size_t)> progress;
+};
+// The quick grid for CI: the same cells, 2 impacts each on one bed.
+SplashOptions quick_splash_options();
+
+// Runs every cell (ensembles spread over the MPI ranks) and returns the file's contents.
+saltation::SplashFile measure_splash(const SplashOptions& o);
+
+}  // namespace grainlab::validation
