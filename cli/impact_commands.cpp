@@ -28,16 +28,22 @@ nlohmann::json stat_json(const MeanInterval& m) {
 }
 
 nlohmann::json bed_json(const BedStats& s) {
-  return {{"packing_fraction", s.packing_fraction}, {"coordination", s.coordination}, {"top", s.top},
-          {"roughness", s.roughness},               {"brinks", s.brinks},             {"anti_brinks", s.anti_brinks},
-          {"kinetic_energy", s.kinetic_energy},     {"build_seconds", s.build_seconds}};
+  return {{"packing_fraction", s.packing_fraction},
+          {"coordination", s.coordination},
+          {"top", s.top},
+          {"roughness", s.roughness},
+          {"brinks", s.brinks},
+          {"anti_brinks", s.anti_brinks},
+          {"kinetic_energy", s.kinetic_energy},
+          {"build_seconds", s.build_seconds}};
 }
 
 int bed_command(const ImpactCommands& a) {
   if (!a.bed_force && fs::exists(a.bed_out))
     throw InputError({"--out", 0}, a.bed_out, "exists; pass --force to overwrite it");
   if (!(a.width > 4) || a.count < 1)
-    throw InputError({"--width", 0}, fmt::format("{}", a.width), "the bed needs a width above 4 cm and discs");
+    throw InputError({"--width", 0}, fmt::format("{}", a.width),
+                     "the bed needs a width above 4 cm and discs");
   BedSpec spec;
   spec.preparation = a.preparation, spec.seed = a.bed_seed, spec.periodic = a.periodic;
   spec.width = a.width, spec.count = a.count, spec.levelled = !a.unlevelled;
@@ -47,16 +53,18 @@ int bed_command(const ImpactCommands& a) {
   write_bed(bed, a.bed_out, a.bed_force);
   if (a.bed_json) {
     nlohmann::json j = bed_json(bed.stats);
-    j["file"] = a.bed_out, j["preparation"] = spec.preparation, j["seed"] = spec.seed, j["count"] = spec.count;
+    j["file"] = a.bed_out, j["preparation"] = spec.preparation, j["seed"] = spec.seed,
+    j["count"] = spec.count;
     fmt::print("{}\n", j.dump(2));
     return 0;
   }
   const BedStats& s = bed.stats;
-  fmt::print("wrote {} ({} bed, {} discs, seed {}, built in {:.1f} s)\n", a.bed_out, spec.preparation, spec.count,
-             spec.seed, s.build_seconds);
-  fmt::print("  packing fraction {:.4f}, coordination {:.2f}, top {:.2f} cm, roughness {:.3f} cm, "
-             "{} brinks, {} anti-brinks\n",
-             s.packing_fraction, s.coordination, s.top, s.roughness, s.brinks, s.anti_brinks);
+  fmt::print("wrote {} ({} bed, {} discs, seed {}, built in {:.1f} s)\n", a.bed_out, spec.preparation,
+             spec.count, spec.seed, s.build_seconds);
+  fmt::print(
+      "  packing fraction {:.4f}, coordination {:.2f}, top {:.2f} cm, roughness {:.3f} cm, "
+      "{} brinks, {} anti-brinks\n",
+      s.packing_fraction, s.coordination, s.top, s.roughness, s.brinks, s.anti_brinks);
   return 0;
 }
 
@@ -83,18 +91,21 @@ int impact_command(const ImpactCommands& a) {
   const std::vector<Bed> beds = beds_for(a, c, speak);
   ImpactOptions o;
   o.engine = a.engine;
+  o.steps_per_contact = a.steps_per_contact;
   if (a.engine != "native") {
     // An impulse engine must hold the bed at rest first, or its "ejecta" are the bed falling apart.
     const BedHold h = hold_bed(beds[0], a.engine, o.duration, o.rigid_dt);
     if (speak)
-      fmt::print(stderr, "grainlab impact: {} holding the bed alone for {} s: largest displacement {:.3g} cm, "
-                 "largest speed {:.3g} cm/s, kinetic energy {:.3g} erg\n", a.engine, o.duration,
-                 h.max_displacement, h.max_speed, h.kinetic_energy);
+      fmt::print(stderr,
+                 "grainlab impact: {} holding the bed alone for {} s: largest displacement {:.3g} cm, "
+                 "largest speed {:.3g} cm/s, kinetic energy {:.3g} erg\n",
+                 a.engine, o.duration, h.max_displacement, h.max_speed, h.kinetic_energy);
     check_bed_held(h, a.engine);
   }
   ProgressBar bar(speak, "impacts");
   if (speak)
-    fmt::print(stderr, "grainlab impact: CASE {} (v_i {} cm/s, alpha_i {} deg, mu {}, r_i {} cm), {} impacts on "
+    fmt::print(stderr,
+               "grainlab impact: CASE {} (v_i {} cm/s, alpha_i {} deg, mu {}, r_i {} cm), {} impacts on "
                "{} {} bed(s), engine {}{}\n",
                c.name, c.speed, c.alpha_deg, c.mu, c.radius, a.runs, beds.size(), c.bed, a.engine,
                parallel::size() > 1 ? fmt::format(", {} MPI ranks", parallel::size()) : "");
@@ -111,10 +122,16 @@ int impact_command(const ImpactCommands& a) {
   const ImpactSummary s = summarize_impacts(e.impacts, beds[0].spec.restitution);
   const auto thesis = thesis_impact_values(c.name);
   if (a.impact_json) {
-    nlohmann::json j{{"case", c.name}, {"engine", a.engine},      {"runs", a.runs},
-                     {"seed", a.seed}, {"rebounds", s.rebounds}, {"ejecta", s.ejecta},
-                     {"beds", beds.size()}, {"median_wall_seconds", s.median_wall_seconds},
-                     {"mean_steps", s.mean_steps}, {"ejecta_dropped", e.ejecta_dropped}};
+    nlohmann::json j{{"case", c.name},
+                     {"engine", a.engine},
+                     {"runs", a.runs},
+                     {"seed", a.seed},
+                     {"rebounds", s.rebounds},
+                     {"ejecta", s.ejecta},
+                     {"beds", beds.size()},
+                     {"median_wall_seconds", s.median_wall_seconds},
+                     {"mean_steps", s.mean_steps},
+                     {"ejecta_dropped", e.ejecta_dropped}};
     for (const auto& [k, m] : s.q) {
       j[k] = stat_json(m);
       if (thesis.count(k)) j[k]["thesis"] = {thesis.at(k).first, thesis.at(k).second};
@@ -122,14 +139,15 @@ int impact_command(const ImpactCommands& a) {
     fmt::print("{}\n", j.dump(2));
     return 0;
   }
-  fmt::print("CASE {}: {} impacts, {} rebounded, {} ejecta; median {:.2f} s per impact ({:.0f} steps)\n", c.name,
-             s.impacts, s.rebounds, s.ejecta, s.median_wall_seconds, s.mean_steps);
-  fmt::print("{:<16} {:>10} {:>20} {:>10} {:>16}\n", "quantity", "mean", "95 % interval", "sd", "thesis (spread)");
+  fmt::print("CASE {}: {} impacts, {} rebounded, {} ejecta; median {:.2f} s per impact ({:.0f} steps)\n",
+             c.name, s.impacts, s.rebounds, s.ejecta, s.median_wall_seconds, s.mean_steps);
+  fmt::print("{:<16} {:>10} {:>20} {:>10} {:>16}\n", "quantity", "mean", "95 % interval", "sd",
+             "thesis (spread)");
   for (const auto& [k, m] : s.q) {
     const std::string th =
         thesis.count(k) ? fmt::format("{:.3g} ({:.2g})", thesis.at(k).first, thesis.at(k).second) : "-";
-    fmt::print("{:<16} {:>10.4g} {:>20} {:>10.3g} {:>16}\n", k, m.mean, fmt::format("[{:.4g}, {:.4g}]", m.lo, m.hi),
-               m.sd, th);
+    fmt::print("{:<16} {:>10.4g} {:>20} {:>10.3g} {:>16}\n", k, m.mean,
+               fmt::format("[{:.4g}, {:.4g}]", m.lo, m.hi), m.sd, th);
   }
   return 0;
 }
@@ -137,7 +155,8 @@ int impact_command(const ImpactCommands& a) {
 int rebound_command(const ImpactCommands& a) {
   if (a.model_case != 1 && a.model_case != 2)
     throw InputError({"--case", 0}, std::to_string(a.model_case), "must be 1 or 2 (Table 3.10)");
-  if (!(a.alpha > 0 && a.alpha < 90)) throw InputError({"--alpha", 0}, fmt::format("{}", a.alpha), "must lie in (0, 90) degrees");
+  if (!(a.alpha > 0 && a.alpha < 90))
+    throw InputError({"--alpha", 0}, fmt::format("{}", a.alpha), "must lie in (0, 90) degrees");
   ReboundParams p = rebound_case(a.model_case, a.alpha);
   if (a.mass_ratio > 0) p.mass_ratio = a.mass_ratio;
   if (a.sigma >= -1) p.sigma = a.sigma;
@@ -145,24 +164,31 @@ int rebound_command(const ImpactCommands& a) {
     throw InputError({"--sigma", 0}, fmt::format("{}", a.sigma), "must lie in [-1, 1]");
   if (a.sigma > 1) throw InputError({"--sigma", 0}, fmt::format("{}", a.sigma), "must lie in [-1, 1]");
   if (a.gap < 0) throw InputError({"--gap", 0}, fmt::format("{}", a.gap), "must be >= 0");
-  if (!(a.radius_ratio > 0)) throw InputError({"--radius-ratio", 0}, fmt::format("{}", a.radius_ratio), "must be > 0");
+  if (!(a.radius_ratio > 0))
+    throw InputError({"--radius-ratio", 0}, fmt::format("{}", a.radius_ratio), "must be > 0");
   p.spin = a.spin, p.bed_gap = a.gap, p.radius_ratio = a.radius_ratio;
   const ReboundAverages r = rebound_model(p);
   if (a.model_json) {
-    fmt::print("{}\n", nlohmann::json{{"case", a.model_case},   {"alpha", a.alpha},
-                                      {"mass_ratio", p.mass_ratio}, {"sigma", p.sigma},
-                                      {"eps_ix", r.eps_ix},     {"eps_iy", r.eps_iy},
-                                      {"eps_i", r.eps_i},       {"theta_i", r.theta_i_deg},
-                                      {"beta", r.beta_deg},     {"nabbed_fraction", r.nabbed_fraction},
+    fmt::print("{}\n", nlohmann::json{{"case", a.model_case},
+                                      {"alpha", a.alpha},
+                                      {"mass_ratio", p.mass_ratio},
+                                      {"sigma", p.sigma},
+                                      {"eps_ix", r.eps_ix},
+                                      {"eps_iy", r.eps_iy},
+                                      {"eps_i", r.eps_i},
+                                      {"theta_i", r.theta_i_deg},
+                                      {"beta", r.beta_deg},
+                                      {"nabbed_fraction", r.nabbed_fraction},
                                       {"below_one_fraction", r.below_one_fraction}}
                            .dump(2));
     return 0;
   }
-  fmt::print("rebound model (thesis Appendix III.1), CASE {} of Table 3.10 at alpha_i = {} deg\n", a.model_case, a.alpha);
-  fmt::print("  m_i/m_beff {}, sigma {}, eps {}, kappa_beff {}, r_i/r_b {}, gap {} r_b, spin w r/v {}\n", p.mass_ratio,
-             p.sigma, p.restitution, p.kappa_beff, p.radius_ratio, p.bed_gap, p.spin);
-  fmt::print("  mean eps_ix {:.4f}, eps_iy {:.4f}, eps_i {:.4f}, theta_i {:.2f} deg, beta {:.2f} deg\n", r.eps_ix,
-             r.eps_iy, r.eps_i, r.theta_i_deg, r.beta_deg);
+  fmt::print("rebound model (thesis Appendix III.1), CASE {} of Table 3.10 at alpha_i = {} deg\n",
+             a.model_case, a.alpha);
+  fmt::print("  m_i/m_beff {}, sigma {}, eps {}, kappa_beff {}, r_i/r_b {}, gap {} r_b, spin w r/v {}\n",
+             p.mass_ratio, p.sigma, p.restitution, p.kappa_beff, p.radius_ratio, p.bed_gap, p.spin);
+  fmt::print("  mean eps_ix {:.4f}, eps_iy {:.4f}, eps_i {:.4f}, theta_i {:.2f} deg, beta {:.2f} deg\n",
+             r.eps_ix, r.eps_iy, r.eps_i, r.theta_i_deg, r.beta_deg);
   fmt::print("  nabbed {:.3f}, eps_iy < 1 in {:.3f} of impacts\n", r.nabbed_fraction, r.below_one_fraction);
   return 0;
 }
@@ -184,9 +210,13 @@ int splash_command(const ImpactCommands& a) {
     for (double v : o.speeds_cm_s)
       if (!(v > 0)) throw InputError({"--speeds", 0}, fmt::format("{}", v), "speeds must be positive (cm/s)");
     for (double v : o.angles_deg)
-      if (!(v > 0 && v < 90)) throw InputError({"--angles", 0}, fmt::format("{}", v), "angles must lie in (0, 90) degrees");
+      if (!(v > 0 && v < 90))
+        throw InputError({"--angles", 0}, fmt::format("{}", v), "angles must lie in (0, 90) degrees");
     ProgressBar bar(speak, "impacts");
-    if (speak) o.log = [&](const std::string& line) { bar.finish(), fmt::print(stderr, "grainlab splash: {}\n", line); };
+    if (speak)
+      o.log = [&](const std::string& line) {
+        bar.finish(), fmt::print(stderr, "grainlab splash: {}\n", line);
+      };
     o.progress = [&](std::size_t d, std::size_t t) { bar.update(double(d), double(t)); };
     f = measure_splash(o);
   }
@@ -197,24 +227,31 @@ int splash_command(const ImpactCommands& a) {
     nlohmann::json cells = nlohmann::json::array();
     for (const auto& c : back.cells) {
       nlohmann::json m;
-      for (const auto& [k, v] : c.moments) m[k] = {{"mean", v.mean}, {"sd", v.sd}, {"lo", v.lo}, {"hi", v.hi}};
-      cells.push_back({{"speed", c.speed}, {"angle", c.angle_deg}, {"impacts", c.impacts}, {"ejecta", c.ejecta.size()},
+      for (const auto& [k, v] : c.moments)
+        m[k] = {{"mean", v.mean}, {"sd", v.sd}, {"lo", v.lo}, {"hi", v.hi}};
+      cells.push_back({{"speed", c.speed},
+                       {"angle", c.angle_deg},
+                       {"impacts", c.impacts},
+                       {"ejecta", c.ejecta.size()},
                        {"moments", m}});
     }
-    fmt::print("{}\n", nlohmann::json{{"file", a.splash_out}, {"schema", back.text.at("schema")},
-                                      {"kind", back.text.at("kind")}, {"velocity_scale_cm_s", back.velocity_scale()},
-                                      {"grain_diameter_cm", back.grain_diameter_cm}, {"cells", cells}}
+    fmt::print("{}\n", nlohmann::json{{"file", a.splash_out},
+                                      {"schema", back.text.at("schema")},
+                                      {"kind", back.text.at("kind")},
+                                      {"velocity_scale_cm_s", back.velocity_scale()},
+                                      {"grain_diameter_cm", back.grain_diameter_cm},
+                                      {"cells", cells}}
                            .dump(2));
     return 0;
   }
-  fmt::print("wrote {} ({}, {} cells, velocity scale sqrt(g d) = {:.4g} cm/s)\n", a.splash_out, back.text.at("kind"),
-             back.cells.size(), back.velocity_scale());
-  fmt::print("{:>8} {:>6} {:>8} {:>10} {:>8} {:>12} {:>10}\n", "v/sqrt(gd)", "alpha", "impacts", "P(rebound)", "eps_iy",
-             "ejecta/imp", "ej v_y");
+  fmt::print("wrote {} ({}, {} cells, velocity scale sqrt(g d) = {:.4g} cm/s)\n", a.splash_out,
+             back.text.at("kind"), back.cells.size(), back.velocity_scale());
+  fmt::print("{:>8} {:>6} {:>8} {:>10} {:>8} {:>12} {:>10}\n", "v/sqrt(gd)", "alpha", "impacts", "P(rebound)",
+             "eps_iy", "ejecta/imp", "ej v_y");
   for (const auto& c : back.cells) {
     auto m = [&](const char* k) { return c.moments.count(k) ? c.moments.at(k).mean : std::nan(""); };
-    fmt::print("{:>8.3g} {:>6.0f} {:>8} {:>10.3g} {:>8.3g} {:>12.3g} {:>10.3g}\n", c.speed, c.angle_deg, c.impacts,
-               m("rebound_probability"), m("eps_iy"), m("ejecta_per_impact"), m("ejecta_vy"));
+    fmt::print("{:>8.3g} {:>6.0f} {:>8} {:>10.3g} {:>8.3g} {:>12.3g} {:>10.3g}\n", c.speed, c.angle_deg,
+               c.impacts, m("rebound_probability"), m("eps_iy"), m("ejecta_per_impact"), m("ejecta_vy"));
   }
   return 0;
 }
@@ -223,54 +260,74 @@ int splash_command(const ImpactCommands& a) {
 
 void ImpactCommands::add(CLI::App& app) {
   bed_cmd = app.add_subcommand("bed", "build a Ch. III impact bed (384 discs, loose or dense) as a run file");
-  bed_cmd->add_option("--preparation", preparation, "loose (poured with friction) or dense (poured frictionless)")
+  bed_cmd
+      ->add_option("--preparation", preparation,
+                   "loose (poured with friction) or dense (poured frictionless)")
       ->default_val("loose")
       ->check(CLI::IsMember({"loose", "dense"}));
   bed_cmd->add_option("--seed", bed_seed, "seed of the pour")->default_val(1);
   bed_cmd->add_flag("--periodic", periodic, "periodic in x (a floor, no side walls)");
   bed_cmd->add_flag("--unlevelled", unlevelled, "keep the poured surface (no scraping)");
-  bed_cmd->add_option("--width", width, "box width or period, cm")->default_val(67.3)->check(CLI::PositiveNumber);
+  bed_cmd->add_option("--width", width, "box width or period, cm")
+      ->default_val(67.3)
+      ->check(CLI::PositiveNumber);
   bed_cmd->add_option("--count", count, "discs")->default_val(384)->check(CLI::Range(1, 1000000));
   bed_cmd->add_option("--out,-o", bed_out, "the bed's run file (.h5 + .xmf)")->required();
   bed_cmd->add_flag("--force", bed_force, "overwrite an existing file");
   bed_cmd->add_flag("--json", bed_json, "print the bed's statistics as JSON");
 
-  impact_cmd = app.add_subcommand("impact", "impacts of one case of Table 3.1 on a bed; thesis Tables 3.2-3.9");
+  impact_cmd =
+      app.add_subcommand("impact", "impacts of one case of Table 3.1 on a bed; thesis Tables 3.2-3.9");
   impact_cmd->add_option("--case", case_name, "A..I")->required();
   impact_cmd->add_option("--engine", engine, "engine")->default_val("native");
-  impact_cmd->add_option("--runs", runs, "impacts (spread over MPI ranks)")->default_val(10)->check(CLI::Range(1, 100000));
+  impact_cmd->add_option("--runs", runs, "impacts (spread over MPI ranks)")
+      ->default_val(10)
+      ->check(CLI::Range(1, 100000));
   impact_cmd->add_option("--seed", seed, "seed: impact i draws its point from (seed, i)")->default_val(1);
-  impact_cmd->add_option("--bed", bed_files, "bed file from `grainlab bed` (repeatable; impact i uses bed i mod N)")
+  impact_cmd
+      ->add_option("--bed", bed_files, "bed file from `grainlab bed` (repeatable; impact i uses bed i mod N)")
       ->check(CLI::ExistingFile);
   impact_cmd->add_option("--beds", beds, "without --bed: build this many beds of the case's preparation")
       ->default_val(1)
       ->check(CLI::Range(1, 100));
+  impact_cmd
+      ->add_option("--steps-per-contact", steps_per_contact, "native: Verlet steps per shortest contact time")
+      ->default_val(30)
+      ->check(CLI::Range(5.0, 1000.0));
   impact_cmd->add_option("--record", record, "also write impact 0 as a run file (ParaView)");
   impact_cmd->add_flag("--force", force, "overwrite the --record file");
   impact_cmd->add_flag("--json", impact_json, "print one JSON object with every quantity");
   impact_cmd->add_flag("--quiet,-q", quiet, "no progress");
 
-  splash_cmd = app.add_subcommand("splash", "measure the splash function over incident speed and angle; write a "
-                                           "grainlab-splash/1 file for the saltation and ripple models");
+  splash_cmd = app.add_subcommand("splash",
+                                  "measure the splash function over incident speed and angle; write a "
+                                  "grainlab-splash/1 file for the saltation and ripple models");
   splash_cmd->add_option("--out,-o", splash_out, "the splash file (.h5)")->required();
   splash_cmd->add_flag("--quick", splash_quick, "2 impacts per cell on one bed (for CI)");
-  splash_cmd->add_option("--runs", splash_runs, "impacts per cell (default 100; quick 2)")->check(CLI::Range(1, 100000));
-  splash_cmd->add_option("--beds", splash_beds, "independent loose beds (default 3; quick 1)")->check(CLI::Range(1, 100));
+  splash_cmd->add_option("--runs", splash_runs, "impacts per cell (default 100; quick 2)")
+      ->check(CLI::Range(1, 100000));
+  splash_cmd->add_option("--beds", splash_beds, "independent loose beds (default 3; quick 1)")
+      ->check(CLI::Range(1, 100));
   splash_cmd->add_option("--seed", splash_seed, "seed of the impact points")->default_val(1);
   splash_cmd->add_option("--engine", splash_engine, "engine")->default_val("native");
-  splash_cmd->add_option("--speeds", splash_speeds, "incident speeds, cm/s (default 300 1000 2000 4000 8100)");
-  splash_cmd->add_option("--angles", splash_angles, "incident angles from the horizontal, deg (default 5 15 25 45 70)");
-  splash_cmd->add_flag("--sand-gun", sand_gun, "write the thesis's sand-gun measurements (Tables 3.11, 3.12) instead");
+  splash_cmd->add_option("--speeds", splash_speeds,
+                         "incident speeds, cm/s (default 300 1000 2000 4000 8100)");
+  splash_cmd->add_option("--angles", splash_angles,
+                         "incident angles from the horizontal, deg (default 5 15 25 45 70)");
+  splash_cmd->add_flag("--sand-gun", sand_gun,
+                       "write the thesis's sand-gun measurements (Tables 3.11, 3.12) instead");
   splash_cmd->add_flag("--force", splash_force, "overwrite an existing file");
   splash_cmd->add_flag("--json", splash_json, "print the cells' moments as JSON");
   splash_cmd->add_flag("--quiet,-q", splash_quiet, "no progress");
 
-  rebound_cmd = app.add_subcommand("rebound-model", "the thesis's rebound model (Appendix III.1, Table 3.10)");
+  rebound_cmd =
+      app.add_subcommand("rebound-model", "the thesis's rebound model (Appendix III.1, Table 3.10)");
   rebound_cmd->add_option("--case", model_case, "1 or 2 (Table 3.10)")->default_val(2);
   rebound_cmd->add_option("--alpha", alpha, "incident angle from the horizontal, degrees")->default_val(15);
   rebound_cmd->add_option("--mass-ratio", mass_ratio, "m_i / m_beff (default: the case's 0.5)");
   rebound_cmd->add_option("--sigma", sigma, "friction restitution in [-1, 1] (default: the case's)");
-  rebound_cmd->add_option("--spin", spin, "incident spin w_i r_i / v_i (counter-clockwise positive)")->default_val(0);
+  rebound_cmd->add_option("--spin", spin, "incident spin w_i r_i / v_i (counter-clockwise positive)")
+      ->default_val(0);
   rebound_cmd->add_option("--gap", gap, "gap between bed discs, in r_b")->default_val(0);
   rebound_cmd->add_option("--radius-ratio", radius_ratio, "r_i / r_b")->default_val(1);
   rebound_cmd->add_flag("--json", model_json, "print {eps_ix, eps_iy, theta_i, beta, nabbed_fraction, ...}");

@@ -20,6 +20,7 @@ struct ImpactCommands {
   std::string case_name, engine = "native", record;
   std::vector<std::string> bed_files;
   std::size_t runs = 10, beds = 1;
+  double steps_per_contact = 30;
   std::uint64_t seed = 1;
   bool impact_json = false, quiet = false, force = false;
   // grainlab rebound-model
@@ -29,7 +30,8 @@ struct ImpactCommands {
 
   // grainlab splash
   std::string splash_out;
-  bool splash_quick = false, sand_gun = false, splash_force = false, splash_json = false, splash_quiet = false;
+  bool splash_quick = false, sand_gun = false, splash_force = false, splash_json = false,
+       splash_quiet = false;
   std::size_t splash_runs = 0, splash_beds = 0;
   std::uint64_t splash_seed = 1;
   std::string splash_engine = "native";

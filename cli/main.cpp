@@ -12,6 +12,7 @@
 #include "die_model_command.hpp"
 #include "engine.hpp"
 #include "h5_input.hpp"
+#include "impact_benchmark.hpp"
 #include "impact_commands.hpp"
 #include "input_error.hpp"
 #include "parallel.hpp"
@@ -312,6 +313,16 @@ int main(int argc, char** argv) {
   bed_cmd->add_flag("--frictionless", bed.frictionless, "drop the friction effect (no shear history)");
   bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file");
   add_decomposition_options(bed_cmd, bed.balance_every, bed.ranks_y);
+  bench::ImpactBenchOptions impact_bench;
+  CLI::App* impact_bench_cmd = bench_cmd->add_subcommand(
+      "impact", "one Ch. III impact (384 discs, 0.07 s) on one core, beside the impulse engines");
+  impact_bench_cmd->add_option("--case", impact_bench.case_name, "A..I")->default_val("A");
+  impact_bench_cmd->add_option("--repeats", impact_bench.repeats, "timed repetitions (median reported)")
+      ->default_val(5)
+      ->check(CLI::Range(1, 100));
+  impact_bench_cmd->add_option("--peers", impact_bench.peers, "engines timed on the same impact")
+      ->default_str("ode bullet");
+  impact_bench_cmd->add_option("--json", impact_bench.json, "also write the result as JSON to this file");
 
   cli::ImpactCommands impacts;
   impacts.add(app);
@@ -335,6 +346,7 @@ int main(int argc, char** argv) {
     if (*inspect_cmd) return inspect_command(inspect_path);
     if (*die_cmd) return cli::die_model_command(die);
     if (*bed_cmd) return bench::run_bed_command(bed);
+    if (*impact_bench_cmd) return bench::run_impact_bench(impact_bench);
     if (const int status = impacts.dispatch(); status >= 0) return status;
   } catch (const InputError& e) {
     fmt::print(stderr, "grainlab: error: {}\n", e.what());

@@ -6,24 +6,14 @@
 #include <filesystem>
 #include <vector>
 
+#include "h5_handle.hpp"
 #include "input_error.hpp"
 
 namespace grainlab {
 
 namespace {
 
-// Closes an HDF5 handle when it goes out of scope.
-struct Handle {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  Handle(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  Handle(Handle&& o) noexcept : id(o.id), close(o.close) { o.id = -1; }
-  ~Handle() {
-    if (id >= 0) close(id);
-  }
-};
+using Handle = H5Handle;
 
 [[noreturn]] void corrupt(const std::string& path, const std::string& what) {
   throw InputError({path, 0}, "file", what);

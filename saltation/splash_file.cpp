@@ -11,6 +11,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "h5_handle.hpp"
 #include "input_error.hpp"
 
 namespace grainlab::saltation {
@@ -19,17 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Closes an HDF5 handle when it goes out of scope.
-struct Handle {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  Handle(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() {
-    if (id >= 0) close(id);
-  }
-};
+using Handle = H5Handle;
 
 const char* kReboundColumns = "impact,rebounded,vx,vy,spin";
 const char* kEjectaColumns = "impact,vx,vy,vx_launch,vy_launch,x0,y0,type";
@@ -57,8 +48,8 @@ void put_number(hid_t obj, const std::string& name, double value) {
 }
 
 // A rows x cols dataset of doubles (cols 0: a 1-D dataset of `rows`).
-void put_table(hid_t parent, const std::string& name, const std::vector<double>& data, hsize_t rows, hsize_t cols,
-               const std::string& columns) {
+void put_table(hid_t parent, const std::string& name, const std::vector<double>& data, hsize_t rows,
+               hsize_t cols, const std::string& columns) {
   const hsize_t dims[2] = {rows, cols};
   Handle space{H5Screate_simple(cols == 0 ? 1 : 2, dims, nullptr), H5Sclose};
   // One chunk with a Fletcher-32 checksum: a damaged byte is refused on reading, not read as data.
@@ -70,7 +61,8 @@ void put_table(hid_t parent, const std::string& name, const std::vector<double>&
   Handle d{H5Dcreate2(parent, name.c_str(), H5T_NATIVE_DOUBLE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT),
            H5Dclose};
   check(d.id, name);
-  if (!data.empty()) check(H5Dwrite(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), name);
+  if (!data.empty())
+    check(H5Dwrite(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), name);
   if (!columns.empty()) put_string(d.id, "columns", columns);
 }
 
@@ -82,7 +74,8 @@ std::vector<double> flatten(const std::vector<std::array<double, N>>& rows) {
 }
 
 void write_cell(hid_t cells, std::size_t k, const SplashCell& c) {
-  Handle g{H5Gcreate2(cells, fmt::format("{:04d}", k).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+  Handle g{H5Gcreate2(cells, fmt::format("{:04d}", k).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+           H5Gclose};
   check(g.id, "cell group");
   put_number(g.id, "speed", c.speed);
   put_number(g.id, "angle", c.angle_deg);
@@ -102,7 +95,9 @@ void write_cell(hid_t cells, std::size_t k, const SplashCell& c) {
 
 // ---- reading ----
 
-[[noreturn]] void bad(const std::string& path, const std::string& what) { throw InputError({path, 0}, "splash", what); }
+[[noreturn]] void bad(const std::string& path, const std::string& what) {
+  throw InputError({path, 0}, "splash", what);
+}
 
 std::string get_string(hid_t obj, const char* name) {
   if (H5Aexists(obj, name) <= 0) return {};
@@ -126,13 +121,15 @@ double get_number(hid_t obj, const char* name, const std::string& path, const st
 // Reads a dataset that must have `cols` columns (0: 1-D) and finite values.
 std::vector<double> get_table(hid_t parent, const std::string& name, hsize_t cols, const std::string& path,
                               const std::string& where, hsize_t& rows) {
-  if (H5Lexists(parent, name.c_str(), H5P_DEFAULT) <= 0) bad(path, fmt::format("{}/{} is missing", where, name));
+  if (H5Lexists(parent, name.c_str(), H5P_DEFAULT) <= 0)
+    bad(path, fmt::format("{}/{} is missing", where, name));
   Handle d{H5Dopen2(parent, name.c_str(), H5P_DEFAULT), H5Dclose};
   if (d.id < 0) bad(path, fmt::format("{}/{} cannot be opened", where, name));
   Handle space{H5Dget_space(d.id), H5Sclose};
   const int rank = H5Sget_simple_extent_ndims(space.id);
   hsize_t dims[2] = {0, 0};
-  if (rank != (cols == 0 ? 1 : 2)) bad(path, fmt::format("{}/{} has rank {}, expected {}", where, name, rank, cols == 0 ? 1 : 2));
+  if (rank != (cols == 0 ? 1 : 2))
+    bad(path, fmt::format("{}/{} has rank {}, expected {}", where, name, rank, cols == 0 ? 1 : 2));
   H5Sget_simple_extent_dims(space.id, dims, nullptr);
   if (cols != 0 && dims[1] != cols)
     bad(path, fmt::format("{}/{} has {} columns, expected {}", where, name, dims[1], cols));
@@ -148,7 +145,8 @@ std::vector<double> get_table(hid_t parent, const std::string& name, hsize_t col
 template <std::size_t N>
 std::vector<std::array<double, N>> unflatten(const std::vector<double>& flat) {
   std::vector<std::array<double, N>> out(flat.size() / N);
-  for (std::size_t i = 0; i < out.size(); ++i) std::copy_n(flat.begin() + static_cast<long>(i * N), N, out[i].begin());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    std::copy_n(flat.begin() + static_cast<long>(i * N), N, out[i].begin());
   return out;
 }
 
@@ -161,8 +159,8 @@ SplashCell read_cell(hid_t cells, const std::string& name, const std::string& pa
   c.angle_deg = get_number(g.id, "angle", path, where);
   const double impacts = get_number(g.id, "impacts", path, where);
   if (c.speed <= 0 || c.angle_deg <= 0 || c.angle_deg >= 90 || impacts < 0)
-    bad(path, fmt::format("{}: speed {} and angle {} deg must be positive (angle below 90), impacts >= 0", where,
-                          c.speed, c.angle_deg));
+    bad(path, fmt::format("{}: speed {} and angle {} deg must be positive (angle below 90), impacts >= 0",
+                          where, c.speed, c.angle_deg));
   c.impacts = static_cast<std::size_t>(impacts);
   hsize_t rows = 0;
   c.rebound = unflatten<5>(get_table(g.id, "rebound", 5, path, where, rows));
@@ -183,7 +181,8 @@ SplashCell read_cell(hid_t cells, const std::string& name, const std::string& pa
   }
   if (list.size() != rows)
     bad(path, fmt::format("{}/moments has {} rows but names {} moments", where, rows, list.size()));
-  for (std::size_t i = 0; i < rows; ++i) c.moments[list[i]] = {m[4 * i], m[4 * i + 1], m[4 * i + 2], m[4 * i + 3]};
+  for (std::size_t i = 0; i < rows; ++i)
+    c.moments[list[i]] = {m[4 * i], m[4 * i + 1], m[4 * i + 2], m[4 * i + 3]};
   return c;
 }
 
@@ -194,7 +193,9 @@ herr_t collect_name(hid_t, const char* name, const H5L_info_t*, void* data) {
 
 }  // namespace
 
-double SplashFile::velocity_scale() const { return std::sqrt(gravity_cm_s2 * grain_diameter_cm); }
+double SplashFile::velocity_scale() const {
+  return std::sqrt(gravity_cm_s2 * grain_diameter_cm);
+}
 
 const SplashCell& SplashFile::cell(std::size_t i, std::size_t j) const {
   if (i >= speeds.size() || j >= angles_deg.size()) throw std::out_of_range("splash cell outside the grid");
@@ -222,8 +223,8 @@ const SplashCell& SplashFile::nearest(double speed, double angle_deg) const {
 
 const std::vector<std::string>& splash_moment_names() {
   static const std::vector<std::string> names = {
-      "rebound_probability", "eps_ix",       "eps_iy",       "eps_i",       "theta_i",
-      "ejecta_per_impact",   "ejecta_vx",    "ejecta_vy",    "ejecta_speed", "ejecta_angle",
+      "rebound_probability",   "eps_ix",      "eps_iy",    "eps_i",        "theta_i",
+      "ejecta_per_impact",     "ejecta_vx",   "ejecta_vy", "ejecta_speed", "ejecta_angle",
       "reptation_per_ejectum", "energy_ratio"};
   return names;
 }
@@ -266,8 +267,9 @@ SplashFile read_splash_file(const std::string& path) {
   SplashFile f;
   const std::string schema = get_string(file.id, "schema");
   if (schema != kSplashSchema)
-    bad(path, fmt::format("has schema \"{}\", expected \"{}\" (not a grainlab splash file, or another version)",
-                          schema, kSplashSchema));
+    bad(path,
+        fmt::format("has schema \"{}\", expected \"{}\" (not a grainlab splash file, or another version)",
+                    schema, kSplashSchema));
   for (const char* k : {"schema", "layout", "kind", "title", "source", "engine", "grainlab_version", "seed",
                         "bed_preparation", "bed_scene", "created", "notes"})
     if (const std::string v = get_string(file.id, k); !v.empty()) f.text[k] = v;
@@ -296,9 +298,11 @@ SplashFile read_splash_file(const std::string& path) {
     for (std::size_t i = 0; i < f.speeds.size(); ++i)
       for (std::size_t j = 0; j < f.angles_deg.size(); ++j) {
         const SplashCell& c = f.cells[i * f.angles_deg.size() + j];
-        if (std::abs(c.speed - f.speeds[i]) > 1e-9 * f.speeds[i] || std::abs(c.angle_deg - f.angles_deg[j]) > 1e-9)
-          bad(path, fmt::format("cell {} sits at ({}, {}), not at grid point ({}, {})", i * f.angles_deg.size() + j,
-                                c.speed, c.angle_deg, f.speeds[i], f.angles_deg[j]));
+        if (std::abs(c.speed - f.speeds[i]) > 1e-9 * f.speeds[i] ||
+            std::abs(c.angle_deg - f.angles_deg[j]) > 1e-9)
+          bad(path,
+              fmt::format("cell {} sits at ({}, {}), not at grid point ({}, {})", i * f.angles_deg.size() + j,
+                          c.speed, c.angle_deg, f.speeds[i], f.angles_deg[j]));
       }
   }
   return f;
@@ -328,12 +332,14 @@ SplashFile sand_gun_splash() {
   f.grain_density = 2.65;
   f.text = {{"kind", "measured"},
             {"title", "sand-gun experiment, thesis Tables 3.11 and 3.12"},
-            {"source", "Werner (1987) Ch. III section 6: single grains shot onto a bed of coarse sand, strobe "
-                       "photographs at 400 Hz (a 2-D projection); digitized from the tables, not simulated"},
+            {"source",
+             "Werner (1987) Ch. III section 6: single grains shot onto a bed of coarse sand, strobe "
+             "photographs at 400 Hz (a 2-D projection); digitized from the tables, not simulated"},
             {"engine", "experiment"},
-            {"notes", "moments only: sd is the table's spread; lo/hi are mean -+ 1.96 sd / sqrt(events) where the "
-                      "table gives a spread, else the mean; velocities / sqrt(g d), reptation / d; row 3's energy "
-                      "ratio is OCR-damaged (0.36?)"}};
+            {"notes",
+             "moments only: sd is the table's spread; lo/hi are mean -+ 1.96 sd / sqrt(events) where the "
+             "table gives a spread, else the mean; velocities / sqrt(g d), reptation / d; row 3's energy "
+             "ratio is OCR-damaged (0.36?)"}};
   const double u = f.velocity_scale(), d = f.grain_diameter_cm;
   for (const Row& r : rows) {
     SplashCell c;

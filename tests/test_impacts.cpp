@@ -157,9 +157,10 @@ TEST(ImpactBed, NotABedOrDamagedFileIsRefused) {
   { std::ofstream(junk) << "not hdf5"; }
   EXPECT_THROW(read_bed(junk.string()), InputError);
   // A run file of an ordinary scene is a run file but not a bed.
-  const Outcome o = cli_test::grainlab("run " + std::string(GRAINLAB_SOURCE_DIR) + "/scenes/two_disc_collision.toml --quiet --out " +
-                                 (d.path / "run.h5").string(),
-                             d.path);
+  const Outcome o =
+      cli_test::grainlab("run " + std::string(GRAINLAB_SOURCE_DIR) +
+                             "/scenes/two_disc_collision.toml --quiet --out " + (d.path / "run.h5").string(),
+                         d.path);
   ASSERT_EQ(o.status, 0) << o.err;
   EXPECT_THROW(read_bed((d.path / "run.h5").string()), InputError);
   // Truncated bed files.
@@ -180,7 +181,8 @@ TEST(Impact, ReboundLosesEnergyAndIsReproducible) {
   const Bed& b = small_bed();
   ImpactOptions o;
   o.window = 0.2;
-  const ImpactResult r1 = run_impact(b, impact_case("A"), 3, 1, o), r2 = run_impact(b, impact_case("A"), 3, 1, o);
+  const ImpactResult r1 = run_impact(b, impact_case("A"), 3, 1, o),
+                     r2 = run_impact(b, impact_case("A"), 3, 1, o);
   ASSERT_TRUE(r1.rebounded);
   EXPECT_LT(std::hypot(r1.vx, r1.vy), 3000.0);
   EXPECT_GT(r1.vy, 0);
@@ -213,7 +215,9 @@ TEST(Impact, EjectaRiseAboveTheThresholdAndLeaveUpward) {
   EXPECT_GT(ejecta, 0u);  // 4000 cm/s at 15 deg always splashes
 }
 
-TEST(Impact, UnknownCaseIsAnInputError) { EXPECT_THROW(impact_case("Z"), InputError); }
+TEST(Impact, UnknownCaseIsAnInputError) {
+  EXPECT_THROW(impact_case("Z"), InputError);
+}
 
 TEST(ImpactCommands, BadInputExitsTwoAndNamesIt) {
   Dir d;

@@ -130,9 +130,10 @@ TEST(SplashFileFuzz, ForeignTruncatedAndDamagedFilesAreRefusedByName) {
   set_string_attribute(kind, "kind", "guessed");
   expect_refused(kind, "kind");
   // A run file is HDF5 but not a splash file.
-  const Outcome o = cli_test::grainlab("run " + std::string(GRAINLAB_SOURCE_DIR) + "/scenes/two_disc_collision.toml --quiet --out " +
-                                 (d.path / "run.h5").string(),
-                             d.path);
+  const Outcome o =
+      cli_test::grainlab("run " + std::string(GRAINLAB_SOURCE_DIR) +
+                             "/scenes/two_disc_collision.toml --quiet --out " + (d.path / "run.h5").string(),
+                         d.path);
   ASSERT_EQ(o.status, 0) << o.err;
   expect_refused(d.path / "run.h5", "schema");
 }
@@ -148,7 +149,8 @@ TEST(SplashFileFuzz, RandomByteFlipsNeverCrash) {
   int refused = 0;
   for (int k = 0; k < 200; ++k) {
     std::string s = bytes;
-    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e) s[rng() % s.size()] ^= static_cast<char>(1 + rng() % 255);
+    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e)
+      s[rng() % s.size()] ^= static_cast<char>(1 + rng() % 255);
     const fs::path m = d.path / "m.h5";
     std::ofstream(m, std::ios::binary) << s;
     try {

@@ -25,11 +25,12 @@ constexpr double kSoftening = 100;
 // Restitution while pouring: lower than the bed's so the pour comes to rest in about a second.
 constexpr double kPourRestitution = 0.3;
 
-double contact_time(double k, double m_eff) { return M_PI * std::sqrt(m_eff / k); }
+double contact_time(double k, double m_eff) {
+  return M_PI * std::sqrt(m_eff / k);
+}
 
 std::string walls_toml(const BedSpec& s, double wall_height) {
-  if (s.periodic)
-    return "[[walls]]\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n";
+  if (s.periodic) return "[[walls]]\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n";
   return fmt::format(
       "[[walls]]\nfrom = [0.0, 0.0]\nto = [{w:.17g}, 0.0]\n"
       "[[walls]]\nfrom = [0.0, {h:.17g}]\nto = [0.0, 0.0]\n"
@@ -51,8 +52,8 @@ std::string header_toml(const BedSpec& s, const std::string& name, double durati
       fmt::arg("tag", kBedTag), fmt::arg("prep", s.preparation), fmt::arg("seed", s.seed),
       fmt::arg("n", s.count), fmt::arg("w", s.width), fmt::arg("h", s.height),
       fmt::arg("per", s.periodic ? "true" : "false"), fmt::arg("r", s.radius), fmt::arg("rho", s.density),
-      fmt::arg("k", s.k_n), fmt::arg("e", s.restitution), fmt::arg("mu", s.mu), fmt::arg("lev", s.levelled ? "true" : "false"), fmt::arg("name", name),
-      fmt::arg("d", duration),
+      fmt::arg("k", s.k_n), fmt::arg("e", s.restitution), fmt::arg("mu", s.mu),
+      fmt::arg("lev", s.levelled ? "true" : "false"), fmt::arg("name", name), fmt::arg("d", duration),
       fmt::arg("periodic", s.periodic ? fmt::format("periodic_x = [0.0, {:.17g}]\n", s.width) : ""),
       fmt::arg("dt", contact_time(k_n, m / 2) / 30), fmt::arg("kn", k_n), fmt::arg("en", restitution),
       fmt::arg("mun", mu), fmt::arg("walls", walls_toml(s, wall_height)));
@@ -147,8 +148,8 @@ BedSpec parse_tag(const std::string& text, const std::string& path) {
   const auto at = text.find(kBedTag);
   if (at == std::string::npos)
     throw InputError({path, 0}, "scene_text", "is not a grainlab bed (its scene has no bed description)");
-  std::istringstream line(text.substr(at + std::string(kBedTag).size(),
-                                      text.find('\n', at) - at - std::string(kBedTag).size()));
+  std::istringstream line(
+      text.substr(at + std::string(kBedTag).size(), text.find('\n', at) - at - std::string(kBedTag).size()));
   BedSpec s;
   std::string item;
   while (line >> item) {
@@ -156,20 +157,33 @@ BedSpec parse_tag(const std::string& text, const std::string& path) {
     if (eq == std::string::npos) continue;
     const std::string k = item.substr(0, eq), v = item.substr(eq + 1);
     try {
-      if (k == "preparation") s.preparation = v;
-      else if (k == "seed") s.seed = std::stoull(v);
-      else if (k == "count") s.count = std::stoi(v);
-      else if (k == "width") s.width = std::stod(v);
-      else if (k == "height") s.height = std::stod(v);
-      else if (k == "periodic") s.periodic = v == "true";
-      else if (k == "radius") s.radius = std::stod(v);
-      else if (k == "density") s.density = std::stod(v);
-      else if (k == "k_n") s.k_n = std::stod(v);
-      else if (k == "restitution") s.restitution = std::stod(v);
-      else if (k == "mu") s.mu = std::stod(v);
-      else if (k == "levelled") s.levelled = v == "true";
+      if (k == "preparation")
+        s.preparation = v;
+      else if (k == "seed")
+        s.seed = std::stoull(v);
+      else if (k == "count")
+        s.count = std::stoi(v);
+      else if (k == "width")
+        s.width = std::stod(v);
+      else if (k == "height")
+        s.height = std::stod(v);
+      else if (k == "periodic")
+        s.periodic = v == "true";
+      else if (k == "radius")
+        s.radius = std::stod(v);
+      else if (k == "density")
+        s.density = std::stod(v);
+      else if (k == "k_n")
+        s.k_n = std::stod(v);
+      else if (k == "restitution")
+        s.restitution = std::stod(v);
+      else if (k == "mu")
+        s.mu = std::stod(v);
+      else if (k == "levelled")
+        s.levelled = v == "true";
     } catch (const std::exception&) {
-      throw InputError({path, 0}, "scene_text", fmt::format("bed description: {} is not a valid value", item));
+      throw InputError({path, 0}, "scene_text",
+                       fmt::format("bed description: {} is not a valid value", item));
     }
   }
   return s;
@@ -194,14 +208,16 @@ BedSurface bed_surface(const std::vector<BodySpec>& bodies, double xmin, double 
       const double x = xmin + (k + 0.5) * dx, u = r * r - (x - xc) * (x - xc);
       if (u < 0) continue;
       const double y = yc + std::sqrt(u);
-      if (y > h[static_cast<std::size_t>(k)]) h[static_cast<std::size_t>(k)] = y, who[static_cast<std::size_t>(k)] = static_cast<long>(i);
+      if (y > h[static_cast<std::size_t>(k)])
+        h[static_cast<std::size_t>(k)] = y, who[static_cast<std::size_t>(k)] = static_cast<long>(i);
     }
   }
   // Exposed: the highest disc over at least half a radius of x. A deeper disc glimpsed through the
   // narrow gap between two surface discs is not a surface grain (it would fake a brink).
   std::vector<int> share(bodies.size(), 0);
   for (int k = 0; k < n; ++k)
-    if (who[static_cast<std::size_t>(k)] >= 0) ++share[static_cast<std::size_t>(who[static_cast<std::size_t>(k)])];
+    if (who[static_cast<std::size_t>(k)] >= 0)
+      ++share[static_cast<std::size_t>(who[static_cast<std::size_t>(k)])];
   for (std::size_t i = 0; i < bodies.size(); ++i)
     if (share[i] * dx >= 0.5 * bodies[i].radius) s.grains.push_back(i);
   std::sort(s.grains.begin(), s.grains.end(),
@@ -282,7 +298,8 @@ BedStats measure_bed(const Scene& scene, const BedSpec& spec) {
       if (std::hypot(dx, b[i].position.y - b[j].position.y) < b[i].radius + b[j].radius + tol) contacts2 += 2;
     }
     if (b[i].position.y - b[i].radius < tol) ++contacts2;
-    if (!spec.periodic && (b[i].position.x - b[i].radius < tol || spec.width - b[i].position.x - b[i].radius < tol))
+    if (!spec.periodic &&
+        (b[i].position.x - b[i].radius < tol || spec.width - b[i].position.x - b[i].radius < tol))
       ++contacts2;
   }
   st.coordination = b.empty() ? 0 : static_cast<double>(contacts2) / b.size();
@@ -304,7 +321,9 @@ Bed build_bed(const BedSpec& spec, const std::function<void(const std::string&)>
   // pour frictionless, slide into near close packing, and get their friction back once at rest.
   const double pour_mu = spec.preparation == "loose" ? spec.mu : 0.0;
   const double pour_time = std::sqrt(2 * column_top / 981.0) + 1.5;
-  if (log) log(fmt::format("pouring {} discs ({} bed, seed {}, {:.2f} s simulated)", spec.count, spec.preparation, spec.seed, pour_time));
+  if (log)
+    log(fmt::format("pouring {} discs ({} bed, seed {}, {:.2f} s simulated)", spec.count, spec.preparation,
+                    spec.seed, pour_time));
   bodies = settle(header_toml(pour_spec, "pour", pour_time, spec.k_n / kSoftening, kPourRestitution, pour_mu,
                               column_top + 10) +
                       bodies_toml(bodies, spec.density),
@@ -319,10 +338,10 @@ Bed build_bed(const BedSpec& spec, const std::function<void(const std::string&)>
     for (std::size_t i = 0; i < bodies.size(); ++i) bodies[i].id = static_cast<std::int64_t>(i);
     if (log) log(fmt::format("levelled: the {} highest discs scraped off", pour_spec.count - spec.count));
     // Let the scraped surface settle before stiffening.
-    bodies = settle(header_toml(spec, "settle", 0.3, spec.k_n / kSoftening, kPourRestitution, pour_mu,
-                                column_top + 10) +
-                        bodies_toml(bodies, spec.density),
-                    spec.density);
+    bodies = settle(
+        header_toml(spec, "settle", 0.3, spec.k_n / kSoftening, kPourRestitution, pour_mu, column_top + 10) +
+            bodies_toml(bodies, spec.density),
+        spec.density);
     for (BodySpec& b : bodies) b.velocity = {}, b.spin = 0;
   }
   // Stiffen in ten steps of 10^0.2, critically damped: each step releases only ~(10^0.2)^2 times the

@@ -24,11 +24,11 @@ struct BedSpec {
 
 // The exposed grains of a bed, left to right, and its steps.
 struct BedSurface {
-  std::vector<std::size_t> grains;    // indices into the bodies, exposed from above, by x
-  std::vector<std::uint8_t> type;     // per body: 0 buried, 1 surface, 2 brink, 3 anti-brink
-  double top = 0;                     // "top of the bed": highest surface point in the middle 80 %
-  double roughness = 0;               // standard deviation of the exposed grains' tops (middle 80 %)
-  int brinks = 0, anti_brinks = 0;    // steps down / up (downstream = +x) of at least one radius
+  std::vector<std::size_t> grains;  // indices into the bodies, exposed from above, by x
+  std::vector<std::uint8_t> type;   // per body: 0 buried, 1 surface, 2 brink, 3 anti-brink
+  double top = 0;                   // "top of the bed": highest surface point in the middle 80 %
+  double roughness = 0;             // standard deviation of the exposed grains' tops (middle 80 %)
+  int brinks = 0, anti_brinks = 0;  // steps down / up (downstream = +x) of at least one radius
 };
 // Brinks: two consecutive exposed grains whose centres drop by at least r_b going downstream; the two
 // grains just upstream of the drop are brink grains (the thesis's definition). Anti-brinks mirror it:
@@ -40,7 +40,7 @@ struct BedStats {
   double coordination = 0;      // mean contacts per disc (all discs, walls counted)
   double depth = 0, top = 0, roughness = 0;
   int brinks = 0, anti_brinks = 0;
-  double kinetic_energy = 0;    // erg, when built (before velocities are zeroed)
+  double kinetic_energy = 0;  // erg, when built (before velocities are zeroed)
   double build_seconds = 0;
 };
 

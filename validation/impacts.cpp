@@ -20,7 +20,9 @@ namespace {
 constexpr double kDeg = M_PI / 180;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double wrap(double dx, const BedSpec& s) { return s.periodic ? dx - s.width * std::round(dx / s.width) : dx; }
+double wrap(double dx, const BedSpec& s) {
+  return s.periodic ? dx - s.width * std::round(dx / s.width) : dx;
+}
 
 struct Aim {
   Vec2 release, contact_normal;
@@ -52,7 +54,9 @@ Aim aim_at(const Bed& bed, double x_aim, double alpha, double ri, double gap) {
   return aim;
 }
 
-double contact_time(double k, double m1, double m2) { return M_PI * std::sqrt(m1 * m2 / (m1 + m2) / k); }
+double contact_time(double k, double m1, double m2) {
+  return M_PI * std::sqrt(m1 * m2 / (m1 + m2) / k);
+}
 
 // The scene of one impact: the bed at rest, the case's friction, the incident grain at `aim`.
 Scene impact_scene(const Bed& bed, const ImpactCase& c, const Aim& aim, const ImpactOptions& o) {
@@ -81,9 +85,11 @@ Scene impact_scene(const Bed& bed, const ImpactCase& c, const Aim& aim, const Im
 
 const std::vector<ImpactCase>& impact_cases() {
   static const std::vector<ImpactCase> cases = {
-      {"A", 3000, 15, 0.5, "loose", 1.0}, {"B", 3000, 25, 0.5, "loose", 1.0}, {"C", 3000, 70, 0.5, "loose", 1.0},
-      {"D", 3000, 15, 0.0, "loose", 1.0}, {"E", 1000, 15, 0.5, "loose", 1.0}, {"F", 4000, 15, 0.5, "loose", 1.0},
-      {"G", 3000, 15, 0.5, "dense", 1.0}, {"H", 6000, 15, 0.5, "loose", 0.5}, {"I", 8100, 15, 0.5, "loose", 0.5},
+      {"A", 3000, 15, 0.5, "loose", 1.0}, {"B", 3000, 25, 0.5, "loose", 1.0},
+      {"C", 3000, 70, 0.5, "loose", 1.0}, {"D", 3000, 15, 0.0, "loose", 1.0},
+      {"E", 1000, 15, 0.5, "loose", 1.0}, {"F", 4000, 15, 0.5, "loose", 1.0},
+      {"G", 3000, 15, 0.5, "dense", 1.0}, {"H", 6000, 15, 0.5, "loose", 0.5},
+      {"I", 8100, 15, 0.5, "loose", 0.5},
   };
   return cases;
 }
@@ -182,8 +188,9 @@ BedHold hold_bed(const Bed& bed, const std::string& engine, double duration, dou
   for (std::size_t i = 0; i < f.id.size(); ++i) {
     const BodySpec& b = s.bodies[i];
     const double vx = f.velocity[3 * i], vy = f.velocity[3 * i + 1];
-    h.max_displacement = std::max(h.max_displacement, std::hypot(wrap(f.position[3 * i] - b.position.x, bed.spec),
-                                                                 f.position[3 * i + 1] - b.position.y));
+    h.max_displacement = std::max(
+        h.max_displacement,
+        std::hypot(wrap(f.position[3 * i] - b.position.x, bed.spec), f.position[3 * i + 1] - b.position.y));
     h.max_speed = std::max(h.max_speed, std::hypot(vx, vy));
     h.kinetic_energy += 0.5 * b.mass * (vx * vx + vy * vy) + 0.5 * b.inertia * f.spin[i] * f.spin[i];
   }
@@ -192,11 +199,13 @@ BedHold hold_bed(const Bed& bed, const std::string& engine, double duration, dou
 
 void check_bed_held(const BedHold& h, const std::string& engine) {
   if (h.max_speed <= 1.0 && h.max_displacement <= 0.05) return;
-  throw InputError({"--engine", 0}, engine,
-                   fmt::format("cannot hold the impact bed at rest: alone for 0.07 s its discs move up to {:.3g} "
-                               "cm at up to {:.3g} cm/s (allowed 0.05 cm, more than any engine's contact skin, and 1 cm/s), so its impacts would "
-                               "measure the bed's own motion",
-                               h.max_displacement, h.max_speed));
+  throw InputError(
+      {"--engine", 0}, engine,
+      fmt::format("cannot hold the impact bed at rest: alone for 0.07 s its discs move up to {:.3g} "
+                  "cm at up to {:.3g} cm/s (allowed 0.05 cm, more than any engine's contact skin, and 1 "
+                  "cm/s), so its impacts would "
+                  "measure the bed's own motion",
+                  h.max_displacement, h.max_speed));
 }
 
 double effective_mass_two_body(double alpha_deg, double beta_deg, double eps_ix, double eps_iy,
@@ -254,15 +263,34 @@ std::vector<double> pack(const ImpactResult& r, std::size_t& dropped) {
   std::vector<double> row(kHead + kMaxEjecta * kPerEjectum, 0.0);
   const std::size_t n = std::min(kMaxEjecta, r.ejecta.size());
   dropped = r.ejecta.size() - n;
-  const double head[kHead] = {r.x_impact, r.y_impact, r.beta_deg, double(r.target), r.rebounded ? 1.0 : 0.0,
-                              r.vx, r.vy, r.spin, r.incident_speed, r.alpha_deg, r.incident_mass, r.bed_mass,
-                              r.incident_radius, r.bed_kinetic_before, r.steps, r.wall_seconds, r.top,
-                              double(n), double(dropped), 0.0};
+  const double head[kHead] = {r.x_impact,
+                              r.y_impact,
+                              r.beta_deg,
+                              double(r.target),
+                              r.rebounded ? 1.0 : 0.0,
+                              r.vx,
+                              r.vy,
+                              r.spin,
+                              r.incident_speed,
+                              r.alpha_deg,
+                              r.incident_mass,
+                              r.bed_mass,
+                              r.incident_radius,
+                              r.bed_kinetic_before,
+                              r.steps,
+                              r.wall_seconds,
+                              r.top,
+                              double(n),
+                              double(dropped),
+                              0.0};
   std::copy(head, head + kHead, row.begin());
   for (std::size_t k = 0; k < n; ++k) {
     const Ejectum& e = r.ejecta[k];
-    const double v[kPerEjectum] = {double(e.id), double(static_cast<int>(e.type)), e.x0, e.y0, e.vx, e.vy,
-                                   e.vx_launch, e.vy_launch, e.time, 0.0};
+    const double v[kPerEjectum] = {double(e.id), double(static_cast<int>(e.type)),
+                                   e.x0,         e.y0,
+                                   e.vx,         e.vy,
+                                   e.vx_launch,  e.vy_launch,
+                                   e.time,       0.0};
     std::copy(v, v + kPerEjectum, row.begin() + static_cast<long>(kHead + k * kPerEjectum));
   }
   return row;
@@ -313,10 +341,14 @@ namespace {
 
 const char* type_name(GrainType t) {
   switch (t) {
-    case GrainType::Target: return "target";
-    case GrainType::Brink: return "brink";
-    case GrainType::AntiBrink: return "antibrink";
-    default: return "other";
+    case GrainType::Target:
+      return "target";
+    case GrainType::Brink:
+      return "brink";
+    case GrainType::AntiBrink:
+      return "antibrink";
+    default:
+      return "other";
   }
 }
 
@@ -333,8 +365,8 @@ double mass_of_means(const std::vector<const ImpactResult*>& rs, double restitut
   }
   const double n = static_cast<double>(rs.size());
   const ImpactResult& first = *rs.front();
-  return effective_mass_two_body(first.alpha_deg, beta / n, ix / n, iy / n, restitution) * first.incident_mass /
-         first.bed_mass;
+  return effective_mass_two_body(first.alpha_deg, beta / n, ix / n, iy / n, restitution) *
+         first.incident_mass / first.bed_mass;
 }
 
 }  // namespace
@@ -372,6 +404,43 @@ MeanInterval effective_mass_of_means(const std::vector<ImpactResult>& results, d
   return m;
 }
 
+MeanInterval effective_mass_difference(const std::vector<ImpactResult>& a, const std::vector<ImpactResult>& b,
+                                       double restitution) {
+  // Impact i of two cases with the same seed hits the same point: resampling i jointly keeps that pairing,
+  // so the bed's roughness, common to both, drops out of the comparison.
+  std::vector<std::size_t> both;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    if (a[i].rebounded && b[i].rebounded) both.push_back(i);
+  MeanInterval m;
+  m.n = both.size();
+  auto diff = [&](const std::vector<std::size_t>& idx) {
+    std::vector<const ImpactResult*> ra, rb;
+    for (std::size_t i : idx) ra.push_back(&a[i]), rb.push_back(&b[i]);
+    return mass_of_means(ra, restitution) - mass_of_means(rb, restitution);
+  };
+  if (both.size() < 2) {
+    m.mean = m.sd = m.lo = m.hi = kNaN;
+    return m;
+  }
+  m.mean = diff(both);
+  Rng rng(20261124, 0);
+  std::vector<double> boot;
+  std::vector<std::size_t> idx(both.size());
+  for (int k = 0; k < 1000; ++k) {
+    for (auto& x : idx) x = both[static_cast<std::size_t>(rng.uniform() * both.size())];
+    const double v = diff(idx);
+    if (std::isfinite(v)) boot.push_back(v);
+  }
+  std::sort(boot.begin(), boot.end());
+  if (boot.size() < 500) {
+    m.sd = m.lo = m.hi = kNaN;
+    return m;
+  }
+  m.sd = mean_interval(boot).sd;
+  m.lo = boot[boot.size() * 25 / 1000], m.hi = boot[boot.size() * 975 / 1000];
+  return m;
+}
+
 ImpactSummary summarize_impacts(const std::vector<ImpactResult>& results, double restitution) {
   std::map<std::string, std::vector<double>> v;
   ImpactSummary s;
@@ -379,14 +448,14 @@ ImpactSummary summarize_impacts(const std::vector<ImpactResult>& results, double
   for (const ImpactResult& r : results) {
     const ImpactMeasures m = measure_impact(r, restitution);
     const std::pair<const char*, double> per_impact[] = {
-        {"eps_ix", m.eps_ix},   {"eps_iy", m.eps_iy},       {"eps_i", m.eps_i},     {"theta_i", m.theta_i},
-        {"xi_i", m.xi_i},       {"beta", m.beta},           {"eps_bx", m.eps_bx},   {"eps_by", m.eps_by},
-        {"theta_b", m.theta_b}, {"m_beff", m.m_beff},       {"ejected", m.ejected}, {"reptation", m.reptation},
-        {"ej_px", m.ej_px},     {"ej_py", m.ej_py},         {"ej_energy", m.ej_energy},
-        {"rebounded", m.rebounded}};
+        {"eps_ix", m.eps_ix},   {"eps_iy", m.eps_iy}, {"eps_i", m.eps_i},         {"theta_i", m.theta_i},
+        {"xi_i", m.xi_i},       {"beta", m.beta},     {"eps_bx", m.eps_bx},       {"eps_by", m.eps_by},
+        {"theta_b", m.theta_b}, {"m_beff", m.m_beff}, {"ejected", m.ejected},     {"reptation", m.reptation},
+        {"ej_px", m.ej_px},     {"ej_py", m.ej_py},   {"ej_energy", m.ej_energy}, {"rebounded", m.rebounded}};
     for (const auto& [k, x] : per_impact) v[k].push_back(x);
     const double p_in = r.incident_mass * r.incident_speed * std::cos(r.alpha_deg * kDeg);
-    std::map<std::string, double> pex = {{"target", 0}, {"brink", 0}, {"antibrink", 0}, {"other", 0}}, rep = pex;
+    std::map<std::string, double> pex = {{"target", 0}, {"brink", 0}, {"antibrink", 0}, {"other", 0}},
+                                  rep = pex;
     for (const Ejectum& e : r.ejecta) {
       const std::string t = type_name(e.type);
       const double angle = std::atan2(e.vx, e.vy) / kDeg;
@@ -426,24 +495,60 @@ std::map<std::string, std::pair<double, double>> thesis_impact_values(const std:
     double t32[12], t33[8], t34[10], t35[4], t39[6];
   };
   static const Row rows[] = {
-      {"A", {.59, .08, 1.12, .29, .65, .04, 62, 9, .85, .18, 17, 5}, {.41, .08, 2.12, .29, 54, 2, 1.9, .3},
-       {185, 90, 160, 30, 17, 20, 120, 85, 6, 2}, {2100, 1100, 5900, 1500}, {3.4, 4.4, -1.3, .7, 4.4, 3.7}},
-      {"B", {.53, .16, .68, .22, .58, .10, 57, 16, .88, .31, 16, 12}, {.47, .16, 1.68, .22, 60, 5, 1.9, .3},
-       {180, 85, 165, 85, 9, 25, 55, 35, 7, 2}, {1300, 800, 7400, 2600}, {3.1, 4.6, -1.4, .8, 4.6, 3.4}},
-      {"C", {.54, .64, .25, .07, .37, .07, 30, 37, .85, .72, -4, 19}, {.46, .64, 1.25, .07, 83, 10, 2.3, .2},
-       {185, 125, 175, 125, 8, 20, 65, 100, 8, 2}, {1200, 1300, 8200, 1300}, {-2.1, 6.9, -1.2, .8, 5.5, 4.9}},
-      {"D", {.85, .07, 1.07, .32, .87, .04, 71, 7, 0, 0, 17, 5}, {.15, .07, 2.08, .32, 75, 5, 1.3, .2},
-       {150, 95, 135, 85, 14, 25, 105, 100, 8, 4}, {2000, 1100, 6400, 3300}, {.9, 10.1, -1.1, .7, 7.5, 6.9}},
-      {"E", {.60, .11, 1.06, .39, .66, .05, 64, 12, .82, .23, 13, 9}, {.40, .11, 2.06, .39, 55, 3, 2.2, .3},
-       {110, 40, 110, 45, 15, 15, 2, 3, .4, .5}, {50, 85, 270, 390}, {1.3, 2.0, -1.0, .01, 1.8, 1.7}},
-      {"F", {.55, .06, 1.26, .21, .63, .03, 58, 7, .87, .18, 18, 10}, {.45, .06, 2.26, .25, 54, 2, 1.8, .3},
-       {215, 130, 195, 115, 10, 20, 250, 180, 9, 2}, {2800, 1500, 11300, 1500}, {2.5, 5.7, -1.4, .9, 5.2, 3.8}},
-      {"G", {.67, .14, .85, .46, .70, .08, 70, 14, .74, .26, 7, 9}, {.33, .14, 1.85, .46, 57, 4, 2.0, .3},
-       {120, 60, 100, 50, 8, 30, 45, 65, 7, 4}, {950, 1100, 4700, 2900}, {6.2, 13.0, -1.1, .7, 8.5, 11.3}},
-      {"H", {.53, .25, 1.39, .78, .69, .08, 53, 26, 1.14, .58, 16, 13}, {.47, .25, 2.39, .78, 44, 13, NAN, NAN},
-       {160, 95, 155, 95, 2, 14, 4, 50, 2, 2}, {110, 690, 2240, 2000}, {1.8, 2.4, -1.2, .6, 2.7, 1.8}},
-      {"I", {.47, .09, 1.66, .32, .63, .01, 46, 11, 1.28, .14, 21, 5}, {.53, .09, 2.66, .32, 53, 1, NAN, NAN},
-       {190, 130, 175, 130, 9, 25, 80, 90, 6, 3}, {1100, 200, 6600, 2200}, {3.3, 5.1, -1.2, .7, 4.6, 4.1}},
+      {"A",
+       {.59, .08, 1.12, .29, .65, .04, 62, 9, .85, .18, 17, 5},
+       {.41, .08, 2.12, .29, 54, 2, 1.9, .3},
+       {185, 90, 160, 30, 17, 20, 120, 85, 6, 2},
+       {2100, 1100, 5900, 1500},
+       {3.4, 4.4, -1.3, .7, 4.4, 3.7}},
+      {"B",
+       {.53, .16, .68, .22, .58, .10, 57, 16, .88, .31, 16, 12},
+       {.47, .16, 1.68, .22, 60, 5, 1.9, .3},
+       {180, 85, 165, 85, 9, 25, 55, 35, 7, 2},
+       {1300, 800, 7400, 2600},
+       {3.1, 4.6, -1.4, .8, 4.6, 3.4}},
+      {"C",
+       {.54, .64, .25, .07, .37, .07, 30, 37, .85, .72, -4, 19},
+       {.46, .64, 1.25, .07, 83, 10, 2.3, .2},
+       {185, 125, 175, 125, 8, 20, 65, 100, 8, 2},
+       {1200, 1300, 8200, 1300},
+       {-2.1, 6.9, -1.2, .8, 5.5, 4.9}},
+      {"D",
+       {.85, .07, 1.07, .32, .87, .04, 71, 7, 0, 0, 17, 5},
+       {.15, .07, 2.08, .32, 75, 5, 1.3, .2},
+       {150, 95, 135, 85, 14, 25, 105, 100, 8, 4},
+       {2000, 1100, 6400, 3300},
+       {.9, 10.1, -1.1, .7, 7.5, 6.9}},
+      {"E",
+       {.60, .11, 1.06, .39, .66, .05, 64, 12, .82, .23, 13, 9},
+       {.40, .11, 2.06, .39, 55, 3, 2.2, .3},
+       {110, 40, 110, 45, 15, 15, 2, 3, .4, .5},
+       {50, 85, 270, 390},
+       {1.3, 2.0, -1.0, .01, 1.8, 1.7}},
+      {"F",
+       {.55, .06, 1.26, .21, .63, .03, 58, 7, .87, .18, 18, 10},
+       {.45, .06, 2.26, .25, 54, 2, 1.8, .3},
+       {215, 130, 195, 115, 10, 20, 250, 180, 9, 2},
+       {2800, 1500, 11300, 1500},
+       {2.5, 5.7, -1.4, .9, 5.2, 3.8}},
+      {"G",
+       {.67, .14, .85, .46, .70, .08, 70, 14, .74, .26, 7, 9},
+       {.33, .14, 1.85, .46, 57, 4, 2.0, .3},
+       {120, 60, 100, 50, 8, 30, 45, 65, 7, 4},
+       {950, 1100, 4700, 2900},
+       {6.2, 13.0, -1.1, .7, 8.5, 11.3}},
+      {"H",
+       {.53, .25, 1.39, .78, .69, .08, 53, 26, 1.14, .58, 16, 13},
+       {.47, .25, 2.39, .78, 44, 13, NAN, NAN},
+       {160, 95, 155, 95, 2, 14, 4, 50, 2, 2},
+       {110, 690, 2240, 2000},
+       {1.8, 2.4, -1.2, .6, 2.7, 1.8}},
+      {"I",
+       {.47, .09, 1.66, .32, .63, .01, 46, 11, 1.28, .14, 21, 5},
+       {.53, .09, 2.66, .32, 53, 1, NAN, NAN},
+       {190, 130, 175, 130, 9, 25, 80, 90, 6, 3},
+       {1100, 200, 6600, 2200},
+       {3.3, 5.1, -1.2, .7, 4.6, 4.1}},
   };
   std::map<std::string, std::pair<double, double>> out;
   for (const Row& r : rows) {
@@ -471,7 +576,8 @@ std::map<std::string, std::pair<double, double>> thesis_impact_values(const std:
       {"A", {13, 54, 96, 74, 12, 27}}, {"B", {-5, 14, 48, 49, 13, 35}}, {"C", {-1, 21, 51, 65, 15, 31}}};
   if (const auto it = t38.find(c); it != t38.end()) {
     const char* types[] = {"target", "brink", "other"};
-    for (int k = 0; k < 3; ++k) out[std::string("reptation_") + types[k]] = {it->second[2 * k], it->second[2 * k + 1]};
+    for (int k = 0; k < 3; ++k)
+      out[std::string("reptation_") + types[k]] = {it->second[2 * k], it->second[2 * k + 1]};
   }
   if (const auto it = t37.find(c); it != t37.end()) {
     const auto& x = it->second;

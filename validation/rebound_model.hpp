@@ -9,16 +9,16 @@
 namespace grainlab::validation {
 
 struct ReboundParams {
-  double alpha_deg = 15;          // incident angle below the horizontal
-  double radius_ratio = 1;        // r_i / r_b
-  double mass_ratio = 0.5;        // m_i / m_beff
-  double bed_gap = 0;             // Delta_b / r_b: surface gap between neighbouring bed discs
-  double spin = 0;                // w_i r_i / v_i (counter-clockwise positive, as in eq. 3.A.1)
-  double kappa_i = 0.5;           // I_i / (m_i r_i^2)
-  double kappa_beff = 0.5;        // I_b / (m_beff r_b^2), see c1 below
-  double restitution = 0.6;       // eps, the two-body normal restitution
-  double sigma = 1;               // friction restitution: slip after = sigma x slip before
-  int impact_points = 20000;      // quadrature points across one bed period
+  double alpha_deg = 15;      // incident angle below the horizontal
+  double radius_ratio = 1;    // r_i / r_b
+  double mass_ratio = 0.5;    // m_i / m_beff
+  double bed_gap = 0;         // Delta_b / r_b: surface gap between neighbouring bed discs
+  double spin = 0;            // w_i r_i / v_i (counter-clockwise positive, as in eq. 3.A.1)
+  double kappa_i = 0.5;       // I_i / (m_i r_i^2)
+  double kappa_beff = 0.5;    // I_b / (m_beff r_b^2), see c1 below
+  double restitution = 0.6;   // eps, the two-body normal restitution
+  double sigma = 1;           // friction restitution: slip after = sigma x slip before
+  int impact_points = 20000;  // quadrature points across one bed period
 };
 
 // Table 3.10's two parameter sets (CASE 2 stands for the simulations).
@@ -41,7 +41,7 @@ struct ReboundAverages {
   double theta_i_deg = 0;                    // mean rebound angle from the vertical, rebounds only
   double beta_deg = 0;                       // mean first-contact angle
   double nabbed_fraction = 0;
-  double below_one_fraction = 0;             // share of impacts with eps_iy < 1
+  double below_one_fraction = 0;  // share of impacts with eps_iy < 1
   std::vector<ReboundSample> samples;
 };
 

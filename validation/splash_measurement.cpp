@@ -13,7 +13,9 @@ namespace {
 
 constexpr double kDeg = M_PI / 180;
 
-saltation::SplashMoment moment(const MeanInterval& m) { return {m.mean, m.sd, m.lo, m.hi}; }
+saltation::SplashMoment moment(const MeanInterval& m) {
+  return {m.mean, m.sd, m.lo, m.hi};
+}
 
 saltation::SplashCell make_cell(const std::vector<ImpactResult>& impacts, double speed_cm_s, double angle,
                                 double u, double d, double g) {
@@ -29,7 +31,8 @@ saltation::SplashCell make_cell(const std::vector<ImpactResult>& impacts, double
                          r.rebounded ? r.vy / u : 0.0, r.rebounded ? spin : 0.0});
     if (r.rebounded) {
       ++rebounds;
-      ix.push_back(r.vx / vx_in), iy.push_back(r.vy / vy_in), ie.push_back(std::hypot(r.vx, r.vy) / speed_cm_s);
+      ix.push_back(r.vx / vx_in), iy.push_back(r.vy / vy_in),
+          ie.push_back(std::hypot(r.vx, r.vy) / speed_cm_s);
       th.push_back(std::atan2(r.vx, r.vy) / kDeg);
     }
     count.push_back(double(r.ejecta.size()));
@@ -44,10 +47,16 @@ saltation::SplashCell make_cell(const std::vector<ImpactResult>& impacts, double
   }
   const Proportion p = wilson_interval(rebounds, impacts.size());
   c.moments["rebound_probability"] = {p.p, std::sqrt(p.p * (1 - p.p)), p.lo, p.hi};
-  const std::pair<const char*, const std::vector<double>*> stats[] = {
-      {"eps_ix", &ix},       {"eps_iy", &iy},       {"eps_i", &ie},         {"theta_i", &th},
-      {"ejecta_per_impact", &count}, {"ejecta_vx", &evx}, {"ejecta_vy", &evy}, {"ejecta_speed", &esp},
-      {"ejecta_angle", &ean}, {"reptation_per_ejectum", &rep}};
+  const std::pair<const char*, const std::vector<double>*> stats[] = {{"eps_ix", &ix},
+                                                                      {"eps_iy", &iy},
+                                                                      {"eps_i", &ie},
+                                                                      {"theta_i", &th},
+                                                                      {"ejecta_per_impact", &count},
+                                                                      {"ejecta_vx", &evx},
+                                                                      {"ejecta_vy", &evy},
+                                                                      {"ejecta_speed", &esp},
+                                                                      {"ejecta_angle", &ean},
+                                                                      {"reptation_per_ejectum", &rep}};
   for (const auto& [name, v] : stats)
     if (!v->empty()) c.moments[name] = moment(mean_interval(*v));
   return c;
@@ -75,8 +84,9 @@ saltation::SplashFile measure_splash(const SplashOptions& o) {
   const double u = f.velocity_scale(), d = f.grain_diameter_cm;
   f.text = {{"kind", "simulated"},
             {"title", "splash function of grainlab's 2-D loose impact beds (thesis Ch. III set-up)"},
-            {"source", "grainlab splash: impacts of an r_b grain (no spin, mu 0.5) on 384-disc loose beds, "
-                       "followed 0.07 s; ejecta counted when their centre rises one diameter above the top"},
+            {"source",
+             "grainlab splash: impacts of an r_b grain (no spin, mu 0.5) on 384-disc loose beds, "
+             "followed 0.07 s; ejecta counted when their centre rises one diameter above the top"},
             {"engine", o.engine},
             {"grainlab_version", GRAINLAB_VERSION},
             {"seed", std::to_string(o.seed)},

@@ -30,7 +30,8 @@ const std::vector<Suite>& suites() {
        "restitution 0 and 1, grazing impacts, a grain into a bed at 8100 cm/s, adaptive step underflow",
        run_stability_suite},
       {"impacts",
-       "the thesis's grain-bed impacts (Tables 3.1-3.9) with intervals on loose and dense beds, its statements as "
+       "the thesis's grain-bed impacts (Tables 3.1-3.9) with intervals on loose and dense beds, its "
+       "statements as "
        "checks, the rebound model (Appendix III.1), and the impulse engines that can hold the bed",
        run_impacts_suite},
   };
