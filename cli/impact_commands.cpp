@@ -212,6 +212,18 @@ int splash_command(const ImpactCommands& a) {
     for (double v : o.angles_deg)
       if (!(v > 0 && v < 90))
         throw InputError({"--angles", 0}, fmt::format("{}", v), "angles must lie in (0, 90) degrees");
+    saltation::SplashFile resume;
+    if (!a.splash_restart.empty()) {
+      resume = saltation::read_splash_file(a.splash_restart, true);
+      o.resume = &resume;
+    }
+    const std::string checkpoint =
+        a.splash_checkpoint.empty() ? a.splash_out + ".checkpoint.h5" : a.splash_checkpoint;
+    if (parallel::rank() == 0)
+      o.checkpoint = [&](const saltation::SplashFile& partial) {
+        saltation::write_splash_file(checkpoint, partial, true);
+      };
+    o.stop_after_cells = a.splash_stop_after;
     ProgressBar bar(speak, "impacts");
     if (speak)
       o.log = [&](const std::string& line) {
@@ -221,7 +233,19 @@ int splash_command(const ImpactCommands& a) {
     f = measure_splash(o);
   }
   if (parallel::rank() != 0) return 0;
+  if (f.text.count("complete")) {
+    if (!a.splash_quiet)
+      fmt::print(stderr, "grainlab splash: stopped after {} cells as asked; continue with --restart {}\n",
+                 f.cells.size(),
+                 a.splash_checkpoint.empty() ? a.splash_out + ".checkpoint.h5" : a.splash_checkpoint);
+    return 0;
+  }
   saltation::write_splash_file(a.splash_out, f, a.splash_force);
+  if (!a.sand_gun) {  // finished: the checkpoint is no longer needed
+    const std::string checkpoint =
+        a.splash_checkpoint.empty() ? a.splash_out + ".checkpoint.h5" : a.splash_checkpoint;
+    if (checkpoint != a.splash_restart) fs::remove(checkpoint);
+  }
   const saltation::SplashFile back = saltation::read_splash_file(a.splash_out);  // what a model will read
   if (a.splash_json) {
     nlohmann::json cells = nlohmann::json::array();
@@ -314,6 +338,12 @@ void ImpactCommands::add(CLI::App& app) {
                          "incident speeds, cm/s (default 300 1000 2000 4000 8100)");
   splash_cmd->add_option("--angles", splash_angles,
                          "incident angles from the horizontal, deg (default 5 15 25 45 70)");
+  splash_cmd->add_option("--checkpoint", splash_checkpoint,
+                         "checkpoint after every cell (default OUT.checkpoint.h5)");
+  splash_cmd->add_option("--restart", splash_restart, "continue from a checkpoint")->check(CLI::ExistingFile);
+  splash_cmd
+      ->add_option("--stop-after-cells", splash_stop_after, "stop unfinished after N cells (then --restart)")
+      ->check(CLI::NonNegativeNumber);
   splash_cmd->add_flag("--sand-gun", sand_gun,
                        "write the thesis's sand-gun measurements (Tables 3.11, 3.12) instead");
   splash_cmd->add_flag("--force", splash_force, "overwrite an existing file");

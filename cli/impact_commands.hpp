@@ -34,7 +34,8 @@ struct ImpactCommands {
        splash_quiet = false;
   std::size_t splash_runs = 0, splash_beds = 0;
   std::uint64_t splash_seed = 1;
-  std::string splash_engine = "native";
+  std::string splash_engine = "native", splash_checkpoint, splash_restart;
+  std::size_t splash_stop_after = 0;
   std::vector<double> splash_speeds, splash_angles;
 
   CLI::App *bed_cmd = nullptr, *impact_cmd = nullptr, *rebound_cmd = nullptr, *splash_cmd = nullptr;

@@ -258,7 +258,7 @@ void write_splash_file(const std::string& path, const SplashFile& f, bool overwr
   fs::rename(tmp, path);
 }
 
-SplashFile read_splash_file(const std::string& path) {
+SplashFile read_splash_file(const std::string& path, bool allow_partial) {
   if (!fs::exists(path)) throw InputError({path, 0}, "splash", "does not exist");
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   if (H5Fis_hdf5(path.c_str()) <= 0) bad(path, "is not an HDF5 file (or its header is damaged)");
@@ -270,8 +270,9 @@ SplashFile read_splash_file(const std::string& path) {
     bad(path,
         fmt::format("has schema \"{}\", expected \"{}\" (not a grainlab splash file, or another version)",
                     schema, kSplashSchema));
-  for (const char* k : {"schema", "layout", "kind", "title", "source", "engine", "grainlab_version", "seed",
-                        "bed_preparation", "bed_scene", "created", "notes"})
+  for (const char* k :
+       {"schema", "layout", "kind", "title", "source", "engine", "grainlab_version", "seed",
+        "bed_preparation", "bed_scene", "created", "notes", "complete", "runs_per_cell", "beds"})
     if (const std::string v = get_string(file.id, k); !v.empty()) f.text[k] = v;
   if (f.text["kind"] != "simulated" && f.text["kind"] != "measured")
     bad(path, fmt::format("kind \"{}\" must be \"simulated\" or \"measured\"", f.text["kind"]));
@@ -290,8 +291,12 @@ SplashFile read_splash_file(const std::string& path) {
   std::vector<std::string> names;
   H5Literate(cells.id, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_name, &names);
   for (const std::string& name : names) f.cells.push_back(read_cell(cells.id, name, path));
-  if (f.cells.empty()) bad(path, "/cells holds no cell");
-  if (f.text["layout"] == "grid") {
+  const bool partial = f.text.count("complete") && f.text.at("complete") == "false";
+  if (partial && !allow_partial)
+    bad(path,
+        "is the checkpoint of an unfinished measurement (complete = false): continue it with --restart");
+  if (f.cells.empty() && !partial) bad(path, "/cells holds no cell");
+  if (f.text["layout"] == "grid" && !partial) {
     if (f.speeds.size() * f.angles_deg.size() != f.cells.size())
       bad(path, fmt::format("the grid is {} speeds x {} angles but the file has {} cells", f.speeds.size(),
                             f.angles_deg.size(), f.cells.size()));

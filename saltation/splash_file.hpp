@@ -58,7 +58,9 @@ void write_splash_file(const std::string& path, const SplashFile& f, bool overwr
 // Reads and checks a splash file; throws grainlab::InputError naming the file and what is wrong (not
 // HDF5, wrong schema, missing or misshapen datasets, non-finite numbers, a grid that does not match
 // its cells).
-SplashFile read_splash_file(const std::string& path);
+// A checkpoint of an unfinished measurement (attribute complete = "false", fewer cells than its grid) is
+// refused unless `allow_partial`.
+SplashFile read_splash_file(const std::string& path, bool allow_partial = false);
 
 // Table 3.11 and 3.12's sand-gun experiment (Kelso Dunes sand, d = 0.078 cm) as a measured splash file:
 // one cell per row of the tables, moments only.

@@ -6,6 +6,7 @@
 
 #include "ensemble.hpp"
 #include "impacts.hpp"
+#include "input_error.hpp"
 
 namespace grainlab::validation {
 
@@ -62,6 +63,23 @@ saltation::SplashCell make_cell(const std::vector<ImpactResult>& impacts, double
   return c;
 }
 
+// A checkpoint continues only the measurement it came from: same grid, impacts, beds, seed and engine.
+void check_resumable(const saltation::SplashFile& from, const saltation::SplashFile& now) {
+  const auto differs = [&](const char* k) {
+    const auto a = from.text.find(k), b = now.text.find(k);
+    return a == from.text.end() || b == now.text.end() || a->second != b->second;
+  };
+  for (const char* k : {"runs_per_cell", "beds", "seed", "engine", "grainlab_version"})
+    if (differs(k))
+      throw InputError({"--restart", 0}, k,
+                       fmt::format("the checkpoint was made with {} = {}, this run has {}", k,
+                                   from.text.count(k) ? from.text.at(k) : "(none)", now.text.at(k)));
+  if (from.speeds != now.speeds || from.angles_deg != now.angles_deg)
+    throw InputError({"--restart", 0}, "grid", "the checkpoint's speeds or angles differ from this run's");
+  if (from.cells.size() >= now.speeds.size() * now.angles_deg.size())
+    throw InputError({"--restart", 0}, "complete", "the checkpoint already holds every cell");
+}
+
 }  // namespace
 
 SplashOptions quick_splash_options() {
@@ -95,16 +113,30 @@ saltation::SplashFile measure_splash(const SplashOptions& o) {
             {"notes", "2-D discs: density is per unit area (g/cm^2); grain_diameter_cm is the bed grain's"}};
   for (double v : o.speeds_cm_s) f.speeds.push_back(v / u);
   f.angles_deg = o.angles_deg;
+  f.text["runs_per_cell"] = std::to_string(o.runs);
+  f.text["beds"] = std::to_string(o.beds);
+  if (o.resume) check_resumable(*o.resume, f), f.cells = o.resume->cells;
   ImpactOptions io;
   io.engine = o.engine;
+  std::size_t cell = 0;
   for (double v : o.speeds_cm_s)
     for (double a : o.angles_deg) {
+      if (cell++ < f.cells.size()) continue;  // done before the checkpoint
+      if (o.stop_after_cells > 0 && f.cells.size() >= o.stop_after_cells) {
+        f.text["complete"] = "false";
+        return f;
+      }
       ImpactCase c{fmt::format("{:.0f}cm/s-{:.0f}deg", v, a), v, a, 0.5, "loose", bs.radius};
       if (o.log) o.log(fmt::format("cell v_i = {} cm/s, alpha_i = {} deg: {} impacts", v, a, o.runs));
       // Each cell gets its own stream of impact points: seed and cell index.
       const std::uint64_t seed = o.seed * 1000003 + f.cells.size();
       const ImpactEnsemble e = run_impact_ensemble(beds, c, seed, o.runs, io, o.progress);
       f.cells.push_back(make_cell(e.impacts, v, a, u, d, 981.0));
+      if (o.checkpoint && f.cells.size() < o.speeds_cm_s.size() * o.angles_deg.size()) {
+        saltation::SplashFile partial = f;
+        partial.text["complete"] = "false";
+        o.checkpoint(partial);
+      }
     }
   return f;
 }

@@ -20,11 +20,17 @@ struct SplashOptions {
   std::vector<double> angles_deg = {5, 15, 25, 45, 70};
   std::function<void(const std::string&)> log;
   std::function<void(std::size_t, std::size_t)> progress;
+  // Checkpoints: called with the file so far (complete = "false") after every cell; a run resumed from
+  // one (`resume`) computes only the missing cells and ends with the same file as an uninterrupted run.
+  std::function<void(const saltation::SplashFile&)> checkpoint;
+  const saltation::SplashFile* resume = nullptr;
+  std::size_t stop_after_cells = 0;  // stop (unfinished) once this many cells are done (0: never)
 };
 // The quick grid for CI: the same cells, 2 impacts each on one bed.
 SplashOptions quick_splash_options();
 
-// Runs every cell (ensembles spread over the MPI ranks) and returns the file's contents.
+// Runs every cell (ensembles spread over the MPI ranks) and returns the file's contents. Throws
+// InputError if `resume` was made with other options.
 saltation::SplashFile measure_splash(const SplashOptions& o);
 
 }  // namespace grainlab::validation
