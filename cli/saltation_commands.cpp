@@ -1,0 +1,115 @@
+#include "saltation_commands.hpp"
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "conveyor.hpp"
+#include "input_error.hpp"
+
+namespace grainlab::cli {
+
+namespace {
+
+using namespace grainlab::saltation;
+
+int map_case(const SaltationCommands& a) {
+  ConveyorMapParams p = table_4_2(a.case_name);
+  p.order = a.order;
+  if (!(a.F0 > 0 && a.v_oy0 > 0))
+    throw InputError({"--F0", 0}, fmt::format("{}, {}", a.F0, a.v_oy0),
+                     "the start (F0, v_oy0) must be positive");
+  const ConveyorMapResult r = conveyor_map(p, a.F0, a.v_oy0, a.max_iterations);
+  const MapState& s = r.history.back();
+  const DeltaSteadyState closed = conveyor_delta_steady(p.f_at(p.v_g), p.eps, p.v_g, p.P_T, p.zeta);
+  // Linearise at the steady state of eqs 4.3-4.5 (where the map ends when it converges).
+  MapState fixed = s;
+  if (closed.transport) fixed.F = closed.F, fixed.v_oy = closed.v_boy, fixed.v_c = closed.v_c;
+  const ConveyorLinearization L = conveyor_linearization(p, fixed);
+  const MapState& prev = r.history[r.history.size() - 2];
+  if (a.json) {
+    nlohmann::json j{{"case", a.case_name},
+                     {"F", s.F},
+                     {"v_oy", s.v_oy},
+                     {"v_c", s.v_c},
+                     {"iterations", r.iterations},
+                     {"converged", r.converged},
+                     {"order", p.order},
+                     {"eigenvalues",
+                      {{L.eigenvalues[0].real(), L.eigenvalues[0].imag()},
+                       {L.eigenvalues[1].real(), L.eigenvalues[1].imag()}}},
+                     {"closed_form", {{"F", closed.F}, {"v_oy", closed.v_boy}, {"v_c", closed.v_c}}}};
+    if (!r.converged) j["last_two"] = {{prev.F, prev.v_oy, prev.v_c}, {s.F, s.v_oy, s.v_c}};
+    fmt::print("{}\n", j.dump(2));
+    return 0;
+  }
+  fmt::print("conveyor-belt map (eq. 4.23), CASE {} of Table 4.2, order {}, from F = {}, v_oy = {}\n",
+             a.case_name, p.order, a.F0, a.v_oy0);
+  fmt::print("  {} after {} iterations: F {:.6g}, v_oy {:.6g}, v_c {:.6g}\n",
+             r.converged ? "converged" : "NOT converged", r.iterations, s.F, s.v_oy, s.v_c);
+  if (!r.converged)
+    fmt::print(
+        "  the last two states: ({:.5g}, {:.5g}, {:.5g}) and ({:.5g}, {:.5g}, {:.5g}): an oscillation\n",
+        prev.F, prev.v_oy, prev.v_c, s.F, s.v_oy, s.v_c);
+  fmt::print("  closed form (eqs 4.3-4.5) at f(v_g) = {}: F {:.6g}, v_oy {:.6g}, v_c {:.6g}\n", p.f_at(p.v_g),
+             closed.F, closed.v_boy, closed.v_c);
+  fmt::print(
+      "  one-step Jacobian eigenvalues there (|lambda| > 1: the steady state repels): {:.4g}{:+.4g}i, "
+      "{:.4g}{:+.4g}i\n",
+      L.eigenvalues[0].real(), L.eigenvalues[0].imag(), L.eigenvalues[1].real(), L.eigenvalues[1].imag());
+  return 0;
+}
+
+int distribution_case(const SaltationCommands& a) {
+  const DistributionSplashParams p = table_4_1(a.case_name);
+  const DistributionResult r = conveyor_distribution(p, a.max_iterations);
+  if (a.json) {
+    fmt::print("{}\n", nlohmann::json{{"case", a.case_name},
+                                      {"v_c", r.v_c},
+                                      {"iterations", r.iterations},
+                                      {"converged", r.converged},
+                                      {"mu", r.mu},
+                                      {"F", r.F},
+                                      {"residuals", r.residuals}}
+                           .dump(2));
+    return 0;
+  }
+  fmt::print("conveyor-belt model with the distribution splash (eqs 4.12-4.16), CASE {} of Table 4.1\n",
+             a.case_name);
+  fmt::print("  {} after {} iterations: v_c = {:.5g}\n", r.converged ? "converged" : "NOT converged",
+             r.iterations, r.v_c);
+  double peak = 0;
+  for (double x : r.F) peak = std::max(peak, x);
+  for (std::size_t i = 0; i < r.mu.size(); ++i)
+    fmt::print("  mu {:6.3f}  F {:10.4g}  {}\n", r.mu[i], r.F[i],
+               std::string(static_cast<std::size_t>(40 * r.F[i] / std::max(peak, 1e-300)), '#'));
+  return 0;
+}
+
+}  // namespace
+
+void SaltationCommands::add(CLI::App& app) {
+  group = app.add_subcommand("saltation", "the thesis's saltation models (Ch. IV)");
+  group->require_subcommand(1);
+  conveyor =
+      group->add_subcommand("conveyor", "the conveyor-belt feedback model: Table 4.1 A-C and Table 4.2 D-E");
+  conveyor->add_option("--case", case_name, "A, B, C (distribution splash) or D, E (delta splash, time map)")
+      ->required()
+      ->check(CLI::IsMember({"A", "B", "C", "D", "E"}));
+  conveyor->add_option("--order", order, "D, E: update order of eq. 4.23")
+      ->default_val("simultaneous")
+      ->check(CLI::IsMember({"simultaneous", "velocity-first"}));
+  conveyor->add_option("--F0", F0, "D, E: starting flux")->default_val(50);
+  conveyor->add_option("--v-oy0", v_oy0, "D, E: starting launch velocity")->default_val(3);
+  conveyor->add_option("--max-iterations", max_iterations, "iteration limit")
+      ->default_val(10000)
+      ->check(CLI::Range(1, 10000000));
+  conveyor->add_flag("--json", json, "print the final state as JSON");
+}
+
+int SaltationCommands::dispatch() const {
+  if (!conveyor || !*conveyor) return -1;
+  return case_name == "D" || case_name == "E" ? map_case(*this) : distribution_case(*this);
+}
+
+}  // namespace grainlab::cli

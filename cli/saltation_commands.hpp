@@ -1,0 +1,18 @@
+#pragma once
+// `grainlab saltation ...`: the thesis's Ch. IV models (so far the conveyor-belt model).
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace grainlab::cli {
+
+struct SaltationCommands {
+  std::string case_name, order = "simultaneous";
+  double F0 = 50, v_oy0 = 3;
+  int max_iterations = 10000;
+  bool json = false;
+  CLI::App *group = nullptr, *conveyor = nullptr;
+  void add(CLI::App& app);
+  int dispatch() const;  // -1 if none of these ran
+};
+
+}  // namespace grainlab::cli
