@@ -6,6 +6,7 @@
 
 #include "conveyor.hpp"
 #include "input_error.hpp"
+#include "wind_model.hpp"
 
 namespace grainlab::cli {
 
@@ -86,6 +87,47 @@ int distribution_case(const SaltationCommands& a) {
   return 0;
 }
 
+int wind_command(const SaltationCommands& a) {
+  if (!(a.u_star > 0 && a.u_star < 1000))
+    throw InputError({"--ustar", 0}, fmt::format("{}", a.u_star), "must lie in (0, 1000) cm/s");
+  WindModelOptions o;
+  o.u_star = a.u_star, o.tolerance = a.tolerance;
+  const AnalyticSplash splash = table_4_3(a.wind_case);
+  const WindModelResult r = solve_wind_model(o, splash);
+  const double tau_g_check = o.fluid.density * (a.u_star * a.u_star - r.u_star_eff * r.u_star_eff);
+  if (a.wind_json) {
+    fmt::print("{}\n", nlohmann::json{{"case", a.wind_case},
+                                      {"u_star", a.u_star},
+                                      {"u_star_eff", r.u_star_eff},
+                                      {"mass_flux", r.mass_flux},
+                                      {"launch_rate", r.launch_rate},
+                                      {"grain_stress", r.grain_stress},
+                                      {"iterations", r.iterations},
+                                      {"converged", r.converged},
+                                      {"mean_hop_height", r.mean_hop_height},
+                                      {"mean_hop_length", r.mean_hop_length},
+                                      {"impact_velocity", {r.mean_impact_vx, r.mean_impact_vy}},
+                                      {"wall_seconds", r.wall_seconds},
+                                      {"residuals", r.residuals}}
+                           .dump(2));
+    return 0;
+  }
+  fmt::print("steady-state saltation (thesis Ch. IV, Fig. 4.10), splash CASE {} of Table 4.3, u* = {} cm/s\n",
+             a.wind_case, a.u_star);
+  fmt::print("  {} after {} iterations ({} wind-trajectory passes, {:.2f} s)\n",
+             r.converged ? "converged" : "NOT converged", r.iterations, r.trajectory_passes, r.wall_seconds);
+  fmt::print("  u*_eff {:.2f} cm/s; grain-borne stress {:.4g} dyn/cm^2 (rho (u*^2 - u*_eff^2) = {:.4g})\n",
+             r.u_star_eff, r.grain_stress, tau_g_check);
+  fmt::print("  mass flux {:.4g} g/(cm s); {:.4g} launches per cm^2 per s\n", r.mass_flux, r.launch_rate);
+  fmt::print("  mean hop height {:.2f} cm, length {:.1f} cm; mean impact velocity ({:.0f}, {:.0f}) cm/s\n",
+             r.mean_hop_height, r.mean_hop_length, r.mean_impact_vx, r.mean_impact_vy);
+  fmt::print("  wind with grains (clean) at 0.1, 1, 10 cm: ");
+  for (double h : {0.1, 1.0, 10.0})
+    fmt::print("{:.0f} ({:.0f})  ", wind_at(o, r.y, r.u, h), wind_at(o, r.y, r.u_clean, h));
+  fmt::print("cm/s\n");
+  return 0;
+}
+
 }  // namespace
 
 void SaltationCommands::add(CLI::App& app) {
@@ -105,9 +147,22 @@ void SaltationCommands::add(CLI::App& app) {
       ->default_val(10000)
       ->check(CLI::Range(1, 10000000));
   conveyor->add_flag("--json", json, "print the final state as JSON");
+  wind = group->add_subcommand("wind",
+                               "steady-state saltation in a wind with grain feedback (Table 4.3 CASES 1-6)");
+  wind->add_option("--case", wind_case, "splash function: CASE 1-6 of Table 4.3")
+      ->required()
+      ->check(CLI::Range(1, 6));
+  wind->add_option("--ustar", u_star, "wind-shear velocity above the saltation layer, cm/s")->default_val(35);
+  wind->add_option("--tolerance", tolerance,
+                   "largest relative change of F and u(y) at convergence (thesis: 0.01)")
+      ->default_val(1e-3)
+      ->check(CLI::Range(1e-8, 0.5));
+  wind->add_flag("--json", wind_json,
+                 "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }
 
 int SaltationCommands::dispatch() const {
+  if (wind && *wind) return wind_command(*this);
   if (!conveyor || !*conveyor) return -1;
   return case_name == "D" || case_name == "E" ? map_case(*this) : distribution_case(*this);
 }

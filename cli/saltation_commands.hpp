@@ -10,7 +10,11 @@ struct SaltationCommands {
   double F0 = 50, v_oy0 = 3;
   int max_iterations = 10000;
   bool json = false;
-  CLI::App *group = nullptr, *conveyor = nullptr;
+  // grainlab saltation wind
+  int wind_case = 1;
+  double u_star = 35, tolerance = 0.01;
+  bool wind_json = false;
+  CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };

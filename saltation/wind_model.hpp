@@ -1,0 +1,92 @@
+#pragma once
+// The thesis's steady-state saltation model with wind (Ch. IV section 2, algorithm of Fig. 4.10): grains
+// launched from a flat bed fly through a mixing-length wind under gravity and drag (eqs 4.30-4.31); their
+// drag slows the wind (eq. 4.27 in quadrature form); on landing each one splashes grains back up (the
+// splash function of eq. 4.34). The launch-velocity distribution F is the fixed point F = [T{u}] F.
+#include <array>
+#include <string>
+#include <vector>
+
+namespace grainlab::saltation {
+
+struct Fluid {
+  double density = 0.00123;  // g/cm^3
+  double viscosity = 0.146;  // kinematic, cm^2/s
+  double k = 2.5;            // the thesis's "von Karman constant" = 1 / 0.4
+};
+
+struct Grain {
+  double radius = 0.0125;  // cm
+  double density = 2.6;    // g/cm^3
+  double mass() const;
+};
+
+// Eq. 4.34 with Table 4.3's constants (c2, c4, c5 in cm/s).
+struct AnalyticSplash {
+  double c1 = 2, c2 = 35, c3 = 0, c4 = 40, c5 = 275, c6 = 0, eps = 0.7, f = 0.1;
+  // Grains launched per unit vertical velocity by one impact (v_ix > 0, v_iy < 0).
+  double density(double v_oy, double v_ix, double v_iy) const;
+  // Their common horizontal launch velocity.
+  double launch_vx(double v_ix) const { return c6 * eps * (1 - f) * v_ix; }
+};
+// Table 4.3 CASES 1-6 (throws std::invalid_argument otherwise) and the u* the thesis ran each at.
+AnalyticSplash table_4_3(int case_number);
+std::array<double, 3> table_4_3_ustars(int case_number);
+
+struct WindModelOptions {
+  Fluid fluid;
+  Grain grain;
+  double g = 981;
+  double u_star = 35;  // cm/s, above the saltation layer
+  double dv = 5;       // launch-velocity bin (cm/s); bins centred at (j + 1/2) dv
+  int bins = 80;
+  int heights = 240;  // wind grid: log-spaced from the roughness length to `top`
+  double top = 2000;  // cm
+  double tolerance =
+      1e-3;  // converged when no F component (over max F) and no u(y) changes more than this (the
+             // thesis used 1e-2: u*_eff^2 is a small difference of large numbers, see docs)
+  int max_iterations = 400;
+  double relaxation = 0.5;    // under-relaxation of the wind update (1: none); halved while it oscillates
+  double flux_damping = 0.5;  // F(n+1) = (1 - b) F(n) + b [T] F(n): damps the flux-wind overshoot
+  double roughness() const { return grain.radius / 15; }  // l = d/30
+};
+
+struct Trajectory {
+  double v_ox = 0, v_oy = 0;  // launch
+  double v_ix = 0, v_iy = 0;  // at landing
+  double length = 0, height = 0, time = 0;
+};
+
+struct WindModelResult {
+  bool converged = false;
+  int iterations = 0;               // outer iterations (F updates)
+  int trajectory_passes = 0;        // inner wind-trajectory passes in all
+  std::vector<double> residuals;    // largest relative change of F or u per outer iteration
+  std::vector<double> v_launch, F;  // bin centres (cm/s) and F (grains per cm^2 per s per cm/s)
+  std::vector<double> v_ox;         // the horizontal launch velocity of each bin
+  std::vector<Trajectory> trajectories;
+  std::vector<double> y, u, u_clean;  // wind with and without grains (cm/s)
+  std::vector<double> drag;           // force per unit volume the grains take from the air, at y (dyn/cm^3)
+  std::vector<double> tau;            // fluid shear stress at y (dyn/cm^2)
+  double u_star_eff = 0;              // sqrt(tau at the bed / rho)
+  double grain_stress = 0;            // tau_g: the momentum flux the grains carry (dyn/cm^2)
+  double mass_flux = 0;               // Q, g/(cm s)
+  double launch_rate = 0;             // grains per cm^2 per s
+  double mean_hop_height = 0, mean_hop_length = 0;  // launch-weighted (cm)
+  double mean_impact_vx = 0, mean_impact_vy = 0;    // launch-weighted (cm/s)
+  double wall_seconds = 0;
+};
+
+// The wind u(y) on the model's grid: zero below the roughness length, the log law above the grid.
+double wind_at(const WindModelOptions& o, const std::vector<double>& y, const std::vector<double>& u,
+               double h);
+// One grain from the bed at (v_ox, v_oy) through the wind until it lands. If `impulse` is given, the
+// horizontal momentum the drag gives it is added per height bin (bin edges `edges`, weight `weight`).
+Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const std::vector<double>& u,
+               double v_ox, double v_oy, const std::vector<double>* edges = nullptr,
+               std::vector<double>* impulse = nullptr, double weight = 0);
+
+// Solves for the steady state (Fig. 4.10).
+WindModelResult solve_wind_model(const WindModelOptions& o, const AnalyticSplash& splash);
+
+}  // namespace grainlab::saltation

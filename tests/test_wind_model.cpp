@@ -1,0 +1,74 @@
+// The wind-driven saltation model (thesis Ch. IV section 2): its exact identities, a clean wind, the drag
+// law, and the trends the thesis states.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "wind_model.hpp"
+
+using namespace grainlab::saltation;
+
+TEST(WindModel, CleanWindIsTheLogLaw) {
+  WindModelOptions o;
+  std::vector<double> y = {o.roughness(), 1.0, 100.0}, u(3);
+  for (int k = 0; k < 3; ++k) u[k] = o.fluid.k * o.u_star * std::log(y[k] / y[0]);
+  EXPECT_EQ(wind_at(o, y, u, o.roughness() / 2), 0.0);
+  EXPECT_NEAR(wind_at(o, y, u, 1000.0), o.fluid.k * o.u_star * std::log(1000.0 / o.roughness()), 1e-9);
+}
+
+TEST(WindModel, GrainInStillAirFallsBackWithLessSpeed) {
+  // No wind: a grain launched straight up lands at its launch point, slower (drag), after less time than
+  // without air.
+  WindModelOptions o;
+  std::vector<double> y = {o.roughness(), 1.0, 100.0}, u = {0, 0, 0};
+  o.u_star = 0;
+  const Trajectory t = fly(o, y, u, 0, 100);
+  EXPECT_NEAR(t.length, 0, 1e-12);
+  EXPECT_LT(-t.v_iy, 100);
+  EXPECT_GT(-t.v_iy, 80);
+  EXPECT_LT(t.time, 2 * 100 / 981.0);
+  EXPECT_LT(t.height, 100 * 100 / (2 * 981.0));
+}
+
+TEST(WindModel, Case1IdentitiesHoldExactly) {
+  WindModelOptions o;
+  o.u_star = 35;
+  const WindModelResult r = solve_wind_model(o, table_4_3(1));
+  ASSERT_TRUE(r.converged);
+  // u*_eff^2 = u*^2 - tau_g / rho, with tau_g = sum m F dv (v_ix - v_ox): the drag the grains took from the
+  // air is the momentum they carry to the bed (Newton's third law, summed over heights).
+  const double rho = o.fluid.density;
+  EXPECT_NEAR(r.u_star_eff * r.u_star_eff, o.u_star * o.u_star - r.grain_stress / rho,
+              1e-6 * o.u_star * o.u_star);
+  double drag_sum = 0;
+  for (std::size_t k = 0; k < r.y.size(); ++k) {
+    const double lo = k == 0 ? 0 : std::sqrt(r.y[k - 1] * r.y[k]);
+    const double hi = k + 1 < r.y.size() ? std::sqrt(r.y[k] * r.y[k + 1]) : 2 * r.y.back();
+    drag_sum += r.drag[k] * (hi - lo);
+  }
+  EXPECT_NEAR(drag_sum, r.grain_stress, 1e-6 * r.grain_stress);
+  // Q = sum m F dv L.
+  double Q = 0;
+  for (std::size_t j = 0; j < r.F.size(); ++j) Q += o.grain.mass() * r.F[j] * o.dv * r.trajectories[j].length;
+  EXPECT_NEAR(Q, r.mass_flux, 1e-9 * Q);
+  // The grains slow the wind near the bed and it stays a wind.
+  EXPECT_LT(wind_at(o, r.y, r.u, 1.0), wind_at(o, r.y, r.u_clean, 1.0));
+  EXPECT_GT(r.u_star_eff, 0);
+  EXPECT_LT(r.u_star_eff, o.u_star);
+}
+
+TEST(WindModel, EffectiveShearFallsAndFluxRisesWithUStar) {
+  // Table 4.5: u*_eff falls as u* rises, in every case; the flux rises.
+  for (int c : {1, 4}) {
+    double last_eff = 1e9, last_q = 0;
+    for (double us : table_4_3_ustars(c)) {
+      WindModelOptions o;
+      o.u_star = us;
+      const WindModelResult r = solve_wind_model(o, table_4_3(c));
+      ASSERT_TRUE(r.converged) << c << " at " << us;
+      EXPECT_LT(r.u_star_eff, last_eff) << c << " at " << us;
+      EXPECT_GT(r.mass_flux, last_q) << c << " at " << us;
+      last_eff = r.u_star_eff, last_q = r.mass_flux;
+    }
+  }
+}
