@@ -23,30 +23,13 @@ double AnalyticSplash::density(double v_oy, double v_ix, double v_iy) const {
 }
 
 AnalyticSplash table_4_3(int c) {
-  AnalyticSplash s;
-  switch (c) {
-    case 1:
-      s = {2, 35, 0, 40, 275, 0, 0.7, 0.1};
-      break;
-    case 2:
-      s = {2, 35, 2e-7, 40, 275, 0, 0.7, 0.1};
-      break;
-    case 3:
-      s = {1, 35, 2e-7, 40, 275, 0, 0.7, 0.1};
-      break;
-    case 4:
-      s = {0, 35, 2e-7, 80, 275, 0, 0.7, 0.1};
-      break;
-    case 5:
-      s = {2, 35, 0, 40, 275, 1, 0.3, 0.1};
-      break;
-    case 6:
-      s = {2, 35, 2e-7, 40, 275, 1, 0.3, 0.1};
-      break;
-    default:
-      throw std::invalid_argument("Table 4.3 has CASES 1 to 6");
-  }
-  return s;
+  // c1, c2, c3, c4, c5, c6, eps, f for CASES 1-6 (c4 and c5 where the table has "-" are unused).
+  static const AnalyticSplash cases[6] = {
+      {2, 35, 0, 40, 275, 0, 0.7, 0.1},    {2, 35, 2e-7, 40, 275, 0, 0.7, 0.1},
+      {1, 35, 2e-7, 40, 275, 0, 0.7, 0.1}, {0, 35, 2e-7, 80, 275, 0, 0.7, 0.1},
+      {2, 35, 0, 40, 275, 1, 0.3, 0.1},    {2, 35, 2e-7, 40, 275, 1, 0.3, 0.1}};
+  if (c < 1 || c > 6) throw std::invalid_argument("Table 4.3 has CASES 1 to 6");
+  return cases[c - 1];
 }
 
 std::array<double, 3> table_4_3_ustars(int c) {
