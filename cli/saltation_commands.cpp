@@ -90,13 +90,21 @@ int distribution_case(const SaltationCommands& a) {
 int wind_command(const SaltationCommands& a) {
   if (!(a.u_star > 0 && a.u_star < 1000))
     throw InputError({"--ustar", 0}, fmt::format("{}", a.u_star), "must lie in (0, 1000) cm/s");
+  if ((a.wind_case == 0) == a.splash_file.empty())
+    throw InputError({"--case", 0}, std::to_string(a.wind_case), "give either --case 1..6 or --splash FILE");
+  if (!(a.grain_diameter > 0 && a.grain_diameter < 1))
+    throw InputError({"--grain-diameter", 0}, fmt::format("{}", a.grain_diameter), "must lie in (0, 1) cm");
   WindModelOptions o;
   o.u_star = a.u_star, o.tolerance = a.tolerance;
-  const AnalyticSplash splash = table_4_3(a.wind_case);
+  o.grain.radius = a.grain_diameter / 2;
+  const SplashKernel splash = a.splash_file.empty() ? kernel_of(table_4_3(a.wind_case))
+                                                    : kernel_of(read_splash_file(a.splash_file), o);
   const WindModelResult r = solve_wind_model(o, splash);
   const double tau_g_check = o.fluid.density * (a.u_star * a.u_star - r.u_star_eff * r.u_star_eff);
   if (a.wind_json) {
     fmt::print("{}\n", nlohmann::json{{"case", a.wind_case},
+                                      {"splash", a.splash_file},
+                                      {"grain_diameter", a.grain_diameter},
                                       {"u_star", a.u_star},
                                       {"u_star_eff", r.u_star_eff},
                                       {"mass_flux", r.mass_flux},
@@ -112,8 +120,9 @@ int wind_command(const SaltationCommands& a) {
                            .dump(2));
     return 0;
   }
-  fmt::print("steady-state saltation (thesis Ch. IV, Fig. 4.10), splash CASE {} of Table 4.3, u* = {} cm/s\n",
-             a.wind_case, a.u_star);
+  fmt::print("steady-state saltation (thesis Ch. IV, Fig. 4.10), splash {}, grains d = {} cm, u* = {} cm/s\n",
+             a.splash_file.empty() ? fmt::format("CASE {} of Table 4.3", a.wind_case) : a.splash_file,
+             a.grain_diameter, a.u_star);
   fmt::print("  {} after {} iterations ({} wind-trajectory passes, {:.2f} s)\n",
              r.converged ? "converged" : "NOT converged", r.iterations, r.trajectory_passes, r.wall_seconds);
   fmt::print("  u*_eff {:.2f} cm/s; grain-borne stress {:.4g} dyn/cm^2 (rho (u*^2 - u*_eff^2) = {:.4g})\n",
@@ -149,9 +158,12 @@ void SaltationCommands::add(CLI::App& app) {
   conveyor->add_flag("--json", json, "print the final state as JSON");
   wind = group->add_subcommand("wind",
                                "steady-state saltation in a wind with grain feedback (Table 4.3 CASES 1-6)");
-  wind->add_option("--case", wind_case, "splash function: CASE 1-6 of Table 4.3")
-      ->required()
-      ->check(CLI::Range(1, 6));
+  wind->add_option("--case", wind_case, "splash function: CASE 1-6 of Table 4.3")->check(CLI::Range(1, 6));
+  wind->add_option("--splash", splash_file,
+                   "or a grainlab-splash/1 file (grainlab splash), scaled by sqrt(g d)")
+      ->check(CLI::ExistingFile);
+  wind->add_option("--grain-diameter", grain_diameter, "saltating grain diameter, cm (Ch. IV: 0.025)")
+      ->default_val(0.025);
   wind->add_option("--ustar", u_star, "wind-shear velocity above the saltation layer, cm/s")->default_val(35);
   wind->add_option("--tolerance", tolerance,
                    "largest relative change of F and u(y) at convergence (thesis: 0.01)")

@@ -11,7 +11,9 @@ struct SaltationCommands {
   int max_iterations = 10000;
   bool json = false;
   // grainlab saltation wind
-  int wind_case = 1;
+  int wind_case = 0;
+  std::string splash_file;
+  double grain_diameter = 0.025;
   double u_star = 35, tolerance = 0.01;
   bool wind_json = false;
   CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr;

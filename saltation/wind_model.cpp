@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 namespace grainlab::saltation {
@@ -157,7 +158,109 @@ Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const st
   return t;
 }
 
-WindModelResult solve_wind_model(const WindModelOptions& o, const AnalyticSplash& splash) {
+SplashKernel kernel_of(const AnalyticSplash& s) {
+  return {[s](double v_oy, double v_ix, double v_iy) { return s.density(v_oy, v_ix, v_iy); },
+          [s](double v_ix, double) { return s.launch_vx(v_ix); }};
+}
+
+namespace {
+
+// Per cell: launched grains per impact per cm/s on the model's launch bins, and their mean v_x.
+struct BinnedCell {
+  std::vector<double> density;
+  double mean_vx = 0;
+};
+
+BinnedCell bin_cell(const SplashCell& c, double scale, const WindModelOptions& o) {
+  BinnedCell b;
+  b.density.assign(static_cast<std::size_t>(o.bins), 0.0);
+  const double per = 1.0 / (std::max<std::size_t>(c.impacts, 1) * o.dv);
+  double n = 0, sx = 0;
+  auto add = [&](double vx, double vy) {
+    const long k = static_cast<long>(std::floor(vy * scale / o.dv));
+    if (k < 0 || k >= o.bins) return;
+    b.density[static_cast<std::size_t>(k)] += per;
+    n += 1, sx += vx * scale;
+  };
+  if (!c.rebound.empty() || !c.ejecta.empty()) {
+    for (const ReboundRow& r : c.rebound)
+      if (r[1] > 0) add(r[2], r[3]);
+    for (const EjectumRow& e : c.ejecta) add(e[3], e[4]);
+  } else {
+    // Moments only (the sand gun): the rebound as a Gaussian around eps_iy x the cell's incident v_y, the
+    // ejecta as an exponential with the measured mean launch v_y.
+    const double vin = c.speed * scale, a = c.angle_deg * M_PI / 180;
+    const auto m = [&](const char* k) { return c.moments.count(k) ? c.moments.at(k).mean : 0.0; };
+    const auto sd = [&](const char* k) { return c.moments.count(k) ? c.moments.at(k).sd : 0.0; };
+    const double mu = m("eps_iy") * vin * std::sin(a), sig = std::max(sd("eps_iy") * vin * std::sin(a), o.dv);
+    const double ej = m("ejecta_per_impact"), vey = m("ejecta_vy") * scale;
+    for (int k = 0; k < o.bins; ++k) {
+      const double v = (k + 0.5) * o.dv;
+      double d = std::exp(-0.5 * (v - mu) * (v - mu) / (sig * sig)) / (sig * std::sqrt(2 * M_PI));
+      if (vey > 0) d += ej * std::exp(-v / vey) / vey;
+      b.density[static_cast<std::size_t>(k)] = d;
+    }
+    b.mean_vx = m("eps_ix") * vin * std::cos(a);
+    return b;
+  }
+  b.mean_vx = n > 0 ? sx / n : 0;
+  return b;
+}
+
+// Index below x on an increasing axis and the weight of the next point (clamped at the ends).
+std::pair<std::size_t, double> bracket(const std::vector<double>& axis, double x) {
+  if (axis.size() < 2 || x <= axis.front()) return {0, 0.0};
+  if (x >= axis.back()) return {axis.size() - 2, 1.0};
+  const std::size_t i =
+      static_cast<std::size_t>(std::upper_bound(axis.begin(), axis.end(), x) - axis.begin()) - 1;
+  return {i, (x - axis[i]) / (axis[i + 1] - axis[i])};
+}
+
+}  // namespace
+
+SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o) {
+  const double scale = std::sqrt(o.g * 2 * o.grain.radius);  // the model's sqrt(g d)
+  auto cells = std::make_shared<std::vector<BinnedCell>>();
+  for (const SplashCell& c : f.cells) cells->push_back(bin_cell(c, scale, o));
+  const bool grid = !f.speeds.empty() && f.speeds.size() * f.angles_deg.size() == f.cells.size();
+  auto file = std::make_shared<SplashFile>(f);
+  // The weights of the cells around an impact.
+  auto around = [file, grid, scale](double v_ix, double v_iy) {
+    const double speed = std::hypot(v_ix, v_iy) / scale, angle = std::atan2(-v_iy, v_ix) * 180 / M_PI;
+    std::vector<std::pair<std::size_t, double>> w;
+    if (!grid) {
+      const SplashCell* near = &file->nearest(speed, angle);
+      w.push_back({static_cast<std::size_t>(near - file->cells.data()), 1.0});
+      return w;
+    }
+    const auto [i, a] = bracket(file->speeds, speed);
+    const auto [j, b] = bracket(file->angles_deg, angle);
+    const std::size_t na = file->angles_deg.size();
+    const std::size_t i1 = std::min(i + 1, file->speeds.size() - 1), j1 = std::min(j + 1, na - 1);
+    w = {{i * na + j, (1 - a) * (1 - b)},
+         {i1 * na + j, a * (1 - b)},
+         {i * na + j1, (1 - a) * b},
+         {i1 * na + j1, a * b}};
+    return w;
+  };
+  const double dv = o.dv;
+  const int bins = o.bins;
+  return {[cells, around, dv, bins](double v_oy, double v_ix, double v_iy) {
+            const long k = static_cast<long>(std::floor(v_oy / dv));
+            if (k < 0 || k >= bins) return 0.0;
+            double d = 0;
+            for (const auto& [c, w] : around(v_ix, v_iy))
+              d += w * (*cells)[c].density[static_cast<std::size_t>(k)];
+            return d;
+          },
+          [cells, around](double v_ix, double v_iy) {
+            double vx = 0;
+            for (const auto& [c, w] : around(v_ix, v_iy)) vx += w * (*cells)[c].mean_vx;
+            return vx;
+          }};
+}
+
+WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& splash) {
   const auto start = std::chrono::steady_clock::now();
   WindModelResult r;
   r.y = height_nodes(o);
@@ -209,7 +312,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const AnalyticSplash
       for (std::size_t j = 0; j < M; ++j) {
         const Trajectory& t = r.trajectories[j];
         const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * r.F[j] * o.dv;
-        s += born, sx += born * splash.launch_vx(t.v_ix);
+        s += born, sx += born * splash.launch_vx(t.v_ix, t.v_iy);
       }
       next[k] = (1 - o.flux_damping) * r.F[k] + o.flux_damping * s;
       vox_weight[k] = s > 0 ? sx / s : 0;  // one horizontal launch velocity per bin: the mean of its sources

@@ -4,8 +4,11 @@
 // drag slows the wind (eq. 4.27 in quadrature form); on landing each one splashes grains back up (the
 // splash function of eq. 4.34). The launch-velocity distribution F is the fixed point F = [T{u}] F.
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "splash_file.hpp"
 
 namespace grainlab::saltation {
 
@@ -86,7 +89,24 @@ Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const st
                double v_ox, double v_oy, const std::vector<double>* edges = nullptr,
                std::vector<double>* impulse = nullptr, double weight = 0);
 
+// A splash function as the model uses it: grains launched per unit vertical velocity (cm/s) by one impact
+// at (v_ix, v_iy) (cm/s, v_iy < 0), and the horizontal velocity they leave with.
+struct SplashKernel {
+  std::function<double(double v_oy, double v_ix, double v_iy)> density;
+  std::function<double(double v_ix, double v_iy)> launch_vx;
+};
+SplashKernel kernel_of(const AnalyticSplash& s);
+// A grainlab-splash/1 file scaled to grains of the model's diameter (velocities x sqrt(g d)). Simulated
+// files: each cell's rebound and ejecta launch velocities binned on the model's launch grid (per impact,
+// per cm/s), interpolated bilinearly between the cells around an impact's speed and angle (held at the
+// edge cells outside the grid). Measured files with moments only: the rebound as a Gaussian of eps_iy's
+// mean and spread, the ejecta as an exponential of the measured mean v_y, nearest cell.
+SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o);
+
 // Solves for the steady state (Fig. 4.10).
-WindModelResult solve_wind_model(const WindModelOptions& o, const AnalyticSplash& splash);
+WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& splash);
+inline WindModelResult solve_wind_model(const WindModelOptions& o, const AnalyticSplash& splash) {
+  return solve_wind_model(o, kernel_of(splash));
+}
 
 }  // namespace grainlab::saltation

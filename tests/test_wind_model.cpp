@@ -72,3 +72,28 @@ TEST(WindModel, EffectiveShearFallsAndFluxRisesWithUStar) {
     }
   }
 }
+
+TEST(WindModel, TabulatedSplashKernelCountsEveryLaunchedGrain) {
+  // A one-cell file: 2 impacts, one rebound at v_y 10 sqrt(g d), three ejecta at 3 sqrt(g d). Scaled to the
+  // model's grains, the kernel's density integrates to 2 grains per impact, wherever the impact is.
+  SplashFile f;
+  f.text = {{"kind", "simulated"}};
+  f.grain_diameter_cm = 2, f.grain_density = 2;
+  f.speeds = {50}, f.angles_deg = {15};
+  SplashCell c;
+  c.speed = 50, c.angle_deg = 15, c.impacts = 2;
+  c.rebound = {{0, 1, 20, 10, 0}, {1, 0, 0, 0, 0}};
+  c.ejecta = {{0, 0, 3, 0, 3, 0, 0, 0}, {0, 0, 3, 0, 3, 0, 0, 0}, {1, 0, 3, 0, 3, 0, 0, 0}};
+  c.moments["ejecta_per_impact"] = {1.5, 0, 1.5, 1.5};
+  f.cells = {c};
+  WindModelOptions o;
+  const SplashKernel k = kernel_of(f, o);
+  for (const auto& [vx, vy] : {std::pair{300.0, -80.0}, std::pair{30.0, -5.0}, std::pair{3000.0, -2000.0}}) {
+    double n = 0;
+    for (int b = 0; b < o.bins; ++b) n += k.density((b + 0.5) * o.dv, vx, vy) * o.dv;
+    EXPECT_NEAR(n, 2.0, 1e-12);
+  }
+  const double scale = std::sqrt(o.g * 2 * o.grain.radius);
+  EXPECT_GT(k.density(10 * scale, 300, -80), 0);
+  EXPECT_NEAR(k.launch_vx(300, -80), 20 * scale / 4, 1e-12);  // mean over the 4 launched grains
+}
