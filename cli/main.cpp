@@ -1,5 +1,5 @@
 // grainlab: the command line. Subcommands: run, inspect, validate, cost, engines, die-model, bench, bed,
-// impact, rebound-model, splash, saltation.
+// impact, rebound-model, splash, saltation, ripples.
 // Exit status: 0 success; 1 a check failed or a simulation broke down; 2 bad input (nothing written).
 #include <fmt/format.h>
 
@@ -17,6 +17,7 @@
 #include "input_error.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
+#include "ripples_commands.hpp"
 #include "saltation_commands.hpp"
 #include "scene.hpp"
 #include "suites.hpp"
@@ -329,6 +330,8 @@ int main(int argc, char** argv) {
   impacts.add(app);
   cli::SaltationCommands saltation;
   saltation.add(app);
+  cli::RipplesCommands ripples;
+  ripples.add(app);
 
   try {
     app.parse(argc, argv);
@@ -352,6 +355,7 @@ int main(int argc, char** argv) {
     if (*impact_bench_cmd) return bench::run_impact_bench(impact_bench);
     if (const int status = impacts.dispatch(); status >= 0) return status;
     if (const int status = saltation.dispatch(); status >= 0) return status;
+    if (const int status = ripples.dispatch(); status >= 0) return status;
   } catch (const InputError& e) {
     fmt::print(stderr, "grainlab: error: {}\n", e.what());
     return 2;

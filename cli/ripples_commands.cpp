@@ -1,0 +1,116 @@
+#include "ripples_commands.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "input_error.hpp"
+#include "worms.hpp"
+
+namespace grainlab::cli {
+
+namespace {
+
+using namespace grainlab::ripples;
+
+// A proportion's 95 % Wilson interval.
+std::pair<double, double> wilson(std::size_t k, std::size_t n) {
+  const double z = 1.959963984540054, p = double(k) / double(n), nn = double(n);
+  const double centre = (p + z * z / (2 * nn)) / (1 + z * z / nn);
+  const double half = z / (1 + z * z / nn) * std::sqrt(p * (1 - p) / nn + z * z / (4 * nn * nn));
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+void check_A(double A) {
+  if (!(A > 0 && A <= 1)) throw InputError({"--A", 0}, fmt::format("{}", A), "must lie in (0, 1]");
+}
+
+int chain_command(const RipplesCommands& a) {
+  check_A(a.A);
+  if (a.links < 2 || a.start < 0 || a.start > a.links)
+    throw InputError({"--start", 0}, std::to_string(a.start),
+                     fmt::format("must lie in 0..{} (and --links at least 2)", a.links));
+  const WormChainResult r = worm_chain(a.links, a.start, a.A, a.steps);
+  const std::size_t merged = worm_pair_merges(a.links, a.start, a.A, a.steps, a.runs, a.seed);
+  const auto [lo, hi] = wilson(merged, a.runs);
+  const double mc = double(merged) / double(a.runs);
+  if (a.json) {
+    fmt::print("{}\n",
+               nlohmann::json{{"absorbed", r.absorbed},
+                              {"links", a.links},
+                              {"start", a.start},
+                              {"A", a.A},
+                              {"steps", a.steps},
+                              {"mean_links_moved", r.mean_links_moved},
+                              {"monte_carlo", {{"runs", a.runs}, {"merged", mc}, {"lo", lo}, {"hi", hi}}}}
+                   .dump(2));
+    return 0;
+  }
+  fmt::print(
+      "two worms of {} links in all, one starting at {}, A = {}, {} steps (each worm advances A/l per "
+      "step)\n",
+      a.links, a.start, a.A, a.steps);
+  fmt::print(
+      "  exact (the chain's matrix): merged with probability {:.5f}; the first worm moved {:.1f} links\n",
+      r.absorbed, r.mean_links_moved);
+  fmt::print("  Monte Carlo of the rule ({} runs): {:.5f}, 95 % interval [{:.5f}, {:.5f}]\n", a.runs, mc, lo,
+             hi);
+  return 0;
+}
+
+int ring_command(const RipplesCommands& a) {
+  check_A(a.A);
+  if (a.worms < 2 || a.length < 1)
+    throw InputError({"--worms", 0}, std::to_string(a.worms), "needs at least 2 worms of at least 1 link");
+  const WormRingResult r = worm_ring(a.worms, a.length, a.A, a.steps, a.seed);
+  std::vector<int> sorted = r.lengths;
+  std::sort(sorted.begin(), sorted.end());
+  const double mean = r.mean_length.empty() ? a.length : r.mean_length.back();
+  if (a.json) {
+    fmt::print("{}\n", nlohmann::json{{"worms", r.lengths.size()},
+                                      {"mean_length", mean},
+                                      {"lengths", r.lengths},
+                                      {"steps", r.recorded_steps},
+                                      {"mean_length_history", r.mean_length}}
+                           .dump(2));
+    return 0;
+  }
+  fmt::print(
+      "{} worms of {} links on a ring, A = {}, {} steps: {} worms left, mean length {:.2f} (median {}, "
+      "longest {})\n",
+      a.worms, a.length, a.A, a.steps, r.lengths.size(), mean, sorted[sorted.size() / 2], sorted.back());
+  return 0;
+}
+
+}  // namespace
+
+void RipplesCommands::add(CLI::App& app) {
+  group = app.add_subcommand("ripples", "the thesis's ripple models (Ch. V)");
+  group->require_subcommand(1);
+  chain = group->add_subcommand("worms-chain",
+                                "two worms as a Markov chain: exact merger probability and Monte Carlo");
+  chain->add_option("--links", links, "links of both worms together (L)")->default_val(10);
+  chain->add_option("--start", start, "one worm's starting length")->default_val(5);
+  chain->add_option("--A", A, "advance probability scale: a worm of l links moves with probability A / l")
+      ->default_val(0.6);
+  chain->add_option("--steps", steps, "steps")->default_val(416)->check(CLI::Range(0, 100000000));
+  chain->add_option("--runs", runs, "Monte Carlo pairs")->default_val(20000)->check(CLI::Range(1, 100000000));
+  chain->add_option("--seed", seed, "Monte Carlo seed")->default_val(1);
+  chain->add_flag("--json", json, "print {\"absorbed\": P, ...}");
+  ring = group->add_subcommand("worms", "Haff's worm model: many worms on a ring merging (Fig. 5.16)");
+  ring->add_option("--worms", worms, "worms at the start")->default_val(200);
+  ring->add_option("--length", length, "links per worm at the start")->default_val(2);
+  ring->add_option("--A", A, "advance probability scale")->default_val(0.6);
+  ring->add_option("--steps", steps, "steps")->default_val(200000)->check(CLI::Range(0, 100000000));
+  ring->add_option("--seed", seed, "seed")->default_val(1);
+  ring->add_flag("--json", json, "print the lengths and the mean-length history");
+}
+
+int RipplesCommands::dispatch() const {
+  if (chain && *chain) return chain_command(*this);
+  if (ring && *ring) return ring_command(*this);
+  return -1;
+}
+
+}  // namespace grainlab::cli
