@@ -165,14 +165,17 @@ void statement_checks(Report& r, const std::vector<CaseResult>& rs, double eps) 
                   "10-20 % spread; tolerance 20 %); the cases: {:.2f}",
                   fmt::join(masses, ", ")));
   {
-    // A and D share their impact points (same seed): a paired comparison.
-    const MeanInterval d = effective_mass_difference(find(rs, "A").e.impacts, find(rs, "D").e.impacts, eps);
+    // The thesis's frictional and frictionless beds had the same surface (beta 17 +- 5). grainlab's dense bed
+    // matches that (beta 18); its loose bed is rougher (beta 26), and there the effect of friction on m_beff
+    // drowns (reported, docs/impacts.md). G and D-dense share beds and impact points: a paired comparison.
+    const MeanInterval d =
+        effective_mass_difference(find(rs, "G").e.impacts, find(rs, "D-dense").e.impacts, eps);
     Check c;
     c.id = "impacts/m-beff-frictionless-lighter", c.engine = "native", c.value = d.lo;
     c.passed = std::isfinite(d.lo) && d.lo > 0;
     c.note = fmt::format(
-        "m_beff(A) - m_beff(D), paired over the same impact points: {:.3f} [{:.3f}, {:.3f}] (thesis "
-        "1.9 - 1.3 = 0.6); passes when the interval's lower end is above 0",
+        "m_beff(G) - m_beff(D on the dense bed), paired over the same impact points: {:.3f} [{:.3f}, {:.3f}] "
+        "(thesis 1.9 - 1.3 = 0.6); passes when the interval's lower end is above 0",
         d.mean, d.lo, d.hi);
     r.checks.push_back(c);
   }
@@ -218,7 +221,7 @@ std::vector<PlotSpec> impact_plots(const std::vector<CaseResult>& rs) {
                   {}};
   PlotSpec mass{"impacts_m_beff.png",
                 "Effective target mass per case (two-body inversion)",
-                "case (A..I = 1..9)",
+                "case (A..I = 1..9; D on the dense bed = 10)",
                 "m_beff / m_b",
                 false,
                 {}};
@@ -355,8 +358,29 @@ void run_impacts_suite(Report& r, const SuiteOptions& o) {
       run_impact(beds[c.bed][0], c, kSeed, 0, rec);
     }
   }
+  // CASE D's frictionless grains on the dense bed too: the dense bed's contact angles match the thesis's
+  // (its loose bed was as smooth), so friction's effect on m_beff is compared there as well.
+  {
+    const ImpactCase dd{"D-dense", 3000, 15, 0.0, "dense", 1.0};
+    if (o.log) o.log(fmt::format("impacts: CASE D on the dense beds ({} impacts)", runs));
+    CaseResult cr{dd, run_impact_ensemble(beds["dense"], dd, kSeed, runs, opt, o.progress), {}};
+    cr.s = summarize_impacts(cr.e.impacts, eps);
+    results.push_back(std::move(cr));
+  }
   std::vector<std::string> off;
   std::string md = "## Grain-bed impacts (thesis Ch. III)\n\n" + bed_section(beds);
+  {
+    const MeanInterval loose = effective_mass_difference(find(results, "A").e.impacts,
+                                                         find(results, "D").e.impacts, eps);
+    const MeanInterval dense = effective_mass_difference(find(results, "G").e.impacts,
+                                                         find(results, "D-dense").e.impacts, eps);
+    md += fmt::format(
+        "**Friction and the effective mass.** Paired over the same impact points, friction raises m_beff / m_b by "
+        "{:.2f} [{:.2f}, {:.2f}] on the loose beds (A - D, mean beta {:.0f} deg) and by {:.2f} [{:.2f}, {:.2f}] on "
+        "the dense beds (G - D-dense, mean beta {:.0f} deg); the thesis: 0.6 on a bed with beta 17 deg.\n\n",
+        loose.mean, loose.lo, loose.hi, find(results, "A").s.q.at("beta").mean, dense.mean, dense.lo, dense.hi,
+        find(results, "G").s.q.at("beta").mean);
+  }
   md += fmt::format(
       "{} impacts per case on {} bed(s) per preparation, seed {}, native engine (Verlet at 1/30 of the "
       "shortest contact). Median cost per impact: ",
