@@ -97,6 +97,9 @@ int wind_command(const SaltationCommands& a) {
   WindModelOptions o;
   o.u_star = a.u_star, o.tolerance = a.tolerance;
   o.grain.radius = a.grain_diameter / 2;
+  if (!(a.reynolds_factor > 0 && a.reynolds_factor <= 10))
+    throw InputError({"--re-factor", 0}, fmt::format("{}", a.reynolds_factor), "must lie in (0, 10]");
+  o.reynolds_factor = a.reynolds_factor;
   const SplashKernel splash = a.splash_file.empty() ? kernel_of(table_4_3(a.wind_case))
                                                     : kernel_of(read_splash_file(a.splash_file), o);
   const WindModelResult r = solve_wind_model(o, splash);
@@ -164,6 +167,9 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::ExistingFile);
   wind->add_option("--grain-diameter", grain_diameter, "saltating grain diameter, cm (Ch. IV: 0.025)")
       ->default_val(0.025);
+  wind->add_option("--re-factor", reynolds_factor,
+                   "multiplies Re in eq. 4.31 (2: the diameter in place of r)")
+      ->default_val(1);
   wind->add_option("--ustar", u_star, "wind-shear velocity above the saltation layer, cm/s")->default_val(35);
   wind->add_option("--tolerance", tolerance,
                    "largest relative change of F and u(y) at convergence (thesis: 0.01)")

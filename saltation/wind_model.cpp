@@ -74,7 +74,7 @@ State derivative(const WindModelOptions& o, const std::vector<double>& ys, const
   const double vr = std::hypot(rx, ry);
   double ax = 0, ay = -o.g;
   if (vr > 0) {
-    const double cd = drag_coefficient(2 * o.grain.radius * vr / o.fluid.viscosity);
+    const double cd = drag_coefficient(o.reynolds_factor * 2 * o.grain.radius * vr / o.fluid.viscosity);
     const double c = drag_factor * cd * vr;  // eq. 4.30 over the grain's mass
     ax -= c * rx, ay -= c * ry;
   }

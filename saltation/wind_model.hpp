@@ -49,7 +49,10 @@ struct WindModelOptions {
       1e-3;  // converged when no F component (over max F) and no u(y) changes more than this (the
              // thesis used 1e-2: u*_eff^2 is a small difference of large numbers, see docs)
   int max_iterations = 400;
-  double relaxation = 0.5;    // under-relaxation of the wind update (1: none); halved while it oscillates
+  double relaxation = 0.5;  // under-relaxation of the wind update (1: none); halved while it oscillates
+  // Re = reynolds_factor x 2 r |v_rel| / nu in eq. 4.31. 1 is the equation as printed; 2 (the diameter
+  // where the radius stands) brings Table 4.5 and the Ch. IV text numbers much closer (docs/saltation.md).
+  double reynolds_factor = 1;
   double flux_damping = 0.5;  // F(n+1) = (1 - b) F(n) + b [T] F(n): damps the flux-wind overshoot
   double roughness() const { return grain.radius / 15; }  // l = d/30
 };
