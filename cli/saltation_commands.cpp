@@ -103,6 +103,15 @@ int wind_command(const SaltationCommands& a) {
   const SplashKernel splash = a.splash_file.empty() ? kernel_of(table_4_3(a.wind_case))
                                                     : kernel_of(read_splash_file(a.splash_file), o);
   const WindModelResult r = solve_wind_model(o, splash);
+  if (!r.failure.empty()) {
+    fmt::print(stderr, "grainlab saltation wind: no steady state after {} iterations: {}\n", r.iterations,
+               r.failure);
+    if (a.wind_json)
+      fmt::print(
+          "{}\n",
+          nlohmann::json{{"converged", false}, {"failure", r.failure}, {"iterations", r.iterations}}.dump(2));
+    return 1;
+  }
   const double tau_g_check = o.fluid.density * (a.u_star * a.u_star - r.u_star_eff * r.u_star_eff);
   if (a.wind_json) {
     fmt::print("{}\n", nlohmann::json{{"case", a.wind_case},

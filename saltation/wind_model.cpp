@@ -142,6 +142,7 @@ Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const st
                s.vx + h / 6 * (k1.vx + 2 * k2.vx + 2 * k3.vx + k4.vx),
                s.vy + h / 6 * (k1.vy + 2 * k2.vy + 2 * k3.vy + k4.vy)};
     double dt = h;
+    if (!std::isfinite(next.y) || !std::isfinite(next.vx)) break;  // a broken wind: reported by the caller
     const bool landed = next.y <= 0 && n > 0;
     if (landed) {  // back to the bed within this step: cut it where y = 0 (linear in the step)
       const double w = s.y / (s.y - next.y);
@@ -318,6 +319,17 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       vox_weight[k] = s > 0 ? sx / s : 0;  // one horizontal launch velocity per bin: the mean of its sources
     }
     const double change = std::max(max_relative_change(next, r.F), wind_change);
+    double total = 0;
+    for (double x : next) total += x * o.dv;
+    // The grains can carry at most the whole stress: a launch rate far beyond it means the splash replaces
+    // each grain more than once however weak the wind, and no steady state exists.
+    if (!std::isfinite(total) || total * m * o.u_star > 100 * tau0) {
+      r.failure =
+          "the flux grows without bound: this splash function replaces each grain more than once "
+          "however weak the wind near the bed, so there is no steady state";
+      r.iterations = n + 1;
+      break;
+    }
     r.F = next, r.v_ox = vox_weight;
     r.residuals.push_back(change);
     r.iterations = n + 1;

@@ -65,6 +65,7 @@ struct Trajectory {
 
 struct WindModelResult {
   bool converged = false;
+  std::string failure;              // why there is no steady state, when there is none
   int iterations = 0;               // outer iterations (F updates)
   int trajectory_passes = 0;        // inner wind-trajectory passes in all
   std::vector<double> residuals;    // largest relative change of F or u per outer iteration

@@ -97,3 +97,14 @@ TEST(WindModel, TabulatedSplashKernelCountsEveryLaunchedGrain) {
   EXPECT_GT(k.density(10 * scale, 300, -80), 0);
   EXPECT_NEAR(k.launch_vx(300, -80), 20 * scale / 4, 1e-12);  // mean over the 4 launched grains
 }
+
+TEST(WindModel, ASplashThatAlwaysMultipliesHasNoSteadyState) {
+  // Two grains out per impact at any impact speed: the flux grows however weak the wind gets. The solver
+  // must say so, not hang or report a state.
+  WindModelOptions o;
+  SplashKernel k{[](double v_oy, double, double) { return v_oy < 100 ? 2.0 / 100 : 0.0; },
+                 [](double, double) { return 0.0; }};
+  const WindModelResult r = solve_wind_model(o, k);
+  EXPECT_FALSE(r.converged);
+  EXPECT_NE(r.failure.find("no steady state"), std::string::npos);
+}
