@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "conveyor.hpp"
+#include "h5_output.hpp"
 #include "input_error.hpp"
 #include "wind_model.hpp"
 
@@ -87,7 +89,46 @@ int distribution_case(const SaltationCommands& a) {
   return 0;
 }
 
+// Every profile and distribution of a run, as named tables (docs/saltation.md lists them).
+void write_wind_run(const std::string& path, const SaltationCommands& a, const WindModelOptions& o,
+                    const WindModelResult& r) {
+  SampleTable wind{"wind",
+                   "per height y (cm): wind u with grains and u_clean without (cm/s), fluid stress tau "
+                   "(dyn/cm^2), drag the grains take from the air (dyn/cm^3)",
+                   {"y", "u", "u_clean", "tau", "drag"},
+                   {}};
+  for (std::size_t k = 0; k < r.y.size(); ++k)
+    wind.rows.push_back({r.y[k], r.u[k], r.u_clean[k], r.tau[k], r.drag[k]});
+  SampleTable launch{"launch",
+                     "per launch bin: v_oy (cm/s), F (grains per cm^2 per s per cm/s), v_ox, the landing "
+                     "velocity, hop height and length (cm), flight time (s)",
+                     {"v_oy", "F", "v_ox", "v_ix", "v_iy", "hop_height", "hop_length", "flight_time"},
+                     {}};
+  for (std::size_t j = 0; j < r.F.size(); ++j) {
+    const Trajectory& t = r.trajectories[j];
+    launch.rows.push_back({r.v_launch[j], r.F[j], r.v_ox[j], t.v_ix, t.v_iy, t.height, t.length, t.time});
+  }
+  SampleTable conv{
+      "convergence", "largest relative change of F or u per iteration", {"iteration", "residual"}, {}};
+  for (std::size_t n = 0; n < r.residuals.size(); ++n) conv.rows.push_back({double(n + 1), r.residuals[n]});
+  std::map<std::string, std::string> meta = {
+      {"grainlab_version", GRAINLAB_VERSION},
+      {"model", "thesis Ch. IV steady-state saltation (Fig. 4.10)"},
+      {"splash", a.splash_file.empty() ? fmt::format("Table 4.3 CASE {}", a.wind_case) : a.splash_file},
+      {"units", "cgs: cm, g, s"},
+      {"u_star", fmt::format("{}", o.u_star)},
+      {"u_star_eff", fmt::format("{:.17g}", r.u_star_eff)},
+      {"mass_flux", fmt::format("{:.17g}", r.mass_flux)},
+      {"grain_diameter", fmt::format("{}", 2 * o.grain.radius)},
+      {"reynolds_factor", fmt::format("{}", o.reynolds_factor)},
+      {"converged", r.converged ? "true" : "false"},
+      {"iterations", std::to_string(r.iterations)}};
+  write_sample_tables(path, {wind, launch, conv}, meta);
+}
+
 int wind_command(const SaltationCommands& a) {
+  if (!a.out.empty() && !a.force && std::filesystem::exists(a.out))
+    throw InputError({"--out", 0}, a.out, "exists; pass --force to overwrite it");
   if (!(a.u_star > 0 && a.u_star < 1000))
     throw InputError({"--ustar", 0}, fmt::format("{}", a.u_star), "must lie in (0, 1000) cm/s");
   if ((a.wind_case == 0) == a.splash_file.empty())
@@ -113,6 +154,7 @@ int wind_command(const SaltationCommands& a) {
     return 1;
   }
   const double tau_g_check = o.fluid.density * (a.u_star * a.u_star - r.u_star_eff * r.u_star_eff);
+  if (!a.out.empty()) write_wind_run(a.out, a, o, r);
   if (a.wind_json) {
     fmt::print("{}\n", nlohmann::json{{"case", a.wind_case},
                                       {"splash", a.splash_file},
@@ -176,6 +218,8 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::ExistingFile);
   wind->add_option("--grain-diameter", grain_diameter, "saltating grain diameter, cm (Ch. IV: 0.025)")
       ->default_val(0.025);
+  wind->add_option("--out,-o", out, "write the profiles and distributions to this HDF5 file");
+  wind->add_flag("--force", force, "overwrite --out");
   wind->add_option("--re-factor", reynolds_factor,
                    "multiplies Re in eq. 4.31 (2: the diameter in place of r)")
       ->default_val(1);

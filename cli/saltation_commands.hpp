@@ -15,7 +15,8 @@ struct SaltationCommands {
   std::string splash_file;
   double grain_diameter = 0.025, reynolds_factor = 1;
   double u_star = 35, tolerance = 0.01;
-  bool wind_json = false;
+  bool wind_json = false, force = false;
+  std::string out;
   CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
