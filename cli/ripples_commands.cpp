@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "input_error.hpp"
+#include "triangles.hpp"
 #include "worms.hpp"
 
 namespace grainlab::cli {
@@ -83,6 +84,39 @@ int ring_command(const RipplesCommands& a) {
   return 0;
 }
 
+int triangles_command(const RipplesCommands& a) {
+  if (!(a.ratio > 0 && a.ratio < 1))
+    throw InputError({"--ratio", 0}, fmt::format("{}", a.ratio), "must lie in (0, 1)");
+  if (!(a.beta > 0 && a.alpha > 0 && a.beta + a.alpha < 90))
+    throw InputError({"--beta", 0}, fmt::format("{}, {}", a.beta, a.alpha),
+                     "slopes must be positive and sum below 90 deg");
+  TriangleParams p;
+  p.law = a.law, p.beta_deg = a.beta, p.alpha_deg = a.alpha;
+  const CollisionResult r = triangle_collision(p, a.ratio);
+  if (a.json) {
+    fmt::print("{}\n", nlohmann::json{{"law", a.law},
+                                      {"ratio", a.ratio},
+                                      {"upstream_after", r.upstream_after},
+                                      {"downstream_after", r.downstream_after},
+                                      {"min_effective_height", r.min_effective_height},
+                                      {"area_before", r.area_before},
+                                      {"area_after", r.area_after},
+                                      {"contact_time", r.duration}}
+                           .dump(2));
+    return 0;
+  }
+  fmt::print(
+      "triangular ripples (stoss {} deg, lee {} deg), {} transport: upstream {} x the downstream height\n",
+      a.beta, a.alpha, a.law, a.ratio);
+  fmt::print(
+      "  after the collision: upstream {:.4f}, downstream {:.4f} (heights / the downstream's initial)\n",
+      r.upstream_after, r.downstream_after);
+  fmt::print(
+      "  smallest effective upstream height during it: {:.4f} of its free height; sand {:.6f} -> {:.6f}\n",
+      r.min_effective_height, r.area_before, r.area_after);
+  return 0;
+}
+
 }  // namespace
 
 void RipplesCommands::add(CLI::App& app) {
@@ -105,9 +139,18 @@ void RipplesCommands::add(CLI::App& app) {
   ring->add_option("--steps", steps, "steps")->default_val(200000)->check(CLI::Range(0, 100000000));
   ring->add_option("--seed", seed, "seed")->default_val(1);
   ring->add_flag("--json", json, "print the lengths and the mean-length history");
+  triangles = group->add_subcommand("triangles", "two triangular ripples colliding (Figs 5.17-5.20)");
+  triangles->add_option("--ratio", ratio, "upstream / downstream height, in (0, 1)")->default_val(0.6);
+  triangles->add_option("--law", law, "target or brink transport")
+      ->default_val("target")
+      ->check(CLI::IsMember({"target", "brink"}));
+  triangles->add_option("--beta", beta, "stoss slope, deg")->default_val(5);
+  triangles->add_option("--alpha", alpha, "lee slope (impact angle), deg")->default_val(10);
+  triangles->add_flag("--json", json, "print the sizes after the collision and the minimum effective height");
 }
 
 int RipplesCommands::dispatch() const {
+  if (triangles && *triangles) return triangles_command(*this);
   if (chain && *chain) return chain_command(*this);
   if (ring && *ring) return ring_command(*this);
   return -1;

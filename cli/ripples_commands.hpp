@@ -2,16 +2,18 @@
 // `grainlab ripples ...`: the thesis's ripple models (Ch. V); so far Haff's worm model.
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <string>
 
 namespace grainlab::cli {
 
 struct RipplesCommands {
   int links = 10, start = 5, steps = 416, worms = 200, length = 2;
-  double A = 0.6;
+  double A = 0.6, ratio = 0.6, beta = 5, alpha = 10;
+  std::string law = "target";
   std::size_t runs = 20000;
   std::uint64_t seed = 1;
   bool json = false;
-  CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr;
+  CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
