@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "bin_model.hpp"
 #include "input_error.hpp"
 #include "triangles.hpp"
 #include "worms.hpp"
@@ -117,6 +118,30 @@ int triangles_command(const RipplesCommands& a) {
   return 0;
 }
 
+int bins_command(const RipplesCommands& a) {
+  if (a.bins < 16) throw InputError({"--bins", 0}, std::to_string(a.bins), "needs at least 16 bins");
+  if (a.shots < 0) throw InputError({"--shots", 0}, std::to_string(a.shots), "must be >= 0");
+  BinModelParams p;
+  p.bins = a.bins, p.seed = a.seed;
+  BinModel m(p);
+  nlohmann::json history = nlohmann::json::array();
+  const long chunk = std::max(1L, a.shots / 10);
+  if (!a.json)
+    fmt::print("Haff's bin model: {} bins of {} grain diameters, shots at {} deg\n", p.bins, p.bin_width,
+               p.impact_deg);
+  for (long done = 0; done < a.shots; done += chunk) {
+    m.fire(std::min(chunk, a.shots - done));
+    history.push_back({{"shots", m.shots_fired()},
+                       {"roughness", m.rms_roughness()},
+                       {"wavelength", m.dominant_wavelength()}});
+    if (!a.json)
+      fmt::print("  {:>10} shots: roughness {:.3f} d, dominant wavelength {:.1f} bins\n", m.shots_fired(),
+                 m.rms_roughness(), m.dominant_wavelength());
+  }
+  if (a.json) fmt::print("{}\n", nlohmann::json{{"history", history}, {"heights", m.heights()}}.dump(2));
+  return 0;
+}
+
 }  // namespace
 
 void RipplesCommands::add(CLI::App& app) {
@@ -146,10 +171,16 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(CLI::IsMember({"target", "brink"}));
   triangles->add_option("--beta", beta, "stoss slope, deg")->default_val(5);
   triangles->add_option("--alpha", alpha, "lee slope (impact angle), deg")->default_val(10);
+  bin_cmd = group->add_subcommand("bins", "Haff's bin model: shots at a fixed angle, shadowing, repose");
+  bin_cmd->add_option("--bins", bins, "bins (periodic)")->default_val(600);
+  bin_cmd->add_option("--shots", shots, "grains fired")->default_val(2000000);
+  bin_cmd->add_option("--seed", seed, "seed")->default_val(1);
+  bin_cmd->add_flag("--json", json, "print the roughness and wavelength history and the final heights");
   triangles->add_flag("--json", json, "print the sizes after the collision and the minimum effective height");
 }
 
 int RipplesCommands::dispatch() const {
+  if (bin_cmd && *bin_cmd) return bins_command(*this);
   if (triangles && *triangles) return triangles_command(*this);
   if (chain && *chain) return chain_command(*this);
   if (ring && *ring) return ring_command(*this);

@@ -13,7 +13,9 @@ struct RipplesCommands {
   std::size_t runs = 20000;
   std::uint64_t seed = 1;
   bool json = false;
-  CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr;
+  int bins = 600;
+  long shots = 2000000;
+  CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr, *bin_cmd = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
