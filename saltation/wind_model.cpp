@@ -183,27 +183,9 @@ BinnedCell bin_cell(const SplashCell& c, double scale, const WindModelOptions& o
     b.density[static_cast<std::size_t>(k)] += per;
     n += 1, sx += vx * scale;
   };
-  if (!c.rebound.empty() || !c.ejecta.empty()) {
-    for (const ReboundRow& r : c.rebound)
-      if (r[1] > 0) add(r[2], r[3]);
-    for (const EjectumRow& e : c.ejecta) add(e[3], e[4]);
-  } else {
-    // Moments only (the sand gun): the rebound as a Gaussian around eps_iy x the cell's incident v_y, the
-    // ejecta as an exponential with the measured mean launch v_y.
-    const double vin = c.speed * scale, a = c.angle_deg * M_PI / 180;
-    const auto m = [&](const char* k) { return c.moments.count(k) ? c.moments.at(k).mean : 0.0; };
-    const auto sd = [&](const char* k) { return c.moments.count(k) ? c.moments.at(k).sd : 0.0; };
-    const double mu = m("eps_iy") * vin * std::sin(a), sig = std::max(sd("eps_iy") * vin * std::sin(a), o.dv);
-    const double ej = m("ejecta_per_impact"), vey = m("ejecta_vy") * scale;
-    for (int k = 0; k < o.bins; ++k) {
-      const double v = (k + 0.5) * o.dv;
-      double d = std::exp(-0.5 * (v - mu) * (v - mu) / (sig * sig)) / (sig * std::sqrt(2 * M_PI));
-      if (vey > 0) d += ej * std::exp(-v / vey) / vey;
-      b.density[static_cast<std::size_t>(k)] = d;
-    }
-    b.mean_vx = m("eps_ix") * vin * std::cos(a);
-    return b;
-  }
+  for (const ReboundRow& r : c.rebound)
+    if (r[1] > 0) add(r[2], r[3]);
+  for (const EjectumRow& e : c.ejecta) add(e[3], e[4]);
   b.mean_vx = n > 0 ? sx / n : 0;
   return b;
 }
@@ -219,8 +201,53 @@ std::pair<std::size_t, double> bracket(const std::vector<double>& axis, double x
 
 }  // namespace
 
+// A measured file with moments only (the sand gun). At each impact: a rebound drawn from a Gaussian of
+// eps_iy x |v_iy| (spread likewise) from the nearest cell; ejecta numbering the least-squares line of
+// ejecta per impact against impact speed across the cells (the sand gun's linear law), held at zero below
+// its root, with an exponential launch v_y of the nearest cell's mean. This is the extrapolation the thesis
+// made for its CASE 7 ("extrapolated outside" 650-1200 cm/s), in its simplest defensible form.
+SplashKernel moments_kernel(const SplashFile& f, double scale) {
+  double sv = 0, sn = 0, svv = 0, svn = 0, m = 0;
+  for (const SplashCell& c : f.cells)
+    if (c.moments.count("ejecta_per_impact")) {
+      const double v = c.speed, n = c.moments.at("ejecta_per_impact").mean;
+      sv += v, sn += n, svv += v * v, svn += v * n, m += 1;
+    }
+  const double slope = m > 1 ? (m * svn - sv * sn) / (m * svv - sv * sv) : 0,
+               icpt = m > 0 ? (sn - slope * sv) / m : 0;
+  auto file = std::make_shared<SplashFile>(f);
+  auto near = [file, scale](double v_ix, double v_iy) -> const SplashCell& {
+    return file->nearest(std::hypot(v_ix, v_iy) / scale, std::atan2(-v_iy, v_ix) * 180 / M_PI);
+  };
+  auto get = [](const SplashCell& c, const char* k, bool spread) {
+    return c.moments.count(k) ? (spread ? c.moments.at(k).sd : c.moments.at(k).mean) : 0.0;
+  };
+  auto ejecta = [slope, icpt, scale](double v_ix, double v_iy) {
+    return std::max(0.0, icpt + slope * std::hypot(v_ix, v_iy) / scale);
+  };
+  return {[near, get, ejecta, scale](double v_oy, double v_ix, double v_iy) {
+            const SplashCell& c = near(v_ix, v_iy);
+            const double mu = get(c, "eps_iy", false) * -v_iy;
+            const double sig = std::max(get(c, "eps_iy", true) * -v_iy, 1e-3 * scale);
+            double d = std::exp(-0.5 * (v_oy - mu) * (v_oy - mu) / (sig * sig)) / (sig * std::sqrt(2 * M_PI));
+            const double vey = get(c, "ejecta_vy", false) * scale;
+            if (vey > 0) d += ejecta(v_ix, v_iy) * std::exp(-v_oy / vey) / vey;
+            return d;
+          },
+          [near, get, ejecta, scale](double v_ix, double v_iy) {
+            const SplashCell& c = near(v_ix, v_iy);
+            const double n = ejecta(v_ix, v_iy);
+            const double ej_vx =
+                get(c, "ejecta_vy", false) * scale * std::tan(get(c, "ejecta_angle", false) * M_PI / 180);
+            return (get(c, "eps_ix", false) * v_ix + n * ej_vx) / (1 + n);
+          }};
+}
+
 SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o) {
   const double scale = std::sqrt(o.g * 2 * o.grain.radius);  // the model's sqrt(g d)
+  bool raw = false;
+  for (const SplashCell& c : f.cells) raw = raw || !c.rebound.empty() || !c.ejecta.empty();
+  if (!raw) return moments_kernel(f, scale);
   auto cells = std::make_shared<std::vector<BinnedCell>>();
   for (const SplashCell& c : f.cells) cells->push_back(bin_cell(c, scale, o));
   const bool grid = !f.speeds.empty() && f.speeds.size() * f.angles_deg.size() == f.cells.size();

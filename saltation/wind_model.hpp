@@ -103,8 +103,9 @@ SplashKernel kernel_of(const AnalyticSplash& s);
 // A grainlab-splash/1 file scaled to grains of the model's diameter (velocities x sqrt(g d)). Simulated
 // files: each cell's rebound and ejecta launch velocities binned on the model's launch grid (per impact,
 // per cm/s), interpolated bilinearly between the cells around an impact's speed and angle (held at the
-// edge cells outside the grid). Measured files with moments only: the rebound as a Gaussian of eps_iy's
-// mean and spread, the ejecta as an exponential of the measured mean v_y, nearest cell.
+// edge cells outside the grid). Measured files with moments only (the sand gun): the rebound as a Gaussian
+// of the nearest cell's eps_iy x |v_iy|, ejecta numbering the cells' least-squares line in impact speed
+// (zero below its root), launched with an exponential of the measured mean v_y.
 SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o);
 
 // Solves for the steady state (Fig. 4.10).
