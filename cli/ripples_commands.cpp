@@ -3,10 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "bin_model.hpp"
+#include "h5_output.hpp"
 #include "input_error.hpp"
+#include "ripple_config.hpp"
 #include "triangles.hpp"
 #include "worms.hpp"
 
@@ -119,26 +122,55 @@ int triangles_command(const RipplesCommands& a) {
 }
 
 int bins_command(const RipplesCommands& a) {
-  if (a.bins < 16) throw InputError({"--bins", 0}, std::to_string(a.bins), "needs at least 16 bins");
-  if (a.shots < 0) throw InputError({"--shots", 0}, std::to_string(a.shots), "must be >= 0");
-  BinModelParams p;
-  p.bins = a.bins, p.seed = a.seed;
-  BinModel m(p);
-  nlohmann::json history = nlohmann::json::array();
-  const long chunk = std::max(1L, a.shots / 10);
-  if (!a.json)
-    fmt::print("Haff's bin model: {} bins of {} grain diameters, shots at {} deg\n", p.bins, p.bin_width,
-               p.impact_deg);
-  for (long done = 0; done < a.shots; done += chunk) {
-    m.fire(std::min(chunk, a.shots - done));
-    history.push_back({{"shots", m.shots_fired()},
-                       {"roughness", m.rms_roughness()},
-                       {"wavelength", m.dominant_wavelength()}});
-    if (!a.json)
-      fmt::print("  {:>10} shots: roughness {:.3f} d, dominant wavelength {:.1f} bins\n", m.shots_fired(),
-                 m.rms_roughness(), m.dominant_wavelength());
+  if (!a.out.empty() && !a.force && std::filesystem::exists(a.out))
+    throw InputError({"--out", 0}, a.out, "exists; pass --force to overwrite it");
+  BinModelRun run;
+  if (!a.config.empty()) {
+    run = read_bin_model_config(a.config);
+  } else {
+    if (a.bins < 16) throw InputError({"--bins", 0}, std::to_string(a.bins), "needs at least 16 bins");
+    if (a.shots < 0) throw InputError({"--shots", 0}, std::to_string(a.shots), "must be >= 0");
+    run.params.bins = a.bins, run.params.seed = a.seed, run.shots = a.shots;
   }
-  if (a.json) fmt::print("{}\n", nlohmann::json{{"history", history}, {"heights", m.heights()}}.dump(2));
+  const BinModelParams& p = run.params;
+  BinModel m(p);
+  SampleTable h{
+      "h", "surface height (grain diameters) per bin (columns) at each recorded frame (rows)", {}, {}};
+  for (int i = 0; i < p.bins; ++i) h.columns.push_back(fmt::format("b{}", i));
+  SampleTable history{"history",
+                      "per frame: shots fired, rms roughness (grain diameters), dominant wavelength (bins)",
+                      {"shots", "roughness", "wavelength"},
+                      {}};
+  auto record = [&] {
+    h.rows.push_back(m.heights());
+    history.rows.push_back({double(m.shots_fired()), m.rms_roughness(), m.dominant_wavelength()});
+  };
+  record();
+  if (!a.json)
+    fmt::print("Haff's bin model: {} bins of {} grain diameters, shots at {} deg, {} shots\n", p.bins,
+               p.bin_width, p.impact_deg, run.shots);
+  const long chunk = std::max(1L, run.shots / run.frames);
+  for (long done = 0; done < run.shots; done += chunk) {
+    m.fire(std::min(chunk, run.shots - done));
+    record();
+  }
+  if (!a.out.empty())
+    write_sample_tables(a.out, {h, history},
+                        {{"grainlab_version", GRAINLAB_VERSION},
+                         {"model", "Haff's bin model (thesis Ch. V)"},
+                         {"config", run.text.empty() ? "(command-line options)" : run.text},
+                         {"units", "heights in grain diameters, x in bins"}});
+  nlohmann::json hist = nlohmann::json::array();
+  for (const auto& row : history.rows)
+    hist.push_back({{"shots", row[0]}, {"roughness", row[1]}, {"wavelength", row[2]}});
+  if (a.json) {
+    fmt::print("{}\n", nlohmann::json{{"history", hist}, {"heights", m.heights()}}.dump(2));
+    return 0;
+  }
+  for (std::size_t k = 0; k < history.rows.size(); k += std::max<std::size_t>(1, history.rows.size() / 10))
+    fmt::print("  {:>10.0f} shots: roughness {:.3f} d, dominant wavelength {:.1f} bins\n", history.rows[k][0],
+               history.rows[k][1], history.rows[k][2]);
+  if (!a.out.empty()) fmt::print("wrote {} (h(x, t): {} frames)\n", a.out, h.rows.size());
   return 0;
 }
 
@@ -175,6 +207,10 @@ void RipplesCommands::add(CLI::App& app) {
   bin_cmd->add_option("--bins", bins, "bins (periodic)")->default_val(600);
   bin_cmd->add_option("--shots", shots, "grains fired")->default_val(2000000);
   bin_cmd->add_option("--seed", seed, "seed")->default_val(1);
+  bin_cmd->add_option("--config", config, "a TOML config with a [bins] table (replaces the options above)")
+      ->check(CLI::ExistingFile);
+  bin_cmd->add_option("--out,-o", out, "write h(x, t) and the history to this HDF5 file");
+  bin_cmd->add_flag("--force", force, "overwrite --out");
   bin_cmd->add_flag("--json", json, "print the roughness and wavelength history and the final heights");
   triangles->add_flag("--json", json, "print the sizes after the collision and the minimum effective height");
 }

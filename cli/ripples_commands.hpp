@@ -15,6 +15,8 @@ struct RipplesCommands {
   bool json = false;
   int bins = 600;
   long shots = 2000000;
+  std::string config, out;
+  bool force = false;
   CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr, *bin_cmd = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran

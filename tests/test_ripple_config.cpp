@@ -1,0 +1,74 @@
+// Ripple configs get the scene reader's strictness: file, line and key in every error; the fuzz test
+// mutates a valid config and every mutant is read or refused with an InputError, never a crash.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "input_error.hpp"
+#include "ripple_config.hpp"
+
+using namespace grainlab::ripples;
+using grainlab::InputError;
+
+namespace {
+const std::string kGood =
+    "[bins]\nbins = 100\nbin_width = 4.0\nhop_bins = 3\nimpact_angle = 10.0\nshots = 1000\n";
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_bin_model_config(text, "r.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(RippleConfig, ReadsAGoodConfig) {
+  const BinModelRun r = parse_bin_model_config(kGood, "r.toml");
+  EXPECT_EQ(r.params.bins, 100);
+  EXPECT_EQ(r.params.hop_bins, 3);
+  EXPECT_EQ(r.shots, 1000);
+  EXPECT_EQ(r.params.repose_deg, 30);  // default
+}
+
+TEST(RippleConfig, MistakesNameFileLineAndKey) {
+  EXPECT_NE(error_of("[bins]\nbinz = 3\n").find("r.toml:2"), std::string::npos);
+  EXPECT_NE(error_of("[bins]\nbinz = 3\n").find("bins.binz"), std::string::npos);
+  EXPECT_NE(error_of("[bins]\nimpact_angle = 95.0\n").find("impact_angle"), std::string::npos);
+  EXPECT_NE(error_of("[bins]\nbins = \"many\"\n").find("bins.bins"), std::string::npos);
+  EXPECT_NE(error_of("[bins]\nbins = 20\nhop_bins = 30\n").find("hop_bins"), std::string::npos);
+  EXPECT_NE(error_of("[model]\nx = 1\n").find("[bins]"), std::string::npos);
+  EXPECT_NE(error_of("[bins\n").find("r.toml:1"), std::string::npos);
+}
+
+TEST(RippleConfig, RandomMutationsAreReadOrRefusedNeverCrash) {
+  std::mt19937_64 rng(2026);
+  const std::string alphabet = "0123456789.-+e[]=\"\n #abinz";
+  int refused = 0;
+  for (int k = 0; k < 500; ++k) {
+    std::string s = kGood;
+    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e) {
+      const std::size_t at = rng() % s.size();
+      switch (rng() % 3) {
+        case 0:
+          s[at] = alphabet[rng() % alphabet.size()];
+          break;
+        case 1:
+          s.erase(at, 1 + rng() % 4);
+          break;
+        default:
+          s.insert(at, 1, alphabet[rng() % alphabet.size()]);
+      }
+    }
+    try {
+      const BinModelRun r = parse_bin_model_config(s, "m.toml");
+      EXPECT_GE(r.params.bins, 16);
+      EXPECT_LT(r.params.hop_bins, r.params.bins);
+    } catch (const InputError& e) {
+      ++refused;
+      EXPECT_NE(std::string(e.what()).find("m.toml"), std::string::npos);
+    }
+  }
+  EXPECT_GT(refused, 0);
+}
