@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -174,6 +175,24 @@ int bins_command(const RipplesCommands& a) {
   return 0;
 }
 
+int wavelength_command(const RipplesCommands& a) {
+  // Fig. 5.24's set-up: d = 0.1 cm, reptation length 4 cm, stoss 5 deg, lee 10 deg.
+  const double statistical = 0.23, reptation = 4 * std::tan(10 * M_PI / 180);
+  nlohmann::json rows = nlohmann::json::array();
+  if (!a.json)
+    fmt::print(
+        "largest ripple from a merger (Fig. 5.24; stoss 5, lee 10 deg, reptation 4 cm):\n{:>6} {:>16} "
+        "{:>16}\n",
+        "ratio", "statistical (cm)", "reptation (cm)");
+  for (const double r : {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9}) {
+    const double s = limiting_wavelength(r, statistical), p = limiting_wavelength(r, reptation);
+    rows.push_back({{"ratio", r}, {"statistical", s}, {"reptation", p}});
+    if (!a.json) fmt::print("{:>6.1f} {:>16.1f} {:>16.1f}\n", r, s, p);
+  }
+  if (a.json) fmt::print("{}\n", rows.dump(2));
+  return 0;
+}
+
 }  // namespace
 
 void RipplesCommands::add(CLI::App& app) {
@@ -212,10 +231,14 @@ void RipplesCommands::add(CLI::App& app) {
   bin_cmd->add_option("--out,-o", out, "write h(x, t) and the history to this HDF5 file");
   bin_cmd->add_flag("--force", force, "overwrite --out");
   bin_cmd->add_flag("--json", json, "print the roughness and wavelength history and the final heights");
+  wavelength =
+      group->add_subcommand("wavelength", "Fig. 5.24: the largest ripple a merger can make, by size ratio");
+  wavelength->add_flag("--json", json, "print the table as JSON");
   triangles->add_flag("--json", json, "print the sizes after the collision and the minimum effective height");
 }
 
 int RipplesCommands::dispatch() const {
+  if (wavelength && *wavelength) return wavelength_command(*this);
   if (bin_cmd && *bin_cmd) return bins_command(*this);
   if (triangles && *triangles) return triangles_command(*this);
   if (chain && *chain) return chain_command(*this);

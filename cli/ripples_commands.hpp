@@ -17,7 +17,8 @@ struct RipplesCommands {
   long shots = 2000000;
   std::string config, out;
   bool force = false;
-  CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr, *bin_cmd = nullptr;
+  CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr, *bin_cmd = nullptr,
+           *wavelength = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };

@@ -76,4 +76,16 @@ CollisionResult triangle_collision(const TriangleParams& p, double ratio) {
   return r;
 }
 
+double limiting_wavelength(double ratio, double critical_height, double beta_deg, double alpha_deg) {
+  TriangleParams p;
+  p.beta_deg = beta_deg, p.alpha_deg = alpha_deg;
+  const double target = triangle_collision(p, ratio).min_effective_height;
+  p.law = "brink";
+  const double brink = triangle_collision(p, ratio).min_effective_height;
+  const double mean_curve = 0.5 * (target + brink);
+  const double H_down = critical_height / (ratio * mean_curve);
+  const double K = 1 / std::tan(beta_deg * M_PI / 180) + 1 / std::tan(alpha_deg * M_PI / 180);
+  return K * H_down * std::sqrt(1 + ratio * ratio);
+}
+
 }  // namespace grainlab::ripples

@@ -31,6 +31,15 @@ struct CollisionResult {
 // separate. Throws std::invalid_argument for a bad law or ratio outside (0, 1).
 CollisionResult triangle_collision(const TriangleParams& p, double ratio);
 
+// Fig. 5.24: the largest ripple a merger of two ripples of height ratio `ratio` can make. Two ripples merge
+// when the upstream one's smallest effective height during the collision (the mean of the target and
+// brink curves of Fig. 5.20, times its height) falls below `critical_height` (cm): 0.23 cm for the
+// statistical-fluctuation hypothesis, or reptation length x tan(alpha) for the reptation hypothesis (the
+// shadow zone h_e cot(alpha) shorter than the reptation length). The largest downstream height that still
+// merges, H_D = critical / (ratio x mean curve), makes a ripple of H_D sqrt(1 + ratio^2) (sand conserved),
+// whose wavelength is its base K H (the triangles span shadow end to shadow end). Returns cm.
+double limiting_wavelength(double ratio, double critical_height, double beta_deg = 5, double alpha_deg = 10);
+
 // Speed of an isolated triangle of height H: Q / H.
 double triangle_speed(const TriangleParams& p, double H);
 

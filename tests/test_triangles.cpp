@@ -1,6 +1,8 @@
 // The triangular collision model (thesis Ch. V section 3) against the spec's numbers.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "triangles.hpp"
 
 using namespace grainlab::ripples;
@@ -44,4 +46,20 @@ TEST(TriangleCollision, SmallerRipplesAreFaster) {
   p.law = "brink";
   EXPECT_NEAR(triangle_speed(p, 0.5) / triangle_speed(p, 1.0), 4.0, 1e-12);  // v ~ 1/H^2 (eq. 5.10)
   EXPECT_THROW(triangle_collision(p, 1.5), std::invalid_argument);
+}
+
+TEST(LimitingWavelength, Figure524OrderOfMagnitude) {
+  // d = 0.1 cm, reptation 4 cm, stoss 5, lee 10 deg: merger below 0.23 cm (statistical) or below a shadow
+  // of 4 cm (reptation). The thesis: "close to wavelengths expected" (tens of cm). The two hypotheses differ
+  // only in the critical height, so their wavelengths stand in the ratio 4 tan(10 deg) / 0.23 exactly.
+  const double crit_rep = 4 * std::tan(10 * M_PI / 180);
+  double last = 1e9;
+  for (const double r : {0.3, 0.5, 0.7, 0.9}) {
+    const double stat = limiting_wavelength(r, 0.23), rep = limiting_wavelength(r, crit_rep);
+    EXPECT_GT(stat, 3);
+    EXPECT_LT(stat, 60);
+    EXPECT_NEAR(rep / stat, crit_rep / 0.23, 1e-9);
+    EXPECT_LT(stat, last);  // ripples of more equal size merge only when small
+    last = stat;
+  }
 }
