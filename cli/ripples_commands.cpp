@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bin_model.hpp"
+#include "ensemble.hpp"
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "ripple_config.hpp"
@@ -20,14 +21,6 @@ namespace {
 
 using namespace grainlab::ripples;
 
-// A proportion's 95 % Wilson interval.
-std::pair<double, double> wilson(std::size_t k, std::size_t n) {
-  const double z = 1.959963984540054, p = double(k) / double(n), nn = double(n);
-  const double centre = (p + z * z / (2 * nn)) / (1 + z * z / nn);
-  const double half = z / (1 + z * z / nn) * std::sqrt(p * (1 - p) / nn + z * z / (4 * nn * nn));
-  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
-}
-
 void check_A(double A) {
   if (!(A > 0 && A <= 1)) throw InputError({"--A", 0}, fmt::format("{}", A), "must lie in (0, 1]");
 }
@@ -39,7 +32,8 @@ int chain_command(const RipplesCommands& a) {
                      fmt::format("must lie in 0..{} (and --links at least 2)", a.links));
   const WormChainResult r = worm_chain(a.links, a.start, a.A, a.steps);
   const std::size_t merged = worm_pair_merges(a.links, a.start, a.A, a.steps, a.runs, a.seed);
-  const auto [lo, hi] = wilson(merged, a.runs);
+  const validation::Proportion w = validation::wilson_interval(merged, a.runs);
+  const double lo = w.lo, hi = w.hi;
   const double mc = double(merged) / double(a.runs);
   if (a.json) {
     fmt::print("{}\n",
