@@ -63,7 +63,7 @@ int ring_command(const RipplesCommands& a) {
   check_A(a.A);
   if (a.worms < 2 || a.length < 1)
     throw InputError({"--worms", 0}, std::to_string(a.worms), "needs at least 2 worms of at least 1 link");
-  const WormRingResult r = worm_ring(a.worms, a.length, a.A, a.steps, a.seed);
+  const WormRingResult r = worm_ring(a.worms, a.length, a.A, a.ring_steps, a.seed);
   std::vector<int> sorted = r.lengths;
   std::sort(sorted.begin(), sorted.end());
   const double mean = r.mean_length.empty() ? a.length : r.mean_length.back();
@@ -79,7 +79,7 @@ int ring_command(const RipplesCommands& a) {
   fmt::print(
       "{} worms of {} links on a ring, A = {}, {} steps: {} worms left, mean length {:.2f} (median {}, "
       "longest {})\n",
-      a.worms, a.length, a.A, a.steps, r.lengths.size(), mean, sorted[sorted.size() / 2], sorted.back());
+      a.worms, a.length, a.A, a.ring_steps, r.lengths.size(), mean, sorted[sorted.size() / 2], sorted.back());
   return 0;
 }
 
@@ -206,7 +206,7 @@ void RipplesCommands::add(CLI::App& app) {
   ring->add_option("--worms", worms, "worms at the start")->default_val(200);
   ring->add_option("--length", length, "links per worm at the start")->default_val(2);
   ring->add_option("--A", A, "advance probability scale")->default_val(0.6);
-  ring->add_option("--steps", steps, "steps")->default_val(200000)->check(CLI::Range(0, 100000000));
+  ring->add_option("--steps", ring_steps, "steps")->default_val(200000)->check(CLI::Range(0, 100000000));
   ring->add_option("--seed", seed, "seed")->default_val(1);
   ring->add_flag("--json", json, "print the lengths and the mean-length history");
   triangles = group->add_subcommand("triangles", "two triangular ripples colliding (Figs 5.17-5.20)");

@@ -7,7 +7,7 @@
 namespace grainlab::cli {
 
 struct RipplesCommands {
-  int links = 10, start = 5, steps = 416, worms = 200, length = 2;
+  int links = 10, start = 5, steps = 416, worms = 200, length = 2, ring_steps = 200000;
   double A = 0.6, ratio = 0.6, beta = 5, alpha = 10;
   std::string law = "target";
   std::size_t runs = 20000;
