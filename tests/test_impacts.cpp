@@ -15,16 +15,18 @@ using namespace grainlab::validation;
 using namespace cli_test;
 
 TEST(ReboundModel, MeanContactAngleOnATouchingBed) {
-  // Pure geometry (spec section 4, derived): 12.86 deg at 15 deg, 10.93 at 25 (thesis 12.9, 10.9).
-  EXPECT_NEAR(rebound_model(rebound_case(2, 15)).beta_deg, 12.86, 0.02);
-  EXPECT_NEAR(rebound_model(rebound_case(2, 25)).beta_deg, 10.93, 0.02);
+  // Pure geometry: the thesis prints 12.9 deg at 15 deg and 10.9 at 25 (one decimal, so +- 0.05). The
+  // spec derives 12.86 and 10.93; grainlab's quadrature gives 12.853 and 10.915, unchanged with 10 x more
+  // points, so the spec's second decimal at 25 deg is not reproduced (docs/impacts.md).
+  EXPECT_NEAR(rebound_model(rebound_case(2, 15)).beta_deg, 12.9, 0.05);
+  EXPECT_NEAR(rebound_model(rebound_case(2, 25)).beta_deg, 10.9, 0.05);
 }
 
 TEST(ReboundModel, Case2VerticalAmplification) {
   // CASE 2 of Table 3.10 (it stands for the simulations): 1.01 / 0.63 / 0.21 at 15 / 25 / 70 deg.
-  EXPECT_NEAR(rebound_model(rebound_case(2, 15)).eps_iy, 1.01, 0.006);
-  EXPECT_NEAR(rebound_model(rebound_case(2, 25)).eps_iy, 0.63, 0.006);
-  EXPECT_NEAR(rebound_model(rebound_case(2, 70)).eps_iy, 0.21, 0.006);
+  EXPECT_NEAR(rebound_model(rebound_case(2, 15)).eps_iy, 1.01, 0.005);
+  EXPECT_NEAR(rebound_model(rebound_case(2, 25)).eps_iy, 0.63, 0.005);
+  EXPECT_NEAR(rebound_model(rebound_case(2, 70)).eps_iy, 0.21, 0.005);
 }
 
 TEST(ReboundModel, ThesisTrends) {

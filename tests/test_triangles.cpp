@@ -34,9 +34,9 @@ TEST(TriangleCollision, MinimumEffectiveHeightCurves) {
   const double target[5] = {0.49, 0.61, 0.70, 0.79, 0.91}, brink[5] = {0.40, 0.53, 0.64, 0.73, 0.89};
   for (int k = 0; k < 5; ++k) {
     TriangleParams p;
-    EXPECT_NEAR(triangle_collision(p, ratios[k]).min_effective_height, target[k], 0.0075) << ratios[k];
+    EXPECT_NEAR(triangle_collision(p, ratios[k]).min_effective_height, target[k], 0.005) << ratios[k];
     p.law = "brink";
-    EXPECT_NEAR(triangle_collision(p, ratios[k]).min_effective_height, brink[k], 0.0075) << ratios[k];
+    EXPECT_NEAR(triangle_collision(p, ratios[k]).min_effective_height, brink[k], 0.005) << ratios[k];
   }
 }
 

@@ -25,10 +25,6 @@ constexpr double kSoftening = 100;
 // Restitution while pouring: lower than the bed's so the pour comes to rest in about a second.
 constexpr double kPourRestitution = 0.3;
 
-double contact_time(double k, double m_eff) {
-  return M_PI * std::sqrt(m_eff / k);
-}
-
 std::string walls_toml(const BedSpec& s, double wall_height) {
   if (s.periodic) return "[[walls]]\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n";
   return fmt::format(
@@ -55,7 +51,7 @@ std::string header_toml(const BedSpec& s, const std::string& name, double durati
       fmt::arg("k", s.k_n), fmt::arg("e", s.restitution), fmt::arg("mu", s.mu),
       fmt::arg("lev", s.levelled ? "true" : "false"), fmt::arg("name", name), fmt::arg("d", duration),
       fmt::arg("periodic", s.periodic ? fmt::format("periodic_x = [0.0, {:.17g}]\n", s.width) : ""),
-      fmt::arg("dt", contact_time(k_n, m / 2) / 30), fmt::arg("kn", k_n), fmt::arg("en", restitution),
+      fmt::arg("dt", contact_time(k_n, m, m) / 30), fmt::arg("kn", k_n), fmt::arg("en", restitution),
       fmt::arg("mun", mu), fmt::arg("walls", walls_toml(s, wall_height)));
 }
 
@@ -264,9 +260,8 @@ std::string bed_scene_text(const BedSpec& spec, const std::vector<BodySpec>& bod
 BedStats measure_bed(const Scene& scene, const BedSpec& spec) {
   BedStats st;
   const auto& b = scene.bodies;
-  const double xmin = spec.periodic ? 0 : 0, xmax = spec.width;
-  const BedSurface surf = bed_surface(b, xmin, xmax);
-  st.top = surf.top, st.roughness = surf.roughness, st.depth = surf.top;
+  const BedSurface surf = bed_surface(b, 0, spec.width);
+  st.top = surf.top, st.roughness = surf.roughness;
   st.brinks = surf.brinks, st.anti_brinks = surf.anti_brinks;
   // Packing in the interior: 2 diameters from the side walls (none when periodic), the floor and the top.
   const double d = 2 * spec.radius;

@@ -3,6 +3,7 @@
 // 67.3 x 24.1 cm box, k_n = k_s = 6e9 dyn/cm, pair restitution 0.85, built as "loose" or "dense" by a
 // documented recipe (docs/impacts.md), plus a periodic-in-x variant. A bed is kept as a grainlab run file
 // whose scene text lists every disc at rest, so any engine can load the very same bed.
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -36,9 +37,9 @@ struct BedSurface {
 BedSurface bed_surface(const std::vector<BodySpec>& bodies, double xmin, double xmax);
 
 struct BedStats {
-  double packing_fraction = 0;  // disc area / area, in the bed's interior (2 diameters from walls and top)
-  double coordination = 0;      // mean contacts per disc (all discs, walls counted)
-  double depth = 0, top = 0, roughness = 0;
+  double packing_fraction = 0;    // disc area / area, in the bed's interior (2 diameters from walls and top)
+  double coordination = 0;        // mean contacts per disc (all discs, walls counted)
+  double top = 0, roughness = 0;  // cm
   int brinks = 0, anti_brinks = 0;
   double kinetic_energy = 0;  // erg, when built (before velocities are zeroed)
   double build_seconds = 0;
@@ -57,6 +58,11 @@ Bed build_bed(const BedSpec& spec, const std::function<void(const std::string&)>
 // The TOML scene text of a bed whose discs sit at `bodies`.
 std::string bed_scene_text(const BedSpec& spec, const std::vector<BodySpec>& bodies, double duration);
 BedStats measure_bed(const Scene& scene, const BedSpec& spec);
+// Duration of an undamped linear contact of stiffness k between masses m1 and m2: pi sqrt(m_eff / k).
+// Verlet steps are fractions of the shortest one.
+inline double contact_time(double k, double m1, double m2) {
+  return M_PI * std::sqrt(m1 * m2 / (m1 + m2) / k);
+}
 // Writes the bed as a grainlab run file (one short native run from rest, so ParaView shows it).
 void write_bed(const Bed& bed, const std::string& path, bool overwrite);
 // Reads a bed file; throws InputError naming the file and what is wrong.

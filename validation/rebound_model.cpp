@@ -130,23 +130,4 @@ ReboundAverages rebound_model(const ReboundParams& p) {
   return out;
 }
 
-double effective_mass_from_eps_iy(ReboundParams p, double eps_iy) {
-  // Mean eps_iy falls as the target gets lighter (m_i / m_beff up): bisect on log(m_beff / m_i).
-  auto f = [&](double log_ratio) {
-    p.mass_ratio = std::exp(-log_ratio);
-    return rebound_model(p).eps_iy - eps_iy;
-  };
-  double lo = std::log(0.05), hi = std::log(20.0);
-  double flo = f(lo), fhi = f(hi);
-  if (flo * fhi > 0) return std::numeric_limits<double>::quiet_NaN();
-  for (int k = 0; k < 60; ++k) {
-    const double mid = (lo + hi) / 2, fm = f(mid);
-    if ((fm < 0) == (flo < 0))
-      lo = mid, flo = fm;
-    else
-      hi = mid;
-  }
-  return std::exp((lo + hi) / 2);
-}
-
 }  // namespace grainlab::validation

@@ -48,8 +48,4 @@ struct ReboundAverages {
 // Every impact point of one bed period, and their averages.
 ReboundAverages rebound_model(const ReboundParams& p);
 
-// The m_beff / m_i that makes the model's mean eps_iy equal `eps_iy` (the other parameters from `p`):
-// the thesis's recipe for Table 3.3. Returns NaN if no ratio in [0.05, 20] matches.
-double effective_mass_from_eps_iy(ReboundParams p, double eps_iy);
-
 }  // namespace grainlab::validation

@@ -19,7 +19,7 @@ saltation::SplashMoment moment(const MeanInterval& m) {
 }
 
 saltation::SplashCell make_cell(const std::vector<ImpactResult>& impacts, double speed_cm_s, double angle,
-                                double u, double d, double g) {
+                                double u, double d) {
   saltation::SplashCell c;
   c.speed = speed_cm_s / u, c.angle_deg = angle, c.impacts = impacts.size();
   std::vector<double> ix, iy, ie, th, count, evx, evy, esp, ean, rep;
@@ -43,7 +43,7 @@ saltation::SplashCell make_cell(const std::vector<ImpactResult>& impacts, double
       evx.push_back(e.vx_launch / u), evy.push_back(e.vy_launch / u);
       esp.push_back(std::hypot(e.vx_launch, e.vy_launch) / u);
       ean.push_back(std::atan2(e.vx_launch, e.vy_launch) / kDeg);
-      rep.push_back(2 * e.vx * e.vy / g / d);
+      rep.push_back(2 * e.vx * e.vy / r.g / d);
     }
   }
   const Proportion p = wilson_interval(rebounds, impacts.size());
@@ -98,7 +98,8 @@ saltation::SplashFile measure_splash(const SplashOptions& o) {
   }
   const BedSpec& bs = beds[0].spec;
   saltation::SplashFile f;
-  f.grain_diameter_cm = 2 * bs.radius, f.gravity_cm_s2 = 981, f.grain_density = bs.density;
+  f.grain_diameter_cm = 2 * bs.radius, f.gravity_cm_s2 = -beds[0].scene.gravity.y,
+  f.grain_density = bs.density;
   const double u = f.velocity_scale(), d = f.grain_diameter_cm;
   f.text = {{"kind", "simulated"},
             {"title", "splash function of grainlab's 2-D loose impact beds (thesis Ch. III set-up)"},
@@ -131,7 +132,7 @@ saltation::SplashFile measure_splash(const SplashOptions& o) {
       // Each cell gets its own stream of impact points: seed and cell index.
       const std::uint64_t seed = o.seed * 1000003 + f.cells.size();
       const ImpactEnsemble e = run_impact_ensemble(beds, c, seed, o.runs, io, o.progress);
-      f.cells.push_back(make_cell(e.impacts, v, a, u, d, 981.0));
+      f.cells.push_back(make_cell(e.impacts, v, a, u, d));
       if (o.checkpoint && f.cells.size() < o.speeds_cm_s.size() * o.angles_deg.size()) {
         saltation::SplashFile partial = f;
         partial.text["complete"] = "false";
