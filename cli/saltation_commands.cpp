@@ -92,13 +92,17 @@ int distribution_case(const SaltationCommands& a) {
 // Every profile and distribution of a run, as named tables (docs/saltation.md lists them).
 void write_wind_run(const std::string& path, const SaltationCommands& a, const WindModelOptions& o,
                     const WindModelResult& r) {
-  SampleTable wind{"wind",
-                   "per height y (cm): wind u with grains and u_clean without (cm/s), fluid stress tau "
-                   "(dyn/cm^2), drag the grains take from the air (dyn/cm^3)",
-                   {"y", "u", "u_clean", "tau", "drag"},
-                   {}};
+  SampleTable wind{
+      "wind",
+      "per height y (cm): wind u with grains and u_clean without (cm/s), fluid stress tau "
+      "(dyn/cm^2), drag the grains take from the air (dyn/cm^3), number density (1/cm^3), "
+      "horizontal number flux (1/(cm^2 s)), kinetic-energy flux N m v_x^2 / 2 (erg/cm^3), and the drag "
+      "resolved by 16 flights per launch bin (dyn/cm^3)",
+      {"y", "u", "u_clean", "tau", "drag", "number_density", "number_flux", "energy_flux", "drag_resolved"},
+      {}};
   for (std::size_t k = 0; k < r.y.size(); ++k)
-    wind.rows.push_back({r.y[k], r.u[k], r.u_clean[k], r.tau[k], r.drag[k]});
+    wind.rows.push_back({r.y[k], r.u[k], r.u_clean[k], r.tau[k], r.drag[k], r.number_density[k],
+                         r.number_flux[k], r.energy_flux[k], r.drag_resolved[k]});
   SampleTable launch{"launch",
                      "per launch bin: v_oy (cm/s), F (grains per cm^2 per s per cm/s), v_ox, the landing "
                      "velocity, hop height and length (cm), flight time (s)",
@@ -141,6 +145,9 @@ int wind_command(const SaltationCommands& a) {
   if (!(a.reynolds_factor > 0 && a.reynolds_factor <= 10))
     throw InputError({"--re-factor", 0}, fmt::format("{}", a.reynolds_factor), "must lie in (0, 10]");
   o.reynolds_factor = a.reynolds_factor;
+  if (!(a.flux_damping > 0 && a.flux_damping <= 1))
+    throw InputError({"--flux-damping", 0}, fmt::format("{}", a.flux_damping), "must lie in (0, 1]");
+  o.flux_damping = a.flux_damping;
   const SplashKernel splash = a.splash_file.empty() ? kernel_of(table_4_3(a.wind_case))
                                                     : kernel_of(read_splash_file(a.splash_file), o);
   const WindModelResult r = solve_wind_model(o, splash);
@@ -223,6 +230,9 @@ void SaltationCommands::add(CLI::App& app) {
   wind->add_option("--re-factor", reynolds_factor,
                    "multiplies Re in eq. 4.31 (2: the diameter in place of r)")
       ->default_val(1);
+  wind->add_option("--flux-damping", flux_damping,
+                   "b in F(n+1) = (1 - b) F(n) + b [T] F(n); 1 is the thesis's undamped eq. 4.33")
+      ->default_val(0.5);
   wind->add_option("--ustar", u_star, "wind-shear velocity above the saltation layer, cm/s")->default_val(35);
   wind->add_option("--tolerance", tolerance,
                    "largest relative change of F and u(y) at convergence (thesis: 0.01)")

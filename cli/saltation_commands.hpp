@@ -13,7 +13,7 @@ struct SaltationCommands {
   // grainlab saltation wind
   int wind_case = 0;
   std::string splash_file;
-  double grain_diameter = 0.025, reynolds_factor = 1;
+  double grain_diameter = 0.025, reynolds_factor = 1, flux_damping = 0.5;
   double u_star = 35, tolerance = 0.01;
   bool wind_json = false, force = false;
   std::string out;

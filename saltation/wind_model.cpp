@@ -124,7 +124,7 @@ double wind_at(const WindModelOptions& o, const std::vector<double>& y, const st
 
 Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const std::vector<double>& u,
                double v_ox, double v_oy, const std::vector<double>* edges, std::vector<double>* impulse,
-               double weight) {
+               double weight, FlightProfiles* profiles) {
   Trajectory t;
   t.v_ox = v_ox, t.v_oy = v_oy;
   const double m = o.grain.mass();
@@ -150,6 +150,12 @@ Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const st
       dt = w * h;
     }
     if (impulse) deposit(*edges, *impulse, s.y, next.y, weight * m * (next.vx - s.vx));
+    if (profiles) {
+      const double vx = 0.5 * (s.vx + next.vx), w = weight * dt;
+      deposit(*edges, profiles->time, s.y, next.y, w);
+      deposit(*edges, profiles->number_flux, s.y, next.y, w * vx);
+      deposit(*edges, profiles->energy_flux, s.y, next.y, w * 0.5 * m * vx * vx);
+    }
     t.height = std::max(t.height, next.y);
     t.time += dt;
     s = next;
@@ -368,10 +374,26 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
   }
   // Final state: trajectories and wind for the final F, then the diagnostics.
   update_wind(r.F);
+  // The profiles from sub-launches spread evenly across each bin (F is a density in v_oy): one flight
+  // per bin would put all of a bin's apexes, where the 1/|v_y| density peaks, at one height.
+  FlightProfiles prof(H);
+  std::vector<double> fine_impulse(H, 0.0);
+  const int sub = std::max(1, o.profile_subdivisions);
+  for (std::size_t j = 0; j < M; ++j)
+    for (int i = 0; i < sub; ++i)
+      fly(o, r.y, r.u, r.v_ox[j], r.v_launch[j] + ((i + 0.5) / sub - 0.5) * o.dv, &edges, &fine_impulse,
+          r.F[j] * o.dv / sub, &prof);
   r.drag.assign(H, 0.0), r.tau.assign(H, 0.0);
+  r.drag_resolved.assign(H, 0.0), r.number_density.assign(H, 0.0), r.number_flux.assign(H, 0.0),
+      r.energy_flux.assign(H, 0.0);
   for (std::size_t k = 0; k < H; ++k) {
-    r.drag[k] = impulse[k] / (std::min(edges[k + 1], 2 * r.y.back()) - edges[k]);
+    const double height = std::min(edges[k + 1], 2 * r.y.back()) - edges[k];
+    r.drag[k] = impulse[k] / height;
     r.tau[k] = 0.5 * (tau_edge[k] + tau_edge[k + 1]);
+    r.drag_resolved[k] = fine_impulse[k] / height;
+    r.number_density[k] = prof.time[k] / height;
+    r.number_flux[k] = prof.number_flux[k] / height;
+    r.energy_flux[k] = prof.energy_flux[k] / height;
   }
   r.u_star_eff = std::sqrt(std::max(0.0, tau_edge[0]) / rho);
   double rate = 0, hsum = 0, lsum = 0, vxs = 0, vys = 0;

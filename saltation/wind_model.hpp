@@ -53,7 +53,8 @@ struct WindModelOptions {
   // Re = reynolds_factor x 2 r |v_rel| / nu in eq. 4.31. 1 is the equation as printed; 2 (the diameter
   // where the radius stands) brings Table 4.5 and the Ch. IV text numbers much closer (docs/saltation.md).
   double reynolds_factor = 1;
-  double flux_damping = 0.5;  // F(n+1) = (1 - b) F(n) + b [T] F(n): damps the flux-wind overshoot
+  double flux_damping = 0.5;      // F(n+1) = (1 - b) F(n) + b [T] F(n): damps the flux-wind overshoot
+  int profile_subdivisions = 16;  // flights per launch bin for the final N(y), flux and energy profiles
   double roughness() const { return grain.radius / 15; }  // l = d/30
 };
 
@@ -75,10 +76,15 @@ struct WindModelResult {
   std::vector<double> y, u, u_clean;  // wind with and without grains (cm/s)
   std::vector<double> drag;           // force per unit volume the grains take from the air, at y (dyn/cm^3)
   std::vector<double> tau;            // fluid shear stress at y (dyn/cm^2)
-  double u_star_eff = 0;              // sqrt(tau at the bed / rho)
-  double grain_stress = 0;            // tau_g: the momentum flux the grains carry (dyn/cm^2)
-  double mass_flux = 0;               // Q, g/(cm s)
-  double launch_rate = 0;             // grains per cm^2 per s
+  // Per height (per unit volume): grains per cm^3, horizontal number flux (grains / cm^2 / s) and the
+  // kinetic-energy flux (erg / cm^3, see FlightProfiles).
+  // drag_resolved: the drag profile from the same sub-launches (the wind itself sees `drag`, whose apex
+  // spikes the thesis smoothed over the spacing of trajectory heights).
+  std::vector<double> number_density, number_flux, energy_flux, drag_resolved;
+  double u_star_eff = 0;                            // sqrt(tau at the bed / rho)
+  double grain_stress = 0;                          // tau_g: the momentum flux the grains carry (dyn/cm^2)
+  double mass_flux = 0;                             // Q, g/(cm s)
+  double launch_rate = 0;                           // grains per cm^2 per s
   double mean_hop_height = 0, mean_hop_length = 0;  // launch-weighted (cm)
   double mean_impact_vx = 0, mean_impact_vy = 0;    // launch-weighted (cm/s)
   double wall_seconds = 0;
@@ -87,11 +93,19 @@ struct WindModelResult {
 // The wind u(y) on the model's grid: zero below the roughness length, the log law above the grid.
 double wind_at(const WindModelOptions& o, const std::vector<double>& y, const std::vector<double>& u,
                double h);
+// What a flight leaves in each height bin, weighted by its launch rate: grain-seconds (number density once
+// divided by the bin's height), grain-seconds x v_x (horizontal number flux) and x m v_x^2 / 2 (the
+// thesis's kinetic-energy flux: "the number density times the square of the horizontal velocity").
+struct FlightProfiles {
+  std::vector<double> time, number_flux, energy_flux;
+  explicit FlightProfiles(std::size_t bins) : time(bins), number_flux(bins), energy_flux(bins) {}
+};
 // One grain from the bed at (v_ox, v_oy) through the wind until it lands. If `impulse` is given, the
-// horizontal momentum the drag gives it is added per height bin (bin edges `edges`, weight `weight`).
+// horizontal momentum the drag gives it is added per height bin (bin edges `edges`, weight `weight`);
+// if `profiles` is given, so is its share of them.
 Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const std::vector<double>& u,
                double v_ox, double v_oy, const std::vector<double>* edges = nullptr,
-               std::vector<double>* impulse = nullptr, double weight = 0);
+               std::vector<double>* impulse = nullptr, double weight = 0, FlightProfiles* profiles = nullptr);
 
 // A splash function as the model uses it: grains launched per unit vertical velocity (cm/s) by one impact
 // at (v_ix, v_iy) (cm/s, v_iy < 0), and the horizontal velocity they leave with.
