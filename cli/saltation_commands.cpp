@@ -238,12 +238,28 @@ void SaltationCommands::add(CLI::App& app) {
                    "largest relative change of F and u(y) at convergence (thesis: 0.01)")
       ->default_val(1e-3)
       ->check(CLI::Range(1e-8, 0.5));
+  study = group->add_subcommand(
+      "study",
+      "the wind-driven model over planets, grain sizes and u*: threshold, flux beside the classic laws");
+  study->add_option("--case", study_case, "analytic splash: CASE 1-6 of Table 4.3, scaled by sqrt(g d)")
+      ->default_val(1)
+      ->check(CLI::Range(1, 6));
+  study->add_option("--planet", planets, "earth, mars, venus (several allowed)")->delimiter(',');
+  study->add_option("--diameters", diameters, "grain diameters, cm")->delimiter(',');
+  study->add_option("--ustar-factors", ustar_factors, "u* as multiples of the impact threshold u*_t")
+      ->delimiter(',');
+  study->add_option("--grain-density", grain_density, "g/cm^3")->default_val(2.6);
+  study->add_option("--out,-o", study_out, "output folder: study.csv, study.json, plots")->required();
+  study->add_flag("--force", force, "replace --out");
+  study->add_flag("--json", study_json, "print the thresholds and every run as JSON");
+  study->add_flag("--quiet", quiet, "no progress lines");
   wind->add_flag("--json", wind_json,
                  "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }
 
 int SaltationCommands::dispatch() const {
   if (wind && *wind) return wind_command(*this);
+  if (study && *study) return study_command(*this);
   if (!conveyor || !*conveyor) return -1;
   return case_name == "D" || case_name == "E" ? map_case(*this) : distribution_case(*this);
 }

@@ -2,6 +2,7 @@
 // `grainlab saltation ...`: the thesis's Ch. IV models (so far the conveyor-belt model).
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 namespace grainlab::cli {
 
@@ -17,9 +18,18 @@ struct SaltationCommands {
   double u_star = 35, tolerance = 0.01;
   bool wind_json = false, force = false;
   std::string out;
-  CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr;
+  // grainlab saltation study
+  int study_case = 1;
+  std::vector<std::string> planets{"earth"};
+  std::vector<double> diameters{0.0125, 0.025, 0.05}, ustar_factors{1.2, 1.5, 2, 3, 4};
+  double grain_density = 2.6;
+  std::string study_out;
+  bool study_json = false, quiet = false;
+  CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
+
+int study_command(const SaltationCommands& a);
 
 }  // namespace grainlab::cli

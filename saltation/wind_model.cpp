@@ -72,7 +72,7 @@ State derivative(const WindModelOptions& o, const std::vector<double>& ys, const
                  const State& s, double drag_factor) {
   const double rx = s.vx - wind_at(o, ys, u, s.y), ry = s.vy;
   const double vr = std::hypot(rx, ry);
-  double ax = 0, ay = -o.g;
+  double ax = 0, ay = -(o.buoyancy ? o.g * (1 - o.fluid.density / o.grain.density) : o.g);
   if (vr > 0) {
     const double cd = drag_coefficient(o.reynolds_factor * 2 * o.grain.radius * vr / o.fluid.viscosity);
     const double c = drag_factor * cd * vr;  // eq. 4.30 over the grain's mass
@@ -172,26 +172,27 @@ SplashKernel kernel_of(const AnalyticSplash& s) {
 
 namespace {
 
-// Per cell: launched grains per impact per cm/s on the model's launch bins, and their mean v_x.
+// Per cell: rebounds and ejecta launched per impact per cm/s on the model's launch bins, and their mean v_x.
 struct BinnedCell {
-  std::vector<double> density;
+  std::vector<double> rebound, ejecta;
   double mean_vx = 0;
 };
 
 BinnedCell bin_cell(const SplashCell& c, double scale, const WindModelOptions& o) {
   BinnedCell b;
-  b.density.assign(static_cast<std::size_t>(o.bins), 0.0);
+  b.rebound.assign(static_cast<std::size_t>(o.bins), 0.0);
+  b.ejecta = b.rebound;
   const double per = 1.0 / (std::max<std::size_t>(c.impacts, 1) * o.dv);
   double n = 0, sx = 0;
-  auto add = [&](double vx, double vy) {
+  auto add = [&](std::vector<double>& into, double vx, double vy) {
     const long k = static_cast<long>(std::floor(vy * scale / o.dv));
     if (k < 0 || k >= o.bins) return;
-    b.density[static_cast<std::size_t>(k)] += per;
+    into[static_cast<std::size_t>(k)] += per;
     n += 1, sx += vx * scale;
   };
   for (const ReboundRow& r : c.rebound)
-    if (r[1] > 0) add(r[2], r[3]);
-  for (const EjectumRow& e : c.ejecta) add(e[3], e[4]);
+    if (r[1] > 0) add(b.rebound, r[2], r[3]);
+  for (const EjectumRow& e : c.ejecta) add(b.ejecta, e[3], e[4]);
   b.mean_vx = n > 0 ? sx / n : 0;
   return b;
 }
@@ -277,20 +278,29 @@ SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o) {
          {i1 * na + j1, a * b}};
     return w;
   };
-  const double dv = o.dv;
+  // Below the slowest measured speed the splash is extrapolated self-similarly: the slowest cells' launch
+  // velocities scale with the impact speed (ratio f) and their ejecta number falls linearly to zero, so a
+  // slow impact does not eject what a fast one does (holding the edge cell would let creeping grains feed
+  // the flux for ever).
+  const double dv = o.dv, v_min = grid ? f.speeds.front() * scale : 0;
   const int bins = o.bins;
-  return {[cells, around, dv, bins](double v_oy, double v_ix, double v_iy) {
-            const long k = static_cast<long>(std::floor(v_oy / dv));
+  return {[cells, around, dv, bins, v_min](double v_oy, double v_ix, double v_iy) {
+            const double speed = std::hypot(v_ix, v_iy);
+            const double f = speed < v_min ? std::max(speed / v_min, 1e-6) : 1.0;
+            const long k = static_cast<long>(std::floor(v_oy / f / dv));
             if (k < 0 || k >= bins) return 0.0;
+            const auto kk = static_cast<std::size_t>(k);
             double d = 0;
             for (const auto& [c, w] : around(v_ix, v_iy))
-              d += w * (*cells)[c].density[static_cast<std::size_t>(k)];
+              d += w * ((*cells)[c].rebound[kk] + f * (*cells)[c].ejecta[kk]) / f;
             return d;
           },
-          [cells, around](double v_ix, double v_iy) {
+          [cells, around, v_min](double v_ix, double v_iy) {
+            const double speed = std::hypot(v_ix, v_iy);
+            const double f = speed < v_min ? speed / v_min : 1.0;
             double vx = 0;
             for (const auto& [c, w] : around(v_ix, v_iy)) vx += w * (*cells)[c].mean_vx;
-            return vx;
+            return f * vx;
           }};
 }
 
@@ -360,6 +370,13 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       r.failure =
           "the flux grows without bound: this splash function replaces each grain more than once "
           "however weak the wind near the bed, so there is no steady state";
+      r.iterations = n + 1;
+      break;
+    }
+    if (total < 1e-30) {
+      r.failure =
+          "the flux died out: u* is below the impact threshold, or the rebounds leave the top of the launch "
+          "grid (more bins)";
       r.iterations = n + 1;
       break;
     }

@@ -40,8 +40,9 @@ struct WindModelOptions {
   Fluid fluid;
   Grain grain;
   double g = 981;
-  double u_star = 35;  // cm/s, above the saltation layer
-  double dv = 5;       // launch-velocity bin (cm/s); bins centred at (j + 1/2) dv
+  bool buoyancy = false;  // gravity reduced by (1 - rho_air / rho_grain): off in the thesis, 2.5 % on Venus
+  double u_star = 35;     // cm/s, above the saltation layer
+  double dv = 5;          // launch-velocity bin (cm/s); bins centred at (j + 1/2) dv
   int bins = 80;
   int heights = 240;  // wind grid: log-spaced from the roughness length to `top`
   double top = 2000;  // cm

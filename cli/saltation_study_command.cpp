@@ -1,0 +1,190 @@
+// `grainlab saltation study`: the wind-driven model over planets, grain sizes and u*, with its impact
+// threshold and the classic flux laws beside it (docs/saltation.md, "Other planets").
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "h5_output.hpp"
+#include "input_error.hpp"
+#include "report.hpp"
+#include "saltation_commands.hpp"
+#include "study.hpp"
+
+namespace grainlab::cli {
+
+namespace fs = std::filesystem;
+using namespace grainlab::saltation;
+
+namespace {
+
+struct StudyRow {
+  std::string planet;
+  double d = 0, u_t = 0, u_star = 0;
+  WindModelResult r;
+};
+
+WindModelOptions options_for(const SaltationCommands& a, const Planet& p, double d) {
+  WindModelOptions o;
+  o.g = p.g, o.fluid.density = p.air_density, o.fluid.viscosity = p.viscosity;
+  o.grain.radius = d / 2, o.grain.density = a.grain_density;
+  o.buoyancy = true;
+  // Launch bins follow the splash's velocity scale, so every planet and size gets the same resolution.
+  o.dv *= std::sqrt(p.g * d / (981 * 0.025));
+  // Thin air (Mars) launches far faster than sqrt(g d) suggests: twice the thesis's grid.
+  o.bins = 160;
+  return o;
+}
+
+void check_study_input(const SaltationCommands& a) {
+  if (a.study_out.empty()) throw InputError({"--out", 0}, "", "the study needs an output folder");
+  if (fs::exists(a.study_out) && !a.force)
+    throw InputError({"--out", 0}, a.study_out, "exists; pass --force to replace it");
+  for (const std::string& p : a.planets) try {
+      planet_preset(p);
+    } catch (const std::invalid_argument& e) {
+      throw InputError({"--planet", 0}, p, "unknown planet; known: earth, mars, venus");
+    }
+  for (double d : a.diameters)
+    if (!(d > 0 && d < 1))
+      throw InputError({"--diameters", 0}, fmt::format("{}", d), "must lie in (0, 1) cm");
+  for (double f : a.ustar_factors)
+    if (!(f > 1 && f < 20))
+      throw InputError({"--ustar-factors", 0}, fmt::format("{}", f), "multiples of u*_t must lie in (1, 20)");
+  if (!(a.grain_density > 0.1 && a.grain_density < 20))
+    throw InputError({"--grain-density", 0}, fmt::format("{}", a.grain_density),
+                     "must lie in (0.1, 20) g/cm^3");
+}
+
+std::vector<validation::PlotSpec> study_plots(const std::vector<StudyRow>& rows, const SaltationCommands& a) {
+  using validation::PlotSpec;
+  PlotSpec flux{"study_flux.png",
+                "Mass flux: grainlab (solid) and the classic laws (dashed)",
+                "u* (cm/s)",
+                "Q (g/(cm s))",
+                true,
+                {}};
+  flux.logy = true;
+  PlotSpec hop{"study_hop_height.png", "Mean hop height", "u* (cm/s)", "height (cm)", true, {}};
+  PlotSpec eff{"study_ustar_eff.png",
+               "u*_eff: the shear stress the grains leave the air at the bed",
+               "u* (cm/s)",
+               "u*_eff (cm/s)",
+               true,
+               {}};
+  for (std::size_t i = 0; i < rows.size();) {
+    std::size_t j = i;
+    const std::string label = fmt::format("{} d = {:g} cm", rows[i].planet, rows[i].d);
+    PlotSpec::Series q{label, "linepoints", {}, {}, {}}, h{label, "linepoints", {}, {}, {}},
+        e{label, "linepoints", {}, {}, {}};
+    for (; j < rows.size() && rows[j].planet == rows[i].planet && rows[j].d == rows[i].d; ++j) {
+      if (!rows[j].r.converged) continue;
+      q.x.push_back(rows[j].u_star), q.y.push_back(rows[j].r.mass_flux);
+      h.x.push_back(rows[j].u_star), h.y.push_back(rows[j].r.mean_hop_height);
+      e.x.push_back(rows[j].u_star), e.y.push_back(rows[j].r.u_star_eff);
+    }
+    flux.series.push_back(q), hop.series.push_back(h), eff.series.push_back(e);
+    // The laws for the first grain size of each planet (more would crowd the plot).
+    if (rows[i].d == a.diameters.front()) {
+      const Planet p = planet_preset(rows[i].planet);
+      for (const FluxLaw& law : classic_flux_laws()) {
+        PlotSpec::Series s{fmt::format("{} ({})", law.name, rows[i].planet), "dashed", {}, {}, {}};
+        for (std::size_t k = i; k < j; ++k)
+          s.x.push_back(rows[k].u_star), s.y.push_back(law.q(rows[k].u_star, rows[k].u_t, p.air_density,
+                                                             a.grain_density, p.g, rows[k].d));
+        flux.series.push_back(s);
+      }
+    }
+    i = j;
+  }
+  return {flux, hop, eff};
+}
+
+std::string study_table(const std::vector<StudyRow>& rows, const SaltationCommands& a) {
+  std::string csv =
+      "planet,diameter_cm,u_star_t,u_star,u_star_eff,mass_flux,mean_hop_height,mean_hop_length,"
+      "impact_vx,impact_vy,converged,iterations";
+  for (const FluxLaw& law : classic_flux_laws()) csv += ",Q " + law.name;
+  csv += "\n";
+  for (const StudyRow& s : rows) {
+    csv +=
+        fmt::format("{},{},{:.4g},{:.4g},{:.4g},{:.5g},{:.4g},{:.4g},{:.4g},{:.4g},{},{}", s.planet, s.d,
+                    s.u_t, s.u_star, s.r.u_star_eff, s.r.mass_flux, s.r.mean_hop_height, s.r.mean_hop_length,
+                    s.r.mean_impact_vx, s.r.mean_impact_vy, s.r.converged, s.r.iterations);
+    const Planet p = planet_preset(s.planet);
+    for (const FluxLaw& law : classic_flux_laws())
+      csv += fmt::format(",{:.5g}", law.q(s.u_star, s.u_t, p.air_density, a.grain_density, p.g, s.d));
+    csv += "\n";
+  }
+  return csv;
+}
+
+}  // namespace
+
+int study_command(const SaltationCommands& a) {
+  check_study_input(a);
+  std::vector<StudyRow> rows;
+  nlohmann::json thresholds = nlohmann::json::array();
+  for (const std::string& name : a.planets) {
+    const Planet p = planet_preset(name);
+    for (double d : a.diameters) {
+      WindModelOptions o = options_for(a, p, d);
+      const double s = std::sqrt(p.g * d / (981 * 0.025));
+      const SplashKernel splash = kernel_of(scaled(table_4_3(a.study_case), s));
+      const double u_t = impact_threshold(o, splash);
+      thresholds.push_back({{"planet", name}, {"diameter", d}, {"u_star_t", u_t}});
+      if (!a.quiet) fmt::print(stderr, "{} d = {:g} cm: impact threshold u*_t = {:.1f} cm/s\n", name, d, u_t);
+      if (u_t <= 0) continue;
+      for (double f : a.ustar_factors) {
+        o.u_star = f * u_t;
+        StudyRow row{name, d, u_t, o.u_star, solve_wind_model(o, splash)};
+        if (!a.quiet && !row.r.failure.empty())
+          fmt::print(stderr, "  u* = {:.1f}: no steady state: {}\n", o.u_star, row.r.failure);
+        else if (!a.quiet)
+          fmt::print(stderr, "  u* = {:.1f}: {} u*_eff {:.1f}, Q {:.3g} g/(cm s), hop {:.2f} cm ({:.1f} s)\n",
+                     o.u_star, row.r.converged ? "" : "NOT converged,", row.r.u_star_eff, row.r.mass_flux,
+                     row.r.mean_hop_height, row.r.wall_seconds);
+        rows.push_back(std::move(row));
+      }
+    }
+  }
+  // Everything goes to a temporary folder that replaces --out at the end.
+  const std::string tmp = a.study_out + ".partial";
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  write_file_atomically(tmp + "/study.csv", study_table(rows, a));
+  nlohmann::json rows_json = nlohmann::json::array();
+  for (const StudyRow& s : rows)
+    rows_json.push_back({{"planet", s.planet},
+                         {"diameter", s.d},
+                         {"u_star_t", s.u_t},
+                         {"u_star", s.u_star},
+                         {"u_star_eff", s.r.u_star_eff},
+                         {"mass_flux", s.r.mass_flux},
+                         {"mean_hop_height", s.r.mean_hop_height},
+                         {"mean_hop_length", s.r.mean_hop_length},
+                         {"impact_velocity", {s.r.mean_impact_vx, s.r.mean_impact_vy}},
+                         {"converged", s.r.converged},
+                         {"failure", s.r.failure},
+                         {"iterations", s.r.iterations}});
+  nlohmann::json laws = nlohmann::json::array();
+  for (const FluxLaw& law : classic_flux_laws())
+    laws.push_back({{"name", law.name}, {"formula", law.formula}});
+  const nlohmann::json out{{"grainlab_version", GRAINLAB_VERSION},
+                           {"splash", fmt::format("Table 4.3 CASE {} scaled by sqrt(g d)", a.study_case)},
+                           {"grain_density", a.grain_density},
+                           {"thresholds", thresholds},
+                           {"runs", rows_json},
+                           {"flux_laws", laws}};
+  write_file_atomically(tmp + "/study.json", out.dump(2));
+  validation::write_plots(study_plots(rows, a), tmp);
+  fs::remove_all(a.study_out);
+  fs::rename(tmp, a.study_out);
+  if (a.study_json)
+    fmt::print("{}\n", out.dump(2));
+  else
+    fmt::print("{} runs; table {}/study.csv, plots {}/study_*.png\n", rows.size(), a.study_out, a.study_out);
+  return 0;
+}
+
+}  // namespace grainlab::cli

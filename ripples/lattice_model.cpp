@@ -1,0 +1,198 @@
+#include "lattice_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace grainlab::ripples {
+
+namespace {
+constexpr double kColumn = 0.8660254037844386;  // sqrt(3) / 2: column width in grain diameters
+constexpr double kLayer = 0.5, kRadius = 0.5;
+}  // namespace
+
+LatticeModel::LatticeModel(const LatticeParams& p)
+    : p_(p),
+      rng_(p.seed, 0),
+      tan_a_(std::tan(p.impact_deg * M_PI / 180)),
+      cos_a_(std::cos(p.impact_deg * M_PI / 180)) {
+  if (p.columns < 16 || p.columns % 2)
+    throw std::invalid_argument("the lattice needs an even number >= 16 of columns");
+  const int base = 2 * (p.depth / 2);
+  h_.resize(static_cast<std::size_t>(p.columns));
+  // A close-packed flat top (the zig-zag of the top row), with random grains in some of its pockets.
+  for (int i = 0; i < p.columns; ++i) h_[static_cast<std::size_t>(i)] = base + (i % 2);
+  Rng start(p.seed, 1);
+  for (int i = 0; i < p.columns; i += 2)
+    if (start.uniform() < p.roughness) h_[static_cast<std::size_t>(i)] += 2;
+  height_count_.assign(static_cast<std::size_t>(base + 64), 0);
+  for (int v : h_) ++height_count_[static_cast<std::size_t>(v)], max_h_ = std::max(max_h_, v);
+}
+
+int LatticeModel::wrap(long i) const {
+  const long n = p_.columns;
+  return static_cast<int>(((i % n) + n) % n);
+}
+
+long LatticeModel::grains() const {
+  long s = 0;
+  for (int v : h_) s += v;
+  return s;  // each grain adds 2 to one column: the sum changes only if grains appear or vanish
+}
+
+void LatticeModel::set(int i, int v) {
+  int& h = h_[static_cast<std::size_t>(i)];
+  --height_count_[static_cast<std::size_t>(h)];
+  if (static_cast<std::size_t>(v) >= height_count_.size())
+    height_count_.resize(static_cast<std::size_t>(v) + 64, 0);
+  ++height_count_[static_cast<std::size_t>(v)];
+  h = v;
+  if (v > max_h_) max_h_ = v;
+  while (height_count_[static_cast<std::size_t>(max_h_)] == 0) --max_h_;
+}
+
+// The first surface grain the path from (start_x, above every grain) meets, scanning downstream. `p` gets
+// the signed distance of the path from that grain's centre (perpendicular to the path).
+int LatticeModel::hit_column(double start_x, double& p) {
+  const double y0 = max_h_ * kLayer + 2 * kRadius;
+  for (long k = static_cast<long>(std::ceil(start_x / kColumn));; ++k) {
+    const int i = wrap(k);
+    const double ray = y0 - tan_a_ * (k * kColumn - start_x);
+    p = (ray - h_[static_cast<std::size_t>(i)] * kLayer) * cos_a_;
+    if (p < kRadius) return i;
+  }
+}
+
+// Where a dropped grain rests: a pocket (a column lower than both neighbours). From a slope it rolls down;
+// from a crest it goes on in the direction it was moving.
+void LatticeModel::drop(int c, int direction) {
+  for (;;) {
+    const int h = h_[static_cast<std::size_t>(c)];
+    const int left = h_[static_cast<std::size_t>(wrap(c - 1))],
+              right = h_[static_cast<std::size_t>(wrap(c + 1))];
+    if (left > h && right > h) {
+      set(c, h + 2);
+      return;
+    }
+    const int step = left < h && right < h ? direction : (left < h ? -1 : 1);
+    c = wrap(c + step);
+  }
+}
+
+// Takes the top grain off column i, then lets every grain that lost its support roll to the next pocket
+// below it (the lattice's avalanche: the slope above shifts down by one grain).
+void LatticeModel::remove_top(int i) {
+  set(i, h_[static_cast<std::size_t>(i)] - 2);
+  std::vector<int> check{i};
+  while (!check.empty()) {
+    const int c = check.back();
+    check.pop_back();
+    for (int side : {-1, 1}) {
+      const int n = wrap(c + side);
+      if (h_[static_cast<std::size_t>(n)] - h_[static_cast<std::size_t>(c)] != 3) continue;
+      set(n, h_[static_cast<std::size_t>(n)] - 2);
+      drop(c, -side);
+      check.push_back(n);
+      check.push_back(c);
+    }
+  }
+}
+
+// The first crest (a column higher than both neighbours) within `limit` columns of `from` in `direction`;
+// -1 if none.
+int LatticeModel::find_peak(int from, int direction, int limit) const {
+  for (int k = 0; k <= limit; ++k) {
+    const int c = wrap(from + direction * k);
+    const int h = h_[static_cast<std::size_t>(c)];
+    if (h_[static_cast<std::size_t>(wrap(c - 1))] < h && h_[static_cast<std::size_t>(wrap(c + 1))] < h)
+      return c;
+  }
+  return -1;
+}
+
+void LatticeModel::eject(int column, int direction, int hop_columns) {
+  remove_top(column);
+  drop(wrap(column + direction * hop_columns), direction);
+  (direction > 0 ? forward_ : backward_)++;
+}
+
+void LatticeModel::fire(long impacts) {
+  const double length = p_.columns * kColumn;
+  for (long n = 0; n < impacts;) {
+    const double x0 = rng_.uniform() * length;
+    for (int k = 0; k < p_.hits_per_point && n < impacts; ++k, ++n, ++impacts_) {
+      double p = 0;
+      const int c = hit_column(x0, p);
+      // The contact point lies downstream of the grain's centre when the path grazes its top
+      // (p sin a > sqrt(R^2 - p^2) cos a): then the grain is hit on its downstream side.
+      const double sin_a = tan_a_ * cos_a_;
+      const bool downstream = p * sin_a > std::sqrt(std::max(0.0, kRadius * kRadius - p * p)) * cos_a_;
+      const int direction = downstream ? -1 : 1;
+      const int hop = 2 * (downstream ? p_.backward : p_.forward);
+      if (p_.brink_probability > 0 && rng_.uniform() < p_.brink_probability) {
+        const int brink = find_peak(c, direction, 2 * p_.brink_lookahead);
+        if (brink >= 0) eject(brink, direction, hop);
+      } else if (hop > 0) {
+        eject(c, direction, hop);
+      }
+    }
+  }
+}
+
+LatticeSurfaceStats lattice_surface_stats(const std::vector<int>& h, int smooth) {
+  LatticeSurfaceStats s;
+  const int n = static_cast<int>(h.size());
+  if (n < 4) return s;
+  auto at = [&](long i) { return h[static_cast<std::size_t>(((i % n) + n) % n)]; };
+  std::vector<double> y(static_cast<std::size_t>(n));
+  double mean = 0;
+  for (int v : h) mean += v;
+  mean /= n;
+  for (int i = 0; i < n; ++i) {
+    double sum = 0;
+    for (int k = -smooth; k <= smooth; ++k) sum += at(i + k);
+    y[static_cast<std::size_t>(i)] = sum / (2 * smooth + 1);
+    s.rms += (h[static_cast<std::size_t>(i)] - mean) * (h[static_cast<std::size_t>(i)] - mean);
+  }
+  s.rms = std::sqrt(s.rms / n);
+  // Crests and troughs of the smoothed surface alternate; small wiggles (under one layer) are skipped.
+  std::vector<std::pair<int, double>> ext;  // (column, height), alternating max / min
+  int dir = 0;
+  double lo = y[0], hi = y[0];
+  int lo_i = 0, hi_i = 0;
+  for (int i = 1; i < 2 * n; ++i) {
+    const double v = y[static_cast<std::size_t>(i % n)];
+    if (v > hi) hi = v, hi_i = i;
+    if (v < lo) lo = v, lo_i = i;
+    if (dir >= 0 && hi - v > 1.0) {  // a crest at hi_i
+      if (i >= n) ext.push_back({hi_i, hi});
+      dir = -1, lo = v, lo_i = i;
+    } else if (dir <= 0 && v - lo > 1.0) {  // a trough at lo_i
+      if (i >= n) ext.push_back({lo_i, lo});
+      dir = 1, hi = v, hi_i = i;
+    }
+  }
+  double spacing = 0, height = 0, stoss = 0, lee = 0;
+  int crests = 0, rises = 0, falls = 0;
+  for (std::size_t k = 1; k < ext.size(); ++k) {
+    const auto [x0, y0] = ext[k - 1];
+    const auto [x1, y1] = ext[k];
+    const double angle = std::atan(std::abs(y1 - y0) * kLayer / ((x1 - x0) * kColumn)) * 180 / M_PI;
+    if (y1 > y0)
+      stoss += angle, ++rises;  // the wind blows +x: a rise towards +x is a stoss flank
+    else
+      lee += angle, ++falls, height += y0 - y1;
+  }
+  // Crest to crest: every second extremum.
+  spacing = 0, crests = 0;
+  for (std::size_t k = 2; k < ext.size(); ++k)
+    if (ext[k].second > ext[k - 1].second) spacing += ext[k].first - ext[k - 2].first, ++crests;
+  s.crests = crests;
+  s.wavelength = crests ? spacing / crests / 2 : 0;  // lattice spacings (2 columns)
+  s.height = falls ? height / falls : 0;
+  s.stoss_deg = rises ? stoss / rises : 0;
+  s.lee_deg = falls ? lee / falls : 0;
+  return s;
+}
+
+}  // namespace grainlab::ripples

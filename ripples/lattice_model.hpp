@@ -1,0 +1,74 @@
+#pragma once
+// The thesis's lattice-bed model (Ch. V section 4, Fig. 5.21). Circular grains of diameter d sit on a
+// regular lattice, each in the pocket between two grains below; the lattice is stretched so neighbouring
+// surface grains lie at the 30 deg angle of repose (horizontal grain spacing sqrt(3) d, layer spacing d/2).
+// The surface is therefore a walk of +-1 layer per half-spacing "column": h_{i+1} - h_i = +-1 everywhere.
+// Grains fired at a fixed angle from random points hit the first surface grain their path meets; the hit
+// grain (target ejection) or a brink grain found near it (brink ejection) hops a fixed number of lattice
+// spacings forward (upstream-side hit) or backward (downstream-side hit), drops, and rolls on in its
+// direction to the first pocket. A grain whose support is taken away rolls down to the next pocket.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rng.hpp"
+
+namespace grainlab::ripples {
+
+struct LatticeParams {
+  int columns = 2000;              // half-spacing columns, periodic (even); a lattice spacing is 2 columns
+  double impact_deg = 15;          // path angle below the horizontal (not given in the thesis; 10-15 natural)
+  int forward = 15;                // hop of a grain hit on its upstream side, lattice spacings
+  int backward = 5;                // hop of a grain hit on its downstream side, lattice spacings
+  double brink_probability = 0.5;  // share of impacts that eject a brink grain instead of the target
+  int brink_lookahead = 10;        // how far a brink is looked for, lattice spacings
+  int hits_per_point = 1;          // impacts fired from each random point (the thesis's Fig. 5.23c: 2)
+  int depth = 40;                  // initial bed thickness, layers
+  double roughness = 0;            // initial surface: share of columns given a random +-1 bump (0: flat)
+  std::uint64_t seed = 1;
+};
+
+class LatticeModel {
+ public:
+  explicit LatticeModel(const LatticeParams& p);
+  // Fires `impacts` grains.
+  void fire(long impacts);
+  // Surface layer index per column (a grain's centre sits at h d / 2 above the datum).
+  const std::vector<int>& heights() const { return h_; }
+  long impacts() const { return impacts_; }
+  // Impacts per surface grain (there is one surface grain per lattice spacing, i.e. per 2 columns).
+  double ejections_per_surface_grain() const { return 2.0 * impacts_ / p_.columns; }
+  long grains() const;  // sum of (h - base) / 2: conserved
+  long forward_hops() const { return forward_; }
+  long backward_hops() const { return backward_; }
+
+ private:
+  int hit_column(double start_x, double& side_offset);
+  void eject(int column, int direction, int hop_columns);
+  void drop(int column, int direction);
+  void set(int i, int v);
+  void remove_top(int i);
+  int wrap(long i) const;
+  int find_peak(int from, int direction, int limit) const;
+  LatticeParams p_;
+  std::vector<int> h_;
+  std::vector<long> height_count_;  // columns per height, for the running maximum
+  int max_h_ = 0;
+  Rng rng_;
+  long impacts_ = 0, forward_ = 0, backward_ = 0;
+  double tan_a_, cos_a_;
+};
+
+// Surface statistics in lattice units (x in columns, heights in layers; the slopes in degrees use the
+// lattice geometry: a column is sqrt(3) d / 2 wide, a layer d / 2 high).
+struct LatticeSurfaceStats {
+  double wavelength = 0;              // mean crest spacing of the smoothed surface, lattice spacings
+  double height = 0;                  // mean crest-to-next-trough height, layers (d / 2)
+  double stoss_deg = 0, lee_deg = 0;  // mean slopes of the rising and falling flanks of the smoothed surface
+  int crests = 0;
+  double rms = 0;  // layers
+};
+// `smooth_columns`: the smoothing half-width (a running mean) that removes the lattice's zig-zag.
+LatticeSurfaceStats lattice_surface_stats(const std::vector<int>& h, int smooth_columns = 8);
+
+}  // namespace grainlab::ripples
