@@ -225,6 +225,16 @@ void RipplesCommands::add(CLI::App& app) {
   bin_cmd->add_option("--out,-o", out, "write h(x, t) and the history to this HDF5 file");
   bin_cmd->add_flag("--force", force, "overwrite --out");
   bin_cmd->add_flag("--json", json, "print the roughness and wavelength history and the final heights");
+  lattice = group->add_subcommand("lattice", "the lattice-bed model (Fig. 5.21): target and brink ejection");
+  lattice
+      ->add_option("--config", config, "a TOML config with a [lattice] table (scenes/ripples/lattice_*.toml)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  lattice->add_option("--out,-o", out, "write h(x, t) and the history (first seed) to this HDF5 file");
+  lattice->add_option("--seeds", lattice_seeds, "ensemble: the config's seed and the next N - 1")
+      ->default_val(1);
+  lattice->add_flag("--force", force, "overwrite --out");
+  lattice->add_flag("--json", json, "print the final statistics of every seed and their mean, sd, interval");
   wavelength =
       group->add_subcommand("wavelength", "Fig. 5.24: the largest ripple a merger can make, by size ratio");
   wavelength->add_flag("--json", json, "print the table as JSON");
@@ -234,6 +244,7 @@ void RipplesCommands::add(CLI::App& app) {
 int RipplesCommands::dispatch() const {
   if (wavelength && *wavelength) return wavelength_command(*this);
   if (bin_cmd && *bin_cmd) return bins_command(*this);
+  if (lattice && *lattice) return lattice_command(*this);
   if (triangles && *triangles) return triangles_command(*this);
   if (chain && *chain) return chain_command(*this);
   if (ring && *ring) return ring_command(*this);

@@ -18,9 +18,12 @@ struct RipplesCommands {
   std::string config, out;
   bool force = false;
   CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr, *bin_cmd = nullptr,
-           *wavelength = nullptr;
+           *wavelength = nullptr, *lattice = nullptr;
+  int lattice_seeds = 1;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
+
+int lattice_command(const RipplesCommands& a);
 
 }  // namespace grainlab::cli

@@ -98,13 +98,16 @@ void LatticeModel::remove_top(int i) {
   }
 }
 
-// The first crest (a column higher than both neighbours) within `limit` columns of `from` in `direction`;
+// The first brink within `limit` columns of `from` in `direction`: a crest grain (higher than both
+// neighbours) beyond which the surface keeps falling (two columns on it is two layers lower), i.e. the top
+// of a face. The crests of a flat close-packed top are not brinks, so brink ejection leaves it alone.
 // -1 if none.
-int LatticeModel::find_peak(int from, int direction, int limit) const {
+int LatticeModel::find_brink(int from, int direction, int limit) const {
   for (int k = 0; k <= limit; ++k) {
     const int c = wrap(from + direction * k);
     const int h = h_[static_cast<std::size_t>(c)];
-    if (h_[static_cast<std::size_t>(wrap(c - 1))] < h && h_[static_cast<std::size_t>(wrap(c + 1))] < h)
+    if (h_[static_cast<std::size_t>(wrap(c - 1))] < h && h_[static_cast<std::size_t>(wrap(c + 1))] < h &&
+        h_[static_cast<std::size_t>(wrap(c + 2 * direction))] <= h - 2)
       return c;
   }
   return -1;
@@ -130,7 +133,7 @@ void LatticeModel::fire(long impacts) {
       const int direction = downstream ? -1 : 1;
       const int hop = 2 * (downstream ? p_.backward : p_.forward);
       if (p_.brink_probability > 0 && rng_.uniform() < p_.brink_probability) {
-        const int brink = find_peak(c, direction, 2 * p_.brink_lookahead);
+        const int brink = find_brink(c, direction, 2 * p_.brink_lookahead);
         if (brink >= 0) eject(brink, direction, hop);
       } else if (hop > 0) {
         eject(c, direction, hop);

@@ -49,7 +49,7 @@ class LatticeModel {
   void set(int i, int v);
   void remove_top(int i);
   int wrap(long i) const;
-  int find_peak(int from, int direction, int limit) const;
+  int find_brink(int from, int direction, int limit) const;
   LatticeParams p_;
   std::vector<int> h_;
   std::vector<long> height_count_;  // columns per height, for the running maximum

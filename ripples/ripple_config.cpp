@@ -8,13 +8,29 @@
 
 namespace grainlab::ripples {
 
-BinModelRun parse_bin_model_config(const std::string& text, const std::string& path) {
-  toml::table root;
+namespace {
+
+// The named table of a config, parsed strictly (the only table allowed).
+toml::table config_root(const std::string& text, const std::string& path) {
   try {
-    root = toml::parse(text, path);
+    return toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     throw InputError({path, static_cast<int>(e.source().begin.line)}, "", std::string(e.description()));
   }
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError({path, 0}, "", "cannot be read");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+BinModelRun parse_bin_model_config(const std::string& text, const std::string& path) {
+  const toml::table root = config_root(text, path);
   TomlReader top(root, "", path);
   const toml::table* t = top.subtable("bins");
   if (!t) throw InputError({path, 0}, "bins", "the config needs a [bins] table (docs/ripples.md)");
@@ -39,11 +55,40 @@ BinModelRun parse_bin_model_config(const std::string& text, const std::string& p
 }
 
 BinModelRun read_bin_model_config(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError({path, 0}, "", "cannot be read");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_bin_model_config(ss.str(), path);
+  return parse_bin_model_config(read_text(path), path);
+}
+
+LatticeRun parse_lattice_config(const std::string& text, const std::string& path) {
+  const toml::table root = config_root(text, path);
+  TomlReader top(root, "", path);
+  const toml::table* t = top.subtable("lattice");
+  if (!t) throw InputError({path, 0}, "lattice", "the config needs a [lattice] table (docs/ripples.md)");
+  top.finish();
+  TomlReader r(*t, "lattice", path);
+  LatticeRun run;
+  LatticeParams& p = run.params;
+  p.columns = static_cast<int>(r.integer_or("columns", p.columns, 16, 100000000));
+  p.impact_deg = r.number_or("impact_angle", p.impact_deg, Range{0, 89, true});
+  p.forward = static_cast<int>(r.integer_or("forward", p.forward, 0, 10000000));
+  p.backward = static_cast<int>(r.integer_or("backward", p.backward, 0, 10000000));
+  p.brink_probability = r.number_or("brink_probability", p.brink_probability, Range{0, 1, false});
+  p.brink_lookahead = static_cast<int>(r.integer_or("brink_lookahead", p.brink_lookahead, 0, 10000000));
+  p.hits_per_point = static_cast<int>(r.integer_or("hits_per_point", p.hits_per_point, 1, 1000));
+  p.depth = static_cast<int>(r.integer_or("depth", p.depth, 2, 1000000));
+  p.roughness = r.number_or("roughness", p.roughness, Range{0, 1, false});
+  p.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1, 0, INT64_MAX));
+  run.ejections_per_grain = r.number_or("ejections_per_grain", run.ejections_per_grain, Range::positive());
+  run.frames = static_cast<int>(r.integer_or("frames", run.frames, 1, 100000));
+  r.finish();
+  if (p.columns % 2) r.fail("columns", "must be even (a lattice spacing is two columns)");
+  if (2L * std::max(p.forward, p.backward) >= p.columns)
+    r.fail("forward", "hops must be shorter than the domain");
+  run.text = text;
+  return run;
+}
+
+LatticeRun read_lattice_config(const std::string& path) {
+  return parse_lattice_config(read_text(path), path);
 }
 
 }  // namespace grainlab::ripples

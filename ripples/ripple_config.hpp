@@ -4,6 +4,7 @@
 #include <string>
 
 #include "bin_model.hpp"
+#include "lattice_model.hpp"
 
 namespace grainlab::ripples {
 
@@ -17,5 +18,15 @@ struct BinModelRun {
 // Reads `[bins]` from TOML text (`path` names it in errors). Throws InputError.
 BinModelRun parse_bin_model_config(const std::string& text, const std::string& path);
 BinModelRun read_bin_model_config(const std::string& path);
+
+struct LatticeRun {
+  LatticeParams params;
+  double ejections_per_grain = 10;  // run length: impacts per surface grain
+  int frames = 100;
+  std::string text;
+};
+// Reads `[lattice]` (docs/ripples.md lists the keys). Throws InputError.
+LatticeRun parse_lattice_config(const std::string& text, const std::string& path);
+LatticeRun read_lattice_config(const std::string& path);
 
 }  // namespace grainlab::ripples

@@ -2,7 +2,9 @@
 // mutates a valid config and every mutant is read or refused with an InputError, never a crash.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include "input_error.hpp"
 #include "ripple_config.hpp"
@@ -72,3 +74,38 @@ TEST(RippleConfig, RandomMutationsAreReadOrRefusedNeverCrash) {
   }
   EXPECT_GT(refused, 0);
 }
+
+namespace grainlab::ripples {
+
+TEST(RippleConfig, LatticeConfigMutationsAreReadOrRefusedNeverCrash) {
+  std::ifstream in(std::string(GRAINLAB_SOURCE_DIR) + "/scenes/ripples/lattice_fig5_22.toml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string good = ss.str();
+  ASSERT_FALSE(good.empty());
+  EXPECT_EQ(parse_lattice_config(good, "l.toml").params.forward, 15);
+  std::mt19937_64 rng(2027);
+  const std::string alphabet = "0123456789.-+e[]=\"\n #latice";
+  int refused = 0;
+  for (int k = 0; k < 500; ++k) {
+    std::string s = good;
+    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e) {
+      const std::size_t at = rng() % s.size();
+      if (rng() % 2)
+        s[at] = alphabet[rng() % alphabet.size()];
+      else
+        s.erase(at, 1 + rng() % 4);
+    }
+    try {
+      const LatticeRun r = parse_lattice_config(s, "l.toml");
+      EXPECT_EQ(r.params.columns % 2, 0);
+      EXPECT_LT(2 * std::max(r.params.forward, r.params.backward), r.params.columns);
+    } catch (const InputError& e) {
+      ++refused;
+      EXPECT_NE(std::string(e.what()).find("l.toml"), std::string::npos);
+    }
+  }
+  EXPECT_GT(refused, 0);
+}
+
+}  // namespace grainlab::ripples

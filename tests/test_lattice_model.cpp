@@ -1,0 +1,75 @@
+// The lattice-bed model (thesis Fig. 5.21): the lattice's geometry holds under every move, grains are
+// conserved, and the thesis's qualitative claims: brink ejection leaves a close-packed surface nearly flat,
+// target ejection roughens it into a ripple-like population.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lattice_model.hpp"
+#include "ripple_config.hpp"
+
+namespace grainlab::ripples {
+
+namespace {
+LatticeParams params(double brink, double roughness) {
+  LatticeParams p;
+  p.columns = 2000, p.brink_probability = brink, p.roughness = roughness, p.forward = 15, p.backward = 5;
+  return p;
+}
+}  // namespace
+
+TEST(LatticeModel, SurfaceStaysAtTheReposeAngleAndGrainsAreConserved) {
+  LatticeModel m(params(0.5, 0.3));
+  const long grains = m.grains();
+  m.fire(20000);
+  const auto& h = m.heights();
+  for (std::size_t i = 0; i < h.size(); ++i) ASSERT_EQ(std::abs(h[i] - h[(i + 1) % h.size()]), 1) << i;
+  EXPECT_EQ(m.grains(), grains);
+  EXPECT_EQ(m.impacts(), 20000);
+  EXPECT_GT(m.backward_hops(), 0);  // grazing paths hit some grains on their downstream side
+  EXPECT_GT(m.forward_hops(), 10 * m.backward_hops());
+}
+
+TEST(LatticeModel, BrinkEjectionKeepsTheSurfaceFlatTargetEjectionRoughensIt) {
+  LatticeModel brink(params(1.0, 0.5)), target(params(0.0, 0.5));
+  const double start = lattice_surface_stats(brink.heights()).rms;
+  brink.fire(20000), target.fire(20000);  // 20 ejections per surface grain
+  EXPECT_LT(lattice_surface_stats(brink.heights()).rms, 1.5 * start);
+  EXPECT_GT(lattice_surface_stats(target.heights()).rms, 3 * start);
+  LatticeModel flat(params(1.0, 0.0));  // nothing is a brink on a close-packed top: nothing moves
+  const std::vector<int> before = flat.heights();
+  flat.fire(5000);
+  EXPECT_EQ(flat.heights(), before);
+}
+
+TEST(LatticeModel, SurfaceStatisticsOfATriangleWave) {
+  // Rises of 30 columns and falls of 30 at the repose angle: period 60 columns = 30 lattice spacings,
+  // crest-to-trough 30 layers, both flanks at 30 deg.
+  std::vector<int> h;
+  for (int period = 0; period < 10; ++period)
+    for (int k = 0; k < 60; ++k) h.push_back(100 + (k < 30 ? k : 60 - k));
+  const LatticeSurfaceStats s = lattice_surface_stats(h, 0);
+  EXPECT_NEAR(s.wavelength, 30, 1e-9);
+  EXPECT_NEAR(s.height, 30, 1e-9);
+  EXPECT_NEAR(s.stoss_deg, 30, 1e-6);
+  EXPECT_NEAR(s.lee_deg, 30, 1e-6);
+}
+
+TEST(LatticeModel, SameSeedSameSurface) {
+  LatticeModel a(params(0.5, 0.2)), b(params(0.5, 0.2));
+  a.fire(3000);
+  b.fire(1000), b.fire(2000);
+  EXPECT_EQ(a.heights(), b.heights());
+}
+
+TEST(LatticeConfig, RejectsBadValuesWithFileAndKey) {
+  EXPECT_THROW(parse_lattice_config("[lattice]\ncolumns = 101\n", "x.toml"), std::exception);
+  EXPECT_THROW(parse_lattice_config("[lattice]\nbrink_probability = 1.5\n", "x.toml"), std::exception);
+  EXPECT_THROW(parse_lattice_config("[lattice]\nunknown = 1\n", "x.toml"), std::exception);
+  EXPECT_THROW(parse_lattice_config("[bins]\n", "x.toml"), std::exception);
+  const LatticeRun r = parse_lattice_config("[lattice]\nforward = 4\nbackward = 0\n", "x.toml");
+  EXPECT_EQ(r.params.forward, 4);
+  EXPECT_EQ(r.params.backward, 0);
+}
+
+}  // namespace grainlab::ripples
