@@ -15,6 +15,7 @@
 #include "impact_benchmark.hpp"
 #include "impact_commands.hpp"
 #include "input_error.hpp"
+#include "lattice_benchmark.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "ripples_commands.hpp"
@@ -326,6 +327,24 @@ int main(int argc, char** argv) {
       ->default_str("ode bullet");
   impact_bench_cmd->add_option("--json", impact_bench.json, "also write the result as JSON to this file");
 
+  bench::LatticeBenchOptions lattice_bench;
+  CLI::App* lattice_bench_cmd = bench_cmd->add_subcommand(
+      "lattice", "impacts per second of the lattice-bed ripple model (Fig. 5.21) on one core");
+  lattice_bench_cmd->add_option("--columns", lattice_bench.columns, "lattice columns (even)")
+      ->default_val(10000)
+      ->check(CLI::Range(16, 100000000));
+  lattice_bench_cmd
+      ->add_option("--warmup", lattice_bench.warmup, "ejections per surface grain before timing ripples")
+      ->default_val(100)
+      ->check(CLI::Range(0.0, 1e6));
+  lattice_bench_cmd->add_option("--timed", lattice_bench.timed, "ejections per surface grain timed")
+      ->default_val(20)
+      ->check(CLI::Range(0.01, 1e6));
+  lattice_bench_cmd->add_option("--repeats", lattice_bench.repeats, "timed repetitions (median reported)")
+      ->default_val(5)
+      ->check(CLI::Range(1, 100));
+  lattice_bench_cmd->add_option("--json", lattice_bench.json, "also write the result as JSON to this file");
+
   cli::ImpactCommands impacts;
   impacts.add(app);
   cli::SaltationCommands saltation;
@@ -353,6 +372,7 @@ int main(int argc, char** argv) {
     if (*die_cmd) return cli::die_model_command(die);
     if (*bed_cmd) return bench::run_bed_command(bed);
     if (*impact_bench_cmd) return bench::run_impact_bench(impact_bench);
+    if (*lattice_bench_cmd) return bench::run_lattice_bench(lattice_bench);
     if (const int status = impacts.dispatch(); status >= 0) return status;
     if (const int status = saltation.dispatch(); status >= 0) return status;
     if (const int status = ripples.dispatch(); status >= 0) return status;

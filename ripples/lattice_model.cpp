@@ -9,6 +9,7 @@ namespace grainlab::ripples {
 namespace {
 constexpr double kColumn = 0.8660254037844386;  // sqrt(3) / 2: column width in grain diameters
 constexpr double kLayer = 0.5, kRadius = 0.5;
+constexpr int kBlock = 16;  // columns per block of the hit search
 }  // namespace
 
 LatticeModel::LatticeModel(const LatticeParams& p)
@@ -16,6 +17,8 @@ LatticeModel::LatticeModel(const LatticeParams& p)
       rng_(p.seed, 0),
       tan_a_(std::tan(p.impact_deg * M_PI / 180)),
       cos_a_(std::cos(p.impact_deg * M_PI / 180)) {
+  if (2L * std::max({p.forward, p.backward, p.brink_lookahead}) >= p.columns)
+    throw std::invalid_argument("hops and the brink look-ahead must be shorter than the lattice");
   if (p.columns < 16 || p.columns % 2)
     throw std::invalid_argument("the lattice needs an even number >= 16 of columns");
   const int base = 2 * (p.depth / 2);
@@ -27,6 +30,15 @@ LatticeModel::LatticeModel(const LatticeParams& p)
     if (start.uniform() < p.roughness) h_[static_cast<std::size_t>(i)] += 2;
   height_count_.assign(static_cast<std::size_t>(base + 64), 0);
   for (int v : h_) ++height_count_[static_cast<std::size_t>(v)], max_h_ = std::max(max_h_, v);
+  block_max_.assign(static_cast<std::size_t>((p.columns + kBlock - 1) / kBlock), 0);
+  for (int i = 0; i < p.columns; ++i) {
+    int& top = block_max_[static_cast<std::size_t>(i / kBlock)];
+    top = std::max(top, h_[static_cast<std::size_t>(i)]);
+  }
+}
+
+int LatticeModel::near(int i) const {
+  return i < 0 ? i + p_.columns : (i >= p_.columns ? i - p_.columns : i);
 }
 
 int LatticeModel::wrap(long i) const {
@@ -42,24 +54,48 @@ long LatticeModel::grains() const {
 
 void LatticeModel::set(int i, int v) {
   int& h = h_[static_cast<std::size_t>(i)];
-  --height_count_[static_cast<std::size_t>(h)];
+  const int old = h;
+  --height_count_[static_cast<std::size_t>(old)];
   if (static_cast<std::size_t>(v) >= height_count_.size())
     height_count_.resize(static_cast<std::size_t>(v) + 64, 0);
   ++height_count_[static_cast<std::size_t>(v)];
   h = v;
   if (v > max_h_) max_h_ = v;
   while (height_count_[static_cast<std::size_t>(max_h_)] == 0) --max_h_;
+  int& top = block_max_[static_cast<std::size_t>(i / kBlock)];
+  if (v > top) {
+    top = v;
+  } else if (old == top && v < old) {
+    const int b = (i / kBlock) * kBlock, e = std::min(b + kBlock, p_.columns);
+    top = *std::max_element(h_.begin() + b, h_.begin() + e);
+  }
 }
 
 // The first surface grain the path from (start_x, above every grain) meets, scanning downstream. `p` gets
-// the signed distance of the path from that grain's centre (perpendicular to the path).
+// the signed distance of the path from that grain's centre (perpendicular to the path). Blocks of columns
+// the path passes above (judged by their highest grain) are skipped whole: the same hit, found faster.
 int LatticeModel::hit_column(double start_x, double& p) {
-  const double y0 = max_h_ * kLayer + 2 * kRadius;
-  for (long k = static_cast<long>(std::ceil(start_x / kColumn));; ++k) {
-    const int i = wrap(k);
-    const double ray = y0 - tan_a_ * (k * kColumn - start_x);
-    p = (ray - h_[static_cast<std::size_t>(i)] * kLayer) * cos_a_;
-    if (p < kRadius) return i;
+  const int n = p_.columns;
+  const double first = std::ceil(start_x / kColumn), step = tan_a_ * kColumn, reach = kRadius / cos_a_;
+  // The path's height at the column under test, relative to the layer grid: hit when it passes less than
+  // one radius (perpendicular to the path) above the column's top grain centre.
+  double ray = max_h_ * kLayer + 2 * kRadius - tan_a_ * (first * kColumn - start_x);
+  int i = wrap(static_cast<long>(first));
+  for (;;) {
+    const int block = i / kBlock, last = std::min((block + 1) * kBlock, n) - 1;
+    if (ray - step * (last - i) - block_max_[static_cast<std::size_t>(block)] * kLayer >= reach) {
+      ray -= step * (last - i + 1);
+      i = last + 1 == n ? 0 : last + 1;
+      continue;
+    }
+    for (; i <= last; ++i, ray -= step) {
+      const double above = ray - h_[static_cast<std::size_t>(i)] * kLayer;
+      if (above < reach) {
+        p = above * cos_a_;
+        return i;
+      }
+    }
+    if (i == n) i = 0;
   }
 }
 
@@ -68,14 +104,14 @@ int LatticeModel::hit_column(double start_x, double& p) {
 void LatticeModel::drop(int c, int direction) {
   for (;;) {
     const int h = h_[static_cast<std::size_t>(c)];
-    const int left = h_[static_cast<std::size_t>(wrap(c - 1))],
-              right = h_[static_cast<std::size_t>(wrap(c + 1))];
+    const int left = h_[static_cast<std::size_t>(near(c - 1))],
+              right = h_[static_cast<std::size_t>(near(c + 1))];
     if (left > h && right > h) {
       set(c, h + 2);
       return;
     }
     const int step = left < h && right < h ? direction : (left < h ? -1 : 1);
-    c = wrap(c + step);
+    c = near(c + step);
   }
 }
 
@@ -83,12 +119,13 @@ void LatticeModel::drop(int c, int direction) {
 // below it (the lattice's avalanche: the slope above shifts down by one grain).
 void LatticeModel::remove_top(int i) {
   set(i, h_[static_cast<std::size_t>(i)] - 2);
-  std::vector<int> check{i};
+  std::vector<int>& check = unstable_;
+  check.assign(1, i);
   while (!check.empty()) {
     const int c = check.back();
     check.pop_back();
     for (int side : {-1, 1}) {
-      const int n = wrap(c + side);
+      const int n = near(c + side);
       if (h_[static_cast<std::size_t>(n)] - h_[static_cast<std::size_t>(c)] != 3) continue;
       set(n, h_[static_cast<std::size_t>(n)] - 2);
       drop(c, -side);
@@ -104,10 +141,10 @@ void LatticeModel::remove_top(int i) {
 // -1 if none.
 int LatticeModel::find_brink(int from, int direction, int limit) const {
   for (int k = 0; k <= limit; ++k) {
-    const int c = wrap(from + direction * k);
+    const int c = near(from + direction * k);
     const int h = h_[static_cast<std::size_t>(c)];
-    if (h_[static_cast<std::size_t>(wrap(c - 1))] < h && h_[static_cast<std::size_t>(wrap(c + 1))] < h &&
-        h_[static_cast<std::size_t>(wrap(c + 2 * direction))] <= h - 2)
+    if (h_[static_cast<std::size_t>(near(c - 1))] < h && h_[static_cast<std::size_t>(near(c + 1))] < h &&
+        h_[static_cast<std::size_t>(near(c + 2 * direction))] <= h - 2)
       return c;
   }
   return -1;

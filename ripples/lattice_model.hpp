@@ -49,10 +49,13 @@ class LatticeModel {
   void set(int i, int v);
   void remove_top(int i);
   int wrap(long i) const;
+  int near(int i) const;  // wrap for |offsets| below the domain length
   int find_brink(int from, int direction, int limit) const;
   LatticeParams p_;
   std::vector<int> h_;
   std::vector<long> height_count_;  // columns per height, for the running maximum
+  std::vector<int> unstable_;       // remove_top's work list, kept to avoid allocating per impact
+  std::vector<int> block_max_;      // highest column of each block of the hit search
   int max_h_ = 0;
   Rng rng_;
   long impacts_ = 0, forward_ = 0, backward_ = 0;
