@@ -21,6 +21,7 @@ namespace {
 struct LatticeOutcome {
   SampleTable h, history;
   LatticeSurfaceStats final;
+  LatticeLengthScales scales;
   double impacts_per_second = 0;
 };
 
@@ -34,6 +35,7 @@ LatticeOutcome run_lattice(const LatticeRun& run) {
        "height (layers), stoss and lee slopes (deg)",
        {"ejections_per_grain", "roughness", "wavelength", "height", "stoss_deg", "lee_deg"},
        {}},
+      {},
       {},
       0};
   for (int i = 0; i < p.columns; ++i) o.h.columns.push_back(fmt::format("c{}", i));
@@ -54,12 +56,15 @@ LatticeOutcome run_lattice(const LatticeRun& run) {
   }
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   o.impacts_per_second = dt > 0 ? m.impacts() / dt : 0;
+  o.scales = lattice_length_scales(m.heights());
   return o;
 }
 
-nlohmann::json stats_json(const LatticeSurfaceStats& s) {
-  return {{"wavelength", s.wavelength}, {"height", s.height}, {"stoss_deg", s.stoss_deg},
-          {"lee_deg", s.lee_deg},       {"crests", s.crests}, {"roughness", s.rms}};
+nlohmann::json stats_json(const LatticeSurfaceStats& s, const LatticeLengthScales& l) {
+  return {{"f_peak", l.f_peak},         {"autocorrelation_wavelength", l.autocorrelation_wavelength},
+          {"wavelength", s.wavelength}, {"height", s.height},
+          {"stoss_deg", s.stoss_deg},   {"lee_deg", s.lee_deg},
+          {"crests", s.crests},         {"roughness", s.rms}};
 }
 
 }  // namespace
@@ -80,14 +85,16 @@ int lattice_command(const RipplesCommands& a) {
                           "heights in layers (d / 2), x in columns (sqrt(3) d / 2), wavelength in "
                           "lattice spacings (sqrt(3) d)"}});
   // The ensemble: the same config with seeds seed, seed + 1, ...
-  nlohmann::json members = nlohmann::json::array({stats_json(first.final)});
+  nlohmann::json members = nlohmann::json::array({stats_json(first.final, first.scales)});
   const std::uint64_t seed0 = run.params.seed;
   for (int k = 1; k < a.lattice_seeds; ++k) {
     run.params.seed = seed0 + static_cast<std::uint64_t>(k);
-    members.push_back(stats_json(run_lattice(run).final));
+    const LatticeOutcome o = run_lattice(run);
+    members.push_back(stats_json(o.final, o.scales));
   }
   nlohmann::json summary;
-  for (const char* key : {"wavelength", "height", "stoss_deg", "lee_deg", "roughness"}) {
+  for (const char* key : {"wavelength", "height", "stoss_deg", "lee_deg", "roughness", "f_peak",
+                          "autocorrelation_wavelength"}) {
     double s = 0, ss = 0;
     for (const auto& m : members)
       s += m[key].get<double>(), ss += m[key].get<double>() * m[key].get<double>();
@@ -116,7 +123,8 @@ int lattice_command(const RipplesCommands& a) {
         "{:4.1f} deg\n",
         r[0], r[2], r[3], r[4], r[5]);
   }
-  for (const char* key : {"wavelength", "height", "stoss_deg", "lee_deg"})
+  for (const char* key :
+       {"wavelength", "height", "stoss_deg", "lee_deg", "f_peak", "autocorrelation_wavelength"})
     fmt::print("  final {} over {} seeds: {:.2f} +- {:.2f}\n", key, members.size(),
                summary[key]["mean"].get<double>(), summary[key]["half_width_95"].get<double>());
   fmt::print("  {:.3g} impacts per second (with the per-frame statistics)\n", first.impacts_per_second);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "surface_analysis.hpp"
+
 namespace grainlab::ripples {
 
 namespace {
@@ -150,9 +152,26 @@ int LatticeModel::find_brink(int from, int direction, int limit) const {
   return -1;
 }
 
+// The thesis's landing rule: a hopping grain that does not land in a pocket moves on in its direction of
+// motion until it finds one (over a crest if need be).
+void LatticeModel::land_onward(int c, int direction) {
+  for (;;) {
+    const int h = h_[static_cast<std::size_t>(c)];
+    if (h_[static_cast<std::size_t>(near(c - 1))] > h && h_[static_cast<std::size_t>(near(c + 1))] > h) {
+      set(c, h + 2);
+      return;
+    }
+    c = near(c + direction);
+  }
+}
+
 void LatticeModel::eject(int column, int direction, int hop_columns) {
   remove_top(column);
-  drop(wrap(column + direction * hop_columns), direction);
+  const int at = wrap(column + direction * hop_columns);
+  if (p_.land_downhill)
+    drop(at, direction);
+  else
+    land_onward(at, direction);
   (direction > 0 ? forward_ : backward_)++;
 }
 
@@ -177,6 +196,16 @@ void LatticeModel::fire(long impacts) {
       }
     }
   }
+}
+
+LatticeLengthScales lattice_length_scales(const std::vector<int>& h) {
+  std::vector<double> y;
+  for (std::size_t i = 0; i < h.size(); i += 2) y.push_back(h[i]);  // one column per lattice spacing
+  LatticeLengthScales r;
+  r.f = length_scale_distribution(y, std::max<int>(1, static_cast<int>(y.size() / 4)), 2.0);
+  r.f_peak = length_scale_peak(r.f);
+  r.autocorrelation_wavelength = autocorrelation_wavelength(y);
+  return r;
 }
 
 LatticeSurfaceStats lattice_surface_stats(const std::vector<int>& h, int smooth) {

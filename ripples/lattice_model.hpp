@@ -24,7 +24,10 @@ struct LatticeParams {
   int brink_lookahead = 10;        // how far a brink is looked for, lattice spacings
   int hits_per_point = 1;          // impacts fired from each random point (the thesis's Fig. 5.23c: 2)
   int depth = 40;                  // initial bed thickness, layers
-  double roughness = 0;            // initial surface: share of columns given a random +-1 bump (0: flat)
+  // Where a hopping grain settles if it does not land in a pocket: onward in its direction to the next
+  // pocket (the thesis's words, the default), or downhill to the nearest one (as a grain rolls).
+  bool land_downhill = false;
+  double roughness = 0;  // initial surface: share of columns given a random +-1 bump (0: flat)
   std::uint64_t seed = 1;
 };
 
@@ -46,6 +49,7 @@ class LatticeModel {
   int hit_column(double start_x, double& side_offset);
   void eject(int column, int direction, int hop_columns);
   void drop(int column, int direction);
+  void land_onward(int column, int direction);
   void set(int i, int v);
   void remove_top(int i);
   int wrap(long i) const;
@@ -71,6 +75,15 @@ struct LatticeSurfaceStats {
   int crests = 0;
   double rms = 0;  // layers
 };
+// f(lambda) (eq. 5.2) of the surface sampled once per lattice spacing (heights in layers, sigma 2 layers),
+// lags up to a quarter of the domain; its peak and the autocorrelation wavelength, in lattice spacings.
+struct LatticeLengthScales {
+  std::vector<double> f;  // f[l - 1]: lag l lattice spacings
+  int f_peak = 0;
+  double autocorrelation_wavelength = 0;
+};
+LatticeLengthScales lattice_length_scales(const std::vector<int>& h);
+
 // `smooth_columns`: the smoothing half-width (a running mean) that removes the lattice's zig-zag.
 LatticeSurfaceStats lattice_surface_stats(const std::vector<int>& h, int smooth_columns = 8);
 

@@ -38,6 +38,10 @@ const std::vector<Suite>& suites() {
        "the thesis's Ch. IV saltation models: the conveyor belt (Tables 4.1-4.2), the wind-driven model's "
        "identities, Tables 4.4 and 4.5, CASE 1's text numbers and the flux law",
        run_saltation_suite},
+      {"ripples",
+       "the thesis's Ch. V ripple models: worms, triangular collisions, the continuum, Haff's bin model, "
+       "the lattice-bed runs of Figs 5.22-5.23 as seed ensembles, the limiting wavelength",
+       run_ripples_suite},
   };
   return all;
 }

@@ -1,0 +1,94 @@
+#include "surface_analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+namespace grainlab::ripples {
+
+namespace {
+double at(const std::vector<double>& y, long i) {
+  const long n = static_cast<long>(y.size());
+  return y[static_cast<std::size_t>(((i % n) + n) % n)];
+}
+}  // namespace
+
+std::vector<double> tombrello_smooth(const std::vector<double>& y, int n, double sigma) {
+  std::vector<double> s(y.size());
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    double num = 0, den = 0;
+    for (long j = static_cast<long>(i) - n; j <= static_cast<long>(i) + n; ++j) {
+      const double d = y[i] - at(y, j), w = std::exp(-d * d / (2 * sigma * sigma));
+      num += at(y, j) * w, den += w;
+    }
+    s[i] = num / den;
+  }
+  return s;
+}
+
+std::vector<double> length_scale_distribution(const std::vector<double>& h, int max_lag, double sigma) {
+  std::vector<double> f(static_cast<std::size_t>(max_lag), 0.0);
+  double total = 0;
+  for (int l = 1; l <= max_lag; ++l) {
+    double s = 0;
+    for (std::size_t j = 0; j < h.size(); ++j) {
+      const double d = h[j] - at(h, static_cast<long>(j) + l);
+      s += std::exp(-d * d / (2 * sigma * sigma));
+    }
+    f[static_cast<std::size_t>(l - 1)] = s, total += s;
+  }
+  if (total > 0)
+    for (double& v : f) v /= total;
+  return f;
+}
+
+int length_scale_peak(const std::vector<double>& f) {
+  std::size_t k = 1;
+  while (k < f.size() && f[k] <= f[k - 1]) ++k;  // down to the first minimum
+  if (k >= f.size()) return 0;
+  std::size_t best = k;
+  for (std::size_t j = k; j < f.size(); ++j)
+    if (f[j] > f[best]) best = j;
+  return static_cast<int>(best) + 1;
+}
+
+std::vector<double> power_spectrum(const std::vector<double>& h) {
+  const std::size_t n = h.size();
+  double mean = 0;
+  for (double v : h) mean += v;
+  mean /= static_cast<double>(n);
+  std::vector<double> p(n / 2);
+  for (std::size_t k = 1; k <= n / 2; ++k) {
+    std::complex<double> s = 0;
+    for (std::size_t j = 0; j < n; ++j)
+      s += (h[j] - mean) *
+           std::polar(1.0, -2 * M_PI * static_cast<double>(k * j % n) / static_cast<double>(n));
+    p[k - 1] = std::norm(s);
+  }
+  return p;
+}
+
+double autocorrelation_wavelength(const std::vector<double>& h) {
+  const std::size_t n = h.size();
+  double mean = 0;
+  for (double v : h) mean += v;
+  mean /= static_cast<double>(n);
+  std::vector<double> c(n / 2);
+  for (std::size_t l = 0; l < n / 2; ++l) {
+    double s = 0;
+    for (std::size_t j = 0; j < n; ++j) s += (h[j] - mean) * (at(h, static_cast<long>(j + l)) - mean);
+    c[l] = s;
+  }
+  std::size_t k = 1;
+  while (k < c.size() && c[k] > 0) ++k;  // first zero crossing
+  // The first maximum that reaches half the highest one: later maxima of a periodic surface repeat the
+  // first (multiples of the wavelength), and small wiggles are not a wavelength.
+  double best = 0;
+  for (std::size_t l = k; l + 1 < c.size(); ++l)
+    if (c[l] > c[l - 1] && c[l] >= c[l + 1]) best = std::max(best, c[l]);
+  for (std::size_t l = k; l + 1 < c.size(); ++l)
+    if (c[l] > c[l - 1] && c[l] >= c[l + 1] && c[l] >= 0.5 * best && best > 0) return static_cast<double>(l);
+  return 0;
+}
+
+}  // namespace grainlab::ripples
