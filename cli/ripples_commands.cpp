@@ -231,6 +231,8 @@ void RipplesCommands::add(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   lattice->add_option("--out,-o", out, "write h(x, t) and the history (first seed) to this HDF5 file");
+  lattice->add_option("--ejections", lattice_ejections,
+                      "run length in ejections per surface grain (replaces the config's)");
   lattice->add_option("--seeds", lattice_seeds, "ensemble: the config's seed and the next N - 1")
       ->default_val(1);
   lattice->add_flag("--force", force, "overwrite --out");

@@ -20,6 +20,7 @@ struct RipplesCommands {
   CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr, *bin_cmd = nullptr,
            *wavelength = nullptr, *lattice = nullptr;
   int lattice_seeds = 1;
+  double lattice_ejections = 0;  // 0: the config's
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };

@@ -75,6 +75,9 @@ int lattice_command(const RipplesCommands& a) {
   if (a.lattice_seeds < 1 || a.lattice_seeds > 100000)
     throw InputError({"--seeds", 0}, std::to_string(a.lattice_seeds), "must lie in 1..100000");
   LatticeRun run = read_lattice_config(a.config);
+  if (a.lattice_ejections < 0 || a.lattice_ejections > 1e6)
+    throw InputError({"--ejections", 0}, fmt::format("{}", a.lattice_ejections), "must lie in (0, 1e6]");
+  if (a.lattice_ejections > 0) run.ejections_per_grain = a.lattice_ejections;
   const LatticeOutcome first = run_lattice(run);
   if (!a.out.empty())
     write_sample_tables(a.out, {first.h, first.history},

@@ -287,12 +287,21 @@ SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o) {
   return {[cells, around, dv, bins, v_min](double v_oy, double v_ix, double v_iy) {
             const double speed = std::hypot(v_ix, v_iy);
             const double f = speed < v_min ? std::max(speed / v_min, 1e-6) : 1.0;
-            const long k = static_cast<long>(std::floor(v_oy / f / dv));
-            if (k < 0 || k >= bins) return 0.0;
-            const auto kk = static_cast<std::size_t>(k);
+            const long b = static_cast<long>(std::floor(v_oy / dv));
+            if (b < 0 || b >= bins) return 0.0;
+            // Grains per impact per cm/s in launch bin b: each measured bin k, compressed to
+            // [k dv f, (k + 1) dv f), gives b its overlapping share (exact: every grain lands in some bin).
             double d = 0;
-            for (const auto& [c, w] : around(v_ix, v_iy))
-              d += w * ((*cells)[c].rebound[kk] + f * (*cells)[c].ejecta[kk]) / f;
+            const long k_lo = static_cast<long>(std::floor(b / f)),
+                       k_hi = static_cast<long>(std::ceil((b + 1) / f));
+            for (long k = std::max(0L, k_lo); k < std::min<long>(bins, k_hi); ++k) {
+              const double share =
+                  std::max(0.0, std::min<double>(b + 1, (k + 1) * f) - std::max<double>(b, k * f)) / f;
+              if (share <= 0) continue;
+              const auto kk = static_cast<std::size_t>(k);
+              for (const auto& [c, w] : around(v_ix, v_iy))
+                d += w * share * ((*cells)[c].rebound[kk] + f * (*cells)[c].ejecta[kk]);
+            }
             return d;
           },
           [cells, around, v_min](double v_ix, double v_iy) {

@@ -88,10 +88,20 @@ TEST(WindModel, TabulatedSplashKernelCountsEveryLaunchedGrain) {
   f.cells = {c};
   WindModelOptions o;
   const SplashKernel k = kernel_of(f, o);
-  for (const auto& [vx, vy] : {std::pair{300.0, -80.0}, std::pair{30.0, -5.0}, std::pair{3000.0, -2000.0}}) {
+  // At or above the slowest cell (50 sqrt(g d) = 248 cm/s): 0.5 rebounds + 1.5 ejecta per impact.
+  for (const auto& [vx, vy] : {std::pair{300.0, -80.0}, std::pair{3000.0, -2000.0}}) {
     double n = 0;
     for (int b = 0; b < o.bins; ++b) n += k.density((b + 0.5) * o.dv, vx, vy) * o.dv;
     EXPECT_NEAR(n, 2.0, 1e-12);
+  }
+  // Below it the launch velocities shrink with the impact speed (ratio s) and the ejecta number falls
+  // linearly: 0.5 + 1.5 s per impact, every grain still in some bin however far the velocities shrink.
+  const double v_min = 50 * std::sqrt(o.g * 2 * o.grain.radius);
+  for (const double speed : {200.0, 60.0, 12.0}) {
+    const double vx = speed * std::cos(0.2), vy = -speed * std::sin(0.2), s = speed / v_min;
+    double n = 0;
+    for (int b = 0; b < o.bins; ++b) n += k.density((b + 0.5) * o.dv, vx, vy) * o.dv;
+    EXPECT_NEAR(n, 0.5 + 1.5 * s, 1e-9) << speed;
   }
   const double scale = std::sqrt(o.g * 2 * o.grain.radius);
   EXPECT_GT(k.density(10 * scale, 300, -80), 0);
