@@ -217,7 +217,9 @@ void lattice_checks(Report& rep, const SuiteOptions& o, std::string& md) {
   const LatticeEnsemble a = lattice_ensemble(lattice(4, 1, 0.0), {10, 20}, seeds);
   const LatticeEnsemble b = lattice_ensemble(lattice(8, 3, 0.0), {10, 20}, seeds);
   const LatticeEnsemble c = lattice_ensemble(lattice(4, 1, 0.0, 2), {20}, seeds);
+  row("reptation 4 (Fig. 5.23a)", "", a, 0, 10);
   row("reptation 4 (Fig. 5.23a)", "stable length scale ~50", a, 1, 20);
+  row("reptation 8 (Fig. 5.23b)", "", b, 0, 10);
   row("reptation 8 (Fig. 5.23b)", "still growing at ~20; peak 50-75", b, 1, 20);
   row("reptation 4, two hits (Fig. 5.23c)", "f(lambda) peak ~100", c, 0, 20);
   rep.expect_near("ripples/lattice/fig5.23a-length", "lattice", a.wavelength[1].mean, 50, 12.5,
