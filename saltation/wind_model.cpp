@@ -212,7 +212,10 @@ std::pair<std::size_t, double> bracket(const std::vector<double>& axis, double x
 // eps_iy x |v_iy| (spread likewise) from the nearest cell; ejecta numbering the least-squares line of
 // ejecta per impact against impact speed across the cells (the sand gun's linear law), held at zero below
 // its root, with an exponential launch v_y of the nearest cell's mean. This is the extrapolation the thesis
-// made for its CASE 7 ("extrapolated outside" 650-1200 cm/s), in its simplest defensible form.
+// made for its CASE 7 ("extrapolated outside" 650-1200 cm/s), in its simplest defensible form. A rebound
+// too slow to lift the grain one diameter (v_y < sqrt(2 g d), the thesis's "infrared cutoff") leaves it in
+// the bed: moments alone do not say which slow impacts trap the grain, and without this every grain
+// rebounds for ever.
 SplashKernel moments_kernel(const SplashFile& f, double scale) {
   double sv = 0, sn = 0, svv = 0, svn = 0, m = 0;
   for (const SplashCell& c : f.cells)
@@ -232,11 +235,14 @@ SplashKernel moments_kernel(const SplashFile& f, double scale) {
   auto ejecta = [slope, icpt, scale](double v_ix, double v_iy) {
     return std::max(0.0, icpt + slope * std::hypot(v_ix, v_iy) / scale);
   };
-  return {[near, get, ejecta, scale](double v_oy, double v_ix, double v_iy) {
+  const double trap = std::sqrt(2.0) * scale;
+  return {[near, get, ejecta, scale, trap](double v_oy, double v_ix, double v_iy) {
             const SplashCell& c = near(v_ix, v_iy);
             const double mu = get(c, "eps_iy", false) * -v_iy;
             const double sig = std::max(get(c, "eps_iy", true) * -v_iy, 1e-3 * scale);
-            double d = std::exp(-0.5 * (v_oy - mu) * (v_oy - mu) / (sig * sig)) / (sig * std::sqrt(2 * M_PI));
+            double d = v_oy < trap ? 0.0
+                                   : std::exp(-0.5 * (v_oy - mu) * (v_oy - mu) / (sig * sig)) /
+                                         (sig * std::sqrt(2 * M_PI));
             const double vey = get(c, "ejecta_vy", false) * scale;
             if (vey > 0) d += ejecta(v_ix, v_iy) * std::exp(-v_oy / vey) / vey;
             return d;
@@ -354,6 +360,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     return change;
   };
   std::vector<double> next(M);
+  double peak_total = 0;
   for (int n = 0; n < o.max_iterations; ++n) {
     double wind_change = 1;
     last_change = 1e300;
@@ -382,7 +389,8 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       r.iterations = n + 1;
       break;
     }
-    if (total < 1e-30) {
+    peak_total = std::max(peak_total, total);
+    if (total < 1e-9 * peak_total) {  // nine decades below its largest: it is dying, not settling
       r.failure =
           "the flux died out: u* is below the impact threshold, or the rebounds leave the top of the launch "
           "grid (more bins)";
