@@ -237,6 +237,21 @@ void RipplesCommands::add(CLI::App& app) {
       ->default_val(1);
   lattice->add_flag("--force", force, "overwrite --out");
   lattice->add_flag("--json", json, "print the final statistics of every seed and their mean, sd, interval");
+  analyze = group->add_subcommand("analyze",
+                                  "wavelength, height, ripple index and slopes of any surface (Ch. V tools)");
+  analyze->add_option("file", analyze_file, "a CSV of x, h (evenly spaced, periodic) or a ripple run file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  analyze->add_option("--frame", analyze_frame, "run files: the frame (default: the last)");
+  analyze->add_option("--smooth", analyze_smooth, "eq. 5.1 smoothing half-width in points (0: none)")
+      ->default_val(0);
+  analyze->add_option("--sigma", analyze_sigma, "eq. 5.1 / 5.2 height scale sigma (the surface's units)")
+      ->default_val(1);
+  analyze
+      ->add_option("--relief", analyze_relief,
+                   "least height a crest or trough must stand out by (0: half the rms height)")
+      ->default_val(0);
+  analyze->add_flag("--json", json, "print the results as JSON");
   wavelength =
       group->add_subcommand("wavelength", "Fig. 5.24: the largest ripple a merger can make, by size ratio");
   wavelength->add_flag("--json", json, "print the table as JSON");
@@ -247,6 +262,7 @@ int RipplesCommands::dispatch() const {
   if (wavelength && *wavelength) return wavelength_command(*this);
   if (bin_cmd && *bin_cmd) return bins_command(*this);
   if (lattice && *lattice) return lattice_command(*this);
+  if (analyze && *analyze) return analyze_command(*this);
   if (triangles && *triangles) return triangles_command(*this);
   if (chain && *chain) return chain_command(*this);
   if (ring && *ring) return ring_command(*this);

@@ -20,11 +20,16 @@ struct RipplesCommands {
   CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr, *bin_cmd = nullptr,
            *wavelength = nullptr, *lattice = nullptr;
   int lattice_seeds = 1;
+  std::string analyze_file;
+  int analyze_frame = -1, analyze_smooth = 0;
+  double analyze_sigma = 1, analyze_relief = 0;
+  CLI::App* analyze = nullptr;
   double lattice_ejections = 0;  // 0: the config's
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
 
 int lattice_command(const RipplesCommands& a);
+int analyze_command(const RipplesCommands& a);
 
 }  // namespace grainlab::cli

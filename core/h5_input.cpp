@@ -125,12 +125,20 @@ TableFile read_sample_tables(const std::string& path,
   out.metadata = attributes.text;
   for (const auto& [name, columns] : wanted) {
     const Dataset d = read_all(f.id, name, path);
-    const std::string expected = fmt::format("{}", fmt::join(columns, ","));
     Handle ds{H5Dopen2(f.id, name.c_str(), H5P_DEFAULT), H5Dclose};
     const std::string found = string_attribute(ds.id, "columns");
-    if (found != expected || d.dims.size() != 2 || d.dims[1] != columns.size())
+    // No wanted columns: take the table's own (one name per column, all present).
+    std::vector<std::string> names = columns;
+    if (names.empty())
+      for (std::size_t a = 0; a <= found.size();) {
+        const std::size_t b = std::min(found.find(',', a), found.size());
+        names.push_back(found.substr(a, b - a));
+        a = b + 1;
+      }
+    const std::string expected = fmt::format("{}", fmt::join(names, ","));
+    if (found != expected || d.dims.size() != 2 || d.dims[1] != names.size())
       corrupt(path, fmt::format("table {} has columns \"{}\", expected \"{}\"", name, found, expected));
-    SampleTable t{name, string_attribute(ds.id, "description"), columns, {}};
+    SampleTable t{name, string_attribute(ds.id, "description"), names, {}};
     for (hsize_t r = 0; r < d.dims[0]; ++r)
       t.rows.emplace_back(d.data.begin() + static_cast<long>(r * d.dims[1]),
                           d.data.begin() + static_cast<long>((r + 1) * d.dims[1]));

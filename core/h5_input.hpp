@@ -26,7 +26,8 @@ struct TableFile {
   std::map<std::string, SampleTable> tables;
 };
 // Reads the root attributes and the named tables, checking each one's columns against `columns`
-// (its attribute). Throws InputError (key "file") naming what is missing, unreadable or different.
+// (its attribute; an empty list takes the table's own, checking their number against the data). Throws
+// InputError (key "file") naming what is missing, unreadable or different.
 TableFile read_sample_tables(const std::string& path,
                              const std::map<std::string, std::vector<std::string>>& wanted);
 

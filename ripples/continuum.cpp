@@ -29,4 +29,26 @@ double continuum_growth_per_step(const ContinuumParams& p, double k) {
   return 1 + p.dt * p.anti_diffusivity() * (2 - 2 * std::cos(k * p.dx)) / (p.dx * p.dx);
 }
 
+double steady_length(const ContinuumParams& p, double v) {
+  return p.anti_diffusivity() / v;  // a d^2 F_x / (v tan alpha)
+}
+
+double steady_shape(const ContinuumParams& p, double v, double C, double h0, double s) {
+  const double lambda = steady_length(p, v);
+  return C * std::exp(s / lambda) + lambda * std::tan(p.alpha_deg * M_PI / 180) + h0;
+}
+
+std::vector<double> integrate_steady_shape(const ContinuumParams& p, double v, double h0, double h_start,
+                                           double ds, int n) {
+  const double lambda = steady_length(p, v), tan_a = std::tan(p.alpha_deg * M_PI / 180);
+  auto slope = [&](double h) { return (h - h0) / lambda - tan_a; };
+  std::vector<double> h{h_start};
+  for (int i = 0; i < n; ++i) {
+    const double y = h.back(), k1 = slope(y), k2 = slope(y + ds / 2 * k1), k3 = slope(y + ds / 2 * k2),
+                 k4 = slope(y + ds * k3);
+    h.push_back(y + ds / 6 * (k1 + 2 * k2 + 2 * k3 + k4));
+  }
+  return h;
+}
+
 }  // namespace grainlab::ripples

@@ -28,4 +28,15 @@ void advance_continuum(const ContinuumParams& p, std::vector<double>& h, int ste
 // 1 + dt D (2 - 2 cos(k dx)) / dx^2.
 double continuum_growth_per_step(const ContinuumParams& p, double k);
 
+// Steady propagation (eqs 5.5, 5.7, 5.8). A shape h(s), s = x - v t, moving unchanged at speed v needs
+// v h = d^2 R + const (5.5); with R = a F_beta linear in the slope this is
+//   dh/ds = (h - h0) / lambda - tan(alpha),  lambda = a d^2 F_x / (v tan alpha)          (5.7)
+// whose solutions are flat (h = h0 + lambda tan alpha) or steepen exponentially:
+//   h(s) = C exp(s / lambda) + lambda tan(alpha) + h0                                   (5.8)
+double steady_length(const ContinuumParams& p, double v);
+double steady_shape(const ContinuumParams& p, double v, double C, double h0, double s);
+// Eq. 5.7 integrated by RK4 from h(s0) = h_start in n steps of ds: the numerical check on eq. 5.8.
+std::vector<double> integrate_steady_shape(const ContinuumParams& p, double v, double h0, double h_start,
+                                           double ds, int n);
+
 }  // namespace grainlab::ripples

@@ -212,55 +212,24 @@ LatticeSurfaceStats lattice_surface_stats(const std::vector<int>& h, int smooth)
   LatticeSurfaceStats s;
   const int n = static_cast<int>(h.size());
   if (n < 4) return s;
-  auto at = [&](long i) { return h[static_cast<std::size_t>(((i % n) + n) % n)]; };
+  // A running mean over 2 smooth + 1 columns removes the zig-zag; then the shape in grain diameters, with
+  // crests and troughs at least one layer proud.
   std::vector<double> y(static_cast<std::size_t>(n));
-  double mean = 0;
-  for (int v : h) mean += v;
-  mean /= n;
   for (int i = 0; i < n; ++i) {
     double sum = 0;
-    for (int k = -smooth; k <= smooth; ++k) sum += at(i + k);
-    y[static_cast<std::size_t>(i)] = sum / (2 * smooth + 1);
-    s.rms += (h[static_cast<std::size_t>(i)] - mean) * (h[static_cast<std::size_t>(i)] - mean);
+    for (int k = -smooth; k <= smooth; ++k) sum += h[static_cast<std::size_t>(((i + k) % n + n) % n)];
+    y[static_cast<std::size_t>(i)] = sum / (2 * smooth + 1) * kLayer;
   }
-  s.rms = std::sqrt(s.rms / n);
-  // Crests and troughs of the smoothed surface alternate; small wiggles (under one layer) are skipped.
-  std::vector<std::pair<int, double>> ext;  // (column, height), alternating max / min
-  int dir = 0;
-  double lo = y[0], hi = y[0];
-  int lo_i = 0, hi_i = 0;
-  for (int i = 1; i < 2 * n; ++i) {
-    const double v = y[static_cast<std::size_t>(i % n)];
-    if (v > hi) hi = v, hi_i = i;
-    if (v < lo) lo = v, lo_i = i;
-    if (dir >= 0 && hi - v > 1.0) {  // a crest at hi_i
-      if (i >= n) ext.push_back({hi_i, hi});
-      dir = -1, lo = v, lo_i = i;
-    } else if (dir <= 0 && v - lo > 1.0) {  // a trough at lo_i
-      if (i >= n) ext.push_back({lo_i, lo});
-      dir = 1, hi = v, hi_i = i;
-    }
-  }
-  double spacing = 0, height = 0, stoss = 0, lee = 0;
-  int crests = 0, rises = 0, falls = 0;
-  for (std::size_t k = 1; k < ext.size(); ++k) {
-    const auto [x0, y0] = ext[k - 1];
-    const auto [x1, y1] = ext[k];
-    const double angle = std::atan(std::abs(y1 - y0) * kLayer / ((x1 - x0) * kColumn)) * 180 / M_PI;
-    if (y1 > y0)
-      stoss += angle, ++rises;  // the wind blows +x: a rise towards +x is a stoss flank
-    else
-      lee += angle, ++falls, height += y0 - y1;
-  }
-  // Crest to crest: every second extremum.
-  spacing = 0, crests = 0;
-  for (std::size_t k = 2; k < ext.size(); ++k)
-    if (ext[k].second > ext[k - 1].second) spacing += ext[k].first - ext[k - 2].first, ++crests;
-  s.crests = crests;
-  s.wavelength = crests ? spacing / crests / 2 : 0;  // lattice spacings (2 columns)
-  s.height = falls ? height / falls : 0;
-  s.stoss_deg = rises ? stoss / rises : 0;
-  s.lee_deg = falls ? lee / falls : 0;
+  const SurfaceShape shape = surface_shape(y, kColumn, kLayer);
+  double mean = 0, var = 0;
+  for (int v : h) mean += v;
+  mean /= n;
+  for (int v : h) var += (v - mean) * (v - mean);
+  s.rms = std::sqrt(var / n);
+  s.crests = shape.crests;
+  s.wavelength = shape.wavelength / (2 * kColumn);  // lattice spacings
+  s.height = shape.height / kLayer;                 // layers
+  s.stoss_deg = shape.stoss_deg, s.lee_deg = shape.lee_deg;
   return s;
 }
 

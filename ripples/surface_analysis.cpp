@@ -91,4 +91,50 @@ double autocorrelation_wavelength(const std::vector<double>& h) {
   return 0;
 }
 
+SurfaceShape surface_shape(const std::vector<double>& y, double dx, double min_relief) {
+  SurfaceShape s;
+  const std::size_t n = y.size();
+  if (n < 4) return s;
+  double mean = 0;
+  for (double v : y) mean += v;
+  mean /= static_cast<double>(n);
+  for (double v : y) s.rms += (v - mean) * (v - mean);
+  s.rms = std::sqrt(s.rms / static_cast<double>(n));
+  // Two passes round the ring: the first finds the phase, the second records (index, height) extremes.
+  std::vector<std::pair<std::size_t, double>> ext;
+  int dir = 0;
+  double lo = y[0], hi = y[0];
+  std::size_t lo_i = 0, hi_i = 0;
+  for (std::size_t i = 1; i < 2 * n; ++i) {
+    const double v = y[i % n];
+    if (v > hi) hi = v, hi_i = i;
+    if (v < lo) lo = v, lo_i = i;
+    if (dir >= 0 && hi - v > min_relief) {  // a crest at hi_i
+      if (i >= n) ext.push_back({hi_i, hi});
+      dir = -1, lo = v, lo_i = i;
+    } else if (dir <= 0 && v - lo > min_relief) {  // a trough at lo_i
+      if (i >= n) ext.push_back({lo_i, lo});
+      dir = 1, hi = v, hi_i = i;
+    }
+  }
+  double spacing = 0, height = 0, stoss = 0, lee = 0;
+  int rises = 0, falls = 0;
+  for (std::size_t k = 1; k < ext.size(); ++k) {
+    const auto [x0, y0] = ext[k - 1];
+    const auto [x1, y1] = ext[k];
+    const double angle = std::atan(std::abs(y1 - y0) / ((x1 - x0) * dx)) * 180 / M_PI;
+    if (y1 > y0)
+      stoss += angle, ++rises;
+    else
+      lee += angle, ++falls, height += y0 - y1;
+    if (k >= 2 && y1 > y0) spacing += (x1 - ext[k - 2].first) * dx, ++s.crests;  // crest to crest
+  }
+  s.wavelength = s.crests ? spacing / s.crests : 0;
+  s.height = falls ? height / falls : 0;
+  s.ripple_index = s.height > 0 ? s.wavelength / s.height : 0;
+  s.stoss_deg = rises ? stoss / rises : 0;
+  s.lee_deg = falls ? lee / falls : 0;
+  return s;
+}
+
 }  // namespace grainlab::ripples

@@ -23,4 +23,14 @@ std::vector<double> power_spectrum(const std::vector<double>& h);
 // highest maximum (grid steps); 0 if none.
 double autocorrelation_wavelength(const std::vector<double>& h);
 
+// Ripple shape of a periodic surface (x spacing dx, heights in the same unit; wind towards +x): crests and
+// troughs alternate, each standing at least `min_relief` above / below its neighbours (smaller wiggles are
+// skipped). Wavelength: mean crest spacing; height: mean crest-to-next-trough drop; ripple index: their
+// ratio; stoss / lee: mean angles of the rising / falling flanks from trough to crest and back.
+struct SurfaceShape {
+  double wavelength = 0, height = 0, ripple_index = 0, stoss_deg = 0, lee_deg = 0, rms = 0;
+  int crests = 0;
+};
+SurfaceShape surface_shape(const std::vector<double>& h, double dx, double min_relief);
+
 }  // namespace grainlab::ripples

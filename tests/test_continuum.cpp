@@ -49,3 +49,24 @@ TEST(Continuum, SandIsConserved) {
   for (double x : h) after += x;
   EXPECT_NEAR(after, before, 1e-12);
 }
+
+namespace grainlab::ripples {
+
+TEST(Continuum, SteadyShapesAreFlatOrSteepenExponentially) {
+  // Eq. 5.7 integrated numerically reproduces the closed form 5.8 from any start; the flat shape sits at
+  // h0 + lambda tan(alpha), and a start above it steepens downstream, one below falls away.
+  ContinuumParams p;
+  const double v = 0.1, h0 = 0, lambda = steady_length(p, v);
+  const double flat = lambda * std::tan(p.alpha_deg * M_PI / 180);
+  EXPECT_NEAR(lambda, p.a * p.d * p.d * p.F_x / (v * std::tan(p.alpha_deg * M_PI / 180)), 1e-12);
+  const double ds = lambda / 200;
+  for (const double C : {-0.01, 0.0, 0.01}) {
+    const std::vector<double> h = integrate_steady_shape(p, v, h0, flat + C, ds, 600);
+    for (std::size_t i = 0; i < h.size(); i += 50)
+      EXPECT_NEAR(h[i], steady_shape(p, v, C, h0, i * ds), 1e-9 * (1 + std::abs(h[i]))) << C << " " << i;
+  }
+  // Anti-diffusion carries the exponential at exactly v: dh/dt = -v h' and -D h'' agree when lambda = D / v.
+  EXPECT_NEAR(p.anti_diffusivity() / (lambda * lambda), v / lambda, 1e-12);
+}
+
+}  // namespace grainlab::ripples

@@ -1,0 +1,141 @@
+// `grainlab ripples analyze FILE`: the Ch. V analysis of any surface. FILE is a CSV of x, h (a header line
+// allowed; x uniform and increasing, taken as periodic) or a ripple run file (`ripples bins|lattice --out`,
+// its last frame or --frame N). Prints wavelength three ways, height, ripple index and slopes.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "h5_input.hpp"
+#include "input_error.hpp"
+#include "ripple_config.hpp"
+#include "ripples_commands.hpp"
+#include "surface_analysis.hpp"
+
+namespace grainlab::cli {
+
+using namespace grainlab::ripples;
+
+namespace {
+
+struct Profile {
+  std::vector<double> h;
+  double dx = 1;
+  std::string units, source;
+};
+
+Profile read_csv_profile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError({path, 0}, "", "cannot be read");
+  Profile p;
+  std::vector<double> x;
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream ss(line);
+    double a = 0, b = 0;
+    if (!(ss >> a >> b)) {
+      if (x.empty() && p.h.empty()) continue;  // a header line
+      throw InputError({path, n}, "", "expected two numbers, x and h");
+    }
+    if (!std::isfinite(a) || !std::isfinite(b)) throw InputError({path, n}, "", "x and h must be finite");
+    x.push_back(a), p.h.push_back(b);
+  }
+  if (x.size() < 8) throw InputError({path, 0}, "", "needs at least 8 points");
+  p.dx = (x.back() - x.front()) / static_cast<double>(x.size() - 1);
+  if (!(p.dx > 0)) throw InputError({path, 0}, "", "x must increase");
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (std::abs(x[i] - x[i - 1] - p.dx) > 1e-6 * std::max(1.0, std::abs(p.dx)) + 1e-9 * std::abs(x[i]))
+      throw InputError({path, static_cast<int>(i + 1)}, "", "x must be evenly spaced (resample the profile)");
+  p.units = "the file's units";
+  p.source = "CSV";
+  return p;
+}
+
+Profile read_run_profile(const std::string& path, int frame) {
+  const TableFile f = read_sample_tables(path, {{"h", {}}});
+  const SampleTable& h = f.tables.at("h");
+  if (h.rows.empty()) throw InputError({path, 0}, "h", "has no frames");
+  const long k = frame < 0 ? static_cast<long>(h.rows.size()) - 1 : frame;
+  if (k < 0 || k >= static_cast<long>(h.rows.size()))
+    throw InputError({"--frame", 0}, std::to_string(frame),
+                     fmt::format("the file has frames 0..{}", h.rows.size() - 1));
+  const std::vector<double>& row = h.rows[static_cast<std::size_t>(k)];
+  Profile p;
+  const auto model = f.metadata.count("model") ? f.metadata.at("model") : std::string();
+  if (model.find("lattice") != std::string::npos) {
+    // One point per lattice spacing (the mean of its two columns), in grain diameters.
+    for (std::size_t i = 0; i + 1 < row.size(); i += 2) p.h.push_back(0.25 * (row[i] + row[i + 1]));
+    p.dx = std::sqrt(3.0);
+    p.units = "grain diameters";
+  } else {
+    // Haff's bin model: heights in grain diameters, bins bin_width diameters wide (from the stored config).
+    p.h = row;
+    const std::string config = f.metadata.count("config") ? f.metadata.at("config") : std::string();
+    p.dx = config.find("[bins]") != std::string::npos ? parse_bin_model_config(config, path).params.bin_width
+                                                      : BinModelParams{}.bin_width;
+    p.units = "grain diameters";
+  }
+  p.source = model.empty() ? "run file" : model;
+  return p;
+}
+
+}  // namespace
+
+int analyze_command(const RipplesCommands& a) {
+  const bool csv = a.analyze_file.size() > 4 && a.analyze_file.substr(a.analyze_file.size() - 4) == ".csv";
+  const Profile p =
+      csv ? read_csv_profile(a.analyze_file) : read_run_profile(a.analyze_file, a.analyze_frame);
+  if (!(a.analyze_sigma > 0))
+    throw InputError({"--sigma", 0}, fmt::format("{}", a.analyze_sigma), "must be positive");
+  const std::vector<double> smooth =
+      a.analyze_smooth > 0 ? tombrello_smooth(p.h, a.analyze_smooth, a.analyze_sigma) : p.h;
+  // Crests and troughs must stand out by --relief, by default half the surface's rms height.
+  double relief = a.analyze_relief;
+  if (relief <= 0) relief = 0.5 * surface_shape(smooth, p.dx, 1e300).rms;
+  const SurfaceShape shape = surface_shape(smooth, p.dx, relief);
+  const std::vector<double> f = length_scale_distribution(
+      smooth, std::max<int>(1, static_cast<int>(smooth.size() / 4)), a.analyze_sigma);
+  const int peak = length_scale_peak(f);
+  const std::vector<double> spectrum = power_spectrum(smooth);
+  const std::size_t top =
+      static_cast<std::size_t>(std::max_element(spectrum.begin(), spectrum.end()) - spectrum.begin());
+  const double spectral =
+      spectrum.empty() ? 0 : static_cast<double>(smooth.size()) / static_cast<double>(top + 1) * p.dx;
+  const double auto_wl = autocorrelation_wavelength(smooth) * p.dx;
+  const nlohmann::json j{{"source", p.source},
+                         {"units", p.units},
+                         {"points", smooth.size()},
+                         {"dx", p.dx},
+                         {"wavelength_crests", shape.wavelength},
+                         {"wavelength_autocorrelation", auto_wl},
+                         {"wavelength_spectrum", spectral},
+                         {"f_lambda_peak", peak * p.dx},
+                         {"height", shape.height},
+                         {"ripple_index", shape.ripple_index},
+                         {"stoss_deg", shape.stoss_deg},
+                         {"lee_deg", shape.lee_deg},
+                         {"crests", shape.crests},
+                         {"rms", shape.rms}};
+  if (a.json) {
+    fmt::print("{}\n", j.dump(2));
+    return 0;
+  }
+  fmt::print("{}: {} points, dx {} ({})\n", a.analyze_file, smooth.size(), p.dx, p.units);
+  fmt::print(
+      "  wavelength: {:.3g} (crest spacing), {:.3g} (autocorrelation), {:.3g} (power spectrum), {:.3g} "
+      "(f(lambda) peak, eq. 5.2)\n",
+      shape.wavelength, auto_wl, spectral, peak * p.dx);
+  fmt::print(
+      "  height {:.3g}, ripple index {:.3g}, stoss {:.1f} deg, lee {:.1f} deg, {} crests, rms {:.3g}\n",
+      shape.height, shape.ripple_index, shape.stoss_deg, shape.lee_deg, shape.crests, shape.rms);
+  return 0;
+}
+
+}  // namespace grainlab::cli
