@@ -11,6 +11,7 @@
 #include "input_error.hpp"
 #include "ripple_config.hpp"
 #include "ripples_commands.hpp"
+#include "splash_file.hpp"
 
 namespace grainlab::cli {
 
@@ -60,6 +61,39 @@ LatticeOutcome run_lattice(const LatticeRun& run) {
   return o;
 }
 
+// Hop lengths (grain diameters, signed) of the splash file's ejecta in the cells nearest the config's angle
+// (and speed, unless 0): ballistic ranges 2 v_x v_y of the launch velocities (in sqrt(g d), so the range is
+// in d) for simulated files; for a file with moments only (the sand gun), an exponential of its mean
+// reptation length per ejectum, all downstream, as 1,000 quantiles.
+std::vector<double> splash_hops(const LatticeRun& run, const std::string& config_path) {
+  using namespace grainlab::saltation;
+  const SplashFile f = run.splash == "sand-gun" ? sand_gun_splash() : read_splash_file(run.splash);
+  if (f.cells.empty()) throw InputError({config_path, 0}, "lattice.splash", run.splash + " has no cells");
+  double best_angle = 1e300, best_speed = 1e300;
+  for (const SplashCell& c : f.cells)
+    best_angle = std::min(best_angle, std::abs(c.angle_deg - run.splash_angle));
+  for (const SplashCell& c : f.cells)
+    if (std::abs(c.angle_deg - run.splash_angle) == best_angle)
+      best_speed = std::min(best_speed, std::abs(c.speed - run.splash_speed));
+  std::vector<double> hops;
+  double reptation = 0;
+  int moment_cells = 0;
+  for (const SplashCell& c : f.cells) {
+    if (std::abs(c.angle_deg - run.splash_angle) != best_angle) continue;
+    if (run.splash_speed > 0 && std::abs(c.speed - run.splash_speed) != best_speed) continue;
+    for (const EjectumRow& e : c.ejecta)
+      if (e[4] > 0) hops.push_back(2 * e[3] * e[4]);
+    if (c.ejecta.empty() && c.moments.count("reptation_per_ejectum"))
+      reptation += c.moments.at("reptation_per_ejectum").mean, ++moment_cells;
+  }
+  if (hops.empty() && moment_cells > 0)
+    for (int q = 0; q < 1000; ++q) hops.push_back(-reptation / moment_cells * std::log(1 - (q + 0.5) / 1000));
+  if (hops.empty())
+    throw InputError({config_path, 0}, "lattice.splash",
+                     run.splash + " has no ejecta (or reptation lengths) in the cells chosen");
+  return hops;
+}
+
 nlohmann::json stats_json(const LatticeSurfaceStats& s, const LatticeLengthScales& l) {
   return {{"f_peak", l.f_peak},         {"autocorrelation_wavelength", l.autocorrelation_wavelength},
           {"wavelength", s.wavelength}, {"height", s.height},
@@ -75,6 +109,7 @@ int lattice_command(const RipplesCommands& a) {
   if (a.lattice_seeds < 1 || a.lattice_seeds > 100000)
     throw InputError({"--seeds", 0}, std::to_string(a.lattice_seeds), "must lie in 1..100000");
   LatticeRun run = read_lattice_config(a.config);
+  if (!run.splash.empty()) run.params.hops_d = splash_hops(run, a.config);
   if (a.lattice_ejections < 0 || a.lattice_ejections > 1e6)
     throw InputError({"--ejections", 0}, fmt::format("{}", a.lattice_ejections), "must lie in (0, 1e6]");
   if (a.lattice_ejections > 0) run.ejections_per_grain = a.lattice_ejections;
@@ -115,9 +150,18 @@ int lattice_command(const RipplesCommands& a) {
     return 0;
   }
   const LatticeParams& p = run.params;
-  fmt::print(
-      "lattice-bed model: {} columns, impacts at {} deg, hops {} forward / {} backward, brink share {}\n",
-      p.columns, p.impact_deg, p.forward, p.backward, p.brink_probability);
+  if (p.hops_d.empty()) {
+    fmt::print(
+        "lattice-bed model: {} columns, impacts at {} deg, hops {} forward / {} backward, brink share {}\n",
+        p.columns, p.impact_deg, p.forward, p.backward, p.brink_probability);
+  } else {
+    double mean = 0;
+    for (double L : p.hops_d) mean += L / static_cast<double>(p.hops_d.size());
+    fmt::print(
+        "lattice-bed model: {} columns, impacts at {} deg, hops drawn from {} ({} lengths, mean {:.1f} d), "
+        "brink share {}\n",
+        p.columns, p.impact_deg, run.splash, p.hops_d.size(), mean, p.brink_probability);
+  }
   for (std::size_t k = 0; k < first.history.rows.size();
        k += std::max<std::size_t>(1, first.history.rows.size() / 10)) {
     const auto& r = first.history.rows[k];

@@ -186,8 +186,14 @@ void LatticeModel::fire(long impacts) {
       // (p sin a > sqrt(R^2 - p^2) cos a): then the grain is hit on its downstream side.
       const double sin_a = tan_a_ * cos_a_;
       const bool downstream = p * sin_a > std::sqrt(std::max(0.0, kRadius * kRadius - p * p)) * cos_a_;
-      const int direction = downstream ? -1 : 1;
-      const int hop = 2 * (downstream ? p_.backward : p_.forward);
+      int direction = downstream ? -1 : 1;
+      int hop = 2 * (downstream ? p_.backward : p_.forward);
+      if (!p_.hops_d.empty()) {  // splash mode: the hop, and its direction, drawn from the measured ones
+        const double L = p_.hops_d[std::min(p_.hops_d.size() - 1,
+                                            static_cast<std::size_t>(rng_.uniform() * p_.hops_d.size()))];
+        direction = L < 0 ? -1 : 1;
+        hop = std::min(static_cast<int>(std::lround(std::abs(L) / kColumn)), p_.columns / 2 - 1);
+      }
       if (p_.brink_probability > 0 && rng_.uniform() < p_.brink_probability) {
         const int brink = find_brink(c, direction, 2 * p_.brink_lookahead);
         if (brink >= 0) eject(brink, direction, hop);

@@ -23,7 +23,10 @@ struct LatticeParams {
   double brink_probability = 0.5;  // share of impacts that eject a brink grain instead of the target
   int brink_lookahead = 10;        // how far a brink is looked for, lattice spacings
   int hits_per_point = 1;          // impacts fired from each random point (the thesis's Fig. 5.23c: 2)
-  int depth = 40;                  // initial bed thickness, layers
+  // Splash mode: each ejected grain hops a length drawn from these (grain diameters, negative: upstream),
+  // e.g. the measured ejecta of a grainlab-splash/1 file; empty: the fixed forward / backward hops.
+  std::vector<double> hops_d;
+  int depth = 40;  // initial bed thickness, layers
   // Where a hopping grain settles if it does not land in a pocket: onward in its direction to the next
   // pocket (the thesis's words, the default), or downhill to the nearest one (as a grain rolls).
   bool land_downhill = false;

@@ -78,6 +78,9 @@ LatticeRun parse_lattice_config(const std::string& text, const std::string& path
   p.roughness = r.number_or("roughness", p.roughness, Range{0, 1, false});
   p.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1, 0, INT64_MAX));
   run.ejections_per_grain = r.number_or("ejections_per_grain", run.ejections_per_grain, Range::positive());
+  run.splash = r.string_or("splash", "");
+  run.splash_angle = r.number_or("splash_angle", run.splash_angle, Range{0, 90, true});
+  run.splash_speed = r.number_or("splash_speed", run.splash_speed, Range::non_negative());
   run.frames = static_cast<int>(r.integer_or("frames", run.frames, 1, 100000));
   r.finish();
   if (p.columns % 2) r.fail("columns", "must be even (a lattice spacing is two columns)");

@@ -21,6 +21,11 @@ BinModelRun read_bin_model_config(const std::string& path);
 
 struct LatticeRun {
   LatticeParams params;
+  // Splash mode: a grainlab-splash/1 file (or "sand-gun" for Tables 3.11-3.12) whose ejecta hop lengths
+  // replace the fixed hops, taken from its cells nearest splash_angle (deg) and splash_speed (sqrt(g d);
+  // 0: every speed pooled). The caller turns them into params.hops_d (ripples/ does not read HDF5).
+  std::string splash;
+  double splash_angle = 15, splash_speed = 0;
   double ejections_per_grain = 10;  // run length: impacts per surface grain
   int frames = 100;
   std::string text;

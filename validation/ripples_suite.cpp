@@ -10,6 +10,7 @@
 #include "bin_model.hpp"
 #include "continuum.hpp"
 #include "lattice_model.hpp"
+#include "splash_file.hpp"
 #include "suites.hpp"
 #include "triangles.hpp"
 #include "worms.hpp"
@@ -236,6 +237,27 @@ void lattice_checks(Report& rep, const SuiteOptions& o, std::string& md) {
                   "reptation 8: f(lambda) peaks at 50-75 lattice spacings");
   rep.expect_near("ripples/lattice/fig5.23c-peak", "lattice", c.f_peak[0].mean, 100, 25,
                   "reptation 4 with two hits per random point: f(lambda) peaks near 100");
+  // Splash mode: the hops of the sand-gun experiment (Tables 3.11-3.12: an exponential of its mean
+  // reptation length per ejectum, 56 d, all downstream), beside Table 5.1's field wavelengths.
+  LatticeParams sg = lattice(15, 5, 0.5);
+  const saltation::SplashFile gun = saltation::sand_gun_splash();
+  double reptation = 0;
+  int cells = 0;
+  for (const saltation::SplashCell& cell : gun.cells)
+    if (std::abs(cell.angle_deg - 15) <= 1)
+      reptation += cell.moments.at("reptation_per_ejectum").mean, ++cells;
+  for (int q = 0; q < 1000; ++q) sg.hops_d.push_back(-reptation / cells * std::log(1 - (q + 0.5) / 1000));
+  const LatticeEnsemble splash = lattice_ensemble(sg, {150}, seeds);
+  row("sand-gun hops, 150 per grain", "field: 6.7-8.1 cm at d = 0.0272 cm, i.e. 246-298 d", splash, 0, 150);
+  const double lambda_d = splash.wavelength[0].mean * std::sqrt(3.0);
+  md += fmt::format(
+      "\nWith the sand gun's hops the wavelength is {:.0f} +- {:.0f} grain diameters after 150 "
+      "ejections per grain; Table 5.1's field ripples are 246-298 d.\n",
+      lambda_d, splash.wavelength[0].half * std::sqrt(3.0));
+  rep.expect_near(
+      "ripples/lattice/sand-gun-hops-field-wavelength", "lattice", lambda_d, 272, 26,
+      "splash mode with the sand gun's reptation lengths, 150 ejections per grain: the wavelength "
+      "in grain diameters against Table 5.1's field ripples (6.7-8.1 cm at 0.0272 cm)");
   md += "\n";
   PlotSpec f{"ripples_f_lambda.png",
              "f(lambda) after 20 ejections per surface grain (cf. Fig. 5.23)",
