@@ -17,7 +17,8 @@ TEST(RipplesSuite, QuickClaimsHold) {
   for (const Check& c : r.checks) {
     const bool compared_only = c.id.find("/lattice/target-only-stoss") != std::string::npos ||
                                c.id.find("/lattice/target-only-lee") != std::string::npos ||
-                               c.id.find("/lattice/fig5.2") != std::string::npos;
+                               c.id.find("/lattice/fig5.2") != std::string::npos ||
+                               c.id.find("/lattice/sand-gun-hops") != std::string::npos;
     if (compared_only) continue;
     ++claimed;
     EXPECT_TRUE(c.passed) << c.id << ": " << c.value << " against " << c.reference << " (" << c.note << ")";
