@@ -78,11 +78,13 @@ void LatticeModel::set(int i, int v) {
 // the path passes above (judged by their highest grain) are skipped whole: the same hit, found faster.
 int LatticeModel::hit_column(double start_x, double& p) {
   const int n = p_.columns;
-  const double first = std::ceil(start_x / kColumn), step = tan_a_ * kColumn, reach = kRadius / cos_a_;
+  // The first column at or after start_x (0 <= start_x < the domain's length, so no modulo is needed).
+  const int first = static_cast<int>(start_x * (1 / kColumn)) + 1;
+  const double step = tan_a_ * kColumn, reach = kRadius / cos_a_;
   // The path's height at the column under test, relative to the layer grid: hit when it passes less than
   // one radius (perpendicular to the path) above the column's top grain centre.
   double ray = max_h_ * kLayer + 2 * kRadius - tan_a_ * (first * kColumn - start_x);
-  int i = wrap(static_cast<long>(first));
+  int i = first >= n ? first - n : first;
   for (;;) {
     const int block = i / kBlock, last = std::min((block + 1) * kBlock, n) - 1;
     if (ray - step * (last - i) - block_max_[static_cast<std::size_t>(block)] * kLayer >= reach) {
