@@ -237,6 +237,13 @@ void RipplesCommands::add(CLI::App& app) {
       ->default_val(1);
   lattice->add_flag("--force", force, "overwrite --out");
   lattice->add_flag("--json", json, "print the final statistics of every seed and their mean, sd, interval");
+  run = group->add_subcommand("run", "any surface-evolving ripple model, named by its config's table");
+  run->add_option("--config", config, "a TOML config with one model table ([bins], [lattice])")
+      ->check(CLI::ExistingFile);
+  run->add_option("--out,-o", out, "write h(x, t) and the history to this HDF5 file");
+  run->add_flag("--force", force, "overwrite --out");
+  run->add_flag("--json", json, "print the final diagnostics as JSON");
+  run->add_flag("--list", list_models, "list the models");
   analyze = group->add_subcommand("analyze",
                                   "wavelength, height, ripple index and slopes of any surface (Ch. V tools)");
   analyze->add_option("file", analyze_file, "a CSV of x, h (evenly spaced, periodic) or a ripple run file")
@@ -263,6 +270,7 @@ int RipplesCommands::dispatch() const {
   if (bin_cmd && *bin_cmd) return bins_command(*this);
   if (lattice && *lattice) return lattice_command(*this);
   if (analyze && *analyze) return analyze_command(*this);
+  if (run && *run) return run_command(*this);
   if (triangles && *triangles) return triangles_command(*this);
   if (chain && *chain) return chain_command(*this);
   if (ring && *ring) return ring_command(*this);

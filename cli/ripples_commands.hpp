@@ -20,10 +20,11 @@ struct RipplesCommands {
   CLI::App *group = nullptr, *chain = nullptr, *ring = nullptr, *triangles = nullptr, *bin_cmd = nullptr,
            *wavelength = nullptr, *lattice = nullptr;
   int lattice_seeds = 1;
+  bool list_models = false;
   std::string analyze_file;
   int analyze_frame = -1, analyze_smooth = 0;
   double analyze_sigma = 1, analyze_relief = 0;
-  CLI::App* analyze = nullptr;
+  CLI::App *analyze = nullptr, *run = nullptr;
   double lattice_ejections = 0;  // 0: the config's
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
@@ -31,5 +32,8 @@ struct RipplesCommands {
 
 int lattice_command(const RipplesCommands& a);
 int analyze_command(const RipplesCommands& a);
+int run_command(const RipplesCommands& a);
+// The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file.
+std::vector<double> splash_hops(const std::string& splash, double angle, double speed);
 
 }  // namespace grainlab::cli

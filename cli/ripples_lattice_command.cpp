@@ -61,26 +61,27 @@ LatticeOutcome run_lattice(const LatticeRun& run) {
   return o;
 }
 
-// Hop lengths (grain diameters, signed) of the splash file's ejecta in the cells nearest the config's angle
-// (and speed, unless 0): ballistic ranges 2 v_x v_y of the launch velocities (in sqrt(g d), so the range is
-// in d) for simulated files; for a file with moments only (the sand gun), an exponential of its mean
+}  // namespace
+
+// Hop lengths (grain diameters, signed) of the splash file's ejecta in the cells nearest `angle` (and
+// `speed`, unless 0): ballistic ranges 2 v_x v_y of the launch velocities (in sqrt(g d), so the range is in
+// d) for simulated files; for a file with moments only (the sand gun), an exponential of its mean
 // reptation length per ejectum, all downstream, as 1,000 quantiles.
-std::vector<double> splash_hops(const LatticeRun& run, const std::string& config_path) {
+std::vector<double> splash_hops(const std::string& splash, double angle, double speed) {
   using namespace grainlab::saltation;
-  const SplashFile f = run.splash == "sand-gun" ? sand_gun_splash() : read_splash_file(run.splash);
-  if (f.cells.empty()) throw InputError({config_path, 0}, "lattice.splash", run.splash + " has no cells");
+  const SplashFile f = splash == "sand-gun" ? sand_gun_splash() : read_splash_file(splash);
+  if (f.cells.empty()) throw InputError({splash, 0}, "", "has no cells");
   double best_angle = 1e300, best_speed = 1e300;
+  for (const SplashCell& c : f.cells) best_angle = std::min(best_angle, std::abs(c.angle_deg - angle));
   for (const SplashCell& c : f.cells)
-    best_angle = std::min(best_angle, std::abs(c.angle_deg - run.splash_angle));
-  for (const SplashCell& c : f.cells)
-    if (std::abs(c.angle_deg - run.splash_angle) == best_angle)
-      best_speed = std::min(best_speed, std::abs(c.speed - run.splash_speed));
+    if (std::abs(c.angle_deg - angle) == best_angle)
+      best_speed = std::min(best_speed, std::abs(c.speed - speed));
   std::vector<double> hops;
   double reptation = 0;
   int moment_cells = 0;
   for (const SplashCell& c : f.cells) {
-    if (std::abs(c.angle_deg - run.splash_angle) != best_angle) continue;
-    if (run.splash_speed > 0 && std::abs(c.speed - run.splash_speed) != best_speed) continue;
+    if (std::abs(c.angle_deg - angle) != best_angle) continue;
+    if (speed > 0 && std::abs(c.speed - speed) != best_speed) continue;
     for (const EjectumRow& e : c.ejecta)
       if (e[4] > 0) hops.push_back(2 * e[3] * e[4]);
     if (c.ejecta.empty() && c.moments.count("reptation_per_ejectum"))
@@ -89,10 +90,11 @@ std::vector<double> splash_hops(const LatticeRun& run, const std::string& config
   if (hops.empty() && moment_cells > 0)
     for (int q = 0; q < 1000; ++q) hops.push_back(-reptation / moment_cells * std::log(1 - (q + 0.5) / 1000));
   if (hops.empty())
-    throw InputError({config_path, 0}, "lattice.splash",
-                     run.splash + " has no ejecta (or reptation lengths) in the cells chosen");
+    throw InputError({splash, 0}, "", "has no ejecta (or reptation lengths) in the cells chosen");
   return hops;
 }
+
+namespace {
 
 nlohmann::json stats_json(const LatticeSurfaceStats& s, const LatticeLengthScales& l) {
   return {{"f_peak", l.f_peak},         {"autocorrelation_wavelength", l.autocorrelation_wavelength},
@@ -109,7 +111,7 @@ int lattice_command(const RipplesCommands& a) {
   if (a.lattice_seeds < 1 || a.lattice_seeds > 100000)
     throw InputError({"--seeds", 0}, std::to_string(a.lattice_seeds), "must lie in 1..100000");
   LatticeRun run = read_lattice_config(a.config);
-  if (!run.splash.empty()) run.params.hops_d = splash_hops(run, a.config);
+  if (!run.splash.empty()) run.params.hops_d = splash_hops(run.splash, run.splash_angle, run.splash_speed);
   if (a.lattice_ejections < 0 || a.lattice_ejections > 1e6)
     throw InputError({"--ejections", 0}, fmt::format("{}", a.lattice_ejections), "must lie in (0, 1e6]");
   if (a.lattice_ejections > 0) run.ejections_per_grain = a.lattice_ejections;

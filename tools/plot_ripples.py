@@ -14,6 +14,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 
+def text_columns(dataset):
+    v = dataset.attrs["columns"]
+    return (v.decode() if isinstance(v, bytes) else str(v)).split(",")
+
+
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
@@ -25,7 +30,17 @@ def main():
     model = f.attrs.get("model", b"")
     model = model.decode() if isinstance(model, bytes) else str(model)
     lattice = "lattice" in model
-    if lattice:
+    generic = "dx" in f.attrs  # `grainlab ripples run`: heights and x already in grain diameters
+    if generic:
+        def text(key):
+            v = f.attrs[key]
+            return v.decode() if isinstance(v, bytes) else str(v)
+        cols = text_columns(f["history"])
+        dx = float(text("dx"))
+        width, xlabel, tlabel = h.shape[1] * dx, "x (grain diameters)", text("time_unit")
+        hist = hist[:, [0, cols.index("rms"), cols.index("wavelength")]]
+        wl_label, wl_scale, lattice = "wavelength (grain diameters)", 1.0, False
+    elif lattice:
         # One value per lattice spacing (the mean of its two columns, removing the lattice's zig-zag), in
         # grain diameters (a layer is d / 2); x in grain diameters (a spacing is sqrt(3) d).
         n = h.shape[1] // 2 * 2
