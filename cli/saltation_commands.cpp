@@ -8,6 +8,7 @@
 #include "conveyor.hpp"
 #include "h5_output.hpp"
 #include "input_error.hpp"
+#include "study.hpp"
 #include "wind_model.hpp"
 
 namespace grainlab::cli {
@@ -148,7 +149,24 @@ int wind_command(const SaltationCommands& a) {
   if (!(a.flux_damping > 0 && a.flux_damping <= 1))
     throw InputError({"--flux-damping", 0}, fmt::format("{}", a.flux_damping), "must lie in (0, 1]");
   o.flux_damping = a.flux_damping;
-  const SplashKernel splash = a.splash_file.empty() ? kernel_of(table_4_3(a.wind_case))
+  // Another planet or gas: a preset, then any of g, air density and viscosity; buoyancy on. The analytic
+  // splash is scaled by sqrt(g d) as in `saltation study` (a splash file is scaled by its own units).
+  double splash_scale = 1;
+  if (!a.planet.empty() || a.gravity > 0 || a.air_density > 0 || a.viscosity > 0) {
+    Planet p = planet_preset(a.planet.empty() ? "earth" : a.planet);
+    if (a.gravity > 0) p.g = a.gravity;
+    if (a.air_density > 0) p.air_density = a.air_density;
+    if (a.viscosity > 0) p.viscosity = a.viscosity;
+    if (!(p.air_density < a.grain_density_wind))
+      throw InputError({"--air-density", 0}, fmt::format("{}", p.air_density),
+                       "must be below the grain density");
+    o.g = p.g, o.fluid.density = p.air_density, o.fluid.viscosity = p.viscosity, o.buoyancy = true;
+    splash_scale = std::sqrt(p.g * a.grain_diameter / (981 * 0.025));
+    o.dv *= splash_scale;
+  }
+  o.grain.density = a.grain_density_wind;
+  o.bins = a.launch_bins;
+  const SplashKernel splash = a.splash_file.empty() ? kernel_of(scaled(table_4_3(a.wind_case), splash_scale))
                                                     : kernel_of(read_splash_file(a.splash_file), o);
   const WindModelResult r = solve_wind_model(o, splash);
   if (!r.failure.empty()) {
@@ -225,6 +243,20 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::ExistingFile);
   wind->add_option("--grain-diameter", grain_diameter, "saltating grain diameter, cm (Ch. IV: 0.025)")
       ->default_val(0.025);
+  wind->add_option("--planet", planet,
+                   "earth, mars or venus: g, gas density and viscosity (docs/saltation.md)")
+      ->check(CLI::IsMember({"earth", "mars", "venus"}));
+  wind->add_option("--g", gravity, "gravity, cm/s^2 (replaces the planet's)")->check(CLI::Range(1.0, 1e5));
+  wind->add_option("--air-density", air_density, "gas density, g/cm^3 (replaces the planet's)")
+      ->check(CLI::Range(1e-9, 10.0));
+  wind->add_option("--viscosity", viscosity, "kinematic viscosity, cm^2/s (replaces the planet's)")
+      ->check(CLI::Range(1e-9, 1e6));
+  wind->add_option("--grain-density", grain_density_wind, "grain density, g/cm^3")
+      ->default_val(2.6)
+      ->check(CLI::Range(0.1, 30.0));
+  wind->add_option("--bins", launch_bins, "launch-velocity bins (the thesis's grid: 80 of 5 cm/s)")
+      ->default_val(80)
+      ->check(CLI::Range(8, 2000));
   wind->add_option("--out,-o", out, "write the profiles and distributions to this HDF5 file");
   wind->add_flag("--force", force, "overwrite --out");
   wind->add_option("--re-factor", reynolds_factor,
