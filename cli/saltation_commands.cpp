@@ -285,6 +285,10 @@ void SaltationCommands::add(CLI::App& app) {
   study->add_flag("--force", force, "replace --out");
   study->add_flag("--json", study_json, "print the thresholds and every run as JSON");
   study->add_flag("--quiet", quiet, "no progress lines");
+  study->add_option("--restart", study_restart, "resume from OUT.checkpoint.json (written after every run)")
+      ->check(CLI::ExistingFile);
+  study->add_option("--stop-after", study_stop_after, "stop after this many new runs, leaving the checkpoint")
+      ->check(CLI::Range(1, 1000000));
   wind->add_flag("--json", wind_json,
                  "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }

@@ -26,7 +26,8 @@ struct SaltationCommands {
   std::vector<std::string> planets{"earth"};
   std::vector<double> diameters{0.0125, 0.025, 0.05}, ustar_factors{1.2, 1.5, 2, 3, 4};
   double grain_density = 2.6;
-  std::string study_out;
+  std::string study_out, study_restart;
+  int study_stop_after = 0;
   bool study_json = false, quiet = false;
   CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr;
   void add(CLI::App& app);
