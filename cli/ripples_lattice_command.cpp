@@ -7,8 +7,10 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "ensemble.hpp"
 #include "h5_output.hpp"
 #include "input_error.hpp"
+#include "parallel.hpp"
 #include "ripple_config.hpp"
 #include "ripples_commands.hpp"
 #include "splash_file.hpp"
@@ -96,11 +98,17 @@ std::vector<double> splash_hops(const std::string& splash, double angle, double 
 
 namespace {
 
-nlohmann::json stats_json(const LatticeSurfaceStats& s, const LatticeLengthScales& l) {
-  return {{"f_peak", l.f_peak},         {"autocorrelation_wavelength", l.autocorrelation_wavelength},
-          {"wavelength", s.wavelength}, {"height", s.height},
-          {"stoss_deg", s.stoss_deg},   {"lee_deg", s.lee_deg},
-          {"crests", s.crests},         {"roughness", s.rms}};
+// One seed's final numbers, in the order stats_json names them.
+std::vector<double> stats_row(const LatticeSurfaceStats& s, const LatticeLengthScales& l) {
+  return {
+      double(l.f_peak), l.autocorrelation_wavelength, s.wavelength, s.height, s.stoss_deg, s.lee_deg, s.rms};
+}
+
+nlohmann::json stats_json(const std::vector<double>& r) {
+  return {{"f_peak", r[0]},     {"autocorrelation_wavelength", r[1]},
+          {"wavelength", r[2]}, {"height", r[3]},
+          {"stoss_deg", r[4]},  {"lee_deg", r[5]},
+          {"roughness", r[6]}};
 }
 
 }  // namespace
@@ -116,7 +124,8 @@ int lattice_command(const RipplesCommands& a) {
     throw InputError({"--ejections", 0}, fmt::format("{}", a.lattice_ejections), "must lie in (0, 1e6]");
   if (a.lattice_ejections > 0) run.ejections_per_grain = a.lattice_ejections;
   const LatticeOutcome first = run_lattice(run);
-  if (!a.out.empty())
+  const bool root = parallel::rank() == 0;
+  if (!a.out.empty() && root)
     write_sample_tables(a.out, {first.h, first.history},
                         {{"grainlab_version", GRAINLAB_VERSION},
                          {"model", "the thesis's lattice-bed model (Ch. V, Fig. 5.21)"},
@@ -124,14 +133,20 @@ int lattice_command(const RipplesCommands& a) {
                          {"units",
                           "heights in layers (d / 2), x in columns (sqrt(3) d / 2), wavelength in "
                           "lattice spacings (sqrt(3) d)"}});
-  // The ensemble: the same config with seeds seed, seed + 1, ...
-  nlohmann::json members = nlohmann::json::array({stats_json(first.final, first.scales)});
+  // The ensemble: the same config with seeds seed, seed + 1, ...; under mpirun the seeds are dealt out
+  // over the ranks and gathered, so the numbers are the same on any rank count.
   const std::uint64_t seed0 = run.params.seed;
-  for (int k = 1; k < a.lattice_seeds; ++k) {
-    run.params.seed = seed0 + static_cast<std::uint64_t>(k);
-    const LatticeOutcome o = run_lattice(run);
-    members.push_back(stats_json(o.final, o.scales));
-  }
+  const auto table = validation::run_ensemble(static_cast<std::size_t>(a.lattice_seeds), 7,
+                                              [&](std::size_t k) -> std::vector<double> {
+                                                if (k == 0) return stats_row(first.final, first.scales);
+                                                LatticeRun member = run;
+                                                member.params.seed = seed0 + k;
+                                                const LatticeOutcome o = run_lattice(member);
+                                                return stats_row(o.final, o.scales);
+                                              });
+  nlohmann::json members = nlohmann::json::array();
+  for (const auto& row : table) members.push_back(stats_json(row));
+  if (!root) return 0;
   nlohmann::json summary;
   for (const char* key : {"wavelength", "height", "stoss_deg", "lee_deg", "roughness", "f_peak",
                           "autocorrelation_wavelength"}) {
