@@ -27,15 +27,20 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
+// The model's table in a config that must hold that table and nothing else.
+const toml::table& model_table(const toml::table& root, const std::string& name, const std::string& path) {
+  TomlReader top(root, "", path);
+  const toml::table* t = top.subtable(name);
+  if (!t) throw InputError({path, 0}, name, "the config needs a [" + name + "] table (docs/ripples.md)");
+  top.finish();
+  return *t;
+}
+
 }  // namespace
 
 BinModelRun parse_bin_model_config(const std::string& text, const std::string& path) {
   const toml::table root = config_root(text, path);
-  TomlReader top(root, "", path);
-  const toml::table* t = top.subtable("bins");
-  if (!t) throw InputError({path, 0}, "bins", "the config needs a [bins] table (docs/ripples.md)");
-  top.finish();
-  TomlReader r(*t, "bins", path);
+  TomlReader r(model_table(root, "bins", path), "bins", path);
   BinModelRun run;
   BinModelParams& p = run.params;
   p.bins = static_cast<int>(r.integer_or("bins", p.bins, 16, 10000000));
@@ -60,11 +65,7 @@ BinModelRun read_bin_model_config(const std::string& path) {
 
 LatticeRun parse_lattice_config(const std::string& text, const std::string& path) {
   const toml::table root = config_root(text, path);
-  TomlReader top(root, "", path);
-  const toml::table* t = top.subtable("lattice");
-  if (!t) throw InputError({path, 0}, "lattice", "the config needs a [lattice] table (docs/ripples.md)");
-  top.finish();
-  TomlReader r(*t, "lattice", path);
+  TomlReader r(model_table(root, "lattice", path), "lattice", path);
   LatticeRun run;
   LatticeParams& p = run.params;
   p.columns = static_cast<int>(r.integer_or("columns", p.columns, 16, 100000000));

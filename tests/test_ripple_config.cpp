@@ -26,6 +26,24 @@ std::string error_of(const std::string& text) {
 }
 }  // namespace
 
+// One to three random edits of `text`: a character replaced, a few deleted, or one inserted.
+static std::string mutate(std::string text, std::mt19937_64& rng, const std::string& alphabet) {
+  for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e) {
+    const std::size_t at = rng() % text.size();
+    switch (rng() % 3) {
+      case 0:
+        text[at] = alphabet[rng() % alphabet.size()];
+        break;
+      case 1:
+        text.erase(at, 1 + rng() % 4);
+        break;
+      default:
+        text.insert(at, 1, alphabet[rng() % alphabet.size()]);
+    }
+  }
+  return text;
+}
+
 TEST(RippleConfig, ReadsAGoodConfig) {
   const BinModelRun r = parse_bin_model_config(kGood, "r.toml");
   EXPECT_EQ(r.params.bins, 100);
@@ -49,20 +67,7 @@ TEST(RippleConfig, RandomMutationsAreReadOrRefusedNeverCrash) {
   const std::string alphabet = "0123456789.-+e[]=\"\n #abinz";
   int refused = 0;
   for (int k = 0; k < 500; ++k) {
-    std::string s = kGood;
-    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e) {
-      const std::size_t at = rng() % s.size();
-      switch (rng() % 3) {
-        case 0:
-          s[at] = alphabet[rng() % alphabet.size()];
-          break;
-        case 1:
-          s.erase(at, 1 + rng() % 4);
-          break;
-        default:
-          s.insert(at, 1, alphabet[rng() % alphabet.size()]);
-      }
-    }
+    const std::string s = mutate(kGood, rng, alphabet);
     try {
       const BinModelRun r = parse_bin_model_config(s, "m.toml");
       EXPECT_GE(r.params.bins, 16);
@@ -88,14 +93,7 @@ TEST(RippleConfig, LatticeConfigMutationsAreReadOrRefusedNeverCrash) {
   const std::string alphabet = "0123456789.-+e[]=\"\n #latice";
   int refused = 0;
   for (int k = 0; k < 500; ++k) {
-    std::string s = good;
-    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e) {
-      const std::size_t at = rng() % s.size();
-      if (rng() % 2)
-        s[at] = alphabet[rng() % alphabet.size()];
-      else
-        s.erase(at, 1 + rng() % 4);
-    }
+    const std::string s = mutate(good, rng, alphabet);
     try {
       const LatticeRun r = parse_lattice_config(s, "l.toml");
       EXPECT_EQ(r.params.columns % 2, 0);
