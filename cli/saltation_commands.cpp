@@ -166,6 +166,7 @@ int wind_command(const SaltationCommands& a) {
   }
   o.grain.density = a.grain_density_wind;
   o.bins = a.launch_bins;
+  o.vx_bins = a.vx_bins, o.vx_min = a.vx_min;
   const SplashKernel splash = a.splash_file.empty() ? kernel_of(scaled(table_4_3(a.wind_case), splash_scale))
                                                     : kernel_of(read_splash_file(a.splash_file), o);
   const WindModelResult r = solve_wind_model(o, splash);
@@ -257,6 +258,12 @@ void SaltationCommands::add(CLI::App& app) {
   wind->add_option("--bins", launch_bins, "launch-velocity bins (the thesis's grid: 80 of 5 cm/s)")
       ->default_val(80)
       ->check(CLI::Range(8, 2000));
+  wind->add_option("--vx-bins", vx_bins,
+                   "a 2-D launch grid with this many v_ox values (0: the thesis's 1-D grid)")
+      ->default_val(0)
+      ->check(CLI::Range(0, 2000));
+  wind->add_option("--vx-min", vx_min, "2-D grid: the lowest v_ox, cm/s (steps of the v_oy bin)")
+      ->default_val(-100);
   wind->add_option("--out,-o", out, "write the profiles and distributions to this HDF5 file");
   wind->add_flag("--force", force, "overwrite --out");
   wind->add_option("--re-factor", reynolds_factor,

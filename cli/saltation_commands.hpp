@@ -18,7 +18,8 @@ struct SaltationCommands {
   double u_star = 35, tolerance = 0.01;
   std::string planet;
   double gravity = 0, air_density = 0, viscosity = 0, grain_density_wind = 2.6;  // 0: the preset's
-  int launch_bins = 80;
+  int launch_bins = 80, vx_bins = 0;
+  double vx_min = -100;
   bool wind_json = false, force = false;
   std::string out;
   // grainlab saltation study

@@ -325,23 +325,39 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
   r.y = height_nodes(o);
   const std::vector<double> edges = bin_edges(r.y);
   const std::size_t H = r.y.size(), M = static_cast<std::size_t>(o.bins);
+  // Launch states: one per v_oy bin (the thesis's grid; each bin's v_ox is the mean of what feeds it), or
+  // with `vx_bins` > 0 one per (v_oy, v_ox) cell, each with its fixed v_ox (the 4-index [T] of Fig. 4.10's
+  // note). Fs[s] is grains per cm^2 per s per cm/s of v_oy in state s.
+  const bool grid2d = o.vx_bins > 0;
+  const std::size_t X = grid2d ? static_cast<std::size_t>(o.vx_bins) : 1, S = M * X;
+  const double dvx = o.dv;
+  auto vx_centre = [&](std::size_t m) { return o.vx_min + static_cast<double>(m) * dvx; };
   const double rho = o.fluid.density, tau0 = rho * o.u_star * o.u_star, m = o.grain.mass();
   r.u_clean.resize(H);
   for (std::size_t k = 0; k < H; ++k) r.u_clean[k] = o.fluid.k * o.u_star * std::log(r.y[k] / r.y[0]);
   r.u = r.u_clean;
   r.v_launch.resize(M), r.F.assign(M, 0), r.v_ox.assign(M, 0), r.trajectories.resize(M);
-  // A weak, broad start (about one launch per cm^2 per s): the flux grows to the steady state.
+  std::vector<double> Fs(S, 0.0), vox(S, 0.0), voy(S, 0.0);
+  std::vector<Trajectory> flights(S);
+  // A weak, broad start (about one launch per cm^2 per s): the flux grows to the steady state. In 2-D it
+  // starts in the cell of v_ox = 0.
+  const std::size_t m_zero =
+      grid2d
+          ? static_cast<std::size_t>(std::clamp(std::round(-o.vx_min / dvx), 0.0, static_cast<double>(X - 1)))
+          : 0;
   for (std::size_t j = 0; j < M; ++j) {
     r.v_launch[j] = (j + 0.5) * o.dv;
-    r.F[j] = std::exp(-r.v_launch[j] / 100) / 100;
+    for (std::size_t x = 0; x < X; ++x)
+      voy[j * X + x] = r.v_launch[j], vox[j * X + x] = grid2d ? vx_centre(x) : 0;
+    Fs[j * X + m_zero] = std::exp(-r.v_launch[j] / 100) / 100;
   }
   std::vector<double> impulse(H), tau_edge(H + 1);
   double relax = o.relaxation, last_change = 1e300;
   auto update_wind = [&](const std::vector<double>& F) {
     // Trajectories in the current wind, their drag, the stress and the new wind; returns the change of u.
     std::fill(impulse.begin(), impulse.end(), 0.0);
-    for (std::size_t j = 0; j < M; ++j)
-      r.trajectories[j] = fly(o, r.y, r.u, r.v_ox[j], r.v_launch[j], &edges, &impulse, F[j] * o.dv);
+    for (std::size_t j = 0; j < S; ++j)
+      if (!grid2d || F[j] > 0) flights[j] = fly(o, r.y, r.u, vox[j], voy[j], &edges, &impulse, F[j] * o.dv);
     ++r.trajectory_passes;
     tau_edge[H] = tau0;
     for (std::size_t k = H; k-- > 0;) tau_edge[k] = tau_edge[k + 1] - impulse[k];
@@ -359,25 +375,43 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     for (std::size_t k = 0; k < H; ++k) r.u[k] = relax * u[k] + (1 - relax) * r.u[k];
     return change;
   };
-  std::vector<double> next(M);
+  std::vector<double> next(S);
   double peak_total = 0;
   for (int n = 0; n < o.max_iterations; ++n) {
     double wind_change = 1;
     last_change = 1e300;
-    for (int pass = 0; pass < 12 && wind_change > 0.1 * o.tolerance; ++pass) wind_change = update_wind(r.F);
-    // F(n+1) = [T{u}] F(n): each impact of a grain from bin j launches S(v_k; v_i(j)) dv into bin k.
-    std::vector<double> vox_weight(M, 0.0);
-    for (std::size_t k = 0; k < M; ++k) {
-      double s = 0, sx = 0;
-      for (std::size_t j = 0; j < M; ++j) {
-        const Trajectory& t = r.trajectories[j];
-        const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * r.F[j] * o.dv;
-        s += born, sx += born * splash.launch_vx(t.v_ix, t.v_iy);
+    for (int pass = 0; pass < 12 && wind_change > 0.1 * o.tolerance; ++pass) wind_change = update_wind(Fs);
+    // F(n+1) = [T{u}] F(n): each impact of a grain from state j launches S(v_k; v_i(j)) dv into bin k.
+    std::vector<double> vox_next = vox;
+    if (!grid2d) {
+      for (std::size_t k = 0; k < M; ++k) {
+        double s = 0, sx = 0;
+        for (std::size_t j = 0; j < M; ++j) {
+          const Trajectory& t = flights[j];
+          const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
+          s += born, sx += born * splash.launch_vx(t.v_ix, t.v_iy);
+        }
+        next[k] = (1 - o.flux_damping) * Fs[k] + o.flux_damping * s;
+        vox_next[k] = s > 0 ? sx / s : 0;  // one horizontal launch velocity per bin: the mean of its sources
       }
-      next[k] = (1 - o.flux_damping) * r.F[k] + o.flux_damping * s;
-      vox_weight[k] = s > 0 ? sx / s : 0;  // one horizontal launch velocity per bin: the mean of its sources
+    } else {
+      // Each impact's grains share one v_ox (eq. 4.34's delta): they go to the two v_ox cells around it,
+      // in proportion to its distance from their centres (held in the grid at its ends).
+      for (std::size_t s2 = 0; s2 < S; ++s2) next[s2] = (1 - o.flux_damping) * Fs[s2];
+      for (std::size_t j = 0; j < S; ++j) {
+        if (Fs[j] <= 0) continue;
+        const Trajectory& t = flights[j];
+        const double q =
+            std::clamp((splash.launch_vx(t.v_ix, t.v_iy) - o.vx_min) / dvx, 0.0, static_cast<double>(X - 1));
+        const std::size_t m0 = std::min(static_cast<std::size_t>(q), X - 1), m1 = std::min(m0 + 1, X - 1);
+        const double w1 = q - static_cast<double>(m0);
+        for (std::size_t k = 0; k < M; ++k) {
+          const double born = o.flux_damping * splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
+          next[k * X + m0] += (1 - w1) * born, next[k * X + m1] += w1 * born;
+        }
+      }
     }
-    const double change = std::max(max_relative_change(next, r.F), wind_change);
+    const double change = std::max(max_relative_change(next, Fs), wind_change);
     double total = 0;
     for (double x : next) total += x * o.dv;
     // The grains can carry at most the whole stress: a launch rate far beyond it means the splash replaces
@@ -397,7 +431,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       r.iterations = n + 1;
       break;
     }
-    r.F = next, r.v_ox = vox_weight;
+    Fs = next, vox = vox_next;
     r.residuals.push_back(change);
     r.iterations = n + 1;
     if (!std::isfinite(change)) break;
@@ -407,16 +441,17 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     }
   }
   // Final state: trajectories and wind for the final F, then the diagnostics.
-  update_wind(r.F);
+  update_wind(Fs);
   // The profiles from sub-launches spread evenly across each bin (F is a density in v_oy): one flight
   // per bin would put all of a bin's apexes, where the 1/|v_y| density peaks, at one height.
   FlightProfiles prof(H);
   std::vector<double> fine_impulse(H, 0.0);
   const int sub = std::max(1, o.profile_subdivisions);
-  for (std::size_t j = 0; j < M; ++j)
-    for (int i = 0; i < sub; ++i)
-      fly(o, r.y, r.u, r.v_ox[j], r.v_launch[j] + ((i + 0.5) / sub - 0.5) * o.dv, &edges, &fine_impulse,
-          r.F[j] * o.dv / sub, &prof);
+  for (std::size_t j = 0; j < S; ++j)
+    if (Fs[j] > 0 || !grid2d)
+      for (int i = 0; i < sub; ++i)
+        fly(o, r.y, r.u, vox[j], voy[j] + ((i + 0.5) / sub - 0.5) * o.dv, &edges, &fine_impulse,
+            Fs[j] * o.dv / sub, &prof);
   r.drag.assign(H, 0.0), r.tau.assign(H, 0.0);
   r.drag_resolved.assign(H, 0.0), r.number_density.assign(H, 0.0), r.number_flux.assign(H, 0.0),
       r.energy_flux.assign(H, 0.0);
@@ -432,9 +467,10 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
   r.u_star_eff = std::sqrt(std::max(0.0, tau_edge[0]) / rho);
   double rate = 0, hsum = 0, lsum = 0, vxs = 0, vys = 0;
   r.grain_stress = 0, r.mass_flux = 0;
-  for (std::size_t j = 0; j < M; ++j) {
-    const Trajectory& t = r.trajectories[j];
-    const double w = r.F[j] * o.dv;
+  for (std::size_t j = 0; j < S; ++j) {
+    if (grid2d && Fs[j] <= 0) continue;
+    const Trajectory& t = flights[j];
+    const double w = Fs[j] * o.dv;
     rate += w, hsum += w * t.height, lsum += w * t.length, vxs += w * t.v_ix, vys += w * t.v_iy;
     r.grain_stress += w * m * (t.v_ix - t.v_ox);
     r.mass_flux += w * m * t.length;
@@ -443,6 +479,14 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
   if (rate > 0)
     r.mean_hop_height = hsum / rate, r.mean_hop_length = lsum / rate, r.mean_impact_vx = vxs / rate,
     r.mean_impact_vy = vys / rate;
+  // Per v_oy bin for the tables: F summed over v_ox, its mean v_ox, and a flight at that mean.
+  for (std::size_t k = 0; k < M; ++k) {
+    double f = 0, fx = 0;
+    for (std::size_t x = 0; x < X; ++x) f += Fs[k * X + x], fx += Fs[k * X + x] * vox[k * X + x];
+    r.F[k] = f, r.v_ox[k] = grid2d ? (f > 0 ? fx / f : 0) : vox[k];
+    r.trajectories[k] = grid2d ? fly(o, r.y, r.u, r.v_ox[k], r.v_launch[k]) : flights[k];
+  }
+  if (grid2d) r.F2d = Fs;
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }

@@ -54,8 +54,12 @@ struct WindModelOptions {
   // Re = reynolds_factor x 2 r |v_rel| / nu in eq. 4.31. 1 is the equation as printed; 2 (the diameter
   // where the radius stands) brings Table 4.5 and the Ch. IV text numbers much closer (docs/saltation.md).
   double reynolds_factor = 1;
-  double flux_damping = 0.5;      // F(n+1) = (1 - b) F(n) + b [T] F(n): damps the flux-wind overshoot
-  int profile_subdivisions = 16;  // flights per launch bin for the final N(y), flux and energy profiles
+  double flux_damping = 0.5;  // F(n+1) = (1 - b) F(n) + b [T] F(n): damps the flux-wind overshoot
+  int profile_subdivisions = 16;
+  // A 2-D launch grid (v_oy bins x vx_bins values of v_ox, dv apart from vx_min): every state keeps its
+  // own v_ox. 0: the thesis's 1-D grid, where a bin's v_ox is the mean of the impacts that feed it.
+  int vx_bins = 0;
+  double vx_min = -100;  // cm/s  // flights per launch bin for the final N(y), flux and energy profiles
   double roughness() const { return grain.radius / 15; }  // l = d/30
 };
 
@@ -74,6 +78,7 @@ struct WindModelResult {
   std::vector<double> v_launch, F;  // bin centres (cm/s) and F (grains per cm^2 per s per cm/s)
   std::vector<double> v_ox;         // the horizontal launch velocity of each bin
   std::vector<Trajectory> trajectories;
+  std::vector<double> F2d;            // 2-D grid only: F per (v_oy bin, v_ox cell), row-major in v_oy
   std::vector<double> y, u, u_clean;  // wind with and without grains (cm/s)
   std::vector<double> drag;           // force per unit volume the grains take from the air, at y (dyn/cm^3)
   std::vector<double> tau;            // fluid shear stress at y (dyn/cm^2)

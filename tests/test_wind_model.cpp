@@ -118,3 +118,21 @@ TEST(WindModel, ASplashThatAlwaysMultipliesHasNoSteadyState) {
   EXPECT_FALSE(r.converged);
   EXPECT_NE(r.failure.find("no steady state"), std::string::npos);
 }
+
+TEST(WindModel, TwoDimensionalGridReducesToTheThesisGridWhenEveryGrainLeavesVertically) {
+  // CASE 1 launches every grain with v_ox = 0, so a 2-D launch grid (one v_ox column in use) must give the
+  // 1-D grid's steady state.
+  WindModelOptions o;
+  o.u_star = 50;
+  const WindModelResult one = solve_wind_model(o, table_4_3(1));
+  o.vx_bins = 41, o.vx_min = -100;
+  const WindModelResult two = solve_wind_model(o, table_4_3(1));
+  EXPECT_NEAR(two.u_star_eff, one.u_star_eff, 1e-9 * one.u_star_eff);
+  EXPECT_NEAR(two.mass_flux, one.mass_flux, 1e-9 * one.mass_flux);
+  ASSERT_EQ(two.F2d.size(), 80u * 41u);
+  double off_axis = 0;
+  for (std::size_t k = 0; k < 80; ++k)
+    for (std::size_t x = 0; x < 41; ++x)
+      if (x != 20) off_axis += two.F2d[k * 41 + x];
+  EXPECT_EQ(off_axis, 0.0);
+}
