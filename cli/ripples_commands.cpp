@@ -59,14 +59,41 @@ int chain_command(const RipplesCommands& a) {
   return 0;
 }
 
+}  // namespace
+
+void refuse_existing_out(const std::string& out, bool force) {
+  if (!out.empty() && !force && std::filesystem::exists(out))
+    throw InputError({"--out", 0}, out, "exists; pass --force to overwrite it");
+}
+
+namespace {
+
 int ring_command(const RipplesCommands& a) {
-  check_A(a.A);
-  if (a.worms < 2 || a.length < 1)
-    throw InputError({"--worms", 0}, std::to_string(a.worms), "needs at least 2 worms of at least 1 link");
-  const WormRingResult r = worm_ring(a.worms, a.length, a.A, a.ring_steps, a.seed);
+  refuse_existing_out(a.out, a.force);
+  WormRingRun run;
+  if (!a.config.empty()) {
+    run = parse_worm_ring_config(read_config_text(a.config), a.config);
+  } else {
+    check_A(a.A);
+    if (a.worms < 2 || a.length < 1)
+      throw InputError({"--worms", 0}, std::to_string(a.worms), "needs at least 2 worms of at least 1 link");
+    run.worms = a.worms, run.length = a.length, run.A = a.A, run.steps = a.ring_steps, run.seed = a.seed;
+  }
+  const WormRingResult r = worm_ring(run.worms, run.length, run.A, run.steps, run.seed, run.records);
   std::vector<int> sorted = r.lengths;
   std::sort(sorted.begin(), sorted.end());
-  const double mean = r.mean_length.empty() ? a.length : r.mean_length.back();
+  const double mean = r.mean_length.empty() ? run.length : r.mean_length.back();
+  if (!a.out.empty()) {
+    SampleTable history{"history", "per record: step, mean worm length (links)", {"step", "mean_length"}, {}};
+    for (std::size_t k = 0; k < r.mean_length.size(); ++k)
+      history.rows.push_back({double(r.recorded_steps[k]), r.mean_length[k]});
+    SampleTable lengths{"lengths", "the surviving worms' lengths (links), in ring order", {"length"}, {}};
+    for (int l : r.lengths) lengths.rows.push_back({double(l)});
+    write_sample_tables(a.out, {history, lengths},
+                        {{"grainlab_version", GRAINLAB_VERSION},
+                         {"model", "Haff's worm model (thesis Fig. 5.16)"},
+                         {"config", run.text.empty() ? "(command-line options)" : run.text}});
+  }
   if (a.json) {
     fmt::print("{}\n", nlohmann::json{{"worms", r.lengths.size()},
                                       {"mean_length", mean},
@@ -79,22 +106,43 @@ int ring_command(const RipplesCommands& a) {
   fmt::print(
       "{} worms of {} links on a ring, A = {}, {} steps: {} worms left, mean length {:.2f} (median {}, "
       "longest {})\n",
-      a.worms, a.length, a.A, a.ring_steps, r.lengths.size(), mean, sorted[sorted.size() / 2], sorted.back());
+      run.worms, run.length, run.A, run.steps, r.lengths.size(), mean, sorted[sorted.size() / 2],
+      sorted.back());
   return 0;
 }
 
 int triangles_command(const RipplesCommands& a) {
-  if (!(a.ratio > 0 && a.ratio < 1))
-    throw InputError({"--ratio", 0}, fmt::format("{}", a.ratio), "must lie in (0, 1)");
-  if (!(a.beta > 0 && a.alpha > 0 && a.beta + a.alpha < 90))
-    throw InputError({"--beta", 0}, fmt::format("{}, {}", a.beta, a.alpha),
+  refuse_existing_out(a.out, a.force);
+  TriangleRun run;
+  if (!a.config.empty()) {
+    run = parse_triangle_config(read_config_text(a.config), a.config);
+  } else {
+    if (!(a.ratio > 0 && a.ratio < 1))
+      throw InputError({"--ratio", 0}, fmt::format("{}", a.ratio), "must lie in (0, 1)");
+    run.ratio = a.ratio, run.params.law = a.law, run.params.beta_deg = a.beta, run.params.alpha_deg = a.alpha;
+  }
+  const TriangleParams& p = run.params;
+  if (!(p.beta_deg > 0 && p.alpha_deg > 0 && p.beta_deg + p.alpha_deg < 90))
+    throw InputError({"--beta", 0}, fmt::format("{}, {}", p.beta_deg, p.alpha_deg),
                      "slopes must be positive and sum below 90 deg");
-  TriangleParams p;
-  p.law = a.law, p.beta_deg = a.beta, p.alpha_deg = a.alpha;
-  const CollisionResult r = triangle_collision(p, a.ratio);
+  const CollisionResult r = triangle_collision(p, run.ratio);
+  if (!a.out.empty()) {
+    SampleTable history{"history",
+                        "during the collision: time (H_D0^2 / q0), upstream and downstream heights and the "
+                        "intercept y_i (units of the downstream ripple's initial height)",
+                        {"t", "h_up", "h_down", "y_i"},
+                        {}};
+    for (std::size_t k = 0; k < r.t.size(); ++k)
+      history.rows.push_back({r.t[k], r.h_up[k], r.h_down[k], r.y_i[k]});
+    write_sample_tables(a.out, {history},
+                        {{"grainlab_version", GRAINLAB_VERSION},
+                         {"model", "the thesis's triangular collision model (Figs 5.17-5.20)"},
+                         {"config", run.text.empty() ? "(command-line options)" : run.text}});
+  }
+  const double ratio = run.ratio;
   if (a.json) {
-    fmt::print("{}\n", nlohmann::json{{"law", a.law},
-                                      {"ratio", a.ratio},
+    fmt::print("{}\n", nlohmann::json{{"law", p.law},
+                                      {"ratio", ratio},
                                       {"upstream_after", r.upstream_after},
                                       {"downstream_after", r.downstream_after},
                                       {"min_effective_height", r.min_effective_height},
@@ -106,7 +154,7 @@ int triangles_command(const RipplesCommands& a) {
   }
   fmt::print(
       "triangular ripples (stoss {} deg, lee {} deg), {} transport: upstream {} x the downstream height\n",
-      a.beta, a.alpha, a.law, a.ratio);
+      p.beta_deg, p.alpha_deg, p.law, ratio);
   fmt::print(
       "  after the collision: upstream {:.4f}, downstream {:.4f} (heights / the downstream's initial)\n",
       r.upstream_after, r.downstream_after);
@@ -117,8 +165,7 @@ int triangles_command(const RipplesCommands& a) {
 }
 
 int bins_command(const RipplesCommands& a) {
-  if (!a.out.empty() && !a.force && std::filesystem::exists(a.out))
-    throw InputError({"--out", 0}, a.out, "exists; pass --force to overwrite it");
+  refuse_existing_out(a.out, a.force);
   BinModelRun run;
   if (!a.config.empty()) {
     run = read_bin_model_config(a.config);
@@ -203,6 +250,10 @@ void RipplesCommands::add(CLI::App& app) {
   chain->add_option("--seed", seed, "Monte Carlo seed")->default_val(1);
   chain->add_flag("--json", json, "print {\"absorbed\": P, ...}");
   ring = group->add_subcommand("worms", "Haff's worm model: many worms on a ring merging (Fig. 5.16)");
+  ring->add_option("--config", config, "a TOML config with a [worms] table (replaces the options below)")
+      ->check(CLI::ExistingFile);
+  ring->add_option("--out,-o", out, "write the mean-length history and the final lengths to this HDF5 file");
+  ring->add_flag("--force", force, "overwrite --out");
   ring->add_option("--worms", worms, "worms at the start")->default_val(200);
   ring->add_option("--length", length, "links per worm at the start")->default_val(2);
   ring->add_option("--A", A, "advance probability scale")->default_val(0.6);
@@ -210,6 +261,11 @@ void RipplesCommands::add(CLI::App& app) {
   ring->add_option("--seed", seed, "seed")->default_val(1);
   ring->add_flag("--json", json, "print the lengths and the mean-length history");
   triangles = group->add_subcommand("triangles", "two triangular ripples colliding (Figs 5.17-5.20)");
+  triangles
+      ->add_option("--config", config, "a TOML config with a [triangles] table (replaces the options below)")
+      ->check(CLI::ExistingFile);
+  triangles->add_option("--out,-o", out, "write the collision's history to this HDF5 file");
+  triangles->add_flag("--force", force, "overwrite --out");
   triangles->add_option("--ratio", ratio, "upstream / downstream height, in (0, 1)")->default_val(0.6);
   triangles->add_option("--law", law, "target or brink transport")
       ->default_val("target")
@@ -237,6 +293,13 @@ void RipplesCommands::add(CLI::App& app) {
       ->default_val(1);
   lattice->add_flag("--force", force, "overwrite --out");
   lattice->add_flag("--json", json, "print the final statistics of every seed and their mean, sd, interval");
+  continuum =
+      group->add_subcommand("continuum", "the continuum model: growth rates and steady shapes (eqs 5.3-5.8)");
+  continuum->add_option("--speed", shape_speed, "propagation speed of the steady shapes, cm/s")
+      ->default_val(0.1);
+  continuum->add_option("--out,-o", out, "write the growth rates and the shapes to this HDF5 file");
+  continuum->add_flag("--force", force, "overwrite --out");
+  continuum->add_flag("--json", json, "print the growth rates and the shapes' length scale as JSON");
   run = group->add_subcommand("run", "any surface-evolving ripple model, named by its config's table");
   run->add_option("--config", config, "a TOML config with one model table ([bins], [lattice])")
       ->check(CLI::ExistingFile);
@@ -271,6 +334,7 @@ int RipplesCommands::dispatch() const {
   if (lattice && *lattice) return lattice_command(*this);
   if (analyze && *analyze) return analyze_command(*this);
   if (run && *run) return run_command(*this);
+  if (continuum && *continuum) return continuum_command(*this);
   if (triangles && *triangles) return triangles_command(*this);
   if (chain && *chain) return chain_command(*this);
   if (ring && *ring) return ring_command(*this);

@@ -24,15 +24,19 @@ struct RipplesCommands {
   std::string analyze_file;
   int analyze_frame = -1, analyze_smooth = 0;
   double analyze_sigma = 1, analyze_relief = 0;
-  CLI::App *analyze = nullptr, *run = nullptr;
+  CLI::App *analyze = nullptr, *run = nullptr, *continuum = nullptr;
+  double shape_speed = 0.1;
   double lattice_ejections = 0;  // 0: the config's
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
 
+// Stops with exit status 2 if `out` exists and --force was not given (nothing is overwritten by accident).
+void refuse_existing_out(const std::string& out, bool force);
 int lattice_command(const RipplesCommands& a);
 int analyze_command(const RipplesCommands& a);
 int run_command(const RipplesCommands& a);
+int continuum_command(const RipplesCommands& a);
 // The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file.
 std::vector<double> splash_hops(const std::string& splash, double angle, double speed);
 

@@ -114,8 +114,7 @@ nlohmann::json stats_json(const std::vector<double>& r) {
 }  // namespace
 
 int lattice_command(const RipplesCommands& a) {
-  if (!a.out.empty() && !a.force && std::filesystem::exists(a.out))
-    throw InputError({"--out", 0}, a.out, "exists; pass --force to overwrite it");
+  refuse_existing_out(a.out, a.force);
   if (a.lattice_seeds < 1 || a.lattice_seeds > 100000)
     throw InputError({"--seeds", 0}, std::to_string(a.lattice_seeds), "must lie in 1..100000");
   LatticeRun run = read_lattice_config(a.config);

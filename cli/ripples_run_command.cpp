@@ -22,8 +22,7 @@ int run_command(const RipplesCommands& a) {
     return 0;
   }
   if (a.config.empty()) throw InputError({"--config", 0}, "", "give a config (or --list for the models)");
-  if (!a.out.empty() && !a.force && std::filesystem::exists(a.out))
-    throw InputError({"--out", 0}, a.out, "exists; pass --force to overwrite it");
+  refuse_existing_out(a.out, a.force);
   std::ifstream in(a.config);
   if (!in) throw InputError({a.config, 0}, "", "cannot be read");
   std::stringstream text;

@@ -95,4 +95,39 @@ LatticeRun read_lattice_config(const std::string& path) {
   return parse_lattice_config(read_text(path), path);
 }
 
+WormRingRun parse_worm_ring_config(const std::string& text, const std::string& path) {
+  const toml::table root = config_root(text, path);
+  TomlReader r(model_table(root, "worms", path), "worms", path);
+  WormRingRun run;
+  run.worms = static_cast<int>(r.integer_or("worms", run.worms, 2, 10000000));
+  run.length = static_cast<int>(r.integer_or("length", run.length, 1, 1000000));
+  run.A = r.number_or("A", run.A, Range{0, 1, true});
+  run.steps = static_cast<int>(r.integer_or("steps", run.steps, 0, 2000000000));
+  run.records = static_cast<int>(r.integer_or("records", run.records, 1, 100000));
+  run.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1, 0, INT64_MAX));
+  r.finish();
+  run.text = text;
+  return run;
+}
+
+TriangleRun parse_triangle_config(const std::string& text, const std::string& path) {
+  const toml::table root = config_root(text, path);
+  TomlReader r(model_table(root, "triangles", path), "triangles", path);
+  TriangleRun run;
+  run.ratio = r.number_or("ratio", run.ratio, Range{0, 1, true});
+  run.params.beta_deg = r.number_or("stoss_angle", run.params.beta_deg, Range{0, 45, true});
+  run.params.alpha_deg = r.number_or("lee_angle", run.params.alpha_deg, Range{0, 45, true});
+  run.params.law = r.string_or("law", run.params.law);
+  r.finish();
+  if (run.params.law != "target" && run.params.law != "brink")
+    r.fail("law", "must be \"target\" or \"brink\"");
+  if (!(run.ratio < 1)) r.fail("ratio", "must lie below 1 (the upstream ripple is the smaller)");
+  run.text = text;
+  return run;
+}
+
+std::string read_config_text(const std::string& path) {
+  return read_text(path);
+}
+
 }  // namespace grainlab::ripples

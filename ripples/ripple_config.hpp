@@ -5,6 +5,7 @@
 
 #include "bin_model.hpp"
 #include "lattice_model.hpp"
+#include "triangles.hpp"
 
 namespace grainlab::ripples {
 
@@ -33,5 +34,23 @@ struct LatticeRun {
 // Reads `[lattice]` (docs/ripples.md lists the keys). Throws InputError.
 LatticeRun parse_lattice_config(const std::string& text, const std::string& path);
 LatticeRun read_lattice_config(const std::string& path);
+
+// Haff's worms on a ring ([worms]) and one triangular collision ([triangles]); docs/ripples.md lists the
+// keys. Throw InputError.
+struct WormRingRun {
+  int worms = 200, length = 2, steps = 200000, records = 50;
+  double A = 0.6;
+  std::uint64_t seed = 1;
+  std::string text;
+};
+WormRingRun parse_worm_ring_config(const std::string& text, const std::string& path);
+struct TriangleRun {
+  TriangleParams params;
+  double ratio = 0.6;  // upstream height / downstream height
+  std::string text;
+};
+TriangleRun parse_triangle_config(const std::string& text, const std::string& path);
+// A config file's text (InputError if it cannot be read).
+std::string read_config_text(const std::string& path);
 
 }  // namespace grainlab::ripples

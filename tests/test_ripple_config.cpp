@@ -82,28 +82,54 @@ TEST(RippleConfig, RandomMutationsAreReadOrRefusedNeverCrash) {
 
 namespace grainlab::ripples {
 
-TEST(RippleConfig, LatticeConfigMutationsAreReadOrRefusedNeverCrash) {
-  std::ifstream in(std::string(GRAINLAB_SOURCE_DIR) + "/scenes/ripples/lattice_fig5_22.toml");
+// Mutants of a shipped config are read (and then `check` their values) or refused naming the file.
+template <typename Parse, typename Check>
+void fuzz_shipped_config(const std::string& name, Parse parse, Check check, std::uint64_t seed) {
+  std::ifstream in(std::string(GRAINLAB_SOURCE_DIR) + "/scenes/ripples/" + name);
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string good = ss.str();
-  ASSERT_FALSE(good.empty());
-  EXPECT_EQ(parse_lattice_config(good, "l.toml").params.forward, 15);
-  std::mt19937_64 rng(2027);
-  const std::string alphabet = "0123456789.-+e[]=\"\n #latice";
+  ASSERT_FALSE(good.empty()) << name;
+  check(parse(good, "l.toml"));
+  std::mt19937_64 rng(seed);
+  const std::string alphabet = "0123456789.-+e[]=\"\n #latcewormsbrik";
   int refused = 0;
   for (int k = 0; k < 500; ++k) {
     const std::string s = mutate(good, rng, alphabet);
     try {
-      const LatticeRun r = parse_lattice_config(s, "l.toml");
-      EXPECT_EQ(r.params.columns % 2, 0);
-      EXPECT_LT(2 * std::max(r.params.forward, r.params.backward), r.params.columns);
+      check(parse(s, "l.toml"));
     } catch (const InputError& e) {
       ++refused;
       EXPECT_NE(std::string(e.what()).find("l.toml"), std::string::npos);
     }
   }
-  EXPECT_GT(refused, 0);
+  EXPECT_GT(refused, 0) << name;
+}
+
+TEST(RippleConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {
+  fuzz_shipped_config(
+      "lattice_fig5_22.toml", parse_lattice_config,
+      [](const LatticeRun& r) {
+        EXPECT_EQ(r.params.columns % 2, 0);
+        EXPECT_LT(2 * std::max(r.params.forward, r.params.backward), r.params.columns);
+      },
+      2027);
+  fuzz_shipped_config(
+      "worms.toml", parse_worm_ring_config,
+      [](const WormRingRun& r) {
+        EXPECT_GE(r.worms, 2);
+        EXPECT_GT(r.A, 0);
+        EXPECT_LE(r.A, 1);
+      },
+      2028);
+  fuzz_shipped_config(
+      "triangles.toml", parse_triangle_config,
+      [](const TriangleRun& r) {
+        EXPECT_GT(r.ratio, 0);
+        EXPECT_LT(r.ratio, 1);
+        EXPECT_TRUE(r.params.law == "target" || r.params.law == "brink");
+      },
+      2029);
 }
 
 }  // namespace grainlab::ripples
