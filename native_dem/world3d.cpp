@@ -1,17 +1,29 @@
 #include "world3d.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "stepping.hpp"
 
 namespace grainlab::dem {
 
+namespace {
+// A sphere's (or a cube's) inertia is the same about every axis: turning it changes nothing, so the
+// rotation matrices can be skipped (the hot path of sphere beds).
+bool isotropic(const Mat3& m) {
+  return m(0, 1) == 0 && m(0, 2) == 0 && m(1, 0) == 0 && m(1, 2) == 0 && m(2, 0) == 0 && m(2, 1) == 0 &&
+         m(0, 0) == m(1, 1) && m(1, 1) == m(2, 2);
+}
+}  // namespace
+
 Mat3 Body3::world_inv_inertia() const {
+  if (isotropic(inv_inertia)) return inv_inertia;
   const Mat3 R = q.toRotationMatrix();
   return R * inv_inertia * R.transpose();
 }
 
 Vec3 Body3::angular_momentum() const {
+  if (isotropic(inertia)) return inertia * w;
   const Mat3 R = q.toRotationMatrix();
   return R * inertia * R.transpose() * w;
 }
@@ -103,6 +115,13 @@ void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const Cont
   ++contacts_now_;
 }
 
+void World3d::bin_bodies(SphereCells& cells) const {
+  std::vector<Vec3> centres(b_.size());
+  double r = 0;
+  for (std::size_t i = 0; i < b_.size(); ++i) centres[i] = b_[i].x, r = std::max(r, b_[i].radius);
+  cells.build(centres, r);
+}
+
 void World3d::compute_forces(double h) {
   ++diag_.force_evaluations;
   const Vec3 g = effects_.gravity ? scene_.gravity3d : Vec3::Zero();
@@ -119,14 +138,20 @@ void World3d::compute_forces(double h) {
     placed_[i].q = b_[i].q;
     placed_[i].place();
   }
+  const bool cells = b_.size() >= kCellsFrom;
+  if (cells) bin_bodies(cells_);
   for (std::size_t i = 0; i < b_.size(); ++i) {
-    for (std::size_t j = i + 1; j < b_.size(); ++j) {
-      if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) continue;
+    auto pair = [&](std::size_t j) {
+      if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) return;
       scratch_.clear();
       body_body(placed_[i], placed_[j], scratch_);
       const ContactLaw& law = laws_[b_[i].material * n_mat_ + b_[j].material];
       for (const ContactPoint3& c : scratch_) add_contact(b_[i], &b_[j], c, law, b_[j].id, h);
-    }
+    };
+    if (cells)
+      for (std::size_t j : cells_.after(i)) pair(j);
+    else
+      for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j);
     for (std::size_t k = 0; k < planes_.size(); ++k) {
       scratch_.clear();
       body_plane(placed_[i], planes_[k], scratch_);
@@ -277,11 +302,18 @@ Energies World3d::energies() const {
     for (const ContactPoint3& c : cs) e.elastic += 0.5 * law.k_n * c.depth * c.depth;
     cs.clear();
   };
+  SphereCells near;
+  const bool cells = b_.size() >= kCellsFrom;
+  if (cells) bin_bodies(near);
   for (std::size_t i = 0; i < b_.size(); ++i) {
-    for (std::size_t j = i + 1; j < b_.size(); ++j) {
+    auto pair = [&](std::size_t j) {
       body_body(placed[i], placed[j], cs);
       spring(b_[i].material, b_[j].material);
-    }
+    };
+    if (cells)
+      for (std::size_t j : near.after(i)) pair(j);
+    else
+      for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j);
     for (std::size_t k = 0; k < planes_.size(); ++k) {
       body_plane(placed[i], planes_[k], cs);
       spring(b_[i].material, plane_material_[k]);

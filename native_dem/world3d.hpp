@@ -13,6 +13,7 @@
 #include "contact_law.hpp"
 #include "narrow_phase3d.hpp"
 #include "scene.hpp"
+#include "sphere_cells.hpp"
 #include "world_types.hpp"
 
 namespace grainlab::dem {
@@ -56,6 +57,10 @@ class World3d {
   void step_predictor_corrector();
   // Forces and torques at the current state; `h` is the time since the committed shear-spring state.
   void compute_forces(double h);
+  // Bins the bodies' bounding spheres for the broad phase (from kCellsFrom bodies; fewer are paired all
+  // with all, which visits the same pairs in the same order).
+  static constexpr std::size_t kCellsFrom = 32;
+  void bin_bodies(SphereCells& cells) const;
   void add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law, std::int64_t key_b,
                    double h);
   Vec3 angular_acceleration(const Body3& b) const;
@@ -75,6 +80,7 @@ class World3d {
   };
   std::map<ContactKey3, Spring> history_, trial_;
   std::vector<ContactPoint3> scratch_;
+  SphereCells cells_;
   std::map<std::pair<std::int64_t, std::int64_t>, double> impulses_, step_force_, end_force_;
   double t_ = 0, dt_ = 0, dt_prev_ = 0;
   bool have_prev_ = false;

@@ -1,0 +1,37 @@
+// The 3-D broad phase: every overlapping pair is among a body's candidates, in ascending order, even with
+// a stray body far from the rest (the grid grows its cells rather than its size).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "rng.hpp"
+#include "sphere_cells.hpp"
+
+namespace grainlab::dem {
+
+TEST(SphereCells, CandidatesHoldEveryOverlappingPairInAscendingOrder) {
+  Rng rng(5, 0);
+  std::vector<Vec3> x;
+  std::vector<double> r;
+  for (int i = 0; i < 600; ++i) {
+    x.emplace_back(rng.uniform(0, 30), rng.uniform(0, 30), rng.uniform(0, 10));
+    r.push_back(rng.uniform(0.5, 1.5));
+  }
+  x.emplace_back(1e6, -1e6, 3e5), r.push_back(1.0);  // far away
+  SphereCells cells;
+  cells.build(x, 1.5);
+  std::size_t overlapping = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const std::vector<std::size_t> after = cells.after(i);
+    EXPECT_TRUE(std::is_sorted(after.begin(), after.end()));
+    for (std::size_t j : after) EXPECT_GT(j, i);
+    for (std::size_t j = i + 1; j < x.size(); ++j)
+      if ((x[i] - x[j]).norm() < r[i] + r[j]) {
+        ++overlapping;
+        EXPECT_TRUE(std::binary_search(after.begin(), after.end(), j)) << i << " " << j;
+      }
+  }
+  EXPECT_GT(overlapping, 500u);  // the test means something
+}
+
+}  // namespace grainlab::dem
