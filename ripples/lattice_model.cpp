@@ -19,7 +19,7 @@ LatticeModel::LatticeModel(const LatticeParams& p)
       rng_(p.seed, 0),
       tan_a_(std::tan(p.impact_deg * M_PI / 180)),
       cos_a_(std::cos(p.impact_deg * M_PI / 180)) {
-  if (2L * std::max({p.forward, p.backward, p.brink_lookahead}) >= p.columns)
+  if (2L * std::max(p.forward, p.backward) >= p.columns || 2L * p.brink_lookahead + 4 >= p.columns)
     throw std::invalid_argument("hops and the brink look-ahead must be shorter than the lattice");
   if (p.columns < 16 || p.columns % 2)
     throw std::invalid_argument("the lattice needs an even number >= 16 of columns");
@@ -144,12 +144,14 @@ void LatticeModel::remove_top(int i) {
 // of a face. The crests of a flat close-packed top are not brinks, so brink ejection leaves it alone.
 // -1 if none.
 int LatticeModel::find_brink(int from, int direction, int limit) const {
+  // A window of four heights slides along `direction` (one load per column): at offset k it holds the
+  // columns k - 1, k, k + 1 and k + 2 steps on.
+  // (near() wraps by one domain length, enough while the look-ahead stays below it, as configs ensure.)
+  auto at = [&](int k) { return h_[static_cast<std::size_t>(near(from + direction * k))]; };
+  int prev = at(-1), cur = at(0), next = at(1), next2 = at(2);
   for (int k = 0; k <= limit; ++k) {
-    const int c = near(from + direction * k);
-    const int h = h_[static_cast<std::size_t>(c)];
-    if (h_[static_cast<std::size_t>(near(c - 1))] < h && h_[static_cast<std::size_t>(near(c + 1))] < h &&
-        h_[static_cast<std::size_t>(near(c + 2 * direction))] <= h - 2)
-      return c;
+    if (prev < cur && next < cur && next2 <= cur - 2) return near(from + direction * k);
+    prev = cur, cur = next, next = next2, next2 = at(k + 3);
   }
   return -1;
 }

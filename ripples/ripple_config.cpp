@@ -87,6 +87,8 @@ LatticeRun parse_lattice_config(const std::string& text, const std::string& path
   if (p.columns % 2) r.fail("columns", "must be even (a lattice spacing is two columns)");
   if (2L * std::max(p.forward, p.backward) >= p.columns)
     r.fail("forward", "hops must be shorter than the domain");
+  if (2L * p.brink_lookahead + 4 >= p.columns)
+    r.fail("brink_lookahead", "must be shorter than half the domain");
   run.text = text;
   return run;
 }
