@@ -5,12 +5,14 @@
 
 namespace grainlab::dem {
 
-void SphereCells::build(const std::vector<Vec3>& x, double max_radius) {
+void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double skin) {
   const std::size_t n = x.size();
+  ++builds_;
+  skin_ = skin, reach_ = 2 * max_radius + skin, built_at_ = x;
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (const Vec3& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  // Cells one largest diameter wide, grown if a stray body would make the grid too large to hold.
-  size_ = std::max(2 * max_radius, 1e-12);
+  // Cells one reach wide, grown if a stray body would make the grid too large to hold.
+  size_ = std::max(reach_, 1e-12);
   const Vec3 extent = (hi - lo).cwiseMax(Vec3::Zero());
   auto cells_along = [&](double e) { return static_cast<long>(std::floor(e / size_)) + 1; };
   while (static_cast<double>(cells_along(extent.x())) * cells_along(extent.y()) * cells_along(extent.z()) >
@@ -18,37 +20,51 @@ void SphereCells::build(const std::vector<Vec3>& x, double max_radius) {
     size_ *= 1.5;
   origin_ = lo, nx_ = cells_along(extent.x()), ny_ = cells_along(extent.y()), nz_ = cells_along(extent.z());
   const std::size_t cells = static_cast<std::size_t>(nx_ * ny_ * nz_);
-  cell_of_.resize(n), coords_.resize(n);
+  coords_.resize(n);
+  std::vector<std::size_t> cell_of(n);
   start_.assign(cells + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 r = (x[i] - origin_) / size_;
     coords_[i] = {std::min(static_cast<long>(r.x()), nx_ - 1), std::min(static_cast<long>(r.y()), ny_ - 1),
                   std::min(static_cast<long>(r.z()), nz_ - 1)};
-    cell_of_[i] = static_cast<long>(cell_index(coords_[i][0], coords_[i][1], coords_[i][2]));
-    ++start_[static_cast<std::size_t>(cell_of_[i]) + 1];
+    cell_of[i] = cell_index(coords_[i][0], coords_[i][1], coords_[i][2]);
+    ++start_[cell_of[i] + 1];
   }
   for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
   items_.resize(n);
   std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) items_[fill[static_cast<std::size_t>(cell_of_[i])]++] = i;  // ascending
+  for (std::size_t i = 0; i < n; ++i) items_[fill[cell_of[i]]++] = i;
+  // The lists: later bodies within reach in the 27 cells around, ascending.
+  offset_.assign(n + 1, 0);
+  list_.clear();
+  const double reach2 = reach_ * reach_;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t first = list_.size();
+    const auto [cx, cy, cz] = coords_[i];
+    for (long z = std::max(0L, cz - 1); z <= std::min(nz_ - 1, cz + 1); ++z)
+      for (long y = std::max(0L, cy - 1); y <= std::min(ny_ - 1, cy + 1); ++y)
+        for (long xx = std::max(0L, cx - 1); xx <= std::min(nx_ - 1, cx + 1); ++xx) {
+          const std::size_t c = cell_index(xx, y, z);
+          for (std::size_t k = start_[c]; k < start_[c + 1]; ++k) {
+            const std::size_t j = items_[k];
+            if (j > i && (x[i] - x[j]).squaredNorm() < reach2) list_.push_back(j);
+          }
+        }
+    std::sort(list_.begin() + static_cast<long>(first), list_.end());
+    offset_[i + 1] = list_.size();
+  }
+}
+
+bool SphereCells::stale(const std::vector<Vec3>& x) const {
+  if (builds_ == 0 || x.size() != built_at_.size()) return true;
+  const double limit2 = 0.25 * skin_ * skin_;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if ((x[i] - built_at_[i]).squaredNorm() > limit2) return true;
+  return false;
 }
 
 std::size_t SphereCells::cell_index(long x, long y, long z) const {
   return static_cast<std::size_t>((z * ny_ + y) * nx_ + x);
-}
-
-const std::vector<std::size_t>& SphereCells::after(std::size_t i) {
-  near_.clear();
-  const auto [cx, cy, cz] = coords_[i];
-  for (long z = std::max(0L, cz - 1); z <= std::min(nz_ - 1, cz + 1); ++z)
-    for (long y = std::max(0L, cy - 1); y <= std::min(ny_ - 1, cy + 1); ++y)
-      for (long x = std::max(0L, cx - 1); x <= std::min(nx_ - 1, cx + 1); ++x) {
-        const std::size_t c = cell_index(x, y, z);
-        for (std::size_t k = start_[c]; k < start_[c + 1]; ++k)
-          if (items_[k] > i) near_.push_back(items_[k]);
-      }
-  std::sort(near_.begin(), near_.end());
-  return near_;
 }
 
 }  // namespace grainlab::dem

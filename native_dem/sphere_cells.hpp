@@ -1,8 +1,8 @@
 #pragma once
-// The 3-D engine's broad phase: bounding spheres binned in a uniform grid of cells at least one largest
-// diameter wide, rebuilt from the positions at every force evaluation. It hands each body the bodies after
-// it in index order whose cells touch its own, sorted, so a force loop over them visits the overlapping
-// pairs in exactly the all-pairs order (the same sums, bit for bit) in O(N) instead of O(N^2).
+// The 3-D engine's broad phase: a Verlet list. Bounding spheres are binned in a grid of cells one largest
+// diameter plus a skin wide; each body keeps the later bodies (in index order) within that reach, sorted.
+// A force loop over them visits the overlapping pairs in exactly the all-pairs order (the same sums, bit
+// for bit) in O(N). The lists stay valid until some body has moved half the skin since they were built.
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -13,20 +13,25 @@ namespace grainlab::dem {
 
 class SphereCells {
  public:
-  void build(const std::vector<Vec3>& centres, double max_radius);
-  // The indices j > i in the 27 cells around i's, ascending. Valid until the next call.
-  const std::vector<std::size_t>& after(std::size_t i);
+  // Builds the lists for bodies at `centres` whose bounding radii are at most `max_radius`.
+  void build(const std::vector<Vec3>& centres, double max_radius, double skin = 0);
+  // True if the lists must be rebuilt for these positions (never built, another count, or a body moved
+  // more than half the skin).
+  bool stale(const std::vector<Vec3>& centres) const;
+  // The indices j > i within reach of i, ascending.
+  const std::size_t* begin(std::size_t i) const { return list_.data() + offset_[i]; }
+  const std::size_t* end(std::size_t i) const { return list_.data() + offset_[i + 1]; }
+  std::size_t builds() const { return builds_; }
 
  private:
   std::size_t cell_index(long x, long y, long z) const;
-  double size_ = 1;
+  double size_ = 1, skin_ = 0, reach_ = 0;
   Vec3 origin_ = Vec3::Zero();
   long nx_ = 1, ny_ = 1, nz_ = 1;
-  std::vector<long> cell_of_;  // per body: its cell
-  std::vector<std::size_t> start_,
-      items_;  // counting sort: bodies of cell c are items_[start_[c] .. start_[c+1])
+  std::vector<Vec3> built_at_;
+  std::vector<std::size_t> start_, items_, offset_, list_;
   std::vector<std::array<long, 3>> coords_;
-  std::vector<std::size_t> near_;
+  std::size_t builds_ = 0;
 };
 
 }  // namespace grainlab::dem

@@ -31,6 +31,7 @@ Vec3 Body3::angular_momentum() const {
 namespace {
 // Orientation after turning at angular velocity w (world frame) for time dt.
 Quat turned(const Quat& q, const Vec3& w, double dt) {
+  if (w.x() == 0 && w.y() == 0 && w.z() == 0) return q.normalized();  // the identity turn
   return (quat_from_rotation_vector(w * dt) * q).normalized();
 }
 }  // namespace
@@ -115,11 +116,11 @@ void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const Cont
   ++contacts_now_;
 }
 
-void World3d::bin_bodies(SphereCells& cells) const {
+void World3d::bin_bodies(SphereCells& cells, double skin_fraction) const {
   std::vector<Vec3> centres(b_.size());
   double r = 0;
   for (std::size_t i = 0; i < b_.size(); ++i) centres[i] = b_[i].x, r = std::max(r, b_[i].radius);
-  cells.build(centres, r);
+  if (cells.stale(centres)) cells.build(centres, r, skin_fraction * r);
 }
 
 void World3d::compute_forces(double h) {
@@ -139,7 +140,7 @@ void World3d::compute_forces(double h) {
     placed_[i].place();
   }
   const bool cells = b_.size() >= kCellsFrom;
-  if (cells) bin_bodies(cells_);
+  if (cells) bin_bodies(cells_, 0.2);
   for (std::size_t i = 0; i < b_.size(); ++i) {
     auto pair = [&](std::size_t j) {
       if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) return;
@@ -149,7 +150,7 @@ void World3d::compute_forces(double h) {
       for (const ContactPoint3& c : scratch_) add_contact(b_[i], &b_[j], c, law, b_[j].id, h);
     };
     if (cells)
-      for (std::size_t j : cells_.after(i)) pair(j);
+      for (const std::size_t* j = cells_.begin(i); j != cells_.end(i); ++j) pair(*j);
     else
       for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j);
     for (std::size_t k = 0; k < planes_.size(); ++k) {
@@ -201,6 +202,10 @@ void World3d::step_verlet() {
     if (!effects_.rotation) continue;
     const Vec3 L = b.angular_momentum() + h * b.tq;
     b.w = b.world_inv_inertia() * L;
+    if (isotropic(b.inv_inertia)) {  // the half-step orientation cannot change the inertia: skip it
+      b.q = turned(b.q, b.w, dt);
+      continue;
+    }
     Body3 mid = b;
     mid.q = turned(b.q, b.w, h);
     b.q = turned(b.q, mid.world_inv_inertia() * L, dt);
@@ -304,14 +309,14 @@ Energies World3d::energies() const {
   };
   SphereCells near;
   const bool cells = b_.size() >= kCellsFrom;
-  if (cells) bin_bodies(near);
+  if (cells) bin_bodies(near, 0);
   for (std::size_t i = 0; i < b_.size(); ++i) {
     auto pair = [&](std::size_t j) {
       body_body(placed[i], placed[j], cs);
       spring(b_[i].material, b_[j].material);
     };
     if (cells)
-      for (std::size_t j : near.after(i)) pair(j);
+      for (const std::size_t* j = near.begin(i); j != near.end(i); ++j) pair(*j);
     else
       for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j);
     for (std::size_t k = 0; k < planes_.size(); ++k) {

@@ -57,10 +57,11 @@ class World3d {
   void step_predictor_corrector();
   // Forces and torques at the current state; `h` is the time since the committed shear-spring state.
   void compute_forces(double h);
-  // Bins the bodies' bounding spheres for the broad phase (from kCellsFrom bodies; fewer are paired all
-  // with all, which visits the same pairs in the same order).
+  // Rebuilds the broad phase's Verlet lists when a body has moved half the skin (skin_fraction of the
+  // largest bounding radius) since the last build. From kCellsFrom bodies on; fewer are paired all with
+  // all, which visits the same pairs in the same order.
   static constexpr std::size_t kCellsFrom = 32;
-  void bin_bodies(SphereCells& cells) const;
+  void bin_bodies(SphereCells& cells, double skin_fraction) const;
   void add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law, std::int64_t key_b,
                    double h);
   Vec3 angular_acceleration(const Body3& b) const;

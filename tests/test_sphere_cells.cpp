@@ -19,10 +19,14 @@ TEST(SphereCells, CandidatesHoldEveryOverlappingPairInAscendingOrder) {
   }
   x.emplace_back(1e6, -1e6, 3e5), r.push_back(1.0);  // far away
   SphereCells cells;
-  cells.build(x, 1.5);
+  cells.build(x, 1.5, 0.3);
+  EXPECT_FALSE(cells.stale(x));
+  // Every body moves a little less than half the skin: the lists must still hold every overlap.
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] += Vec3(0.08, -0.08, 0.08) * (i % 2 ? 1 : -1);
+  EXPECT_FALSE(cells.stale(x));
   std::size_t overlapping = 0;
   for (std::size_t i = 0; i < x.size(); ++i) {
-    const std::vector<std::size_t> after = cells.after(i);
+    const std::vector<std::size_t> after(cells.begin(i), cells.end(i));
     EXPECT_TRUE(std::is_sorted(after.begin(), after.end()));
     for (std::size_t j : after) EXPECT_GT(j, i);
     for (std::size_t j = i + 1; j < x.size(); ++j)
@@ -32,6 +36,8 @@ TEST(SphereCells, CandidatesHoldEveryOverlappingPairInAscendingOrder) {
       }
   }
   EXPECT_GT(overlapping, 500u);  // the test means something
+  x[3] += Vec3(0.2, 0, 0);       // past half the skin
+  EXPECT_TRUE(cells.stale(x));
 }
 
 }  // namespace grainlab::dem
