@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "accuracy_cost.hpp"
+#include "bed3d_benchmark.hpp"
 #include "bed_benchmark.hpp"
 #include "die_model_command.hpp"
 #include "engine.hpp"
@@ -327,6 +328,22 @@ int main(int argc, char** argv) {
       ->default_str("ode bullet");
   impact_bench_cmd->add_option("--json", impact_bench.json, "also write the result as JSON to this file");
 
+  bench::Bed3dOptions bed3d;
+  CLI::App* bed3d_cmd = bench_cmd->add_subcommand(
+      "bed3d", "issue #15's sphere lattice in a box of planes, same work as bench/bed3d.in for LAMMPS");
+  bed3d_cmd->add_option("--nx", bed3d.nx, "spheres along x")->default_val(20)->check(CLI::Range(1, 10000));
+  bed3d_cmd->add_option("--ny", bed3d.ny, "spheres along y")->default_val(20)->check(CLI::Range(1, 10000));
+  bed3d_cmd->add_option("--nz", bed3d.nz, "layers")->default_val(6)->check(CLI::Range(1, 10000));
+  bed3d_cmd->add_option("--settle", bed3d.settle_steps, "settling steps (untimed)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  bed3d_cmd->add_option("--steps", bed3d.timed_steps, "timed steps")
+      ->default_val(2000)
+      ->check(CLI::PositiveNumber);
+  bed3d_cmd->add_option("--repeats", bed3d.repeats, "timed repetitions (median reported)")
+      ->default_val(3)
+      ->check(CLI::Range(1, 100));
+  bed3d_cmd->add_option("--json", bed3d.json, "also write the result as JSON to this file");
   bench::LatticeBenchOptions lattice_bench;
   CLI::App* lattice_bench_cmd = bench_cmd->add_subcommand(
       "lattice", "impacts per second of the lattice-bed ripple model (Fig. 5.21) on one core");
@@ -373,6 +390,7 @@ int main(int argc, char** argv) {
     if (*bed_cmd) return bench::run_bed_command(bed);
     if (*impact_bench_cmd) return bench::run_impact_bench(impact_bench);
     if (*lattice_bench_cmd) return bench::run_lattice_bench(lattice_bench);
+    if (*bed3d_cmd) return bench::run_bed3d_bench(bed3d);
     if (const int status = impacts.dispatch(); status >= 0) return status;
     if (const int status = saltation.dispatch(); status >= 0) return status;
     if (const int status = ripples.dispatch(); status >= 0) return status;
