@@ -62,6 +62,10 @@ double resident_bytes() {
 }  // namespace
 
 int run_bed3d_bench(const Bed3dOptions& o) {
+  if (o.scene_only) {
+    fmt::print("{}", bed3d_scene_toml(o));
+    return 0;
+  }
   const Scene scene = parse_scene(bed3d_scene_toml(o), "<bench bed3d>");
   const double dt = 1e-6, before = resident_bytes();
   dem::World3d settled(scene);

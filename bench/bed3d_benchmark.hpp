@@ -10,6 +10,7 @@ struct Bed3dOptions {
   int nx = 20, ny = 20, nz = 6;
   int settle_steps = 0, timed_steps = 2000, repeats = 3;
   std::string json;
+  bool scene_only = false;  // print the scene (TOML) instead of timing it
 };
 
 // The bed as a scene (TOML text), so it runs through the same reader as any user scene.

@@ -344,6 +344,8 @@ int main(int argc, char** argv) {
       ->default_val(3)
       ->check(CLI::Range(1, 100));
   bed3d_cmd->add_option("--json", bed3d.json, "also write the result as JSON to this file");
+  bed3d_cmd->add_flag("--scene", bed3d.scene_only,
+                      "print the bed as a scene (TOML) instead of timing it: grainlab run takes it");
   bench::LatticeBenchOptions lattice_bench;
   CLI::App* lattice_bench_cmd = bench_cmd->add_subcommand(
       "lattice", "impacts per second of the lattice-bed ripple model (Fig. 5.21) on one core");
