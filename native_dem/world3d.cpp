@@ -17,13 +17,13 @@ bool isotropic(const Mat3& m) {
 }  // namespace
 
 Mat3 Body3::world_inv_inertia() const {
-  if (isotropic(inv_inertia)) return inv_inertia;
+  if (isotropic) return inv_inertia;
   const Mat3 R = q.toRotationMatrix();
   return R * inv_inertia * R.transpose();
 }
 
 Vec3 Body3::angular_momentum() const {
-  if (isotropic(inertia)) return inertia * w;
+  if (isotropic) return inertia * w;
   const Mat3 R = q.toRotationMatrix();
   return R * inertia * R.transpose() * w;
 }
@@ -50,6 +50,7 @@ World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
     b.inv_m = 1 / s.mass;
     b.inertia = s.inertia;
     b.inv_inertia = effects_.rotation ? Mat3(s.inertia.inverse()) : Mat3::Zero();
+    b.isotropic = isotropic(b.inertia) && isotropic(b.inv_inertia);
     b.hull = s.shape == Body3Spec::Shape::Polyhedron ? &s.hull : nullptr;
     b.radius = s.radius;
     b.material = s.material;
@@ -202,7 +203,7 @@ void World3d::step_verlet() {
     if (!effects_.rotation) continue;
     const Vec3 L = b.angular_momentum() + h * b.tq;
     b.w = b.world_inv_inertia() * L;
-    if (isotropic(b.inv_inertia)) {  // the half-step orientation cannot change the inertia: skip it
+    if (b.isotropic) {  // the half-step orientation cannot change the inertia: skip it
       b.q = turned(b.q, b.w, dt);
       continue;
     }
