@@ -11,6 +11,7 @@
 
 #include "h5_input.hpp"
 #include "input_error.hpp"
+#include "lattice_model.hpp"
 #include "ripple_config.hpp"
 #include "ripples_commands.hpp"
 #include "surface_analysis.hpp"
@@ -71,7 +72,7 @@ Profile read_run_profile(const std::string& path, int frame) {
   const auto model = f.metadata.count("model") ? f.metadata.at("model") : std::string();
   if (model.find("lattice") != std::string::npos) {
     // One point per lattice spacing (the mean of its two columns), in grain diameters.
-    for (std::size_t i = 0; i + 1 < row.size(); i += 2) p.h.push_back(0.25 * (row[i] + row[i + 1]));
+    p.h = lattice_profile(row);
     p.dx = std::sqrt(3.0);
     p.units = "grain diameters";
   } else {

@@ -65,32 +65,11 @@ LatticeOutcome run_lattice(const LatticeRun& run) {
 
 }  // namespace
 
-// Hop lengths (grain diameters, signed) of the splash file's ejecta in the cells nearest `angle` (and
-// `speed`, unless 0): ballistic ranges 2 v_x v_y of the launch velocities (in sqrt(g d), so the range is in
-// d) for simulated files; for a file with moments only (the sand gun), an exponential of its mean
-// reptation length per ejectum, all downstream, as 1,000 quantiles.
+// The lattice model's splash mode reads its hops through ejecta_hop_lengths (saltation/splash_file.hpp).
 std::vector<double> splash_hops(const std::string& splash, double angle, double speed) {
   using namespace grainlab::saltation;
   const SplashFile f = splash == "sand-gun" ? sand_gun_splash() : read_splash_file(splash);
-  if (f.cells.empty()) throw InputError({splash, 0}, "", "has no cells");
-  double best_angle = 1e300, best_speed = 1e300;
-  for (const SplashCell& c : f.cells) best_angle = std::min(best_angle, std::abs(c.angle_deg - angle));
-  for (const SplashCell& c : f.cells)
-    if (std::abs(c.angle_deg - angle) == best_angle)
-      best_speed = std::min(best_speed, std::abs(c.speed - speed));
-  std::vector<double> hops;
-  double reptation = 0;
-  int moment_cells = 0;
-  for (const SplashCell& c : f.cells) {
-    if (std::abs(c.angle_deg - angle) != best_angle) continue;
-    if (speed > 0 && std::abs(c.speed - speed) != best_speed) continue;
-    for (const EjectumRow& e : c.ejecta)
-      if (e[4] > 0) hops.push_back(2 * e[3] * e[4]);
-    if (c.ejecta.empty() && c.moments.count("reptation_per_ejectum"))
-      reptation += c.moments.at("reptation_per_ejectum").mean, ++moment_cells;
-  }
-  if (hops.empty() && moment_cells > 0)
-    for (int q = 0; q < 1000; ++q) hops.push_back(-reptation / moment_cells * std::log(1 - (q + 0.5) / 1000));
+  std::vector<double> hops = ejecta_hop_lengths(f, angle, speed);
   if (hops.empty())
     throw InputError({splash, 0}, "", "has no ejecta (or reptation lengths) in the cells chosen");
   return hops;
@@ -149,12 +128,10 @@ int lattice_command(const RipplesCommands& a) {
   nlohmann::json summary;
   for (const char* key : {"wavelength", "height", "stoss_deg", "lee_deg", "roughness", "f_peak",
                           "autocorrelation_wavelength"}) {
-    double s = 0, ss = 0;
-    for (const auto& m : members)
-      s += m[key].get<double>(), ss += m[key].get<double>() * m[key].get<double>();
-    const double n = static_cast<double>(members.size()), mean = s / n;
-    const double sd = n > 1 ? std::sqrt(std::max(0.0, (ss - n * mean * mean) / (n - 1))) : 0;
-    summary[key] = {{"mean", mean}, {"sd", sd}, {"half_width_95", n > 1 ? 1.96 * sd / std::sqrt(n) : 0}};
+    std::vector<double> values;
+    for (const auto& m : members) values.push_back(m[key].get<double>());
+    const validation::MeanInterval mi = validation::mean_interval(values);
+    summary[key] = {{"mean", mi.mean}, {"sd", mi.sd}, {"half_width_95", mi.half_width()}};
   }
   if (a.json) {
     fmt::print("{}\n", nlohmann::json{{"seeds", members.size()},

@@ -117,8 +117,8 @@ void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const Cont
   ++contacts_now_;
 }
 
-void World3d::bin_bodies(SphereCells& cells, double skin_fraction) const {
-  std::vector<Vec3> centres(b_.size());
+void World3d::bin_bodies(SphereCells& cells, std::vector<Vec3>& centres, double skin_fraction) const {
+  centres.resize(b_.size());
   double r = 0;
   for (std::size_t i = 0; i < b_.size(); ++i) centres[i] = b_[i].x, r = std::max(r, b_[i].radius);
   if (cells.stale(centres)) cells.build(centres, r, skin_fraction * r);
@@ -141,7 +141,7 @@ void World3d::compute_forces(double h) {
     placed_[i].place();
   }
   const bool cells = b_.size() >= kCellsFrom;
-  if (cells) bin_bodies(cells_, 0.2);
+  if (cells) bin_bodies(cells_, centres_, 0.2);
   for (std::size_t i = 0; i < b_.size(); ++i) {
     auto pair = [&](std::size_t j) {
       if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) return;
@@ -309,8 +309,9 @@ Energies World3d::energies() const {
     cs.clear();
   };
   SphereCells near;
+  std::vector<Vec3> centres;
   const bool cells = b_.size() >= kCellsFrom;
-  if (cells) bin_bodies(near, 0);
+  if (cells) bin_bodies(near, centres, 0);
   for (std::size_t i = 0; i < b_.size(); ++i) {
     auto pair = [&](std::size_t j) {
       body_body(placed[i], placed[j], cs);

@@ -62,7 +62,7 @@ class World3d {
   // largest bounding radius) since the last build. From kCellsFrom bodies on; fewer are paired all with
   // all, which visits the same pairs in the same order.
   static constexpr std::size_t kCellsFrom = 32;
-  void bin_bodies(SphereCells& cells, double skin_fraction) const;
+  void bin_bodies(SphereCells& cells, std::vector<Vec3>& centres, double skin_fraction) const;
   void add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law, std::int64_t key_b,
                    double h);
   Vec3 angular_acceleration(const Body3& b) const;
@@ -83,6 +83,7 @@ class World3d {
   std::map<ContactKey3, Spring> history_, trial_;
   std::vector<ContactPoint3> scratch_;
   SphereCells cells_;
+  std::vector<Vec3> centres_;  // bin_bodies' scratch, kept so no step allocates
   std::map<std::pair<std::int64_t, std::int64_t>, double> impulses_, step_force_, end_force_;
   double t_ = 0, dt_ = 0, dt_prev_ = 0;
   bool have_prev_ = false;

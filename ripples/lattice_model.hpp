@@ -69,6 +69,15 @@ class LatticeModel {
   double tan_a_, cos_a_;
 };
 
+// The surface in grain diameters, one value per lattice spacing (sqrt(3) d apart): the mean of its two
+// columns' layer indices (a layer is d / 2), which removes the lattice's zig-zag.
+template <typename T>
+std::vector<double> lattice_profile(const std::vector<T>& layers) {
+  std::vector<double> y;
+  for (std::size_t i = 0; i + 1 < layers.size(); i += 2) y.push_back(0.25 * (layers[i] + layers[i + 1]));
+  return y;
+}
+
 // Surface statistics in lattice units (x in columns, heights in layers; the slopes in degrees use the
 // lattice geometry: a column is sqrt(3) d / 2 wide, a layer d / 2 high).
 struct LatticeSurfaceStats {

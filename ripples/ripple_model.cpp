@@ -47,13 +47,7 @@ class LatticeRipples : public RippleModel {
   void advance(double ejections_per_grain) override {
     m_.fire(std::lround(ejections_per_grain * p_.columns / 2));
   }
-  // One value per lattice spacing (the mean of its two columns: the zig-zag averaged out), in d.
-  std::vector<double> surface() const override {
-    std::vector<double> y;
-    const std::vector<int>& h = m_.heights();
-    for (std::size_t i = 0; i + 1 < h.size(); i += 2) y.push_back(0.25 * (h[i] + h[i + 1]));
-    return y;
-  }
+  std::vector<double> surface() const override { return lattice_profile(m_.heights()); }
   double dx() const override { return std::sqrt(3.0); }
   double time() const override { return m_.ejections_per_surface_grain(); }
   std::string time_unit() const override { return "ejections per surface grain"; }

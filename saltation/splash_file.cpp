@@ -367,4 +367,26 @@ SplashFile sand_gun_splash() {
   return f;
 }
 
+std::vector<double> ejecta_hop_lengths(const SplashFile& f, double angle, double speed) {
+  double best_angle = 1e300, best_speed = 1e300;
+  for (const SplashCell& c : f.cells) best_angle = std::min(best_angle, std::abs(c.angle_deg - angle));
+  for (const SplashCell& c : f.cells)
+    if (std::abs(c.angle_deg - angle) == best_angle)
+      best_speed = std::min(best_speed, std::abs(c.speed - speed));
+  std::vector<double> hops;
+  double reptation = 0;
+  int moment_cells = 0;
+  for (const SplashCell& c : f.cells) {
+    if (std::abs(c.angle_deg - angle) != best_angle) continue;
+    if (speed > 0 && std::abs(c.speed - speed) != best_speed) continue;
+    for (const EjectumRow& e : c.ejecta)
+      if (e[4] > 0) hops.push_back(2 * e[3] * e[4]);
+    if (c.ejecta.empty() && c.moments.count("reptation_per_ejectum"))
+      reptation += c.moments.at("reptation_per_ejectum").mean, ++moment_cells;
+  }
+  if (hops.empty() && moment_cells > 0)
+    for (int q = 0; q < 1000; ++q) hops.push_back(-reptation / moment_cells * std::log(1 - (q + 0.5) / 1000));
+  return hops;
+}
+
 }  // namespace grainlab::saltation

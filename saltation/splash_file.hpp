@@ -62,6 +62,13 @@ void write_splash_file(const std::string& path, const SplashFile& f, bool overwr
 // refused unless `allow_partial`.
 SplashFile read_splash_file(const std::string& path, bool allow_partial = false);
 
+// Hop lengths of the ejecta (grain diameters, signed: negative is upstream) in the cells nearest an impact
+// angle (deg) and speed (sqrt(g d); 0: every speed pooled). Simulated files give each ejectum's ballistic
+// range 2 v_x v_y (velocities in sqrt(g d), so the range is in d); a file with moments only (the sand
+// gun) gives an exponential of its mean reptation length per ejectum, all downstream, as 1,000 quantiles.
+// Empty if the cells hold neither. The ripple models' splash mode reads its hops from here.
+std::vector<double> ejecta_hop_lengths(const SplashFile& f, double angle_deg, double speed);
+
 // Table 3.11 and 3.12's sand-gun experiment (Kelso Dunes sand, d = 0.078 cm) as a measured splash file:
 // one cell per row of the tables, moments only.
 SplashFile sand_gun_splash();

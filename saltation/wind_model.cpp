@@ -452,11 +452,11 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       for (int i = 0; i < sub; ++i)
         fly(o, r.y, r.u, vox[j], voy[j] + ((i + 0.5) / sub - 0.5) * o.dv, &edges, &fine_impulse,
             Fs[j] * o.dv / sub, &prof);
-  r.drag.assign(H, 0.0), r.tau.assign(H, 0.0);
+  r.drag.assign(H, 0.0), r.tau.assign(H, 0.0), r.dy.assign(H, 0.0);
   r.drag_resolved.assign(H, 0.0), r.number_density.assign(H, 0.0), r.number_flux.assign(H, 0.0),
       r.energy_flux.assign(H, 0.0);
   for (std::size_t k = 0; k < H; ++k) {
-    const double height = std::min(edges[k + 1], 2 * r.y.back()) - edges[k];
+    const double height = r.dy[k] = std::min(edges[k + 1], 2 * r.y.back()) - edges[k];
     r.drag[k] = impulse[k] / height;
     r.tau[k] = 0.5 * (tau_edge[k] + tau_edge[k + 1]);
     r.drag_resolved[k] = fine_impulse[k] / height;

@@ -80,6 +80,7 @@ struct WindModelResult {
   std::vector<Trajectory> trajectories;
   std::vector<double> F2d;            // 2-D grid only: F per (v_oy bin, v_ox cell), row-major in v_oy
   std::vector<double> y, u, u_clean;  // wind with and without grains (cm/s)
+  std::vector<double> dy;             // height of the bin around each y (cm): profile x dy sums to a total
   std::vector<double> drag;           // force per unit volume the grains take from the air, at y (dyn/cm^3)
   std::vector<double> tau;            // fluid shear stress at y (dyn/cm^2)
   // Per height (per unit volume): grains per cm^3, horizontal number flux (grains / cm^2 / s) and the

@@ -51,11 +51,7 @@ double peak_height(const std::vector<double>& y, const std::vector<double>& v) {
 // m times the integral of the horizontal number-flux profile: the mass flux computed a second way.
 double integrated_mass_flux(const WindModelResult& r, double mass) {
   double q = 0;
-  for (std::size_t k = 0; k < r.y.size(); ++k) {
-    const double lo = k == 0 ? 0 : std::sqrt(r.y[k - 1] * r.y[k]);
-    const double hi = k + 1 < r.y.size() ? std::sqrt(r.y[k] * r.y[k + 1]) : 2 * r.y[k];
-    q += r.number_flux[k] * (hi - lo);
-  }
+  for (std::size_t k = 0; k < r.y.size(); ++k) q += r.number_flux[k] * r.dy[k];
   return q * mass;
 }
 
