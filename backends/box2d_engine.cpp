@@ -14,9 +14,7 @@
 #include <cmath>
 #include <limits>
 
-#include "contact_law.hpp"
 #include "engine.hpp"
-#include "world.hpp"
 
 namespace grainlab {
 
@@ -42,7 +40,7 @@ class PairMaterials : public b2ContactListener {
                         : b->mass == 0 ? a->mass
                                        : a->mass * b->mass / (a->mass + b->mass);
     contact->SetRestitution(static_cast<float>(impulse_engine_restitution(m, meff)));
-    contact->SetFriction(scene_.effects.friction ? static_cast<float>(m.mu) : 0.0f);
+    contact->SetFriction(scene_.effects.has(Effect::friction) ? static_cast<float>(m.mu) : 0.0f);
     contact->SetRestitutionThreshold(0.0f);
   }
   // Normal impulses per touching pair, summed over a step's solver passes (Box2D units), when asked for.
@@ -65,12 +63,11 @@ class PairMaterials : public b2ContactListener {
 
 class Box2DEngine final : public Engine {
  public:
-  explicit Box2DEngine(const Scene& scene)
-      : scene_(scene), bodies_(dem::expanded_bodies(scene)), world_(b2Vec2(0, 0)), materials_(scene_) {
-    check_engine_supports(engine_catalog()[1], scene_);
+  Box2DEngine(const Scene& scene, std::vector<BodySpec> bodies)
+      : scene_(scene), bodies_(std::move(bodies)), world_(b2Vec2(0, 0)), materials_(scene_) {
     scale_ = length_scale();
     bullets_ = tunnelling_possible();
-    if (scene_.effects.gravity) world_.SetGravity(vec(scene_.gravity));
+    if (scene_.effects.has(Effect::gravity)) world_.SetGravity(vec(scene_.gravity));
     world_.SetAllowSleeping(false);
     world_.SetContactListener(&materials_);
     info_.reserve(bodies_.size() + scene_.walls.size());
@@ -149,7 +146,7 @@ class Box2DEngine final : public Engine {
   double speed_bound() const {
     double vmax = 0;
     for (const BodySpec& b : bodies_) vmax = std::max(vmax, norm(b.velocity) + std::abs(b.spin) * b.radius);
-    if (scene_.effects.gravity) vmax += norm(scene_.gravity) * scene_.duration;
+    if (scene_.effects.has(Effect::gravity)) vmax += norm(scene_.gravity) * scene_.duration;
     return vmax;
   }
   // Continuous collision (Box2D "bullets") where a step could carry a body a quarter of the smallest
@@ -172,8 +169,8 @@ class Box2DEngine final : public Engine {
     def.position = vec(s.position);
     def.angle = static_cast<float>(s.angle);
     def.linearVelocity = vec(s.velocity);
-    def.angularVelocity = static_cast<float>(scene_.effects.rotation ? s.spin : 0.0);
-    def.fixedRotation = !scene_.effects.rotation;
+    def.angularVelocity = static_cast<float>(scene_.effects.has(Effect::rotation) ? s.spin : 0.0);
+    def.fixedRotation = !scene_.effects.has(Effect::rotation);
     def.bullet = bullets_;
     def.allowSleep = false;
     b2Body* body = world_.CreateBody(&def);
@@ -181,7 +178,7 @@ class Box2DEngine final : public Engine {
     b2FixtureDef fd;
     fd.density = 1.0f;  // replaced by SetMassData below
     fd.restitutionThreshold = 0.0f;
-    fd.isSensor = !scene_.effects.normal_contact;
+    fd.isSensor = !scene_.effects.has(Effect::normal_contact);
     b2CircleShape circle;
     b2PolygonShape poly;
     if (s.shape == BodySpec::Shape::Disc) {
@@ -251,8 +248,8 @@ class Box2DEngine final : public Engine {
 
 }  // namespace
 
-std::unique_ptr<Engine> make_box2d_engine(const Scene& scene) {
-  return std::make_unique<Box2DEngine>(scene);
+std::unique_ptr<Engine> make_box2d_engine(const Scene& scene, std::vector<BodySpec> bodies) {
+  return std::make_unique<Box2DEngine>(scene, std::move(bodies));
 }
 
 }  // namespace grainlab

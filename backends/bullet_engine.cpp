@@ -13,7 +13,6 @@
 #include <cmath>
 
 #include "engine.hpp"
-#include "world.hpp"
 
 namespace grainlab {
 
@@ -36,18 +35,17 @@ bool pair_material(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int, 
                       : ib->mass == 0 ? ia->mass
                                       : ia->mass * ib->mass / (ia->mass + ib->mass);
   cp.m_combinedRestitution = impulse_engine_restitution(m, meff);
-  cp.m_combinedFriction = ia->scene->effects.friction ? m.mu : 0.0;
+  cp.m_combinedFriction = ia->scene->effects.has(Effect::friction) ? m.mu : 0.0;
   return true;
 }
 
 class BulletEngine final : public Engine {
  public:
-  explicit BulletEngine(const Scene& scene)
+  BulletEngine(const Scene& scene, std::vector<BodySpec> bodies)
       : scene_(scene),
-        bodies_(dem::expanded_bodies(scene)),
+        bodies_(std::move(bodies)),
         dispatcher_(&config_),
         world_(&dispatcher_, &broadphase_, &solver_, &config_) {
-    check_engine_supports(engine_catalog()[3], scene_);
     gContactAddedCallback = pair_material;
     // Contacts only where bodies touch: with Bullet's default breaking threshold (0.02 units) a
     // speculative contact brakes an approaching grain before it touches, leaving restitution nothing to
@@ -55,11 +53,11 @@ class BulletEngine final : public Engine {
     gContactBreakingThreshold = 1e-9;
     if (three_d()) {
       scale_ = unit_per_median_diameter(scene_.bodies3d);
-      const Vec3 g = scene_.effects.gravity ? Vec3(scene_.gravity3d * scale_) : Vec3::Zero();
+      const Vec3 g = scene_.effects.has(Effect::gravity) ? Vec3(scene_.gravity3d * scale_) : Vec3::Zero();
       world_.setGravity(btVector3(g.x(), g.y(), g.z()));
     } else {
       scale_ = unit_per_median_diameter(bodies_);
-      const Vec2 g = scene_.effects.gravity ? scene_.gravity * scale_ : Vec2{};
+      const Vec2 g = scene_.effects.has(Effect::gravity) ? scene_.gravity * scale_ : Vec2{};
       world_.setGravity(btVector3(g.x, g.y, 0));
     }
     btContactSolverInfo& info = world_.getSolverInfo();
@@ -202,10 +200,10 @@ class BulletEngine final : public Engine {
     at.setRotation(btQuaternion(q.x(), q.y(), q.z(), q.w()));
     add(std::move(shape), s.mass, btVector3(I.x(), I.y(), I.z()), at, {&scene_, s.material, s.mass, s.id});
     btRigidBody& b = *rigid_.back();
-    const Vec3 v = s.velocity * scale_, w = scene_.effects.rotation ? s.spin : Vec3::Zero();
+    const Vec3 v = s.velocity * scale_, w = scene_.effects.has(Effect::rotation) ? s.spin : Vec3::Zero();
     b.setLinearVelocity(btVector3(v.x(), v.y(), v.z()));
     b.setAngularVelocity(btVector3(w.x(), w.y(), w.z()));
-    if (!scene_.effects.rotation) b.setAngularFactor(btVector3(0, 0, 0));
+    if (!scene_.effects.has(Effect::rotation)) b.setAngularFactor(btVector3(0, 0, 0));
     // Explicit gyroscopic forces are off by default in Bullet; without them a torque-free asymmetric
     // body keeps a constant angular velocity instead of precessing. The implicit body-frame form
     // conserves angular momentum best of the three Bullet offers.
@@ -222,7 +220,7 @@ class BulletEngine final : public Engine {
     body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
     body->setActivationState(DISABLE_DEACTIVATION);
     body->setContactProcessingThreshold(0);
-    if (!scene_.effects.normal_contact)
+    if (!scene_.effects.has(Effect::normal_contact))
       body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_NO_CONTACT_RESPONSE);
     world_.addRigidBody(body.get());
     shapes_.push_back(std::move(shape));
@@ -251,9 +249,9 @@ class BulletEngine final : public Engine {
     add(std::move(shape), s.mass, btVector3(I, I, I), at, {&scene_, s.material, s.mass, s.id});
     btRigidBody& b = *rigid_.back();
     b.setLinearFactor(btVector3(1, 1, 0));
-    b.setAngularFactor(scene_.effects.rotation ? btVector3(0, 0, 1) : btVector3(0, 0, 0));
+    b.setAngularFactor(scene_.effects.has(Effect::rotation) ? btVector3(0, 0, 1) : btVector3(0, 0, 0));
     b.setLinearVelocity(btVector3(s.velocity.x * scale_, s.velocity.y * scale_, 0));
-    b.setAngularVelocity(btVector3(0, 0, scene_.effects.rotation ? s.spin : 0.0));
+    b.setAngularVelocity(btVector3(0, 0, scene_.effects.has(Effect::rotation) ? s.spin : 0.0));
   }
 
   void add_wall(const WallSpec& w) {
@@ -316,8 +314,8 @@ class BulletEngine final : public Engine {
 
 }  // namespace
 
-std::unique_ptr<Engine> make_bullet_engine(const Scene& scene) {
-  return std::make_unique<BulletEngine>(scene);
+std::unique_ptr<Engine> make_bullet_engine(const Scene& scene, std::vector<BodySpec> bodies) {
+  return std::make_unique<BulletEngine>(scene, std::move(bodies));
 }
 
 }  // namespace grainlab

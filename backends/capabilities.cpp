@@ -4,17 +4,35 @@
 
 #include "contact_law.hpp"
 #include "engine.hpp"
+#include "world.hpp"
 
 namespace grainlab {
 
+std::unique_ptr<Engine> make_native_engine(const Scene& scene);
+std::unique_ptr<Engine> make_box2d_engine(const Scene& scene, std::vector<BodySpec> bodies);
+std::unique_ptr<Engine> make_ode_engine(const Scene& scene, std::vector<BodySpec> bodies);
+std::unique_ptr<Engine> make_bullet_engine(const Scene& scene, std::vector<BodySpec> bodies);
+
+namespace {
+// The rigid-body engines get the scene's bodies with its generated beds already built (by the native
+// engine's own pour, so every engine starts from the same bed).
+template <std::unique_ptr<Engine> (*Make)(const Scene&, std::vector<BodySpec>)>
+std::unique_ptr<Engine> with_expanded_beds(const Scene& scene) {
+  return Make(scene, dem::expanded_bodies(scene));
+}
+}  // namespace
+
+// One row per engine: what it can do and how to make it. Effects are listed per engine: an engine
+// claims only what it models.
 const std::vector<Capabilities>& engine_catalog() {
   const std::vector<std::string> shapes2d = {"disc", "polygon", "segment", "line", "moving wall"};
   const std::vector<std::string> both = {"disc",        "polygon", "segment",    "line",
                                          "moving wall", "sphere",  "polyhedron", "plane"};
+  const std::vector<std::string> rigid_effects = {"gravity", "normal_contact", "friction", "rotation"};
   static const std::vector<Capabilities> all = {
       {"native",
-       "the thesis's soft-contact DEM (eq. 2.3, predictor-corrector or Verlet), double precision; 3-D for "
-       "few-body scenes (all-pairs broad phase)",
+       "the thesis's soft-contact DEM (eq. 2.3, predictor-corrector or Verlet), double precision; 3-D "
+       "spheres and polyhedra with a Verlet list for spheres",
        {2, 3},
        both,
        known_effect_names(),
@@ -23,41 +41,78 @@ const std::vector<Capabilities>& engine_catalog() {
        0,
        "spring-dashpot normal force, incremental shear spring capped at mu f_n (kept in the tangent plane "
        "in 3-D)",
-       "normal force of every contact, trapezoid over each accepted step (the integrators' own rule)"},
+       "normal force of every contact, trapezoid over each accepted step (the integrators' own rule)",
+       true,
+       make_native_engine,
+       true},
       {"box2d",
        "Box2D 2.4.1 (Debian), float precision, sequential impulses",
        {2},
        shapes2d,
-       known_effect_names(),
+       rigid_effects,
        false,
        true,
        8,
        "rigid contacts with restitution and Coulomb friction set per contact; stiffness is not modelled",
-       "2-D: normal impulses from PostSolve, summed per pair and step"},
+       "2-D: normal impulses from PostSolve, summed per pair and step",
+       false,
+       with_expanded_beds<make_box2d_engine>},
       {"ode",
        "ODE 0.16.2 (Debian), double precision; 2-D through plane-2D joints",
        {2, 3},
        both,
-       known_effect_names(),
+       rigid_effects,
        false,
        true,
        0,
        "rigid contacts (LCP) with restitution (bounce) and Coulomb friction set per contact; stiffness is "
        "not modelled",
-       "2-D and 3-D: contact-joint feedback force along the normal times the step"},
+       "2-D and 3-D: contact-joint feedback force along the normal times the step",
+       false,
+       with_expanded_beds<make_ode_engine>},
       {"bullet",
        "Bullet 3.24 (Debian, float64 libraries); 2-D through linear and angular factors",
        {2, 3},
        both,
-       known_effect_names(),
+       rigid_effects,
        false,
        true,
        0,
        "rigid contacts (sequential impulses) with restitution and Coulomb friction set per contact; "
        "stiffness is not modelled",
-       "2-D and 3-D: applied impulses of the contact manifolds after each step"},
+       "2-D and 3-D: applied impulses of the contact manifolds after each step",
+       false,
+       with_expanded_beds<make_bullet_engine>},
   };
   return all;
+}
+
+const Capabilities& engine_capabilities(const std::string& name) {
+  for (const Capabilities& c : engine_catalog())
+    if (c.name == name) return c;
+  throw InputError(
+      {"--engine", 0}, "engine",
+      fmt::format("unknown engine \"{}\"; available: {}", name, fmt::join(engine_names(), ", ")));
+}
+
+std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene) {
+  const Capabilities& c = engine_capabilities(name);
+  check_engine_supports(c, scene);
+  return c.make(scene);
+}
+
+std::vector<std::string> engine_names() {
+  std::vector<std::string> names;
+  for (const Capabilities& c : engine_catalog()) names.push_back(c.name);
+  return names;
+}
+
+std::vector<std::string> engines_for_dimension(int dimension) {
+  std::vector<std::string> names;
+  for (const Capabilities& c : engine_catalog())
+    if (std::find(c.dimensions.begin(), c.dimensions.end(), dimension) != c.dimensions.end())
+      names.push_back(c.name);
+  return names;
 }
 
 namespace {
@@ -169,7 +224,7 @@ std::vector<std::int32_t> polyhedron_indices(const std::vector<Body3Spec>& bodie
 
 EnergyReport rigid_body_energies(const Frame& f, const std::vector<Body3Spec>& bodies, const Scene& scene) {
   EnergyReport e;
-  const Vec3 g = scene.effects.gravity ? scene.gravity3d : Vec3::Zero();
+  const Vec3 g = scene.effects.has(Effect::gravity) ? scene.gravity3d : Vec3::Zero();
   for (std::size_t k = 0; k < bodies.size(); ++k) {
     const Body3Spec& b = bodies[k];
     const Vec3 x(&f.position[3 * k]), v(&f.velocity[3 * k]), w(&f.angular_velocity[3 * k]);
@@ -185,7 +240,7 @@ EnergyReport rigid_body_energies(const Frame& f, const std::vector<Body3Spec>& b
 
 EnergyReport rigid_body_energies(const Frame& f, const std::vector<BodySpec>& bodies, const Scene& scene) {
   EnergyReport e;
-  const Vec2 g = scene.effects.gravity ? scene.gravity : Vec2{};
+  const Vec2 g = scene.effects.has(Effect::gravity) ? scene.gravity : Vec2{};
   for (std::size_t k = 0; k < bodies.size(); ++k) {
     const BodySpec& b = bodies[k];
     const double vx = f.velocity[3 * k], vy = f.velocity[3 * k + 1];

@@ -20,6 +20,7 @@ struct EnergyReport {
 
 // What an engine can simulate. A scene asking for more stops with a message naming the engine and the
 // missing capability; nothing is silently approximated.
+class Engine;
 struct Capabilities {
   std::string name, description;
   std::vector<int> dimensions;  // 2 and/or 3
@@ -31,6 +32,11 @@ struct Capabilities {
   int max_polygon_vertices = 0;  // 0: no limit
   std::string contact_model;
   std::string contact_events;  // which dimensions report contact events, and how they are measured
+  // Contacts are soft springs whose duration the step must resolve (the native engine), rather than
+  // rigid impulses: validation picks steps and checks by this, never by the engine's name.
+  bool soft_contacts = false;
+  std::function<std::unique_ptr<Engine>(const Scene&)> make;
+  bool distributed = false;  // 2-D disc scenes can be spread over MPI ranks
 };
 
 class Engine {
@@ -71,6 +77,8 @@ class Engine {
 };
 
 const std::vector<Capabilities>& engine_catalog();
+// The catalogue row of an engine; throws InputError naming the engines if it is unknown.
+const Capabilities& engine_capabilities(const std::string& name);
 // The restitution an impulse engine gets for a material at reduced mass m_eff: the given one, or what
 // eq. 2.2 gives for a soft material's stiffness and damping.
 double impulse_engine_restitution(const Material& m, double meff);

@@ -80,6 +80,13 @@ class NativeEngine final : public NativeEngineBase<dem::World> {
     if (world_.distributed()) parallel::sum_all(owned);
     auto d = to_map(world_.diagnostics(), world_.count_contacts(), owned[0]);
     d["neighbor_rebuilds"] = double(world_.diagnostics().neighbor_rebuilds);
+    if (const dem::WindField* w = world_.wind()) {
+      const auto& s = w->snapshot();
+      d["wind_u_star_eff"] = s.u_star_eff;
+      d["wind_bed_level"] = s.bed_level;
+      d["wind_grain_drag_per_area"] = s.drag_per_area;
+      d["wind_updates"] = s.updates;
+    }
     return d;
   }
 
@@ -144,26 +151,9 @@ class NativeEngine3d final : public NativeEngineBase<dem::World3d> {
 
 }  // namespace
 
-std::unique_ptr<Engine> make_box2d_engine(const Scene& scene);
-std::unique_ptr<Engine> make_ode_engine(const Scene& scene);
-std::unique_ptr<Engine> make_bullet_engine(const Scene& scene);
-
-std::vector<std::string> engine_names() {
-  std::vector<std::string> names;
-  for (const Capabilities& c : engine_catalog()) names.push_back(c.name);
-  return names;
-}
-
-std::vector<std::string> engines_for_dimension(int dimension) {
-  std::vector<std::string> names;
-  for (const Capabilities& c : engine_catalog())
-    if (std::find(c.dimensions.begin(), c.dimensions.end(), dimension) != c.dimensions.end())
-      names.push_back(c.name);
-  return names;
-}
-
 std::string why_not_distributed(const std::string& engine, const Scene& scene) {
-  if (engine != "native") return fmt::format("the {} engine runs on one process", engine);
+  if (!engine_capabilities(engine).distributed)
+    return fmt::format("the {} engine runs on one process", engine);
   if (scene.dimension != 2) return "3-D scenes run on one process so far";
   for (const BodySpec& b : scene.bodies)
     if (b.shape == BodySpec::Shape::Polygon) return "scenes with polygons run on one process so far";
@@ -176,14 +166,9 @@ std::unique_ptr<Engine> make_distributed_native_engine(const Scene& scene, std::
   return std::make_unique<NativeEngine>(scene, dem::Decomposition{true, balance_every, ranks_y});
 }
 
-std::unique_ptr<Engine> make_engine(const std::string& name, const Scene& scene) {
-  if (name == "native" && scene.dimension == 3) return std::make_unique<NativeEngine3d>(scene);
-  if (name == "native") return std::make_unique<NativeEngine>(scene);
-  if (name == "box2d") return make_box2d_engine(scene);
-  if (name == "ode") return make_ode_engine(scene);
-  if (name == "bullet") return make_bullet_engine(scene);
-  throw InputError({"--engine", 0}, "engine",
-                   "unknown engine \"" + name + "\"; available: native, box2d, ode, bullet");
+std::unique_ptr<Engine> make_native_engine(const Scene& scene) {
+  if (scene.dimension == 3) return std::make_unique<NativeEngine3d>(scene);
+  return std::make_unique<NativeEngine>(scene);
 }
 
 }  // namespace grainlab

@@ -13,9 +13,7 @@
 #include <cmath>
 #include <deque>
 
-#include "contact_law.hpp"
 #include "engine.hpp"
-#include "world.hpp"
 
 namespace grainlab {
 
@@ -29,8 +27,7 @@ struct GeomInfo {
 
 class OdeEngine final : public Engine {
  public:
-  explicit OdeEngine(const Scene& scene) : scene_(scene), bodies_(dem::expanded_bodies(scene)) {
-    check_engine_supports(engine_catalog()[2], scene_);
+  OdeEngine(const Scene& scene, std::vector<BodySpec> bodies) : scene_(scene), bodies_(std::move(bodies)) {
     for (const WallSpec& w : scene_.walls)
       if (w.kind == WallSpec::Kind::Line && w.motion.active())
         throw InputError(
@@ -42,11 +39,11 @@ class OdeEngine final : public Engine {
     contacts_ = dJointGroupCreate(0);
     if (three_d()) {
       scale_ = unit_per_median_diameter(scene_.bodies3d);
-      const Vec3 g = scene_.effects.gravity ? Vec3(scene_.gravity3d * scale_) : Vec3::Zero();
+      const Vec3 g = scene_.effects.has(Effect::gravity) ? Vec3(scene_.gravity3d * scale_) : Vec3::Zero();
       dWorldSetGravity(world_, g.x(), g.y(), g.z());
     } else {
       scale_ = unit_per_median_diameter(bodies_);
-      const Vec2 g = scene_.effects.gravity ? scene_.gravity * scale_ : Vec2{};
+      const Vec2 g = scene_.effects.has(Effect::gravity) ? scene_.gravity * scale_ : Vec2{};
       dWorldSetGravity(world_, g.x, g.y, 0);
     }
     dWorldSetAutoDisableFlag(world_, 0);
@@ -176,10 +173,10 @@ class OdeEngine final : public Engine {
     dBodySetLinearVel(b, v.x(), v.y(), v.z());
     const dQuaternion q = {s.orientation.w(), s.orientation.x(), s.orientation.y(), s.orientation.z()};
     dBodySetQuaternion(b, q);
-    const Vec3 w = scene_.effects.rotation ? s.spin : Vec3::Zero();
+    const Vec3 w = scene_.effects.has(Effect::rotation) ? s.spin : Vec3::Zero();
     dBodySetAngularVel(b, w.x(), w.y(), w.z());
     dBodySetAutoDisableFlag(b, 0);
-    if (!scene_.effects.rotation) dBodySetMaxAngularSpeed(b, 0);
+    if (!scene_.effects.has(Effect::rotation)) dBodySetMaxAngularSpeed(b, 0);
     // Torque-free bodies keep L exactly only with the gyroscopic term on (ODE's default, stated here).
     dBodySetGyroscopicMode(b, 1);
     info_.push_back({s.material, s.mass, s.id});
@@ -187,7 +184,7 @@ class OdeEngine final : public Engine {
         s.shape == Body3Spec::Shape::Sphere ? dCreateSphere(space_, s.radius * scale_) : convex(s.hull);
     dGeomSetBody(g, b);
     dGeomSetData(g, &info_.back());
-    if (!scene_.effects.normal_contact) dGeomSetCategoryBits(g, 0);
+    if (!scene_.effects.has(Effect::normal_contact)) dGeomSetCategoryBits(g, 0);
     handles_.push_back(b);
   }
 
@@ -217,9 +214,9 @@ class OdeEngine final : public Engine {
     dMatrix3 R;
     dRFromAxisAndAngle(R, 0, 0, 1, s.angle);
     dBodySetRotation(b, R);
-    dBodySetAngularVel(b, 0, 0, scene_.effects.rotation ? s.spin : 0.0);
+    dBodySetAngularVel(b, 0, 0, scene_.effects.has(Effect::rotation) ? s.spin : 0.0);
     dBodySetAutoDisableFlag(b, 0);
-    if (!scene_.effects.rotation) dBodySetMaxAngularSpeed(b, 0);
+    if (!scene_.effects.has(Effect::rotation)) dBodySetMaxAngularSpeed(b, 0);
     dJointID plane = dJointCreatePlane2D(world_, nullptr);
     dJointAttach(plane, b, nullptr);
     info_.push_back({s.material, s.mass, s.id});
@@ -228,7 +225,7 @@ class OdeEngine final : public Engine {
     shape_of_.push_back(s.shape == BodySpec::Shape::Disc ? -1 : prisms_ - 1);
     dGeomSetBody(g, b);
     dGeomSetData(g, &info_.back());
-    if (!scene_.effects.normal_contact) dGeomSetCategoryBits(g, 0);
+    if (!scene_.effects.has(Effect::normal_contact)) dGeomSetCategoryBits(g, 0);
     handles_.push_back(b);
   }
 
@@ -315,7 +312,7 @@ class OdeEngine final : public Engine {
     for (int k = 0; k < n; ++k) {
       // dContactApprox1: mu is a coefficient (friction pyramid); without it ODE reads mu as a force limit.
       c[k].surface.mode = dContactBounce | dContactApprox1;
-      c[k].surface.mu = self->scene_.effects.friction ? m.mu : 0.0;
+      c[k].surface.mu = self->scene_.effects.has(Effect::friction) ? m.mu : 0.0;
       c[k].surface.bounce = impulse_engine_restitution(m, meff);
       c[k].surface.bounce_vel = 0;
       dJointID j = dJointCreateContact(self->world_, self->contacts_, &c[k]);
@@ -365,8 +362,8 @@ class OdeEngine final : public Engine {
 
 }  // namespace
 
-std::unique_ptr<Engine> make_ode_engine(const Scene& scene) {
-  return std::make_unique<OdeEngine>(scene);
+std::unique_ptr<Engine> make_ode_engine(const Scene& scene, std::vector<BodySpec> bodies) {
+  return std::make_unique<OdeEngine>(scene, std::move(bodies));
 }
 
 }  // namespace grainlab

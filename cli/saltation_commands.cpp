@@ -296,6 +296,49 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::ExistingFile);
   study->add_option("--stop-after", study_stop_after, "stop after this many new runs, leaving the checkpoint")
       ->check(CLI::Range(1, 1000000));
+  dem_app = group->add_subcommand(
+      "dem", "saltation from first principles: a periodic DEM bed under a wind the grains slow down");
+  dem_app->add_option("--ustar", dem.u_star, "wind-shear velocity, cm/s")
+      ->default_val(40)
+      ->check(CLI::Range(0.0, 1000.0));
+  dem_app->add_option("--diameter", dem.diameter, "mean grain diameter, cm")
+      ->default_val(0.025)
+      ->check(CLI::Range(1e-4, 1.0));
+  dem_app->add_option("--polydispersity", dem.polydispersity, "radii uniform in mean x (1 +- this)")
+      ->default_val(0.15)
+      ->check(CLI::Range(0.0, 0.5));
+  dem_app->add_option("--columns", dem.columns, "grains per layer (bed width = columns x 1.38 d)")
+      ->default_val(400)
+      ->check(CLI::Range(8, 1000000));
+  dem_app->add_option("--layers", dem.layers, "layers of the bed")
+      ->default_val(12)
+      ->check(CLI::Range(2, 10000));
+  dem_app->add_option("--k-n", dem.k_n, "contact stiffness, dyn/cm (reduced; k_s = k_n / 2)")
+      ->default_val(2e5)
+      ->check(CLI::Range(1e2, 1e12));
+  dem_app->add_option("--restitution", dem.restitution, "normal restitution")
+      ->default_val(0.9)
+      ->check(CLI::Range(0.0, 1.0));
+  dem_app->add_option("--mu", dem.mu, "friction coefficient")->default_val(0.5)->check(CLI::Range(0.0, 10.0));
+  dem_app->add_option("--duration", dem.duration, "physical time, s")
+      ->default_val(2.0)
+      ->check(CLI::Range(1e-3, 1e4));
+  dem_app->add_option("--average-from", dem.average_from, "start of the steady-state window, s")
+      ->default_val(1.0)
+      ->check(CLI::Range(0.0, 1e4));
+  dem_app
+      ->add_option("--kick-speed", dem.kick_speed,
+                   "speed of the grains thrown to start saltation, cm/s (0: none)")
+      ->default_val(100)
+      ->check(CLI::Range(0.0, 1e4));
+  dem_app->add_option("--sample-interval", dem.sample_interval, "s between samples of every grain")
+      ->default_val(1e-4)
+      ->check(CLI::Range(1e-7, 1.0));
+  dem_app->add_option("--seed", dem.seed, "seed of the bed's radii")->default_val(18);
+  dem_app->add_option("--out,-o", dem_out, "output folder: JSON, profiles, time series, splash.h5, plots");
+  dem_app->add_flag("--force", force, "replace --out");
+  dem_app->add_flag("--json", dem_json, "print the result as JSON");
+  dem_app->add_flag("--quiet", quiet, "no progress bar");
   wind->add_flag("--json", wind_json,
                  "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }
@@ -303,6 +346,7 @@ void SaltationCommands::add(CLI::App& app) {
 int SaltationCommands::dispatch() const {
   if (wind && *wind) return wind_command(*this);
   if (study && *study) return study_command(*this);
+  if (dem_app && *dem_app) return dem_command(*this);
   if (!conveyor || !*conveyor) return -1;
   return case_name == "D" || case_name == "E" ? map_case(*this) : distribution_case(*this);
 }

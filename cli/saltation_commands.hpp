@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "dem_saltation.hpp"
+
 namespace grainlab::cli {
 
 struct SaltationCommands {
@@ -30,11 +32,16 @@ struct SaltationCommands {
   std::string study_out, study_restart;
   int study_stop_after = 0;
   bool study_json = false, quiet = false;
-  CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr;
+  // grainlab saltation dem
+  validation::DemSaltationOptions dem;
+  std::string dem_out;
+  bool dem_json = false;
+  CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr, *dem_app = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
 
 int study_command(const SaltationCommands& a);
+int dem_command(const SaltationCommands& a);
 
 }  // namespace grainlab::cli

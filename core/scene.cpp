@@ -14,29 +14,21 @@ namespace grainlab {
 
 namespace {
 
-const std::vector<std::string> kEffectNames = {"gravity", "normal_contact", "friction", "rotation"};
-
 Effects read_effects(const TomlReader& r) {
   Effects e;
-  if (!r.has("effects"))
-    r.fail("effects", "required: list the effects this scene needs, from " +
-                          fmt::format("{}", fmt::join(kEffectNames, ", ")));
+  const std::string known = fmt::format("{}", fmt::join(known_effect_names(), ", "));
+  if (!r.has("effects")) r.fail("effects", "required: list the effects this scene needs, from " + known);
   std::set<std::string> seen;
   for (const std::string& name : r.string_list("effects")) {
     if (!seen.insert(name).second) r.fail("effects", "\"" + name + "\" is listed twice");
-    if (name == "gravity")
-      e.gravity = true;
-    else if (name == "normal_contact")
-      e.normal_contact = true;
-    else if (name == "friction")
-      e.friction = true;
-    else if (name == "rotation")
-      e.rotation = true;
-    else
-      r.fail("effects", fmt::format("unknown effect \"{}\"; known: {}", name, fmt::join(kEffectNames, ", ")));
+    const std::optional<Effect> id = effect_named(name);
+    if (!id) r.fail("effects", fmt::format("unknown effect \"{}\"; known: {}", name, known));
+    e.set(*id);
   }
-  if (e.friction && !e.normal_contact)
-    r.fail("effects", "\"friction\" needs \"normal_contact\": friction is capped by the normal force");
+  for (const EffectInfo& info : effect_registry())
+    for (Effect need : info.needs)
+      if (e.has(info.id) && !e.has(need))
+        r.fail("effects", fmt::format("\"{}\" needs \"{}\"", info.name, effect_info(need).name));
   return e;
 }
 
@@ -119,6 +111,8 @@ class SceneReader {
     read_walls(top);
     read_assemblies(top);
     read_output(top);
+    read_fluid(top);
+    read_wind(top);
     top.finish();
     check_pairs_exist(top);
     check_ids();
@@ -181,9 +175,18 @@ class SceneReader {
       a.settle_time *= u.time;
       a.radius.a *= L;  // fixed radius, minimum or mean
       a.radius.b *= L;  // maximum or standard deviation
-      a.density *= M / (L * L);
+      a.density *= a.spheres ? M / (L * L * L) : M / (L * L);
       a.velocity = a.velocity * V;
     }
+    // The fluid: densities are 3-D (mass / length^3) whatever the dimension.
+    s_.fluid.density *= M / (L * L * L);
+    s_.fluid.grain_density *= M / (L * L * L);
+    s_.fluid.viscosity *= L * L / u.time;
+    WindSpec& w = s_.wind;
+    w.u_star *= V;
+    for (double* len_key : {&w.roughness, &w.bin_height, &w.top, &w.thickness}) *len_key *= L;
+    if (w.bed_level) *w.bed_level *= L;
+    w.update_interval *= u.time;
     s_.duration *= u.time;
     s_.accuracy.dt *= u.time;
     s_.accuracy.dt_min *= u.time;
@@ -313,7 +316,7 @@ class SceneReader {
   }
 
   void check_material(const TomlReader& r, const Material& m) {
-    if (s_.effects.friction && m.k_s <= 0)
+    if (s_.effects.has(Effect::friction) && m.k_s <= 0)
       r.fail("k_s", "the scene lists \"friction\", so the shear spring k_s must be given and > 0");
   }
 
@@ -331,7 +334,7 @@ class SceneReader {
       return m;
     }
     if (s_.materials.size() == 1) return used_materials_.insert(0), 0;
-    if (!s_.effects.normal_contact) return 0;
+    if (!s_.effects.has(Effect::normal_contact)) return 0;
     r.fail("material", s_.materials.empty() ? "the scene has contacts but defines no [materials.NAME]"
                                             : "required when the scene defines more than one material");
   }
@@ -556,7 +559,15 @@ class SceneReader {
       a.where = r.where_table();
       const std::string type = r.string("type");
       a.radius = read_size(r);
-      a.density = r.number("density", Range::positive());
+      if (r.has("density") == r.has("sphere_density"))
+        r.fail("density", "give exactly one of density (mass per area: discs) and sphere_density (mass per "
+                          "volume: each disc has the mass of the sphere of its radius)");
+      if (r.has("sphere_density")) {
+        a.density = r.number("sphere_density", Range::positive());
+        a.spheres = true;
+      } else {
+        a.density = r.number("density", Range::positive());
+      }
       a.velocity = r.vec2_or("velocity", {0, 0});
       a.origin = r.vec2("origin");
       a.material = material_of(r);
@@ -606,8 +617,72 @@ class SceneReader {
     r.finish();
   }
 
+  // A table read only by effects the scene does not list is a mistake (the wind would silently not blow).
+  bool table_wanted(const TomlReader& top, const std::string& table) {
+    std::vector<std::string> readers;
+    bool wanted = false;
+    for (const EffectInfo& e : effect_registry())
+      for (const std::string& key : e.scene_keys)
+        if (key == table || key.rfind(table + ".", 0) == 0) {
+          readers.push_back("\"" + e.name + "\"");
+          wanted = wanted || s_.effects.has(e.id);
+          break;
+        }
+    if (!wanted && top.subtable(table))
+      throw InputError(top.where_table(), table,
+                       fmt::format("[{}] is read by the effect {}, which [scene] effects does not list",
+                                   table, fmt::join(readers, " or ")));
+    return wanted;
+  }
+
+  void read_fluid(const TomlReader& top) {
+    if (!table_wanted(top, "fluid")) return;
+    TomlReader r = section(top, "fluid", false);
+    FluidSpec& f = s_.fluid;
+    f.density = r.number_or("density", f.density, Range::non_negative());
+    f.viscosity = r.number_or("viscosity", f.viscosity, Range::positive());
+    f.grain_density = r.number_or("grain_density", f.grain_density, Range::positive());
+    if (f.density >= f.grain_density)
+      r.fail("density", "must be below grain_density (the grains would float)");
+    r.finish();
+  }
+
+  void read_wind(const TomlReader& top) {
+    if (!table_wanted(top, "wind")) return;
+    TomlReader r = section(top, "wind", true);
+    WindSpec& w = s_.wind;
+    const std::string model = r.string_or("model", "mixing_length");
+    if (model == "fixed")
+      w.model = WindSpec::Model::Fixed;
+    else if (model == "mixing_length")
+      w.model = WindSpec::Model::MixingLength;
+    else if (model == "van_driest")
+      w.model = WindSpec::Model::VanDriest;
+    else
+      r.fail("model", "must be \"mixing_length\", \"van_driest\" or \"fixed\", found \"" + model + "\"");
+    const std::string law = r.string_or("drag_law", "thesis");
+    if (law == "thesis")
+      w.drag_law = WindSpec::DragLaw::Thesis;
+    else if (law == "dalla_valle")
+      w.drag_law = WindSpec::DragLaw::DallaValle;
+    else
+      r.fail("drag_law", "must be \"thesis\" (eqs 4.30-4.31) or \"dalla_valle\", found \"" + law + "\"");
+    w.u_star = r.number("u_star", Range::non_negative());
+    w.kappa = r.number_or("kappa", w.kappa, Range::closed(0.1, 1));
+    w.roughness = r.number_or("roughness", 0, Range::non_negative());
+    w.bin_height = r.number_or("bin_height", 0, Range::non_negative());
+    w.top = r.number_or("top", 0, Range::non_negative());
+    w.update_interval = r.number_or("update_interval", w.update_interval, Range::positive());
+    w.inertia = r.boolean_or("inertia", w.inertia);
+    w.thickness = r.number_or("thickness", 0, Range::non_negative());
+    if (r.has("bed_level")) w.bed_level = r.number("bed_level");
+    if (w.bin_height > 0 && w.top > 0 && w.top / w.bin_height > 1e6)
+      r.fail("top", "more than a million wind bins: raise bin_height or lower top");
+    r.finish();
+  }
+
   void check_pairs_exist(const TomlReader& top) {
-    if (!s_.effects.normal_contact) return;
+    if (!s_.effects.has(Effect::normal_contact)) return;
     for (int a : used_materials_)
       for (int b : used_materials_)
         if (a < b && !s_.pair_materials.count({a, b}))
@@ -776,19 +851,6 @@ std::string reader_key(std::string key) {
 }
 
 }  // namespace
-
-std::vector<std::string> Effects::names() const {
-  std::vector<std::string> n;
-  if (gravity) n.push_back("gravity");
-  if (normal_contact) n.push_back("normal_contact");
-  if (friction) n.push_back("friction");
-  if (rotation) n.push_back("rotation");
-  return n;
-}
-
-const std::vector<std::string>& known_effect_names() {
-  return kEffectNames;
-}
 
 const Material& Scene::pair(int a, int b) const {
   if (a == b) return materials.at(a);

@@ -8,22 +8,45 @@
 #include <string>
 #include <vector>
 
+#include "effects.hpp"
 #include "input_error.hpp"
 #include "polyhedron.hpp"
 #include "vec2.hpp"
 
 namespace grainlab {
 
-// The physical effects a scene can ask for. An engine runs the kernels of the active ones only.
-struct Effects {
-  bool gravity = false;
-  bool normal_contact = false;
-  bool friction = false;
-  bool rotation = false;
-  std::vector<std::string> names() const;
+// The fluid around the grains (effects wind_drag and buoyancy). In 2-D each disc stands for a sphere of
+// the same radius and `grain_density`, so drag and buoyancy act as the accelerations they give that sphere.
+struct FluidSpec {
+  double density = 0.00123;     // g/cm^3 (air)
+  double viscosity = 0.146;     // kinematic, cm^2/s
+  double grain_density = 2.65;  // g/cm^3, of the grains the bodies stand for
 };
-// Every effect name a scene may list, in documentation order.
-const std::vector<std::string>& known_effect_names();
+
+// The wind of effect wind_drag: a horizontally averaged profile u(y) over the bed, its shear stress
+// reduced by the grains' drag (docs/saltation.md, "DEM saltation").
+struct WindSpec {
+  // Fixed: the clean log law, no feedback. MixingLength: the thesis's tau = rho (kappa z du/dz)^2 with
+  // the grains' drag taken out of it. VanDriest: l = kappa z (1 - exp(-z u*/(26 nu))) plus molecular
+  // viscosity (Huo et al. 2021).
+  enum class Model { Fixed, MixingLength, VanDriest };
+  enum class DragLaw { Thesis, DallaValle };
+  Model model = Model::MixingLength;
+  DragLaw drag_law = DragLaw::Thesis;  // Thesis: eqs 4.30-4.31; DallaValle: (0.63 + 4.8/sqrt(Re))^2
+  double u_star = 0;                   // cm/s, shear velocity above the grains
+  double kappa = 0.4;
+  double roughness = 0;           // cm; 0: median grain diameter / 30 (the thesis's y0)
+  double bin_height = 0;          // cm, the wind's cells; 0: median grain radius
+  double top = 0;                 // cm above the bed; 0: 1000 median diameters
+  double update_interval = 2e-4;  // s between wind updates
+  // The air's own inertia: false (default) solves the steady column for the drag of the last interval
+  // at every update (the thesis's steady-state wind); true advances rho du/dt by update_interval (the
+  // DEM literature's form; the column's stored momentum then takes seconds to drain from the clean
+  // profile).
+  bool inertia = false;
+  double thickness = 0;  // cm, the slab a 2-D bed stands for; 0: median grain diameter
+  std::optional<double> bed_level;  // cm; unset: found from the grains' packing every update
+};
 
 // How the velocity-dependent part of a contact force is specified. All three end up as a force
 // coefficient c(m_eff) in g/s, so f_damp = -c v (see docs/physics.md, "damping convention").
@@ -140,7 +163,8 @@ struct AssemblySpec {
   double width = 0;        // poured: width of the box discs are dropped into
   double settle_time = 0;  // poured: simulated time to let the pour settle
   SizeDistribution radius;
-  double density = 0;  // 2-D density, mass per area
+  double density = 0;   // 2-D density, mass per area; with `spheres`, mass per volume
+  bool spheres = false;  // each disc has the mass and moment of inertia of the sphere of its radius
   Vec2 velocity{};
   int material = 0;
   SourceLocation where;
@@ -173,6 +197,8 @@ struct Scene {
   bool clip_attractive_normal_force = false;
   double overlap_tolerance = 0.01;  // allowed initial overlap as a fraction of the smaller radius
   Effects effects;
+  FluidSpec fluid;
+  WindSpec wind;
   Accuracy accuracy;
   std::vector<Material> materials;
   std::map<std::pair<int, int>, Material> pair_materials;  // explicit pair materials, keyed (min, max)

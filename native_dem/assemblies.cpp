@@ -39,8 +39,8 @@ BodySpec disc(const AssemblySpec& a, std::int64_t id, Vec2 pos, double r) {
   b.id = id;
   b.shape = BodySpec::Shape::Disc;
   b.radius = r;
-  b.mass = a.density * M_PI * r * r;
-  b.inertia = 0.5 * b.mass * r * r;
+  b.mass = a.spheres ? a.density * 4.0 / 3.0 * M_PI * r * r * r : a.density * M_PI * r * r;
+  b.inertia = (a.spheres ? 0.4 : 0.5) * b.mass * r * r;
   b.position = pos;
   b.velocity = a.velocity;
   b.material = a.material;
@@ -56,7 +56,8 @@ std::vector<BodySpec> pour(const Scene& scene, const AssemblySpec& a, std::int64
   Scene settle = scene;
   settle.bodies.clear();
   settle.assemblies.clear();
-  settle.effects.gravity = settle.effects.normal_contact = true;
+  settle.effects.set(Effect::gravity);
+  settle.effects.set(Effect::normal_contact);
   double kmax = 0, mmin = 1e300;
   for (const Material& m : scene.materials) kmax = std::max(kmax, m.k_n);
   for (int k = 0; k < a.count; ++k) {

@@ -252,16 +252,22 @@ void World::compute_forces(double t, double shear_h, bool body_forces_ready) {
   for (Wall& wall : walls_) wall.at(t);
   if (!body_forces_ready) {
     const std::size_t n = n_own_;
-    const double gx = effects_.gravity ? g_.x : 0.0, gy = effects_.gravity ? g_.y : 0.0;
+    const double gx = effects_.has(Effect::gravity) ? g_.x : 0.0,
+                 gy = effects_.has(Effect::gravity) ? g_.y : 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       p_.fx[i] = p_.m[i] * gx;
       p_.fy[i] = p_.m[i] * gy;
     }
-    if (effects_.rotation) std::fill(p_.tq.begin(), p_.tq.begin() + static_cast<long>(n), 0.0);
+    if (effects_.has(Effect::rotation)) std::fill(p_.tq.begin(), p_.tq.begin() + static_cast<long>(n), 0.0);
+  }
+  if (wind_) {
+    const auto w0 = std::chrono::steady_clock::now();
+    wind_->add_drag(p_, n_own_);
+    diag_.seconds_wind += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
   }
   pair_force_.clear();
-  if (!effects_.normal_contact) return;
-  const bool f = effects_.friction, r = effects_.rotation;
+  if (!effects_.has(Effect::normal_contact)) return;
+  const bool f = effects_.has(Effect::friction), r = effects_.has(Effect::rotation);
   if (f && r)
     ForceKernels::all_contacts<true, true>(*this, shear_h);
   else if (f)
@@ -273,7 +279,7 @@ void World::compute_forces(double t, double shear_h, bool body_forces_ready) {
 }
 
 void World::commit_history() {
-  if (!effects_.friction) return;
+  if (!effects_.has(Effect::friction)) return;
   discs_.xi.swap(discs_.xi_new);
   for (WallList& L : wall_lists_) L.xi.swap(L.xi_new);
   general_xi_.swap(general_xi_new_);

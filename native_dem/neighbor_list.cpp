@@ -110,7 +110,7 @@ void World::wrap_periodic() {
 
 std::vector<World::SavedShear> World::save_history() const {
   std::vector<SavedShear> saved;
-  if (!effects_.friction) return saved;
+  if (!effects_.has(Effect::friction)) return saved;
   for (std::size_t i = 0; i + 1 < discs_.offset.size(); ++i)
     for (std::uint32_t k = discs_.offset[i]; k < discs_.offset[i + 1]; ++k)
       if (discs_.xi[k] != 0) {
@@ -257,7 +257,7 @@ void World::build_incidence() {
 }
 
 void World::restore_history(std::vector<SavedShear>& saved) {
-  if (!effects_.friction) return;
+  if (!effects_.has(Effect::friction)) return;
   discs_.xi.assign(discs_.j.size(), 0.0);
   discs_.xi_new.assign(discs_.j.size(), 0.0);
   if (!saved.empty())

@@ -1,6 +1,7 @@
 #include "world.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <functional>
 
@@ -26,6 +27,8 @@ World::World(const Scene& scene, Decomposition decomposition)
   wall_lists_.resize(walls_.size());
   add_bodies_from_scene();
   expand_assemblies();
+  if (effects_.has(Effect::buoyancy)) g_ = g_ * (1 - scene.fluid.density / scene.fluid.grain_density);
+  if (effects_.has(Effect::wind_drag)) wind_.emplace(scene_, p_, p_.size());
   double rmin = 1e300;
   for (double r : p_.r) rmin = std::min(rmin, r);
   skin_ = scene.accuracy.skin.value_or(p_.size() ? 0.25 * rmin : 1.0);
@@ -49,11 +52,11 @@ void World::add_particle(const BodySpec& b) {
   p_.th[i] = b.angle;
   p_.vx[i] = b.velocity.x;
   p_.vy[i] = b.velocity.y;
-  p_.w[i] = effects_.rotation ? b.spin : 0.0;
+  p_.w[i] = effects_.has(Effect::rotation) ? b.spin : 0.0;
   p_.m[i] = b.mass;
   p_.inv_m[i] = 1 / b.mass;
   p_.inertia[i] = b.inertia;
-  p_.inv_inertia[i] = effects_.rotation ? 1 / b.inertia : 0.0;
+  p_.inv_inertia[i] = effects_.has(Effect::rotation) ? 1 / b.inertia : 0.0;
   p_.r[i] = b.radius;
   p_.id[i] = b.id;
   p_.mat[i] = b.material;
@@ -84,6 +87,11 @@ double World::step() {
   else
     step_predictor_corrector();
   count_step(diag_, t_ - t_before);
+  if (wind_) {
+    const auto w0 = std::chrono::steady_clock::now();
+    wind_->after_step(p_, n_own_, t_, t_ - t_before, domain_.has_value());
+    diag_.seconds_wind += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  }
   finish_step_impulses(t_ - t_before);
   return t_ - t_before;
 }
@@ -111,7 +119,8 @@ void World::step_verlet() {
   if (after_step_) pair_force_start_ = pair_force_;  // the kick below applies these forces
   // One pass: kick, drift, restart the forces from gravity, and track the largest displacement since
   // the neighbour list was built (memory traffic dominates at large N, so passes are fused).
-  const double gx = effects_.gravity ? g_.x : 0.0, gy = effects_.gravity ? g_.y : 0.0;
+  const double gx = effects_.has(Effect::gravity) ? g_.x : 0.0,
+               gy = effects_.has(Effect::gravity) ? g_.y : 0.0;
   double *x = p_.x.data(), *y = p_.y.data(), *vx = p_.vx.data(), *vy = p_.vy.data();
   double *fx = p_.fx.data(), *fy = p_.fy.data();
   const double *im = p_.inv_m.data(), *m = p_.m.data(), *xb = x_build_.data(), *yb = y_build_.data();
@@ -130,7 +139,7 @@ void World::step_verlet() {
       max_d2 = std::max(max_d2, dx * dx + dy * dy);
     }
   }
-  if (effects_.rotation) {
+  if (effects_.has(Effect::rotation)) {
     double *w = p_.w.data(), *th = p_.th.data(), *tq = p_.tq.data();
     const double* iI = p_.inv_inertia.data();
     for (std::size_t i = 0; i < n; ++i) {
@@ -150,7 +159,7 @@ void World::step_verlet() {
     p_.vx[i] += h * p_.fx[i] * p_.inv_m[i];
     p_.vy[i] += h * p_.fy[i] * p_.inv_m[i];
   }
-  if (effects_.rotation)
+  if (effects_.has(Effect::rotation))
     for (std::size_t i = 0; i < n_own_; ++i) p_.w[i] += h * p_.tq[i] * p_.inv_inertia[i];
 }
 
@@ -174,7 +183,7 @@ void World::step_predictor_corrector() {
   for (std::size_t i = 0; i < n; ++i) {
     ax0_[i] = p_.fx[i] * p_.inv_m[i];
     ay0_[i] = p_.fy[i] * p_.inv_m[i];
-    al0_[i] = effects_.rotation ? p_.tq[i] * p_.inv_inertia[i] : 0.0;
+    al0_[i] = effects_.has(Effect::rotation) ? p_.tq[i] * p_.inv_inertia[i] : 0.0;
   }
   // Ratios are not trusted below a floor: the scene's absolute velocity_floor or 1 % of the fastest
   // particle's speed (a grain at rest, or reversing, next to a moving one must not stall the step).
@@ -192,7 +201,7 @@ void World::step_predictor_corrector() {
     };
     predict(p_.vx_prev, vx0_, ax0_, x0_, p_.vx, p_.x);
     predict(p_.vy_prev, vy0_, ay0_, y0_, p_.vy, p_.y);
-    if (effects_.rotation) predict(p_.w_prev, w0_, al0_, th0_, p_.w, p_.th);
+    if (effects_.has(Effect::rotation)) predict(p_.w_prev, w0_, al0_, th0_, p_.w, p_.th);
     ghosts_fresh_ = false;
     compute_forces(t_ + dt, dt);
 
@@ -211,7 +220,7 @@ void World::step_predictor_corrector() {
     };
     correct(vx0_, ax0_, p_.fx, p_.inv_m, x0_, p_.vx, p_.x, false);
     correct(vy0_, ay0_, p_.fy, p_.inv_m, y0_, p_.vy, p_.y, false);
-    if (effects_.rotation) correct(w0_, al0_, p_.tq, p_.inv_inertia, th0_, p_.w, p_.th, true);
+    if (effects_.has(Effect::rotation)) correct(w0_, al0_, p_.tq, p_.inv_inertia, th0_, p_.w, p_.th, true);
 
     if (domain_) err = parallel::max_all(err);  // every rank accepts or rejects the same step
     if (!control_step(err, dt, t_, acc, dt_, diag_)) {
@@ -235,16 +244,16 @@ void World::step_predictor_corrector() {
 // Each owned particle's share (its kinetic and potential energy, half of each pair spring, all of its
 // wall springs) is summed in id order over all ranks: the same bits whatever the decomposition.
 Energies World::energies() const {
-  const double gx = effects_.gravity ? g_.x : 0, gy = effects_.gravity ? g_.y : 0;
+  const double gx = effects_.has(Effect::gravity) ? g_.x : 0, gy = effects_.has(Effect::gravity) ? g_.y : 0;
   std::vector<double> share(5 * n_own_, 0.0);  // id, translational, rotational, gravity, elastic
   for (std::size_t i = 0; i < n_own_; ++i) {
     double* e = &share[5 * i];
     e[0] = static_cast<double>(p_.id[i]);
     e[1] = 0.5 * p_.m[i] * (p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i]);
-    if (effects_.rotation) e[2] = 0.5 * p_.inertia[i] * p_.w[i] * p_.w[i];
+    if (effects_.has(Effect::rotation)) e[2] = 0.5 * p_.inertia[i] * p_.w[i] * p_.w[i];
     e[3] = -p_.m[i] * (gx * p_.x[i] + gy * p_.y[i]);
   }
-  if (effects_.normal_contact) {
+  if (effects_.has(Effect::normal_contact)) {
     // Normal springs and committed shear springs, half to each partner, added in partner-id order.
     std::vector<double> pair_u(discs_.j.size(), 0.0);
     for (std::size_t i = 0; i + 1 < discs_.offset.size(); ++i)
@@ -254,7 +263,7 @@ Energies World::energies() const {
         const double depth = p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy);
         const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + p_.mat[j]];
         if (depth > 0) pair_u[k] += 0.5 * L.k_n * depth * depth;
-        if (effects_.friction) pair_u[k] += 0.5 * L.k_s * discs_.xi[k] * discs_.xi[k];
+        if (effects_.has(Effect::friction)) pair_u[k] += 0.5 * L.k_s * discs_.xi[k] * discs_.xi[k];
       }
     for (std::size_t i = 0; i < n_own_; ++i)
       for (std::uint32_t e = discs_.inc_offset[i]; e < discs_.inc_offset[i + 1]; ++e)
@@ -266,7 +275,8 @@ Energies World::energies() const {
         const ContactLaw& L = laws_[p_.mat[i] * n_mat_ + walls_[w].spec.material];
         if (disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c))
           share[5 * i + 4] += 0.5 * L.k_n * c.depth * c.depth;
-        if (effects_.friction) share[5 * i + 4] += 0.5 * L.k_s * wall_lists_[w].xi[k] * wall_lists_[w].xi[k];
+        if (effects_.has(Effect::friction))
+          share[5 * i + 4] += 0.5 * L.k_s * wall_lists_[w].xi[k] * wall_lists_[w].xi[k];
       }
   }
   std::vector<double> all = domain_ ? parallel::gather_all(share) : std::move(share);
@@ -282,7 +292,7 @@ Energies World::energies() const {
     e.potential_gravity += all[5 * k + 3];
     e.elastic += all[5 * k + 4];
   }
-  if (effects_.normal_contact) e.elastic += polygon_elastic_energy();
+  if (effects_.has(Effect::normal_contact)) e.elastic += polygon_elastic_energy();
   return e;
 }
 

@@ -15,6 +15,7 @@
 #include "particles.hpp"
 #include "scene.hpp"
 #include "walls.hpp"
+#include "wind.hpp"
 #include "world_types.hpp"
 
 namespace grainlab::dem {
@@ -83,6 +84,8 @@ class World {
   const Effects& effects() const { return effects_; }
   const Diagnostics& diagnostics() const { return diag_; }
   const Scene& scene() const { return scene_; }
+  // The wind of effect wind_drag (null without it).
+  const WindField* wind() const { return wind_ ? &*wind_ : nullptr; }
   Energies energies() const;
   // Index of the particle with stable id `id`, or -1.
   long index_of(std::int64_t id) const;
@@ -148,7 +151,8 @@ class World {
   std::vector<Wall> walls_;
   std::vector<ContactLaw> laws_;  // [mat_a * n_mat + mat_b]
   int n_mat_ = 1;
-  Vec2 g_{};
+  Vec2 g_{};  // gravity, reduced by buoyancy when that effect is on
+  std::optional<WindField> wind_;
   double period_ = 0, xmin_ = 0;  // periodic in x when period_ > 0
   double t_ = 0, dt_ = 0, dt_prev_ = 0;
   bool have_prev_ = false;
@@ -204,6 +208,7 @@ struct WorldState {
   double t = 0, dt = 0, dt_prev = 0;
   bool have_prev = false;
   Diagnostics diagnostics;
+  std::vector<double> wind;  // WindField::save(), empty without wind_drag
 };
 
 // A state as tables (prefix + "particles", "history", "clock") for a checkpoint file, and back.

@@ -36,7 +36,19 @@ Quat turned(const Quat& q, const Vec3& w, double dt) {
 }
 }  // namespace
 
+namespace {
+// Gravity as the effects give it: off, as given, or reduced by buoyancy.
+Vec3 effective_gravity(const Scene& s) {
+  if (!s.effects.has(Effect::gravity)) return Vec3::Zero();
+  const double keep = s.effects.has(Effect::buoyancy) ? 1 - s.fluid.density / s.fluid.grain_density : 1.0;
+  return s.gravity3d * keep;
+}
+}  // namespace
+
 World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
+  if (effects_.has(Effect::wind_drag))
+    throw InputError({scene.path, 0}, "effects",
+                     "the native engine models \"wind_drag\" in 2-D only so far (docs/saltation.md)");
   n_mat_ = std::max<int>(1, static_cast<int>(scene_.materials.size()));
   laws_ = contact_law_table(scene_);
   for (const Body3Spec& s : scene_.bodies3d) {
@@ -45,11 +57,11 @@ World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
     b.x = s.position;
     b.v = s.velocity;
     b.q = s.orientation;
-    b.w = effects_.rotation ? s.spin : Vec3::Zero();
+    b.w = effects_.has(Effect::rotation) ? s.spin : Vec3::Zero();
     b.m = s.mass;
     b.inv_m = 1 / s.mass;
     b.inertia = s.inertia;
-    b.inv_inertia = effects_.rotation ? Mat3(s.inertia.inverse()) : Mat3::Zero();
+    b.inv_inertia = effects_.has(Effect::rotation) ? Mat3(s.inertia.inverse()) : Mat3::Zero();
     b.isotropic = isotropic(b.inertia) && isotropic(b.inv_inertia);
     b.hull = s.shape == Body3Spec::Shape::Polyhedron ? &s.hull : nullptr;
     b.radius = s.radius;
@@ -68,7 +80,7 @@ World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
 }
 
 Vec3 World3d::angular_acceleration(const Body3& b) const {
-  if (!effects_.rotation) return Vec3::Zero();
+  if (!effects_.has(Effect::rotation)) return Vec3::Zero();
   const Mat3 R = b.q.toRotationMatrix();
   const Mat3 I = R * b.inertia * R.transpose();
   return R * b.inv_inertia * R.transpose() * (b.tq - b.w.cross(I * b.w));
@@ -85,7 +97,7 @@ void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const Cont
   const double meff = b ? a.m * b->m / (a.m + b->m) : a.m;
   const double fn = normal_force(law, c.depth, vn, law.normal.coefficient(meff));
   Vec3 F = fn * c.normal;
-  if (effects_.friction) {
+  if (effects_.has(Effect::friction)) {
     const Vec3 vt = vrel - vn * c.normal;
     const ContactKey3 key{a.id, key_b, c.feature};
     Vec3 xi = Vec3::Zero();
@@ -109,7 +121,7 @@ void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const Cont
   }
   a.f += F;
   if (b) b->f -= F;
-  if (effects_.rotation) {
+  if (effects_.has(Effect::rotation)) {
     a.tq += ra.cross(F);
     if (b) b->tq -= rb.cross(F);
   }
@@ -126,7 +138,7 @@ void World3d::bin_bodies(SphereCells& cells, std::vector<Vec3>& centres, double 
 
 void World3d::compute_forces(double h) {
   ++diag_.force_evaluations;
-  const Vec3 g = effects_.gravity ? scene_.gravity3d : Vec3::Zero();
+  const Vec3 g = effective_gravity(scene_);
   for (Body3& b : b_) {
     b.f = b.m * g;
     b.tq.setZero();
@@ -134,7 +146,7 @@ void World3d::compute_forces(double h) {
   trial_.clear();
   step_force_.clear();
   contacts_now_ = 0;
-  if (!effects_.normal_contact) return;
+  if (!effects_.has(Effect::normal_contact)) return;
   for (std::size_t i = 0; i < b_.size(); ++i) {
     placed_[i].x = b_[i].x;
     placed_[i].q = b_[i].q;
@@ -200,7 +212,7 @@ void World3d::step_verlet() {
   for (Body3& b : b_) {
     b.v += h * b.inv_m * b.f;
     b.x += dt * b.v;
-    if (!effects_.rotation) continue;
+    if (!effects_.has(Effect::rotation)) continue;
     const Vec3 L = b.angular_momentum() + h * b.tq;
     b.w = b.world_inv_inertia() * L;
     if (b.isotropic) {  // the half-step orientation cannot change the inertia: skip it
@@ -217,7 +229,7 @@ void World3d::step_verlet() {
   commit_history();
   for (Body3& b : b_) {
     b.v += h * b.inv_m * b.f;
-    if (effects_.rotation) b.w = b.world_inv_inertia() * (b.angular_momentum() + h * b.tq);
+    if (effects_.has(Effect::rotation)) b.w = b.world_inv_inertia() * (b.angular_momentum() + h * b.tq);
   }
 }
 
@@ -246,7 +258,7 @@ void World3d::step_predictor_corrector() {
       const Body3& s = start_[i];
       b.v = (have_prev_ ? v_prev_[i] : s.v) + back * a0_[i];
       b.x = s.x + dt * (s.v + b.v) / 2;
-      if (effects_.rotation) {
+      if (effects_.has(Effect::rotation)) {
         b.w = (have_prev_ ? w_prev_[i] : s.w) + back * al0_[i];
         b.q = turned(s.q, (s.w + b.w) / 2, dt);
       }
@@ -266,7 +278,7 @@ void World3d::step_predictor_corrector() {
       const Body3& s = start_[i];
       correct(s.v, a0_[i], b.f * b.inv_m, b.v, floor);
       b.x = s.x + dt * (s.v + b.v) / 2;
-      if (effects_.rotation) {
+      if (effects_.has(Effect::rotation)) {
         correct(s.w, al0_[i], angular_acceleration(b), b.w, floor / b.radius);
         b.q = turned(s.q, (s.w + b.w) / 2, dt);
       }
@@ -289,13 +301,13 @@ void World3d::step_predictor_corrector() {
 
 Energies World3d::energies() const {
   Energies e;
-  const Vec3 g = effects_.gravity ? scene_.gravity3d : Vec3::Zero();
+  const Vec3 g = effective_gravity(scene_);
   for (const Body3& b : b_) {
     e.kinetic_translational += 0.5 * b.m * b.v.squaredNorm();
-    if (effects_.rotation) e.kinetic_rotational += 0.5 * b.w.dot(b.angular_momentum());
+    if (effects_.has(Effect::rotation)) e.kinetic_rotational += 0.5 * b.w.dot(b.angular_momentum());
     e.potential_gravity -= b.m * g.dot(b.x);
   }
-  if (!effects_.normal_contact) return e;
+  if (!effects_.has(Effect::normal_contact)) return e;
   std::vector<Placed3> placed = placed_;
   for (std::size_t i = 0; i < b_.size(); ++i) {
     placed[i].x = b_[i].x;
@@ -326,7 +338,7 @@ Energies World3d::energies() const {
       spring(b_[i].material, plane_material_[k]);
     }
   }
-  if (effects_.friction)
+  if (effects_.has(Effect::friction))
     for (const auto& [key, s] : history_) e.elastic += 0.5 * s.k_s * s.xi.squaredNorm();
   return e;
 }

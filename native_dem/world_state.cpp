@@ -61,6 +61,7 @@ WorldState World::save_state() const {
   }
   s.t = t_, s.dt = dt_, s.dt_prev = dt_prev_, s.have_prev = have_prev_;
   s.diagnostics = diag_;
+  if (wind_) s.wind = wind_->save();  // replicated on every rank
   return s;
 }
 
@@ -101,6 +102,7 @@ void World::restore_state(const WorldState& s) {
   for (std::uint32_t k : mine) x_build_.push_back(s.x_build[k]), y_build_.push_back(s.y_build[k]);
   t_ = s.t, dt_ = s.dt, dt_prev_ = s.dt_prev, have_prev_ = s.have_prev;
   diag_ = s.diagnostics;
+  if (wind_) wind_->restore(s.wind);
   rebuild_after_restore(s.history);
 }
 
@@ -155,7 +157,8 @@ const std::vector<std::vector<double> Particles::*>& particle_fields() {
 std::map<std::string, std::vector<std::string>> state_table_columns(const std::string& prefix) {
   return {{prefix + "particles", kParticleColumns},
           {prefix + "history", kHistoryColumns},
-          {prefix + "clock", kClockColumns}};
+          {prefix + "clock", kClockColumns},
+          {prefix + "wind", {"value"}}};
 }
 
 std::vector<SampleTable> state_tables(const WorldState& s, const std::string& prefix) {
@@ -177,7 +180,10 @@ std::vector<SampleTable> state_tables(const WorldState& s, const std::string& pr
                     {{s.t, s.dt, s.dt_prev, s.have_prev ? 1.0 : 0.0, double(d.steps),
                       double(d.rejected_steps), double(d.force_evaluations), double(d.neighbor_rebuilds),
                       double(d.contacts), double(d.max_contacts), d.dt_last, d.dt_min_used, d.dt_max_used}}};
-  return {particles, history, clock};
+  SampleTable wind{
+      prefix + "wind", "the wind of effect wind_drag (native_dem/wind.cpp: WindField::save)", {"value"}, {}};
+  for (double v : s.wind) wind.rows.push_back({v});
+  return {particles, history, clock, wind};
 }
 
 WorldState state_from_tables(const std::map<std::string, SampleTable>& tables, const std::string& prefix) {
@@ -211,6 +217,8 @@ WorldState state_from_tables(const std::map<std::string, SampleTable>& tables, c
   d.neighbor_rebuilds = static_cast<std::uint64_t>(c[7]);
   d.contacts = static_cast<std::size_t>(c[8]), d.max_contacts = static_cast<std::size_t>(c[9]);
   d.dt_last = c[10], d.dt_min_used = c[11], d.dt_max_used = c[12];
+  if (tables.count(prefix + "wind"))
+    for (const std::vector<double>& row : tables.at(prefix + "wind").rows) s.wind.push_back(row.at(0));
   return s;
 }
 

@@ -18,6 +18,7 @@ struct Diagnostics {
   double dt_last = 0, dt_min_used = 0, dt_max_used = 0;
   // Where the time goes (wall seconds).
   double seconds_forces = 0, seconds_neighbors = 0;
+  double seconds_wind = 0;  // wind_drag: the drag on every grain and the wind's tallies and updates
 };
 
 }  // namespace grainlab::dem

@@ -47,8 +47,8 @@ InputError error_of(const std::string& text, const std::vector<std::string>& set
 TEST(Scene, GoodSceneReads) {
   const Scene s = parse_scene(kGood, "good.toml");
   EXPECT_EQ(s.bodies.size(), 2u);
-  EXPECT_TRUE(s.effects.gravity);
-  EXPECT_FALSE(s.effects.friction);
+  EXPECT_TRUE(s.effects.has(Effect::gravity));
+  EXPECT_FALSE(s.effects.has(Effect::friction));
   EXPECT_NEAR(s.bodies[0].mass, 2 * M_PI, 1e-12);
   EXPECT_NEAR(s.bodies[0].inertia, 0.5 * 2 * M_PI, 1e-12);
 }

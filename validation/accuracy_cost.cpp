@@ -35,7 +35,8 @@ std::unique_ptr<Engine> run(const CostSetting& s, const std::string& toml, doubl
   const auto d = e->diagnostics();
   m.steps = d.at("steps");
   m.rejected = d.at("rejected_steps");
-  if (d.count("force_evaluations") && s.engine == "native") m.iterations = d.at("force_evaluations");
+  if (d.count("force_evaluations") && engine_capabilities(s.engine).soft_contacts)
+    m.iterations = d.at("force_evaluations");
   for (const char* k : {"solver_velocity_iterations", "solver_iterations"})
     if (d.count(k) && s.method != "ode step") m.iterations = m.steps * d.at(k);
   return e;

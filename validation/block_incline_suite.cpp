@@ -69,7 +69,8 @@ spin = [{wx:.17g}, {wy:.17g}, {wz:.17g}]
 }
 
 std::vector<std::string> accuracy_for(const std::string& engine) {
-  if (engine == "native") return {"accuracy.dt=5e-6"};  // 1e9 dyn/cm on 50 g: 40 steps per contact
+  if (engine_capabilities(engine).soft_contacts)
+    return {"accuracy.dt=5e-6"};  // 1e9 dyn/cm on 50 g: 40 steps per contact
   return {"accuracy.dt=5e-4"};
 }
 

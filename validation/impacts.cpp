@@ -60,7 +60,7 @@ Scene impact_scene(const Bed& bed, const ImpactCase& c, const Aim& aim, const Im
   s.name = fmt::format("impact CASE {} on a {} bed", c.name, bed.spec.preparation);
   s.duration = o.duration;
   s.materials.at(0).mu = c.mu;
-  if (c.mu == 0) s.effects.friction = false;  // no shear springs to store for a frictionless bed
+  if (c.mu == 0) s.effects.set(Effect::friction, false);  // no shear springs to store for a frictionless bed
   BodySpec in;
   for (const BodySpec& b : s.bodies) in.id = std::max(in.id, b.id + 1);
   in.radius = c.radius;
@@ -72,7 +72,7 @@ Scene impact_scene(const Bed& bed, const ImpactCase& c, const Aim& aim, const Im
   const double mb = bed.spec.density * M_PI * bed.spec.radius * bed.spec.radius;
   const double tc = std::min(contact_time(bed.spec.k_n, mb, mb), contact_time(bed.spec.k_n, mb, in.mass));
   s.accuracy.integrator = Integrator::VelocityVerlet;
-  s.accuracy.dt = o.engine == "native" ? tc / o.steps_per_contact : o.rigid_dt;
+  s.accuracy.dt = engine_capabilities(o.engine).soft_contacts ? tc / o.steps_per_contact : o.rigid_dt;
   s.output.frames = static_cast<int>(std::round(o.duration / 1e-3));  // 1 ms frames when recorded
   return s;
 }
@@ -176,7 +176,7 @@ ImpactResult run_impact(const Bed& bed, const ImpactCase& c, std::uint64_t seed,
 BedHold hold_bed(const Bed& bed, const std::string& engine, double duration, double rigid_dt) {
   Scene s = bed.scene;
   s.duration = duration;
-  if (engine != "native") s.accuracy.dt = rigid_dt;
+  if (!engine_capabilities(engine).soft_contacts) s.accuracy.dt = rigid_dt;
   auto e = make_engine(engine, s);
   e->advance_to(duration);
   const Frame f = e->frame();

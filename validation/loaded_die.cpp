@@ -40,7 +40,7 @@ mu = {mu}
 // The accuracy each engine runs the die at: the native contact is stiff (1e8 dyn/cm: 0.04 cm
 // penetration at 150 cm/s), 45 Verlet steps per contact; the impulse engines take 1 ms steps.
 std::vector<std::string> accuracy_for(const std::string& engine) {
-  if (engine == "native") return {"accuracy.dt=2e-5"};
+  if (engine_capabilities(engine).soft_contacts) return {"accuracy.dt=2e-5"};
   return {"accuracy.dt=5e-4"};
 }
 }  // namespace

@@ -82,7 +82,7 @@ PairImpactResult pair_impact(const std::string& engine, int dimension, double sp
   // radius per step, so the line of centres at which the engine resolves the impact is the one at
   // contact to 1e-3 rad (at grazing incidence a small turn of the normal moves the normal velocity by
   // tan(angle) times as much).
-  const double dt = engine == "native" ? 1e-7 : 1e-3 * kRadius / speed;
+  const double dt = engine_capabilities(engine).soft_contacts ? 1e-7 : 1e-3 * kRadius / speed;
   const double approach = 0.01 / speed, contact = 5 * M_PI * std::sqrt(M_PI / kStiffness);
   const Scene scene = parse_scene(pair_scene(dimension, speed, angle, dt, approach + contact + 20 * dt),
                                   "<pair impact>", {fmt::format("accuracy.dt={}", dt)});

@@ -28,8 +28,8 @@ struct Case {
   }
 };
 
-bool is_native(const std::string& engine) {
-  return engine == "native";
+bool soft_contacts(const std::string& engine) {
+  return engine_capabilities(engine).soft_contacts;
 }
 
 // Largest |value - reference| over the cases `select` picks, and where.
@@ -64,7 +64,7 @@ void add_checks(Report& rep, const std::vector<Case>& cases, const std::string& 
   rep.expect_below(fmt::format("pair-impact/{}d/oblique-normal-restitution", dim), engine, w1, 0.01,
                    fmt::format("{} at 1000 cm/s, 5-70 deg: largest |e_n - 0.85| ({})", grains, at1));
   auto beta = [](const Case& c) { return c.r.tangential_restitution; };
-  if (is_native(engine)) {
+  if (soft_contacts(engine)) {
     // Sliding throughout (Walton's sliding value below -0.5, far under any sticking value seen).
     auto [w2, at2] = worst(
         cases, engine, dim, [](const Case& c) { return c.angle > 0 && c.sliding() <= -0.5; }, beta,
@@ -84,7 +84,7 @@ void add_checks(Report& rep, const std::vector<Case>& cases, const std::string& 
   // The spin is the tangential impulse's: rigid mechanics from the measured beta. Only for the impulse
   // engines: a soft contact's normal turns while it lasts, so its beta in one frame mixes in a little of
   // the (much larger) normal impulse at small angles, while its spin holds only the tangential one.
-  if (is_native(engine)) return;
+  if (soft_contacts(engine)) return;
   auto [w3, at3] = worst(
       cases, engine, dim, [](const Case& c) { return c.angle > 0; },
       [](const Case& c) { return c.r.spin / c.rigid_spin(c.r.tangential_restitution); },

@@ -79,7 +79,7 @@ Watch watch(const Case& c, const std::string& engine) {
   Watch w;
   const auto start = std::chrono::steady_clock::now();
   try {
-    const auto sets = engine == "native" ? c.native_sets : c.impulse_sets;
+    const auto sets = engine_capabilities(engine).soft_contacts ? c.native_sets : c.impulse_sets;
     auto e = engine_for(engine, c.toml, sets);
     // Mechanical energy (kinetic + gravitational): stored spring energy is left out, so a contact in
     // progress can only lower it and a rise is a real gain (and the engines are measured alike: the
@@ -520,8 +520,9 @@ velocity = [{vx:.17g}, 0.0, {vz:.17g}]
 )toml",
                                        fmt::arg("d", duration), fmt::arg("z", 1 + lead),
                                        fmt::arg("vx", v * std::sin(a)), fmt::arg("vz", -v * std::cos(a)));
-  const std::vector<std::string> sets =
-      engine == "native" ? std::vector<std::string>{} : std::vector<std::string>{"accuracy.dt=1e-6"};
+  const std::vector<std::string> sets = engine_capabilities(engine).soft_contacts
+                                            ? std::vector<std::string>{}
+                                            : std::vector<std::string>{"accuracy.dt=1e-6"};
   auto e = engine_for(engine, toml, sets);
   auto kinetic = [](const EnergyReport& er) { return er.kinetic_translational + er.kinetic_rotational; };
   const double before = kinetic(e->energies());

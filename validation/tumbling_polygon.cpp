@@ -58,7 +58,7 @@ spin = {spin:.17g}
 }
 
 std::vector<std::string> accuracy_for(const std::string& engine) {
-  if (engine == "native") return {"accuracy.dt=2e-5"};
+  if (engine_capabilities(engine).soft_contacts) return {"accuracy.dt=2e-5"};
   return {"accuracy.dt=5e-4"};
 }
 

@@ -1,0 +1,326 @@
+#include "dem_saltation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "fluid.hpp"
+#include "impact_bed.hpp"
+#include "parallel.hpp"
+#include "scene.hpp"
+#include "world.hpp"
+
+namespace grainlab::validation {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+constexpr double kG = 981;
+
+double grain_mass(const DemSaltationOptions& o, double d) {
+  return o.grain_density * M_PI / 6 * d * d * d;
+}
+
+// What one grain is doing between samples: its unwrapped x, whether it is airborne, and its flight.
+struct GrainTrack {
+  double x = 0, y = 0, vx = 0, vy = 0, x_unwrapped = 0;
+  bool airborne = false;
+  Crossing up{};
+  double peak = 0;
+};
+
+struct Flight {
+  double t_up, height, length;
+};
+
+// Linear interpolation of a crossing of height `level` between two samples.
+Crossing crossing(const GrainTrack& a, double t0, double xa, double y1, double vx1, double vy1, double x1,
+                  double t1, double level, std::size_t grain) {
+  const double f = std::clamp((level - a.y) / (y1 - a.y), 0.0, 1.0);
+  return {t0 + f * (t1 - t0), xa + f * (x1 - xa), a.vx + f * (vx1 - a.vx), a.vy + f * (vy1 - a.vy), grain};
+}
+
+MeanInterval block_interval(const std::vector<double>& series, int blocks = 10) {
+  if (series.size() < static_cast<std::size_t>(blocks)) return mean_interval(series);
+  std::vector<double> means;
+  const std::size_t per = series.size() / static_cast<std::size_t>(blocks);
+  for (int b = 0; b < blocks; ++b) {
+    double s = 0;
+    for (std::size_t k = b * per; k < (b + 1) * per; ++k) s += series[k];
+    means.push_back(s / static_cast<double>(per));
+  }
+  return mean_interval(means);
+}
+
+double mean_of(const std::vector<double>& v, std::size_t from, std::size_t to) {
+  double s = 0;
+  for (std::size_t k = from; k < to; ++k) s += v[k];
+  return to > from ? s / static_cast<double>(to - from) : 0.0;
+}
+
+// The splash from the impacts and lift-offs: a lift-off of the impacting grain within the window is its
+// rebound; any other lift-off within the window and reach is an ejectum of the nearest such impact.
+saltation::SplashFile measure_dem_splash(const DemSaltationOptions& o, const std::vector<Crossing>& impacts,
+                                         const std::vector<Crossing>& liftoffs, double width) {
+  saltation::SplashFile f;
+  const double d = o.diameter, u = std::sqrt(kG * d);
+  f.text = {{"schema", saltation::kSplashSchema},
+            {"kind", "simulated"},
+            {"source", "grainlab saltation dem: impacts in steady saltation (2-D DEM, wind_drag)"},
+            {"engine", "native"},
+            {"u_star_cm_s", fmt::format("{}", o.u_star)},
+            {"grid", "impact speed quantiles at the median impact angle"}};
+  f.grain_diameter_cm = d, f.gravity_cm_s2 = kG, f.grain_density = o.grain_density;
+  if (impacts.empty()) return f;
+  struct Outcome {
+    bool rebounded = false;
+    Crossing rebound{};
+    std::vector<Crossing> ejecta;
+  };
+  std::vector<Outcome> out(impacts.size());
+  // Impacts by time (they are recorded in time order): for each lift-off, the impacts in its window.
+  std::size_t first = 0;
+  const double reach = o.splash_reach * d;
+  for (const Crossing& l : liftoffs) {
+    while (first < impacts.size() && impacts[first].t < l.t - o.splash_window) ++first;
+    long own = -1, nearest = -1;
+    double best = 1e300;
+    for (std::size_t k = first; k < impacts.size() && impacts[k].t < l.t; ++k) {
+      if (impacts[k].grain == l.grain) own = static_cast<long>(k);
+      double dx = std::fmod(std::abs(l.x - impacts[k].x), width);
+      dx = std::min(dx, width - dx);
+      if (impacts[k].grain != l.grain && dx < reach && dx < best) best = dx, nearest = static_cast<long>(k);
+    }
+    if (own >= 0 && !out[own].rebounded) {
+      out[own].rebounded = true, out[own].rebound = l;
+    } else if (own < 0 && nearest >= 0) {
+      out[nearest].ejecta.push_back(l);
+    }
+  }
+  // Cells: up to five speed quantiles (at least 20 impacts each) at the median angle.
+  std::vector<std::size_t> order(impacts.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  auto speed = [&](std::size_t k) { return std::hypot(impacts[k].vx, impacts[k].vy); };
+  auto angle = [&](std::size_t k) { return std::atan2(-impacts[k].vy, impacts[k].vx) / kDeg; };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return speed(a) < speed(b); });
+  std::vector<double> angles;
+  for (std::size_t k = 0; k < impacts.size(); ++k) angles.push_back(angle(k));
+  std::nth_element(angles.begin(), angles.begin() + static_cast<long>(angles.size() / 2), angles.end());
+  f.angles_deg = {angles[angles.size() / 2]};
+  const std::size_t cells = std::clamp<std::size_t>(impacts.size() / 20, 1, 5);
+  for (std::size_t c = 0; c < cells; ++c) {
+    const std::size_t lo = c * order.size() / cells, hi = (c + 1) * order.size() / cells;
+    saltation::SplashCell cell;
+    std::vector<double> sp, ix, iy, ie, th, count, evx, evy, esp, ean, rep;
+    std::size_t rebounds = 0;
+    for (std::size_t q = lo; q < hi; ++q) {
+      const std::size_t k = order[q];
+      const Crossing& i = impacts[k];
+      const Outcome& r = out[k];
+      const double index = static_cast<double>(q - lo);
+      sp.push_back(speed(k) / u);
+      cell.rebound.push_back({index, r.rebounded ? 1.0 : 0.0, r.rebounded ? r.rebound.vx / u : 0.0,
+                              r.rebounded ? r.rebound.vy / u : 0.0, 0.0});
+      if (r.rebounded) {
+        ++rebounds;
+        ix.push_back(r.rebound.vx / i.vx), iy.push_back(-r.rebound.vy / i.vy);
+        ie.push_back(std::hypot(r.rebound.vx, r.rebound.vy) / speed(k));
+        th.push_back(std::atan2(r.rebound.vx, r.rebound.vy) / kDeg);
+      }
+      count.push_back(static_cast<double>(r.ejecta.size()));
+      for (const Crossing& e : r.ejecta) {
+        // Measured one diameter above the bed; carried back to the bed surface for the launch velocity.
+        const double vy0 = std::sqrt(e.vy * e.vy + 2 * kG * d);
+        double dx = e.x - i.x;
+        dx -= width * std::round(dx / width);
+        cell.ejecta.push_back({index, e.vx / u, e.vy / u, e.vx / u, vy0 / u, dx / d, 0.0, 0.0});
+        evx.push_back(e.vx / u), evy.push_back(vy0 / u), esp.push_back(std::hypot(e.vx, vy0) / u);
+        ean.push_back(std::atan2(e.vx, vy0) / kDeg), rep.push_back(2 * e.vx * vy0 / kG / d);
+      }
+    }
+    cell.speed = mean_interval(sp).mean, cell.angle_deg = f.angles_deg[0], cell.impacts = hi - lo;
+    const Proportion p = wilson_interval(rebounds, hi - lo);
+    cell.moments["rebound_probability"] = {p.p, std::sqrt(p.p * (1 - p.p)), p.lo, p.hi};
+    const std::pair<const char*, const std::vector<double>*> stats[] = {{"eps_ix", &ix},
+                                                                        {"eps_iy", &iy},
+                                                                        {"eps_i", &ie},
+                                                                        {"theta_i", &th},
+                                                                        {"ejecta_per_impact", &count},
+                                                                        {"ejecta_vx", &evx},
+                                                                        {"ejecta_vy", &evy},
+                                                                        {"ejecta_speed", &esp},
+                                                                        {"ejecta_angle", &ean},
+                                                                        {"reptation_per_ejectum", &rep}};
+    for (const auto& [name, v] : stats)
+      if (!v->empty()) {
+        const MeanInterval m = mean_interval(*v);
+        cell.moments[name] = {m.mean, m.sd, m.lo, m.hi};
+      }
+    f.speeds.push_back(cell.speed);
+    f.cells.push_back(std::move(cell));
+  }
+  return f;
+}
+
+std::string kick_row(const DemSaltationOptions& o, double spacing) {
+  if (o.kick_speed <= 0 || o.columns < 8) return {};
+  return fmt::format(
+      "[[assemblies]]\ntype = \"lattice\"\nnx = {n}\nny = 1\nspacing = {sp:.17g}\n"
+      "origin = [{x:.17g}, {y:.17g}]\nsphere_density = {rg:.17g}\nvelocity = [{v:.17g}, 0.0]\nradius = "
+      "{r:.17g}\n",
+      fmt::arg("n", o.columns / 8), fmt::arg("sp", 8 * spacing), fmt::arg("x", 4 * spacing),
+      fmt::arg("y", (o.layers + 0.5) * spacing + 20 * o.diameter), fmt::arg("rg", o.grain_density),
+      fmt::arg("v", o.kick_speed), fmt::arg("r", o.diameter / 2));
+}
+
+}  // namespace
+
+std::string dem_saltation_scene(const DemSaltationOptions& o) {
+  const double r = o.diameter / 2, spacing = 1.2 * o.diameter * (1 + o.polydispersity);
+  const double m = grain_mass(o, o.diameter);
+  const double dt = contact_time(o.k_n, m, m) / o.steps_per_contact;
+  return fmt::format(
+      "[scene]\nname = \"DEM saltation, u* = {us} cm/s\"\nduration = {T:.17g}\nseed = {seed}\n"
+      "periodic_x = [0.0, {L:.17g}]\n"
+      "effects = [\"gravity\", \"normal_contact\", \"friction\", \"rotation\", \"wind_drag\", \"buoyancy\"]\n"
+      "[accuracy]\nintegrator = \"verlet\"\ndt = {dt:.17g}\n"
+      "[materials.sand]\nk_n = {k:.17g}\nrestitution = {e:.17g}\nk_s = {ks:.17g}\nmu = {mu:.17g}\n"
+      "[fluid]\ndensity = {rf:.17g}\nviscosity = {nu:.17g}\ngrain_density = {rg:.17g}\n"
+      "[wind]\nmodel = \"mixing_length\"\nu_star = {us:.17g}\nupdate_interval = {wu:.17g}\n"
+      "[[walls]]\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n"
+      "[[assemblies]]\ntype = \"lattice\"\nnx = {nx}\nny = {ny}\nspacing = {sp:.17g}\n"
+      "origin = [{h:.17g}, {h:.17g}]\nsphere_density = {rg:.17g}\n"
+      "[assemblies.radius_distribution]\nkind = \"uniform\"\nmin = {rmin:.17g}\nmax = {rmax:.17g}\n{kick}",
+      fmt::arg("us", o.u_star), fmt::arg("T", o.duration), fmt::arg("seed", o.seed),
+      fmt::arg("L", o.columns * spacing), fmt::arg("dt", dt), fmt::arg("k", o.k_n),
+      fmt::arg("e", o.restitution), fmt::arg("ks", 0.5 * o.k_n), fmt::arg("mu", o.mu),
+      fmt::arg("rf", o.fluid_density), fmt::arg("nu", o.viscosity), fmt::arg("rg", o.grain_density),
+      fmt::arg("wu", o.wind_update), fmt::arg("nx", o.columns), fmt::arg("ny", o.layers),
+      fmt::arg("sp", spacing), fmt::arg("h", spacing / 2), fmt::arg("rmin", r * (1 - o.polydispersity)),
+      fmt::arg("rmax", r * (1 + o.polydispersity)), fmt::arg("kick", kick_row(o, spacing)));
+}
+
+DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  const Scene scene = parse_scene(dem_saltation_scene(o), "<saltation dem>");
+  dem::World world(scene, dem::Decomposition{o.distributed, 200, 1});
+  const dem::WindField& wind = *world.wind();
+  DemSaltationResult r;
+  r.bed_width = scene.periodic_x->second - scene.periodic_x->first;
+  r.slab_thickness = wind.bed_area() / r.bed_width;
+  r.dt = scene.accuracy.dt;
+  const double area = wind.bed_area(), d = o.diameter;
+  const bool root = parallel::rank() == 0;
+
+  // Profile bins: half a diameter from 5 d below the bed to 400 d above it.
+  const double dz = 0.5 * d, z_lo = -5 * d;
+  const std::size_t nz = 810;
+  std::vector<double> mass_z(nz, 0.0), flux_z(nz, 0.0), wind_z(nz, 0.0), clean_z(nz, 0.0), tau_z(nz, 0.0);
+  std::vector<GrainTrack> track;
+  std::vector<Flight> flights;
+  std::vector<double> q_series, ustar_series, air_series, gain_series, loss_series;
+  std::size_t window_samples = 0;
+  const long total_samples = std::lround(o.duration / o.sample_interval);
+  for (long s = 0; s <= total_samples; ++s) {
+    const double t = static_cast<double>(s) * o.sample_interval;
+    world.advance_to(t);
+    const dem::Particles p = world.gather_particles();
+    if (o.progress && root) o.progress(t, o.duration);
+    if (!root) continue;
+    const dem::WindField::Snapshot& w = wind.snapshot();
+    const double bed = w.bed_level;
+    const bool in_window = t >= o.average_from - 1e-12;
+    if (track.empty()) track.resize(p.size());
+    double q = 0, gain = 0;
+    std::size_t air = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      GrainTrack& g = track[i];
+      const double level = bed + 2 * p.r[i];
+      double dx = p.x[i] - g.x;
+      if (s > 0) dx -= r.bed_width * std::round(dx / r.bed_width);
+      const double xu = s > 0 ? g.x_unwrapped + dx : p.x[i];
+      const bool up = p.y[i] > level;
+      if (s > 0 && up != g.airborne) {
+        const Crossing c =
+            crossing(g, t - o.sample_interval, g.x_unwrapped, p.y[i], p.vx[i], p.vy[i], xu, t, level, i);
+        if (up) {
+          g.up = c, g.peak = p.y[i] - bed;
+          if (in_window) r.liftoffs.push_back(c);
+        } else {
+          if (in_window) r.impacts.push_back(c);
+          if (g.up.t >= o.average_from) flights.push_back({g.up.t, g.peak, c.x - g.up.x});
+        }
+      }
+      if (up) g.peak = std::max(g.peak, p.y[i] - bed), ++air;
+      g.airborne = up, g.x = p.x[i], g.y = p.y[i], g.vx = p.vx[i], g.vy = p.vy[i], g.x_unwrapped = xu;
+      q += p.m[i] * p.vx[i];
+      const double rx = p.vx[i] - wind.u_at(p.y[i]);
+      gain -= p.m[i] *
+              fluid::drag_rate(scene.wind.drag_law, scene.fluid, 2 * p.r[i], std::hypot(rx, p.vy[i])) * rx;
+      if (in_window) {
+        const double k = std::floor((p.y[i] - bed - z_lo) / dz);
+        if (k >= 0 && k < static_cast<double>(nz)) {
+          mass_z[static_cast<std::size_t>(k)] += p.m[i];
+          flux_z[static_cast<std::size_t>(k)] += p.m[i] * p.vx[i];
+        }
+      }
+    }
+    if (s % 10 == 0) r.series.push_back({t, q / area, w.u_star_eff, static_cast<double>(air)});
+    if (!in_window) continue;
+    ++window_samples;
+    q_series.push_back(q / area), ustar_series.push_back(w.u_star_eff);
+    air_series.push_back(static_cast<double>(air));
+    gain_series.push_back(gain / area), loss_series.push_back(w.drag_per_area);
+    for (std::size_t k = 0; k < nz; ++k) {
+      const double y = bed + z_lo + (static_cast<double>(k) + 0.5) * dz;
+      wind_z[k] += wind.u_at(y);
+      const double sk = (y - w.y.front()) / (w.y[1] - w.y[0]);
+      const std::size_t e = static_cast<std::size_t>(std::clamp(std::round(sk), 0.0, double(w.y.size() - 1)));
+      clean_z[k] += w.u_clean[e], tau_z[k] += w.grain_stress[e];
+    }
+  }
+  r.steps = world.diagnostics().steps;
+  r.wind_seconds = world.diagnostics().seconds_wind;
+  r.grains = track.size();
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!root || window_samples == 0) return r;
+
+  r.mass_flux = block_interval(q_series), r.u_star_eff = block_interval(ustar_series);
+  r.airborne = block_interval(air_series);
+  r.first_half_flux = mean_of(q_series, 0, q_series.size() / 2);
+  r.second_half_flux = mean_of(q_series, q_series.size() / 2, q_series.size());
+  r.grain_momentum_gain = mean_of(gain_series, 0, gain_series.size());
+  r.wind_momentum_loss = mean_of(loss_series, 0, loss_series.size());
+  const double n = static_cast<double>(window_samples), volume = dz * area;
+  for (std::size_t k = 0; k < nz; ++k) {
+    r.z.push_back(z_lo + (static_cast<double>(k) + 0.5) * dz);
+    r.concentration.push_back(mass_z[k] / (n * volume));
+    r.flux_density.push_back(flux_z[k] / (n * volume));
+    r.wind.push_back(wind_z[k] / n), r.wind_clean.push_back(clean_z[k] / n);
+    r.grain_stress.push_back(tau_z[k] / n);
+  }
+  // Stress partition at the bed: the fluid stress from the mean profile's slope plus the grain-borne
+  // stress, against rho u*^2 (exact for the mixing-length wind once the wind has caught up).
+  const double rho = o.fluid_density;
+  const std::size_t kb = static_cast<std::size_t>(std::lround((d - z_lo) / dz));  // one diameter up
+  const double z1 = r.z[kb], slope = (r.wind[kb + 1] - r.wind[kb - 1]) / (2 * dz);
+  const double tau_f = rho * std::pow(scene.wind.kappa * z1 * slope, 2);
+  r.stress_partition = (tau_f + r.grain_stress[kb]) / (rho * o.u_star * o.u_star);
+
+  std::vector<double> hh, hl, is, ia, ls, la;
+  for (const Flight& f : flights) hh.push_back(f.height), hl.push_back(f.length);
+  for (const Crossing& c : r.impacts)
+    is.push_back(std::hypot(c.vx, c.vy)), ia.push_back(std::atan2(-c.vy, c.vx) / kDeg);
+  for (const Crossing& c : r.liftoffs)
+    ls.push_back(std::hypot(c.vx, c.vy)), la.push_back(std::atan2(c.vy, c.vx) / kDeg);
+  r.hop_height = mean_interval(hh), r.hop_length = mean_interval(hl);
+  r.impact_speed = mean_interval(is), r.impact_angle = mean_interval(ia);
+  r.liftoff_speed = mean_interval(ls), r.liftoff_angle = mean_interval(la);
+  r.splash = measure_dem_splash(o, r.impacts, r.liftoffs, r.bed_width);
+  return r;
+}
+
+}  // namespace grainlab::validation
