@@ -57,31 +57,57 @@ double mixing_length(const WindProfileInput& in, double z) {
   return l * (1 - std::exp(-z * in.u_star / (26 * in.viscosity)));
 }
 
-double face_viscosity(const WindProfileInput& in, double dz, const std::vector<double>& z,
+// Faces are written as conductances G: the kinematic stress through face k is G (u[k+1] - u[k]) / dz.
+// The eddy part is l^2 |du/dz| with l = kappa times the logarithmic mean of the two heights, which makes
+// the discrete column exact for the log law at any cell size; the face onto the bed runs from z0 (rough
+// wall: the held cell's u = 0 sits at z0).
+double lower_height(const WindProfileInput& in, const std::vector<double>& z, std::size_t k) {
+  return z[k] <= in.roughness ? std::max(in.roughness, 1e-300) : z[k];
+}
+
+double eddy_viscosity(const WindProfileInput& in, double dz, const std::vector<double>& z,
                       const std::vector<double>& u, std::size_t k) {
-  const double zf = 0.5 * (z[k] + z[k + 1]), l = mixing_length(in, zf);
-  const double molecular = in.model == WindSpec::Model::VanDriest ? in.viscosity : 0.0;
-  // A floor far below any turbulent value keeps a still layer from decoupling from the wind above.
-  return l * l * std::abs(u[k + 1] - u[k]) / dz + molecular + 1e-9 * in.viscosity;
+  if (z[k + 1] <= in.roughness) return 0;
+  const double z1 = lower_height(in, z, k), z2 = z[k + 1], lg = std::log(z2 / z1);
+  const double damping = mixing_length(in, 0.5 * (z1 + z2)) / (in.kappa * 0.5 * (z1 + z2));
+  // l^2 |du/dz| dz-normalised: kappa^2 damping^2 |du| dz / ln(z2/z1)^2.
+  return in.kappa * in.kappa * damping * damping * std::abs(u[k + 1] - u[k]) * dz / (lg * lg);
+}
+
+// The molecular part (van Driest only; the thesis's mixing length has none). A floor far below any
+// turbulent value keeps a still layer from decoupling from the wind above.
+double molecular(const WindProfileInput& in, double dz, const std::vector<double>& z, std::size_t k) {
+  const double nu = (in.model == WindSpec::Model::VanDriest ? in.viscosity : 0.0) + 1e-9 * in.viscosity;
+  const double span = z[k + 1] - (z[k] <= in.roughness ? in.roughness : z[k]);
+  return nu * dz / std::max(span, 1e-3 * dz);
 }
 }  // namespace
 
+double face_conductance(const WindProfileInput& in, double dz, const std::vector<double>& z,
+                        const std::vector<double>& u, std::size_t k) {
+  return eddy_viscosity(in, dz, z, u, k) + molecular(in, dz, z, k);
+}
+
 double face_stress(const WindProfileInput& in, double dz, const std::vector<double>& z,
                    const std::vector<double>& u, std::size_t k) {
-  return face_viscosity(in, dz, z, u, k) * (u[k + 1] - u[k]) / dz;
+  return face_conductance(in, dz, z, u, k) * (u[k + 1] - u[k]) / dz;
 }
 
 std::vector<double> advance_wind_column(const WindProfileInput& in, double dz, const std::vector<double>& z,
                                         const std::vector<double>& u, const std::vector<double>& a,
-                                        const std::vector<double>& b, double dt) {
+                                        const std::vector<double>& b, double dt, std::vector<double>& eddy) {
   const std::size_t n = u.size();
+  if (eddy.size() != n - 1) {
+    eddy.resize(n - 1);
+    for (std::size_t k = 0; k + 1 < n; ++k) eddy[k] = eddy_viscosity(in, dz, z, u, k);
+  }
   const double inv_dt = std::isfinite(dt) ? 1 / dt : 0.0;
   // Tridiagonal rows lo u[k-1] + di u[k] + up u[k+1] = rhs, solved by the Thomas algorithm.
   std::vector<double> lo(n, 0.0), di(n, 1.0), up(n, 0.0), rhs(n, 0.0);
   for (std::size_t k = 0; k < n; ++k) {
     if (z[k] <= in.roughness) continue;  // held at rest
-    const double below = k > 0 ? face_viscosity(in, dz, z, u, k - 1) / (dz * dz) : 0.0;
-    const double above = k + 1 < n ? face_viscosity(in, dz, z, u, k) / (dz * dz) : 0.0;
+    const double below = k > 0 ? (eddy[k - 1] + molecular(in, dz, z, k - 1)) / (dz * dz) : 0.0;
+    const double above = k + 1 < n ? (eddy[k] + molecular(in, dz, z, k)) / (dz * dz) : 0.0;
     lo[k] = -below, up[k] = -above;
     di[k] = inv_dt + below + above + a[k];
     rhs[k] = u[k] * inv_dt + b[k] + (k + 1 == n ? in.u_star * in.u_star / dz : 0.0);
@@ -94,6 +120,13 @@ std::vector<double> advance_wind_column(const WindProfileInput& in, double dz, c
   std::vector<double> next(n);
   next[n - 1] = rhs[n - 1] / di[n - 1];
   for (std::size_t k = n - 1; k-- > 0;) next[k] = (rhs[k] - up[k] * next[k + 1]) / di[k];
+  // The next viscosity: the geometric mean of the one used and the one the new shear gives. Taking the
+  // new shear's alone maps s -> tau / (l^2 s) and oscillates forever; the mean lands on the fixed point
+  // s = sqrt(tau) / l in one pass where the stress is uniform.
+  // (A floor keeps a face that went still from staying still once stress reaches it again.)
+  const double floor = 1e-6 * in.viscosity;
+  for (std::size_t k = 0; k + 1 < n; ++k)
+    eddy[k] = std::sqrt((eddy[k] + floor) * (eddy_viscosity(in, dz, z, next, k) + floor));
   return next;
 }
 

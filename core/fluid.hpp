@@ -39,11 +39,17 @@ std::vector<double> wind_profile(const WindProfileInput& in, const std::vector<d
 // with the kinematic stress u*^2 entering through the top face. a (1/s) and b (cm/s^2) are the grains'
 // drag in the cell linearised in u (sum of m c over rho_f times the cell volume, and the same times the
 // grains' velocities), so the grains' answer to the wind is implicit and the step is stable for any dt.
-// nu_eff is taken from the incoming u. dt = infinity gives the steady profile for this drag.
+// `eddy` holds the faces' eddy viscosity l^2 |du/dz| the step uses (filled from u when empty) and leaves
+// the next step's: the geometric mean of the used one and the new profile's, a damped fixed point
+// (docs/saltation.md). dt = infinity gives the steady profile for this drag.
 std::vector<double> advance_wind_column(const WindProfileInput& in, double dz, const std::vector<double>& z,
                                         const std::vector<double>& u, const std::vector<double>& a,
-                                        const std::vector<double>& b, double dt);
-// The kinematic fluid stress nu_eff du/dz on the face between cells k and k + 1.
+                                        const std::vector<double>& b, double dt, std::vector<double>& eddy);
+// The conductance G of the face between cells k and k + 1 for the profile u: its kinematic stress is
+// G (u[k+1] - u[k]) / dz (eddy part exact for the log law; the face onto the bed starts at z0).
+double face_conductance(const WindProfileInput& in, double dz, const std::vector<double>& z,
+                        const std::vector<double>& u, std::size_t k);
+// The kinematic fluid stress on the face between cells k and k + 1.
 double face_stress(const WindProfileInput& in, double dz, const std::vector<double>& z,
                    const std::vector<double>& u, std::size_t k);
 

@@ -40,7 +40,7 @@ WindField::WindField(const Scene& scene, const Particles& p, std::size_t n)
   dy_ = w_.bin_height;
   double lo = 1e300, hi = -1e300;
   for (std::size_t i = 0; i < n; ++i) lo = std::min(lo, p.y[i] - p.r[i]), hi = std::max(hi, p.y[i] + p.r[i]);
-  y_lo_ = lo;
+  y_lo_ = w_.bed_level ? std::min(lo, *w_.bed_level - dy_) : lo;
   cells_ = static_cast<std::size_t>(std::ceil((hi - lo + w_.top) / dy_));
   // Tally units: 1e-7 of what a median grain moving at u* through still air gives in one step of
   // 1e-6 s, so a grain-step is resolved to 1e-7 and even 1e6 grains over 1e4 steps cannot overflow.
@@ -154,12 +154,12 @@ void WindField::update(const Particles& p, std::size_t n, double t, bool distrib
   }
   if (w_.model != WindSpec::Model::Fixed) {
     if (w_.inertia) {
-      snap_.u = fluid::advance_wind_column(in, dy_, z, snap_.u, a, b, interval);
+      snap_.u = fluid::advance_wind_column(in, dy_, z, snap_.u, a, b, interval, eddy_);
     } else {
       // The steady column for this drag; the eddy viscosity depends on u, so a few fixed-point passes.
       const double steady = std::numeric_limits<double>::infinity();
       for (int pass = 0; pass < 3; ++pass)
-        snap_.u = fluid::advance_wind_column(in, dy_, z, snap_.u, a, b, steady);
+        snap_.u = fluid::advance_wind_column(in, dy_, z, snap_.u, a, b, steady, eddy_);
     }
   }
   snap_.u_clean = fluid::wind_profile(in, z, std::vector<double>(cells_, w_.u_star * w_.u_star));
@@ -195,12 +195,13 @@ std::vector<double> WindField::save() const {
   for (std::int64_t q : tally_a_) s.push_back(static_cast<double>(q));
   for (std::int64_t q : tally_b_) s.push_back(static_cast<double>(q));
   s.insert(s.end(), snap_.grain_stress.begin(), snap_.grain_stress.end());
+  s.insert(s.end(), eddy_.begin(), eddy_.end());  // empty before the first update
   return s;
 }
 
 void WindField::restore(const std::vector<double>& s) {
   const std::size_t head = 8, want = head + 4 * cells_;
-  if (s.size() != want || static_cast<std::size_t>(s[0]) != cells_)
+  if ((s.size() != want && s.size() != want + cells_ - 1) || static_cast<std::size_t>(s[0]) != cells_)
     throw std::runtime_error(
         fmt::format("checkpoint: the wind state has {} values; this scene's wind needs {}", s.size(), want));
   last_update_ = s[1], next_update_ = s[2], snap_.bed_level = s[3], snap_.u_star_eff = s[4];
@@ -213,6 +214,7 @@ void WindField::restore(const std::vector<double>& s) {
   for (std::size_t k = 0; k < cells_; ++k)
     tally_b_[k] = static_cast<std::int64_t>(at[2 * c + static_cast<long>(k)]);
   std::copy(at + 3 * c, at + 4 * c, snap_.grain_stress.begin());
+  eddy_.assign(at + 4 * c, s.end());
   snap_.u_clean =
       fluid::wind_profile({w_.model, w_.kappa, w_.roughness, f_.viscosity, w_.u_star}, heights_above_bed(),
                           std::vector<double>(cells_, w_.u_star * w_.u_star));

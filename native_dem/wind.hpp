@@ -67,6 +67,7 @@ class WindField {
   // Fixed-point tallies per cell of m c dt (g) and m c v dt (g cm/s), c the drag rate, and their units.
   double unit_a_ = 1, unit_b_ = 1;
   std::vector<std::int64_t> tally_a_, tally_b_;
+  std::vector<double> eddy_;           // the column's face eddy viscosities (its solver's memory)
   std::vector<double> rate_, rate_v_;  // per particle at the latest evaluation: m c and m c v_x
   double last_update_ = 0, next_update_ = 0;
   Snapshot snap_;
