@@ -51,6 +51,20 @@ nlohmann::json result_json(const validation::DemSaltationOptions& o,
           {"liftoff_angle", interval_json(r.liftoff_angle)},
           {"impacts", r.impacts.size()},
           {"liftoffs", r.liftoffs.size()},
+          {"saltons",
+           {{"hop_height", r.salton_hop_height.mean},
+            {"hop_length", r.salton_hop_length.mean},
+            {"hops", r.salton_hop_height.n},
+            {"impact_speed", interval_json(r.salton_impact_speed)},
+            {"impact_angle", interval_json(r.salton_impact_angle)}}},
+          {"steady_model_with_this_splash",
+           {{"ran", r.model.ran},
+            {"converged", r.model.converged},
+            {"failure", r.model.failure},
+            {"mass_flux", r.model.mass_flux},
+            {"u_star_eff", r.model.u_star_eff},
+            {"mean_hop_height", r.model.hop_height},
+            {"mean_hop_length", r.model.hop_length}}},
           {"momentum",
            {{"wind_loss", r.wind_momentum_loss},
             {"grain_gain", r.grain_momentum_gain},
@@ -154,6 +168,14 @@ int dem_command(const SaltationCommands& a) {
       "  momentum per bed area: wind lost {:.4g}, grains got {:.4g} dyn/cm^2; tau_f + tau_g = {:.3f} rho "
       "u*^2\n",
       r.wind_momentum_loss, r.grain_momentum_gain, r.stress_partition);
+  fmt::print(
+      "  saltation hops (> 5 d) {}: height {:.3f} cm, length {:.2f} cm, impact {:.1f} cm/s at {:.1f} deg\n",
+      r.salton_hop_height.n, r.salton_hop_height.mean, r.salton_hop_length.mean, r.salton_impact_speed.mean,
+      r.salton_impact_angle.mean);
+  if (r.model.ran)
+    fmt::print("  Ch. IV model with this splash: {} Q {:.4g} g/(cm s), u*_eff {:.2f} cm/s, hop {:.3f} cm\n",
+               r.model.converged ? "converged," : "NOT converged (" + r.model.failure + "),",
+               r.model.mass_flux, r.model.u_star_eff, r.model.hop_height);
   fmt::print("  wind drag and updates: {:.1f} % of the run\n", 100 * r.wind_seconds / r.wall_seconds);
   if (!a.dem_out.empty())
     fmt::print("  wrote {}/ (dem_saltation.json, profiles.csv, series.csv, splash.h5, plots)\n", a.dem_out);

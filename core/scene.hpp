@@ -37,14 +37,14 @@ struct WindSpec {
   double kappa = 0.4;
   double roughness = 0;           // cm; 0: median grain diameter / 30 (the thesis's y0)
   double bin_height = 0;          // cm, the wind's cells; 0: median grain radius
-  double top = 0;                 // cm above the bed; 0: 1000 median diameters
-  double update_interval = 2e-4;  // s between wind updates
+  double top = 0;                 // cm above the bed; 0: 400 median diameters
+  double update_interval = 1e-4;  // s between wind updates
   // The air's own inertia: false (default) solves the steady column for the drag of the last interval
   // at every update (the thesis's steady-state wind); true advances rho du/dt by update_interval (the
   // DEM literature's form; the column's stored momentum then takes seconds to drain from the clean
   // profile).
   bool inertia = false;
-  double thickness = 0;  // cm, the slab a 2-D bed stands for; 0: median grain diameter
+  double thickness = 0;             // cm, the slab a 2-D bed stands for; 0: median grain diameter
   std::optional<double> bed_level;  // cm; unset: found from the grains' packing every update
 };
 
@@ -163,7 +163,7 @@ struct AssemblySpec {
   double width = 0;        // poured: width of the box discs are dropped into
   double settle_time = 0;  // poured: simulated time to let the pour settle
   SizeDistribution radius;
-  double density = 0;   // 2-D density, mass per area; with `spheres`, mass per volume
+  double density = 0;    // 2-D density, mass per area; with `spheres`, mass per volume
   bool spheres = false;  // each disc has the mass and moment of inertia of the sphere of its radius
   Vec2 velocity{};
   int material = 0;

@@ -34,7 +34,7 @@ WindField::WindField(const Scene& scene, const Particles& p, std::size_t n)
   diameter_ = 2 * r;
   if (w_.roughness <= 0) w_.roughness = diameter_ / 30;
   if (w_.bin_height <= 0) w_.bin_height = r;
-  if (w_.top <= 0) w_.top = 1000 * diameter_;
+  if (w_.top <= 0) w_.top = 400 * diameter_;
   thickness_ = w_.thickness > 0 ? w_.thickness : diameter_;
   width_ = scene.periodic_x ? scene.periodic_x->second - scene.periodic_x->first : 1.0;
   dy_ = w_.bin_height;
@@ -87,7 +87,7 @@ double WindField::u_at(double y) const {
 }
 
 void WindField::add_drag(Particles& p, std::size_t n) {
-  rate_.resize(n), rate_v_.resize(n);
+  rate_.resize(n), rate_v_.resize(n), drag_x_.resize(n);
   const double buried = snap_.bed_level;
   for (std::size_t i = 0; i < n; ++i) {
     // A grain wholly below the bed level sits in still pore air: its drag (from its own creeping speed) is
@@ -101,7 +101,7 @@ void WindField::add_drag(Particles& p, std::size_t n) {
     const double mc = p.m[i] * fluid::drag_rate(w_.drag_law, f_, 2 * p.r[i], std::hypot(rx, ry));
     p.fx[i] -= mc * rx;
     p.fy[i] -= mc * ry;
-    rate_[i] = mc, rate_v_[i] = mc * p.vx[i];
+    rate_[i] = mc, rate_v_[i] = mc * p.vx[i], drag_x_[i] = -mc * rx;
   }
 }
 
@@ -112,6 +112,7 @@ void WindField::after_step(const Particles& p, std::size_t n, double t, double d
       const std::size_t k = cell_of(p.y[i]);
       tally_a_[k] += std::llround(rate_[i] * sa);
       tally_b_[k] += std::llround(rate_v_[i] * sb);
+      tally_applied_ += std::llround(drag_x_[i] * sb);
     }
   if (t >= next_update_ * (1 - 1e-12)) update(p, n, t, distributed);
 }
@@ -133,7 +134,8 @@ double WindField::find_bed_level(const std::vector<std::uint64_t>& counts) const
 
 void WindField::update(const Particles& p, std::size_t n, double t, bool distributed) {
   // Two's complement: the signed sums survive the unsigned collective exactly.
-  std::vector<std::uint64_t> sums(2 * cells_), counts(cells_, 0);
+  std::vector<std::uint64_t> sums(2 * cells_ + 1), counts(cells_, 0);
+  sums[2 * cells_] = static_cast<std::uint64_t>(tally_applied_);
   for (std::size_t k = 0; k < cells_; ++k)
     sums[k] = static_cast<std::uint64_t>(tally_a_[k]),
     sums[cells_ + k] = static_cast<std::uint64_t>(tally_b_[k]);
@@ -171,12 +173,17 @@ void WindField::update(const Particles& p, std::size_t n, double t, bool distrib
     snap_.grain_stress[k] = above / (interval * bed_area());
   }
   snap_.drag_per_area = snap_.grain_stress[0];
+  snap_.applied_per_area =
+      static_cast<double>(static_cast<std::int64_t>(sums[2 * cells_])) * unit_b_ / (interval * bed_area());
   const std::size_t kb = std::min(cells_ - 2, cell_of(snap_.bed_level + diameter_));
-  snap_.u_star_eff = std::sqrt(std::max(0.0, fluid::face_stress(in, dy_, z, snap_.u, kb)));
+  const double tau_f = fluid::face_stress(in, dy_, z, snap_.u, kb), tau0 = w_.u_star * w_.u_star;
+  snap_.u_star_eff = std::sqrt(std::max(0.0, tau_f));
+  if (tau0 > 0) snap_.stress_partition = (f_.density * tau_f + snap_.grain_stress[kb + 1]) / (f_.density * tau0);
   snap_.time = t;
   ++snap_.updates;
   std::fill(tally_a_.begin(), tally_a_.end(), 0);
   std::fill(tally_b_.begin(), tally_b_.end(), 0);
+  tally_applied_ = 0;
   last_update_ = t;
   next_update_ = t + w_.update_interval;
 }
@@ -195,12 +202,14 @@ std::vector<double> WindField::save() const {
   for (std::int64_t q : tally_a_) s.push_back(static_cast<double>(q));
   for (std::int64_t q : tally_b_) s.push_back(static_cast<double>(q));
   s.insert(s.end(), snap_.grain_stress.begin(), snap_.grain_stress.end());
+  s.push_back(static_cast<double>(tally_applied_));
+  s.push_back(snap_.applied_per_area);
   s.insert(s.end(), eddy_.begin(), eddy_.end());  // empty before the first update
   return s;
 }
 
 void WindField::restore(const std::vector<double>& s) {
-  const std::size_t head = 8, want = head + 4 * cells_;
+  const std::size_t head = 8, want = head + 4 * cells_ + 2;
   if ((s.size() != want && s.size() != want + cells_ - 1) || static_cast<std::size_t>(s[0]) != cells_)
     throw std::runtime_error(
         fmt::format("checkpoint: the wind state has {} values; this scene's wind needs {}", s.size(), want));
@@ -214,7 +223,9 @@ void WindField::restore(const std::vector<double>& s) {
   for (std::size_t k = 0; k < cells_; ++k)
     tally_b_[k] = static_cast<std::int64_t>(at[2 * c + static_cast<long>(k)]);
   std::copy(at + 3 * c, at + 4 * c, snap_.grain_stress.begin());
-  eddy_.assign(at + 4 * c, s.end());
+  tally_applied_ = static_cast<std::int64_t>(at[4 * c]);
+  snap_.applied_per_area = at[4 * c + 1];
+  eddy_.assign(at + 4 * c + 2, s.end());
   snap_.u_clean =
       fluid::wind_profile({w_.model, w_.kappa, w_.roughness, f_.viscosity, w_.u_star}, heights_above_bed(),
                           std::vector<double>(cells_, w_.u_star * w_.u_star));

@@ -38,10 +38,14 @@ class WindField {
     std::vector<double> grain_stress;   // drag of the grains above each cell's lower face per bed area
                                         // over the last interval (dyn/cm^2)
     double bed_level = 0;               // absolute height of the bed surface (10 ms running mean)
-    double u_star_eff = 0;     // sqrt(tau_f / rho) one median diameter above the bed level (the surface
-                               // grains' tops): the shear velocity the grains leave the air
-    double drag_per_area = 0;  // what the wind lost to the grains per bed area over the last interval
-    double time = 0;           // of the last update
+    double u_star_eff = 0;        // sqrt(tau_f / rho) one median diameter above the bed level (the surface
+                                  // grains' tops): the shear velocity the grains leave the air
+    double drag_per_area = 0;     // what the wind lost to the grains per bed area over the last interval
+    double applied_per_area = 0;  // what the engine gave the grains by drag over it (the grains' view;
+                                  // differs from the wind's by the wind's change over the interval)
+    // (rho u*_eff^2 + grain-borne stress) / rho u*^2 on that face: 1 when the column has converged.
+    double stress_partition = 1;
+    double time = 0;  // of the last update
     int updates = 0;
   };
   const Snapshot& snapshot() const { return snap_; }
@@ -67,8 +71,9 @@ class WindField {
   // Fixed-point tallies per cell of m c dt (g) and m c v dt (g cm/s), c the drag rate, and their units.
   double unit_a_ = 1, unit_b_ = 1;
   std::vector<std::int64_t> tally_a_, tally_b_;
-  std::vector<double> eddy_;           // the column's face eddy viscosities (its solver's memory)
-  std::vector<double> rate_, rate_v_;  // per particle at the latest evaluation: m c and m c v_x
+  std::int64_t tally_applied_ = 0;              // x-impulse the grains received, unit_b_
+  std::vector<double> eddy_;                    // the column's face eddy viscosities (its solver's memory)
+  std::vector<double> rate_, rate_v_, drag_x_;  // per particle at the latest evaluation: m c, m c v_x, f_x
   double last_update_ = 0, next_update_ = 0;
   Snapshot snap_;
 };

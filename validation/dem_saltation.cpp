@@ -33,8 +33,24 @@ struct GrainTrack {
 };
 
 struct Flight {
-  double t_up, height, length;
+  double t_up, height, length, impact_vx, impact_vy;
 };
+
+// Every hop, and the saltating ones (higher than `salton_height`) apart: their impacts are the ones the
+// classic saltation numbers (impact speed nearly independent of u*) are about.
+void summarize_flights(const std::vector<Flight>& flights, double salton_height, DemSaltationResult& r) {
+  std::vector<double> hh, hl, sh, sl, ss, sa;
+  for (const Flight& f : flights) {
+    hh.push_back(f.height), hl.push_back(f.length);
+    if (f.height < salton_height) continue;
+    sh.push_back(f.height), sl.push_back(f.length);
+    ss.push_back(std::hypot(f.impact_vx, f.impact_vy)),
+        sa.push_back(std::atan2(-f.impact_vy, f.impact_vx) / kDeg);
+  }
+  r.hop_height = mean_interval(hh), r.hop_length = mean_interval(hl);
+  r.salton_hop_height = mean_interval(sh), r.salton_hop_length = mean_interval(sl);
+  r.salton_impact_speed = mean_interval(ss), r.salton_impact_angle = mean_interval(sa);
+}
 
 // Linear interpolation of a crossing of height `level` between two samples.
 Crossing crossing(const GrainTrack& a, double t0, double xa, double y1, double vx1, double vy1, double x1,
@@ -176,6 +192,15 @@ std::string kick_row(const DemSaltationOptions& o, double spacing) {
       fmt::arg("v", o.kick_speed), fmt::arg("r", o.diameter / 2));
 }
 
+void compare_with_steady_model(const DemSaltationOptions& o, DemSaltationResult& r) {
+  saltation::WindModelOptions m;
+  m.fluid.density = o.fluid_density, m.fluid.viscosity = o.viscosity, m.fluid.k = 1 / 0.4;
+  m.grain.radius = o.diameter / 2, m.grain.density = o.grain_density;
+  m.g = kG, m.buoyancy = true, m.u_star = o.u_star;
+  const saltation::WindModelResult w = saltation::solve_wind_model(m, saltation::kernel_of(r.splash, m));
+  r.model = {true, w.converged, w.failure, w.mass_flux, w.u_star_eff, w.mean_hop_height, w.mean_hop_length};
+}
+
 }  // namespace
 
 std::string dem_saltation_scene(const DemSaltationOptions& o) {
@@ -221,7 +246,7 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
   std::vector<double> mass_z(nz, 0.0), flux_z(nz, 0.0), wind_z(nz, 0.0), clean_z(nz, 0.0), tau_z(nz, 0.0);
   std::vector<GrainTrack> track;
   std::vector<Flight> flights;
-  std::vector<double> q_series, ustar_series, air_series, gain_series, loss_series;
+  std::vector<double> q_series, ustar_series, air_series, gain_series, loss_series, partition_series;
   std::size_t window_samples = 0;
   const long total_samples = std::lround(o.duration / o.sample_interval);
   for (long s = 0; s <= total_samples; ++s) {
@@ -234,7 +259,7 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
     const double bed = w.bed_level;
     const bool in_window = t >= o.average_from - 1e-12;
     if (track.empty()) track.resize(p.size());
-    double q = 0, gain = 0;
+    double q = 0;
     std::size_t air = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
       GrainTrack& g = track[i];
@@ -251,15 +276,12 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
           if (in_window) r.liftoffs.push_back(c);
         } else {
           if (in_window) r.impacts.push_back(c);
-          if (g.up.t >= o.average_from) flights.push_back({g.up.t, g.peak, c.x - g.up.x});
+          if (g.up.t >= o.average_from) flights.push_back({g.up.t, g.peak, c.x - g.up.x, c.vx, c.vy});
         }
       }
       if (up) g.peak = std::max(g.peak, p.y[i] - bed), ++air;
       g.airborne = up, g.x = p.x[i], g.y = p.y[i], g.vx = p.vx[i], g.vy = p.vy[i], g.x_unwrapped = xu;
       q += p.m[i] * p.vx[i];
-      const double rx = p.vx[i] - wind.u_at(p.y[i]);
-      gain -= p.m[i] *
-              fluid::drag_rate(scene.wind.drag_law, scene.fluid, 2 * p.r[i], std::hypot(rx, p.vy[i])) * rx;
       if (in_window) {
         const double k = std::floor((p.y[i] - bed - z_lo) / dz);
         if (k >= 0 && k < static_cast<double>(nz)) {
@@ -273,7 +295,8 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
     ++window_samples;
     q_series.push_back(q / area), ustar_series.push_back(w.u_star_eff);
     air_series.push_back(static_cast<double>(air));
-    gain_series.push_back(gain / area), loss_series.push_back(w.drag_per_area);
+    gain_series.push_back(w.applied_per_area), loss_series.push_back(w.drag_per_area);
+    partition_series.push_back(w.stress_partition);
     for (std::size_t k = 0; k < nz; ++k) {
       const double y = bed + z_lo + (static_cast<double>(k) + 0.5) * dz;
       wind_z[k] += wind.u_at(y);
@@ -302,24 +325,17 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
     r.wind.push_back(wind_z[k] / n), r.wind_clean.push_back(clean_z[k] / n);
     r.grain_stress.push_back(tau_z[k] / n);
   }
-  // Stress partition at the bed: the fluid stress from the mean profile's slope plus the grain-borne
-  // stress, against rho u*^2 (exact for the mixing-length wind once the wind has caught up).
-  const double rho = o.fluid_density;
-  const std::size_t kb = static_cast<std::size_t>(std::lround((d - z_lo) / dz));  // one diameter up
-  const double z1 = r.z[kb], slope = (r.wind[kb + 1] - r.wind[kb - 1]) / (2 * dz);
-  const double tau_f = rho * std::pow(scene.wind.kappa * z1 * slope, 2);
-  r.stress_partition = (tau_f + r.grain_stress[kb]) / (rho * o.u_star * o.u_star);
-
-  std::vector<double> hh, hl, is, ia, ls, la;
-  for (const Flight& f : flights) hh.push_back(f.height), hl.push_back(f.length);
+  r.stress_partition = mean_of(partition_series, 0, partition_series.size());
+  summarize_flights(flights, 5 * d, r);
+  std::vector<double> is, ia, ls, la;
   for (const Crossing& c : r.impacts)
     is.push_back(std::hypot(c.vx, c.vy)), ia.push_back(std::atan2(-c.vy, c.vx) / kDeg);
   for (const Crossing& c : r.liftoffs)
     ls.push_back(std::hypot(c.vx, c.vy)), la.push_back(std::atan2(c.vy, c.vx) / kDeg);
-  r.hop_height = mean_interval(hh), r.hop_length = mean_interval(hl);
   r.impact_speed = mean_interval(is), r.impact_angle = mean_interval(ia);
   r.liftoff_speed = mean_interval(ls), r.liftoff_angle = mean_interval(la);
   r.splash = measure_dem_splash(o, r.impacts, r.liftoffs, r.bed_width);
+  if (o.model_comparison && !r.splash.cells.empty()) compare_with_steady_model(o, r);
   return r;
 }
 

@@ -10,6 +10,7 @@
 
 #include "ensemble.hpp"
 #include "splash_file.hpp"
+#include "wind_model.hpp"
 
 namespace grainlab::validation {
 
@@ -30,9 +31,10 @@ struct DemSaltationOptions {
   double sample_interval = 1e-4;  // s between samples of every grain (flights, profiles)
   double splash_window = 0.01;    // s after an impact in which lift-offs nearby belong to it
   double splash_reach = 10;       // grain diameters from the impact point an ejectum may start
-  double wind_update = 2e-4;      // s between wind updates
+  double wind_update = 1e-4;      // s between wind updates
   std::uint64_t seed = 18;
   bool distributed = false;                      // spread the bed over the MPI ranks
+  bool model_comparison = true;                  // run the Ch. IV model with the measured splash afterwards
   std::function<void(double, double)> progress;  // (t, duration)
 };
 
@@ -54,6 +56,14 @@ struct DemSaltationResult {
   MeanInterval hop_height, hop_length;
   std::vector<Crossing> impacts, liftoffs;                                // in the window
   MeanInterval impact_speed, impact_angle, liftoff_speed, liftoff_angle;  // cm/s, deg
+  // Hops higher than 5 d (saltation proper, not reptation): height, length, impact speed and angle.
+  MeanInterval salton_hop_height, salton_hop_length, salton_impact_speed, salton_impact_angle;
+  // The Ch. IV steady-state model run with the splash this simulation measured (same u*, grains, air).
+  struct SteadyModel {
+    bool ran = false, converged = false;
+    std::string failure;
+    double mass_flux = 0, u_star_eff = 0, hop_height = 0, hop_length = 0;
+  } model;
   // Momentum: what the wind lost (its own tally) and what the grains got (sampled drag), per bed area,
   // averaged over the window (dyn/cm^2); and the stress partition at the bed tau_f + tau_g vs rho u*^2.
   double wind_momentum_loss = 0, grain_momentum_gain = 0, stress_partition = 0;

@@ -42,6 +42,11 @@ const std::vector<Suite>& suites() {
        "the thesis's Ch. V ripple models: worms, triangular collisions, the continuum, Haff's bin model, "
        "the lattice-bed runs of Figs 5.22-5.23 as seed ensembles, the limiting wavelength",
        run_ripples_suite},
+      {"dem-saltation",
+       "saltation from first principles: a periodic DEM bed under a wind the grains slow down (effect "
+       "wind_drag): momentum balance, flux against u*, impact speeds, stiffness independence, the Ch. IV "
+       "model with the DEM's own splash",
+       run_dem_saltation_suite},
   };
   return all;
 }
