@@ -334,6 +334,9 @@ void SaltationCommands::add(CLI::App& app) {
   dem_app->add_option("--sample-interval", dem.sample_interval, "s between samples of every grain")
       ->default_val(1e-4)
       ->check(CLI::Range(1e-7, 1.0));
+  dem_app->add_option("--skin", dem.skin, "neighbour-list skin, cm (0: a quarter of the smallest radius)")
+      ->default_val(0.0125)
+      ->check(CLI::Range(0.0, 1.0));
   dem_app->add_option("--seed", dem.seed, "seed of the bed's radii")->default_val(18);
   dem_app->add_option("--out,-o", dem_out, "output folder: JSON, profiles, time series, splash.h5, plots");
   dem_app->add_flag("--force", force, "replace --out");

@@ -145,6 +145,13 @@ int dem_command(const SaltationCommands& a) {
     for (const auto& row : r.series)
       ts += fmt::format("{:.6g},{:.6g},{:.6g},{:.0f}\n", row[0], row[1], row[2], row[3]);
     write_file_atomically(tmp + "/series.csv", ts);
+    // The impact and lift-off velocity distributions: every crossing of one diameter above the bed.
+    for (const auto& [name, list] : {std::pair{"impacts", &r.impacts}, std::pair{"liftoffs", &r.liftoffs}}) {
+      std::string csv = "t_s,x_cm,vx_cm_s,vy_cm_s,grain\n";
+      for (const validation::Crossing& x : *list)
+        csv += fmt::format("{:.6f},{:.5f},{:.4f},{:.4f},{}\n", x.t, x.x, x.vx, x.vy, x.grain);
+      write_file_atomically(tmp + "/" + name + ".csv", csv);
+    }
     if (!r.splash.cells.empty()) saltation::write_splash_file(tmp + "/splash.h5", r.splash, true);
     validation::write_plots(dem_plots(r), tmp);
     fs::remove_all(a.dem_out);
@@ -178,7 +185,10 @@ int dem_command(const SaltationCommands& a) {
                r.model.mass_flux, r.model.u_star_eff, r.model.hop_height);
   fmt::print("  wind drag and updates: {:.1f} % of the run\n", 100 * r.wind_seconds / r.wall_seconds);
   if (!a.dem_out.empty())
-    fmt::print("  wrote {}/ (dem_saltation.json, profiles.csv, series.csv, splash.h5, plots)\n", a.dem_out);
+    fmt::print(
+        "  wrote {}/ (dem_saltation.json, profiles.csv, series.csv, impacts.csv, liftoffs.csv, splash.h5, "
+        "plots)\n",
+        a.dem_out);
   return 0;
 }
 

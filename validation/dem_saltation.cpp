@@ -11,6 +11,7 @@
 #include "impact_bed.hpp"
 #include "parallel.hpp"
 #include "scene.hpp"
+#include "splash_measurement.hpp"
 #include "world.hpp"
 
 namespace grainlab::validation {
@@ -59,16 +60,25 @@ Crossing crossing(const GrainTrack& a, double t0, double xa, double y1, double v
   return {t0 + f * (t1 - t0), xa + f * (x1 - xa), a.vx + f * (vx1 - a.vx), a.vy + f * (vy1 - a.vy), grain};
 }
 
-MeanInterval block_interval(const std::vector<double>& series, int blocks = 10) {
-  if (series.size() < static_cast<std::size_t>(blocks)) return mean_interval(series);
+// The mean of a time series with a 95 % interval from block means. The flux fluctuates on ~0.1 s (the
+// grains' drag response), so blocks are at least that long (3 to 10 of them) and the interval uses
+// Student's t for the few blocks there are: block means closer in time than that are not independent.
+MeanInterval block_interval(const std::vector<double>& series, double sample_interval) {
+  const double window = static_cast<double>(series.size()) * sample_interval;
+  const std::size_t blocks = std::clamp<std::size_t>(static_cast<std::size_t>(window / 0.1), 3, 10);
+  if (series.size() < blocks) return mean_interval(series);
   std::vector<double> means;
-  const std::size_t per = series.size() / static_cast<std::size_t>(blocks);
-  for (int b = 0; b < blocks; ++b) {
+  const std::size_t per = series.size() / blocks;
+  for (std::size_t b = 0; b < blocks; ++b) {
     double s = 0;
     for (std::size_t k = b * per; k < (b + 1) * per; ++k) s += series[k];
     means.push_back(s / static_cast<double>(per));
   }
-  return mean_interval(means);
+  MeanInterval m = mean_interval(means);
+  static const double t975[] = {0, 12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262};
+  const double half = t975[blocks - 1] * m.sd / std::sqrt(static_cast<double>(blocks));
+  m.lo = m.mean - half, m.hi = m.mean + half;
+  return m;
 }
 
 double mean_of(const std::vector<double>& v, std::size_t from, std::size_t to) {
@@ -158,23 +168,7 @@ saltation::SplashFile measure_dem_splash(const DemSaltationOptions& o, const std
       }
     }
     cell.speed = mean_interval(sp).mean, cell.angle_deg = f.angles_deg[0], cell.impacts = hi - lo;
-    const Proportion p = wilson_interval(rebounds, hi - lo);
-    cell.moments["rebound_probability"] = {p.p, std::sqrt(p.p * (1 - p.p)), p.lo, p.hi};
-    const std::pair<const char*, const std::vector<double>*> stats[] = {{"eps_ix", &ix},
-                                                                        {"eps_iy", &iy},
-                                                                        {"eps_i", &ie},
-                                                                        {"theta_i", &th},
-                                                                        {"ejecta_per_impact", &count},
-                                                                        {"ejecta_vx", &evx},
-                                                                        {"ejecta_vy", &evy},
-                                                                        {"ejecta_speed", &esp},
-                                                                        {"ejecta_angle", &ean},
-                                                                        {"reptation_per_ejectum", &rep}};
-    for (const auto& [name, v] : stats)
-      if (!v->empty()) {
-        const MeanInterval m = mean_interval(*v);
-        cell.moments[name] = {m.mean, m.sd, m.lo, m.hi};
-      }
+    set_cell_moments(cell, {hi - lo, rebounds, ix, iy, ie, th, count, evx, evy, esp, ean, rep});
     f.speeds.push_back(cell.speed);
     f.cells.push_back(std::move(cell));
   }
@@ -211,7 +205,7 @@ std::string dem_saltation_scene(const DemSaltationOptions& o) {
       "[scene]\nname = \"DEM saltation, u* = {us} cm/s\"\nduration = {T:.17g}\nseed = {seed}\n"
       "periodic_x = [0.0, {L:.17g}]\n"
       "effects = [\"gravity\", \"normal_contact\", \"friction\", \"rotation\", \"wind_drag\", \"buoyancy\"]\n"
-      "[accuracy]\nintegrator = \"verlet\"\ndt = {dt:.17g}\n"
+      "[accuracy]\nintegrator = \"verlet\"\ndt = {dt:.17g}\n{skin}"
       "[materials.sand]\nk_n = {k:.17g}\nrestitution = {e:.17g}\nk_s = {ks:.17g}\nmu = {mu:.17g}\n"
       "[fluid]\ndensity = {rf:.17g}\nviscosity = {nu:.17g}\ngrain_density = {rg:.17g}\n"
       "[wind]\nmodel = \"mixing_length\"\nu_star = {us:.17g}\nupdate_interval = {wu:.17g}\n"
@@ -223,8 +217,10 @@ std::string dem_saltation_scene(const DemSaltationOptions& o) {
       fmt::arg("L", o.columns * spacing), fmt::arg("dt", dt), fmt::arg("k", o.k_n),
       fmt::arg("e", o.restitution), fmt::arg("ks", 0.5 * o.k_n), fmt::arg("mu", o.mu),
       fmt::arg("rf", o.fluid_density), fmt::arg("nu", o.viscosity), fmt::arg("rg", o.grain_density),
-      fmt::arg("wu", o.wind_update), fmt::arg("nx", o.columns), fmt::arg("ny", o.layers),
-      fmt::arg("sp", spacing), fmt::arg("h", spacing / 2), fmt::arg("rmin", r * (1 - o.polydispersity)),
+      fmt::arg("wu", o.wind_update),
+      fmt::arg("skin", o.skin > 0 ? fmt::format("skin = {:.17g}\n", o.skin) : std::string()),
+      fmt::arg("nx", o.columns), fmt::arg("ny", o.layers), fmt::arg("sp", spacing),
+      fmt::arg("h", spacing / 2), fmt::arg("rmin", r * (1 - o.polydispersity)),
       fmt::arg("rmax", r * (1 + o.polydispersity)), fmt::arg("kick", kick_row(o, spacing)));
 }
 
@@ -311,8 +307,9 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!root || window_samples == 0) return r;
 
-  r.mass_flux = block_interval(q_series), r.u_star_eff = block_interval(ustar_series);
-  r.airborne = block_interval(air_series);
+  r.mass_flux = block_interval(q_series, o.sample_interval);
+  r.u_star_eff = block_interval(ustar_series, o.sample_interval);
+  r.airborne = block_interval(air_series, o.sample_interval);
   r.first_half_flux = mean_of(q_series, 0, q_series.size() / 2);
   r.second_half_flux = mean_of(q_series, q_series.size() / 2, q_series.size());
   r.grain_momentum_gain = mean_of(gain_series, 0, gain_series.size());

@@ -46,20 +46,8 @@ saltation::SplashCell make_cell(const std::vector<ImpactResult>& impacts, double
       rep.push_back(2 * e.vx * e.vy / r.g / d);
     }
   }
-  const Proportion p = wilson_interval(rebounds, impacts.size());
-  c.moments["rebound_probability"] = {p.p, std::sqrt(p.p * (1 - p.p)), p.lo, p.hi};
-  const std::pair<const char*, const std::vector<double>*> stats[] = {{"eps_ix", &ix},
-                                                                      {"eps_iy", &iy},
-                                                                      {"eps_i", &ie},
-                                                                      {"theta_i", &th},
-                                                                      {"ejecta_per_impact", &count},
-                                                                      {"ejecta_vx", &evx},
-                                                                      {"ejecta_vy", &evy},
-                                                                      {"ejecta_speed", &esp},
-                                                                      {"ejecta_angle", &ean},
-                                                                      {"reptation_per_ejectum", &rep}};
-  for (const auto& [name, v] : stats)
-    if (!v->empty()) c.moments[name] = moment(mean_interval(*v));
+  CellSamples samples{impacts.size(), rebounds, ix, iy, ie, th, count, evx, evy, esp, ean, rep};
+  set_cell_moments(c, samples);
   return c;
 }
 
@@ -81,6 +69,24 @@ void check_resumable(const saltation::SplashFile& from, const saltation::SplashF
 }
 
 }  // namespace
+
+void set_cell_moments(saltation::SplashCell& c, const CellSamples& s) {
+  const Proportion p = wilson_interval(s.rebounds, s.impacts);
+  c.moments["rebound_probability"] = {p.p, std::sqrt(p.p * (1 - p.p)), p.lo, p.hi};
+  const std::pair<const char*, const std::vector<double>*> stats[] = {
+      {"eps_ix", &s.eps_ix},
+      {"eps_iy", &s.eps_iy},
+      {"eps_i", &s.eps_i},
+      {"theta_i", &s.theta_i},
+      {"ejecta_per_impact", &s.ejecta_per_impact},
+      {"ejecta_vx", &s.ejecta_vx},
+      {"ejecta_vy", &s.ejecta_vy},
+      {"ejecta_speed", &s.ejecta_speed},
+      {"ejecta_angle", &s.ejecta_angle},
+      {"reptation_per_ejectum", &s.reptation_per_ejectum}};
+  for (const auto& [name, v] : stats)
+    if (!v->empty()) c.moments[name] = moment(mean_interval(*v));
+}
 
 SplashOptions quick_splash_options() {
   SplashOptions o;

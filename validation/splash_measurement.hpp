@@ -29,6 +29,14 @@ struct SplashOptions {
 // The quick grid for CI: the same cells, 2 impacts each on one bed.
 SplashOptions quick_splash_options();
 
+// One cell's per-impact samples, and the moments of docs/splash-file.md from them.
+struct CellSamples {
+  std::size_t impacts = 0, rebounds = 0;
+  std::vector<double> eps_ix, eps_iy, eps_i, theta_i, ejecta_per_impact, ejecta_vx, ejecta_vy, ejecta_speed,
+      ejecta_angle, reptation_per_ejectum;
+};
+void set_cell_moments(saltation::SplashCell& c, const CellSamples& s);
+
 // Runs every cell (ensembles spread over the MPI ranks) and returns the file's contents. Throws
 // InputError if `resume` was made with other options.
 saltation::SplashFile measure_splash(const SplashOptions& o);
