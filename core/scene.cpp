@@ -560,8 +560,9 @@ class SceneReader {
       const std::string type = r.string("type");
       a.radius = read_size(r);
       if (r.has("density") == r.has("sphere_density"))
-        r.fail("density", "give exactly one of density (mass per area: discs) and sphere_density (mass per "
-                          "volume: each disc has the mass of the sphere of its radius)");
+        r.fail("density",
+               "give exactly one of density (mass per area: discs) and sphere_density (mass per "
+               "volume: each disc has the mass of the sphere of its radius)");
       if (r.has("sphere_density")) {
         a.density = r.number("sphere_density", Range::positive());
         a.spheres = true;

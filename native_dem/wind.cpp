@@ -178,7 +178,8 @@ void WindField::update(const Particles& p, std::size_t n, double t, bool distrib
   const std::size_t kb = std::min(cells_ - 2, cell_of(snap_.bed_level + diameter_));
   const double tau_f = fluid::face_stress(in, dy_, z, snap_.u, kb), tau0 = w_.u_star * w_.u_star;
   snap_.u_star_eff = std::sqrt(std::max(0.0, tau_f));
-  if (tau0 > 0) snap_.stress_partition = (f_.density * tau_f + snap_.grain_stress[kb + 1]) / (f_.density * tau0);
+  if (tau0 > 0)
+    snap_.stress_partition = (f_.density * tau_f + snap_.grain_stress[kb + 1]) / (f_.density * tau0);
   snap_.time = t;
   ++snap_.updates;
   std::fill(tally_a_.begin(), tally_a_.end(), 0);

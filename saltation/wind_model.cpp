@@ -6,6 +6,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "fluid.hpp"
+
 namespace grainlab::saltation {
 
 double Grain::mass() const {
@@ -60,10 +62,6 @@ std::vector<double> bin_edges(const std::vector<double>& y) {
   return e;
 }
 
-double drag_coefficient(double re) {
-  return 24 / re + 6 / (1 + std::sqrt(re)) + 0.4;
-}  // eq. 4.31
-
 struct State {
   double x, y, vx, vy;
 };
@@ -74,7 +72,8 @@ State derivative(const WindModelOptions& o, const std::vector<double>& ys, const
   const double vr = std::hypot(rx, ry);
   double ax = 0, ay = -(o.buoyancy ? o.g * (1 - o.fluid.density / o.grain.density) : o.g);
   if (vr > 0) {
-    const double cd = drag_coefficient(o.reynolds_factor * 2 * o.grain.radius * vr / o.fluid.viscosity);
+    const double cd = fluid::drag_coefficient(
+        WindSpec::DragLaw::Thesis, o.reynolds_factor * 2 * o.grain.radius * vr / o.fluid.viscosity);
     const double c = drag_factor * cd * vr;  // eq. 4.30 over the grain's mass
     ax -= c * rx, ay -= c * ry;
   }

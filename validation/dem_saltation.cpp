@@ -7,7 +7,6 @@
 #include <cmath>
 #include <map>
 
-#include "fluid.hpp"
 #include "impact_bed.hpp"
 #include "parallel.hpp"
 #include "scene.hpp"

@@ -97,9 +97,10 @@ void focus(const std::vector<Run>& by_ustar, std::string& md) {
       if (k < r.r.wind.size()) lo = std::min(lo, r.r.wind[k]), hi = std::max(hi, r.r.wind[k]);
     if (hi - lo < best) best = hi - lo, at = z[k], speed = 0.5 * (lo + hi);
   }
-  md += fmt::format("Focus of the wind profiles: closest at z = {:.3f} cm above the bed, u = {:.0f} cm/s (spread "
-                    "{:.1f} cm/s; Bagnold's focus for sand: a few mm).\n\n",
-                    at, speed, best);
+  md += fmt::format(
+      "Focus of the wind profiles: closest at z = {:.3f} cm above the bed, u = {:.0f} cm/s (spread "
+      "{:.1f} cm/s; Bagnold's focus for sand: a few mm).\n\n",
+      at, speed, best);
 }
 
 void stiffness_checks(Report& rep, const Run& base, const std::vector<Run>& varied) {
