@@ -68,7 +68,8 @@ nlohmann::json result_json(const validation::DemSaltationOptions& o,
           {"momentum",
            {{"wind_loss", r.wind_momentum_loss},
             {"grain_gain", r.grain_momentum_gain},
-            {"stress_partition", r.stress_partition}}},
+            {"stress_partition", r.stress_partition},
+            {"coupling_lag", r.coupling_lag}}},
           {"splash", splash_json(r.splash)},
           {"grains", r.grains},
           {"bed_width_cm", r.bed_width},
@@ -172,9 +173,9 @@ int dem_command(const SaltationCommands& a) {
              r.impacts.size(), r.impact_speed.mean, r.impact_angle.mean, r.liftoffs.size(),
              r.liftoff_speed.mean, r.liftoff_angle.mean);
   fmt::print(
-      "  momentum per bed area: wind lost {:.4g}, grains got {:.4g} dyn/cm^2; tau_f + tau_g = {:.3f} rho "
-      "u*^2\n",
-      r.wind_momentum_loss, r.grain_momentum_gain, r.stress_partition);
+      "  momentum per bed area: wind lost {:.4g}, grains got {:.4g} dyn/cm^2 (lag per interval {:.3g}); "
+      "tau_f + tau_g = {:.3f} rho u*^2\n",
+      r.wind_momentum_loss, r.grain_momentum_gain, r.coupling_lag, r.stress_partition);
   fmt::print(
       "  saltation hops (> 5 d) {}: height {:.3f} cm, length {:.2f} cm, impact {:.1f} cm/s at {:.1f} deg\n",
       r.salton_hop_height.n, r.salton_hop_height.mean, r.salton_hop_length.mean, r.salton_impact_speed.mean,

@@ -48,7 +48,7 @@ WindField::WindField(const Scene& scene, const Particles& p, std::size_t n)
   const double speed = std::max(w_.u_star, 1.0);
   unit_a_ = m * fluid::drag_rate(w_.drag_law, f_, diameter_, speed) * 1e-6 * 1e-7;
   unit_b_ = unit_a_ * speed;
-  tally_a_.assign(cells_, 0), tally_b_.assign(cells_, 0);
+  tally_a_.assign(cells_, 0), tally_b_.assign(cells_, 0), tally_applied_.assign(cells_, 0);
   std::vector<std::uint64_t> counts(cells_, 0);
   for (std::size_t i = 0; i < n; ++i) ++counts[cell_of(p.y[i])];
   snap_.bed_level = w_.bed_level ? *w_.bed_level : find_bed_level(counts);
@@ -74,20 +74,25 @@ std::size_t WindField::cell_of(double y) const {
   return static_cast<std::size_t>(std::clamp(k, 0.0, static_cast<double>(cells_ - 1)));
 }
 
-double WindField::u_at(double y) const {
+WindField::Stencil WindField::stencil_of(double y) const {
   const double s = (y - y_lo_) / dy_ - 0.5;  // in cell-centre units
-  if (s <= 0) return snap_.u[0];
-  if (s >= static_cast<double>(cells_ - 1)) {  // above the column: the clean log law continues
+  if (s <= 0) return {0, 0.0};
+  if (s >= static_cast<double>(cells_ - 1)) return {static_cast<std::uint32_t>(cells_ - 2), 1.0};
+  const auto k = static_cast<std::size_t>(s);
+  return {static_cast<std::uint32_t>(k), s - static_cast<double>(k)};
+}
+
+double WindField::u_at(double y) const {
+  const Stencil st = stencil_of(y);
+  if (st.upper == 1.0 && y > snap_.y[cells_ - 1]) {  // above the column: the clean log law continues
     const double z_top = snap_.y[cells_ - 1] - snap_.bed_level, z = y - snap_.bed_level;
     return snap_.u[cells_ - 1] + w_.u_star / w_.kappa * std::log(z / z_top);
   }
-  const auto k = static_cast<std::size_t>(s);
-  const double a = s - static_cast<double>(k);
-  return snap_.u[k] * (1 - a) + snap_.u[k + 1] * a;
+  return snap_.u[st.cell] * (1 - st.upper) + snap_.u[st.cell + 1] * st.upper;
 }
 
 void WindField::add_drag(Particles& p, std::size_t n) {
-  rate_.resize(n), rate_v_.resize(n), drag_x_.resize(n);
+  rate_.resize(n), rate_v_.resize(n), drag_x_.resize(n), stencil_.resize(n);
   const double buried = snap_.bed_level;
   for (std::size_t i = 0; i < n; ++i) {
     // A grain wholly below the bed level sits in still pore air: its drag (from its own creeping speed) is
@@ -96,6 +101,7 @@ void WindField::add_drag(Particles& p, std::size_t n) {
       rate_[i] = 0;
       continue;
     }
+    stencil_[i] = stencil_of(p.y[i]);
     const double rx = p.vx[i] - u_at(p.y[i]), ry = p.vy[i];
     // The drag rate of the sphere the disc stands for, times the disc's own mass.
     const double mc = p.m[i] * fluid::drag_rate(w_.drag_law, f_, 2 * p.r[i], std::hypot(rx, ry));
@@ -106,13 +112,20 @@ void WindField::add_drag(Particles& p, std::size_t n) {
 }
 
 void WindField::after_step(const Particles& p, std::size_t n, double t, double dt, bool distributed) {
+  // Each grain's drag goes to the two cells its wind was interpolated from, with the same weights, so
+  // the column's linearised sink is the grains' drag up to the lumping of the weights (without this the
+  // bed's dense top cell was charged for the wind of the cell above and the deferred correction diverged).
   const double sa = dt / unit_a_, sb = dt / unit_b_;
+  auto add = [](std::vector<std::int64_t>& tally, std::size_t k, double upper, double amount) {
+    tally[k] += std::llround(amount * (1 - upper));
+    tally[k + 1] += std::llround(amount * upper);
+  };
   for (std::size_t i = 0; i < n && i < rate_.size(); ++i)
     if (rate_[i] != 0) {
-      const std::size_t k = cell_of(p.y[i]);
-      tally_a_[k] += std::llround(rate_[i] * sa);
-      tally_b_[k] += std::llround(rate_v_[i] * sb);
-      tally_applied_ += std::llround(drag_x_[i] * sb);
+      const auto [k, upper] = stencil_[i];
+      add(tally_a_, k, upper, rate_[i] * sa);
+      add(tally_b_, k, upper, rate_v_[i] * sb);
+      add(tally_applied_, k, upper, drag_x_[i] * sb);
     }
   if (t >= next_update_ * (1 - 1e-12)) update(p, n, t, distributed);
 }
@@ -134,11 +147,11 @@ double WindField::find_bed_level(const std::vector<std::uint64_t>& counts) const
 
 void WindField::update(const Particles& p, std::size_t n, double t, bool distributed) {
   // Two's complement: the signed sums survive the unsigned collective exactly.
-  std::vector<std::uint64_t> sums(2 * cells_ + 1), counts(cells_, 0);
-  sums[2 * cells_] = static_cast<std::uint64_t>(tally_applied_);
+  std::vector<std::uint64_t> sums(3 * cells_), counts(cells_, 0);
   for (std::size_t k = 0; k < cells_; ++k)
     sums[k] = static_cast<std::uint64_t>(tally_a_[k]),
-    sums[cells_ + k] = static_cast<std::uint64_t>(tally_b_[k]);
+    sums[cells_ + k] = static_cast<std::uint64_t>(tally_b_[k]),
+    sums[2 * cells_ + k] = static_cast<std::uint64_t>(tally_applied_[k]);
   for (std::size_t i = 0; i < n; ++i) ++counts[cell_of(p.y[i])];
   if (distributed) parallel::sum_all(sums), parallel::sum_all(counts);
   const double interval = t - last_update_;
@@ -146,12 +159,14 @@ void WindField::update(const Particles& p, std::size_t n, double t, bool distrib
     snap_.bed_level += std::min(1.0, interval / kBedMemory) * (find_bed_level(counts) - snap_.bed_level);
   const std::vector<double> z = heights_above_bed();
   const fluid::WindProfileInput in{w_.model, w_.kappa, w_.roughness, f_.viscosity, w_.u_star};
-  // Time-integrated drag (m c dt, m c v dt) per cell, as rates per fluid mass of the cell.
-  std::vector<double> A(cells_), B(cells_), a(cells_), b(cells_);
+  // Time-integrated drag (m c dt, m c v dt) per cell, as rates per fluid mass of the cell: the sink is
+  // a u - b.
+  std::vector<double> A(cells_), B(cells_), applied(cells_), a(cells_), b(cells_);
   const double fluid_mass = f_.density * bed_area() * dy_;
+  auto tally = [&](std::size_t at) { return static_cast<double>(static_cast<std::int64_t>(sums[at])); };
   for (std::size_t k = 0; k < cells_; ++k) {
-    A[k] = static_cast<double>(static_cast<std::int64_t>(sums[k])) * unit_a_;
-    B[k] = static_cast<double>(static_cast<std::int64_t>(sums[cells_ + k])) * unit_b_;
+    A[k] = tally(k) * unit_a_, B[k] = tally(cells_ + k) * unit_b_,
+    applied[k] = tally(2 * cells_ + k) * unit_b_;
     a[k] = A[k] / (interval * fluid_mass), b[k] = B[k] / (interval * fluid_mass);
   }
   if (w_.model != WindSpec::Model::Fixed) {
@@ -166,15 +181,17 @@ void WindField::update(const Particles& p, std::size_t n, double t, bool distrib
   }
   snap_.u_clean = fluid::wind_profile(in, z, std::vector<double>(cells_, w_.u_star * w_.u_star));
   if (w_.model == WindSpec::Model::Fixed) snap_.u = snap_.u_clean;
-  // What the wind gave the grains over the interval, at its new speeds, summed from the top.
-  double above = 0;
+  // What the wind gave the grains over the interval at its new speeds, summed from the top, and what the
+  // grains felt (at the speeds of the previous update).
+  double above = 0, given = 0;
   for (std::size_t k = cells_; k-- > 0;) {
     above += A[k] * snap_.u[k] - B[k];
     snap_.grain_stress[k] = above / (interval * bed_area());
+    given += applied[k];
   }
   snap_.drag_per_area = snap_.grain_stress[0];
-  snap_.applied_per_area =
-      static_cast<double>(static_cast<std::int64_t>(sums[2 * cells_])) * unit_b_ / (interval * bed_area());
+  snap_.applied_per_area = given / (interval * bed_area());
+
   const std::size_t kb = std::min(cells_ - 2, cell_of(snap_.bed_level + diameter_));
   const double tau_f = fluid::face_stress(in, dy_, z, snap_.u, kb), tau0 = w_.u_star * w_.u_star;
   snap_.u_star_eff = std::sqrt(std::max(0.0, tau_f));
@@ -184,7 +201,7 @@ void WindField::update(const Particles& p, std::size_t n, double t, bool distrib
   ++snap_.updates;
   std::fill(tally_a_.begin(), tally_a_.end(), 0);
   std::fill(tally_b_.begin(), tally_b_.end(), 0);
-  tally_applied_ = 0;
+  std::fill(tally_applied_.begin(), tally_applied_.end(), 0);
   last_update_ = t;
   next_update_ = t + w_.update_interval;
 }
@@ -203,14 +220,14 @@ std::vector<double> WindField::save() const {
   for (std::int64_t q : tally_a_) s.push_back(static_cast<double>(q));
   for (std::int64_t q : tally_b_) s.push_back(static_cast<double>(q));
   s.insert(s.end(), snap_.grain_stress.begin(), snap_.grain_stress.end());
-  s.push_back(static_cast<double>(tally_applied_));
+  for (std::int64_t q : tally_applied_) s.push_back(static_cast<double>(q));
   s.push_back(snap_.applied_per_area);
   s.insert(s.end(), eddy_.begin(), eddy_.end());  // empty before the first update
   return s;
 }
 
 void WindField::restore(const std::vector<double>& s) {
-  const std::size_t head = 8, want = head + 4 * cells_ + 2;
+  const std::size_t head = 8, want = head + 5 * cells_ + 1;
   if ((s.size() != want && s.size() != want + cells_ - 1) || static_cast<std::size_t>(s[0]) != cells_)
     throw std::runtime_error(
         fmt::format("checkpoint: the wind state has {} values; this scene's wind needs {}", s.size(), want));
@@ -224,9 +241,10 @@ void WindField::restore(const std::vector<double>& s) {
   for (std::size_t k = 0; k < cells_; ++k)
     tally_b_[k] = static_cast<std::int64_t>(at[2 * c + static_cast<long>(k)]);
   std::copy(at + 3 * c, at + 4 * c, snap_.grain_stress.begin());
-  tally_applied_ = static_cast<std::int64_t>(at[4 * c]);
-  snap_.applied_per_area = at[4 * c + 1];
-  eddy_.assign(at + 4 * c + 2, s.end());
+  for (std::size_t k = 0; k < cells_; ++k)
+    tally_applied_[k] = static_cast<std::int64_t>(at[4 * c + static_cast<long>(k)]);
+  snap_.applied_per_area = at[5 * c];
+  eddy_.assign(at + 5 * c + 1, s.end());
   snap_.u_clean =
       fluid::wind_profile({w_.model, w_.kappa, w_.roughness, f_.viscosity, w_.u_star}, heights_above_bed(),
                           std::vector<double>(cells_, w_.u_star * w_.u_star));

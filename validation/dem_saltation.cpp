@@ -241,7 +241,8 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
   std::vector<double> mass_z(nz, 0.0), flux_z(nz, 0.0), wind_z(nz, 0.0), clean_z(nz, 0.0), tau_z(nz, 0.0);
   std::vector<GrainTrack> track;
   std::vector<Flight> flights;
-  std::vector<double> q_series, ustar_series, air_series, gain_series, loss_series, partition_series;
+  std::vector<double> q_series, ustar_series, air_series, gain_series, loss_series, partition_series,
+      lag_series;
   std::size_t window_samples = 0;
   const long total_samples = std::lround(o.duration / o.sample_interval);
   for (long s = 0; s <= total_samples; ++s) {
@@ -291,7 +292,8 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
     q_series.push_back(q / area), ustar_series.push_back(w.u_star_eff);
     air_series.push_back(static_cast<double>(air));
     gain_series.push_back(w.applied_per_area), loss_series.push_back(w.drag_per_area);
-    partition_series.push_back(w.stress_partition);
+    partition_series.push_back(w.stress_partition),
+        lag_series.push_back(std::abs(w.applied_per_area - w.drag_per_area));
     for (std::size_t k = 0; k < nz; ++k) {
       const double y = bed + z_lo + (static_cast<double>(k) + 0.5) * dz;
       wind_z[k] += wind.u_at(y);
@@ -313,6 +315,7 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
   r.second_half_flux = mean_of(q_series, q_series.size() / 2, q_series.size());
   r.grain_momentum_gain = mean_of(gain_series, 0, gain_series.size());
   r.wind_momentum_loss = mean_of(loss_series, 0, loss_series.size());
+  r.coupling_lag = mean_of(lag_series, 0, lag_series.size());
   const double n = static_cast<double>(window_samples), volume = dz * area;
   for (std::size_t k = 0; k < nz; ++k) {
     r.z.push_back(z_lo + (static_cast<double>(k) + 0.5) * dz);

@@ -70,6 +70,8 @@ struct DemSaltationResult {
   // Momentum: what the wind lost (its own tally) and what the grains got (sampled drag), per bed area,
   // averaged over the window (dyn/cm^2); and the stress partition at the bed tau_f + tau_g vs rho u*^2.
   double wind_momentum_loss = 0, grain_momentum_gain = 0, stress_partition = 0;
+  // The coupling's lag: |grains' view - wind's view| per interval, averaged (dyn/cm^2).
+  double coupling_lag = 0;
   // Profiles over z above the bed (cm): mass concentration (g/cm^3), mass flux density (g/(cm^2 s)),
   // wind with and without grains (cm/s), grain-borne stress (dyn/cm^2).
   std::vector<double> z, concentration, flux_density, wind, wind_clean, grain_stress;

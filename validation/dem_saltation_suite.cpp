@@ -44,8 +44,8 @@ void balance_checks(Report& rep, const Run& r) {
       fmt::format("dem-saltation/{}/momentum-balance", r.label), "native",
       r.r.grain_momentum_gain / r.r.wind_momentum_loss, 1.0, 0.01,
       fmt::format("momentum the grains received by drag / momentum the wind lost ({:.4g} / {:.4g} "
-                  "dyn/cm^2; rho u*^2 = {:.4g})",
-                  r.r.grain_momentum_gain, r.r.wind_momentum_loss, rho_u2));
+                  "dyn/cm^2; rho u*^2 = {:.4g}; the two differ by {:.3g} per wind update)",
+                  r.r.grain_momentum_gain, r.r.wind_momentum_loss, rho_u2, r.r.coupling_lag));
   rep.expect_near(fmt::format("dem-saltation/{}/stress-partition", r.label), "native", r.r.stress_partition,
                   1.0, 0.01, "(fluid + grain-borne stress) / rho u*^2 one diameter above the bed");
 }
