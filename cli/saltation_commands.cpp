@@ -342,6 +342,14 @@ void SaltationCommands::add(CLI::App& app) {
   dem_app->add_flag("--force", force, "replace --out");
   dem_app->add_flag("--json", dem_json, "print the result as JSON");
   dem_app->add_flag("--quiet", quiet, "no progress bar");
+  dem_app->add_option("--checkpoint", dem.checkpoint, "write the run's state to this HDF5 file as it goes");
+  dem_app->add_option("--checkpoint-every", dem.checkpoint_every, "s of physical time between checkpoints")
+      ->default_val(0.1)
+      ->check(CLI::Range(1e-6, 1e6));
+  dem_app->add_option("--restart", dem.restart, "continue from a --checkpoint file (same options)")
+      ->check(CLI::ExistingFile);
+  dem_app->add_option("--stop-at", dem.stop_at, "stop at this time after writing the checkpoint, s")
+      ->check(CLI::Range(0.0, 1e6));
   wind->add_flag("--json", wind_json,
                  "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }

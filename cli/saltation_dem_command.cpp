@@ -123,6 +123,11 @@ int dem_command(const SaltationCommands& a) {
   if (!(o.average_from < o.duration))
     throw InputError({"--average-from", 0}, fmt::format("{}", o.average_from),
                      fmt::format("must be before the end of the run (--duration {})", o.duration));
+  if (o.stop_at > 0 && o.checkpoint.empty())
+    throw InputError({"--stop-at", 0}, fmt::format("{}", o.stop_at), "needs --checkpoint to stop into");
+  if (o.stop_at > 0 && !(o.stop_at < o.duration))
+    throw InputError({"--stop-at", 0}, fmt::format("{}", o.stop_at),
+                     fmt::format("must be before the end of the run (--duration {})", o.duration));
   if (!a.dem_out.empty() && fs::exists(a.dem_out) && !a.force)
     throw InputError({"--out", 0}, a.dem_out, "exists; pass --force to replace it");
   o.distributed = parallel::size() > 1;
@@ -132,6 +137,10 @@ int dem_command(const SaltationCommands& a) {
   const validation::DemSaltationResult r = validation::run_dem_saltation(o);
   bar.finish();
   if (!root) return 0;
+  if (r.stopped) {
+    fmt::print(stderr, "stopped at t = {} s; continue with --restart {}\n", o.stop_at, o.checkpoint);
+    return 0;
+  }
   const nlohmann::json j = result_json(o, r);
   if (!a.dem_out.empty()) {
     const std::string tmp = a.dem_out + ".partial";

@@ -206,7 +206,12 @@ void WindField::update(const Particles& p, std::size_t n, double t, bool distrib
   next_update_ = t + w_.update_interval;
 }
 
-std::vector<double> WindField::save() const {
+std::vector<double> WindField::save(bool distributed) const {
+  std::vector<std::uint64_t> tallies;
+  for (const auto* t : {&tally_a_, &tally_b_, &tally_applied_})
+    for (std::int64_t q : *t) tallies.push_back(static_cast<std::uint64_t>(q));
+  if (distributed) parallel::sum_all(tallies);
+  auto tally = [&](std::size_t at) { return static_cast<double>(static_cast<std::int64_t>(tallies[at])); };
   std::vector<double> s = {static_cast<double>(cells_),
                            last_update_,
                            next_update_,
@@ -217,16 +222,15 @@ std::vector<double> WindField::save() const {
                            static_cast<double>(snap_.updates)};
   s.insert(s.end(), snap_.u.begin(), snap_.u.end());
   // The tallies stay well below 2^53 by the units' choice, so doubles carry them exactly.
-  for (std::int64_t q : tally_a_) s.push_back(static_cast<double>(q));
-  for (std::int64_t q : tally_b_) s.push_back(static_cast<double>(q));
+  for (std::size_t k = 0; k < 2 * cells_; ++k) s.push_back(tally(k));
   s.insert(s.end(), snap_.grain_stress.begin(), snap_.grain_stress.end());
-  for (std::int64_t q : tally_applied_) s.push_back(static_cast<double>(q));
+  for (std::size_t k = 2 * cells_; k < 3 * cells_; ++k) s.push_back(tally(k));
   s.push_back(snap_.applied_per_area);
   s.insert(s.end(), eddy_.begin(), eddy_.end());  // empty before the first update
   return s;
 }
 
-void WindField::restore(const std::vector<double>& s) {
+void WindField::restore(const std::vector<double>& s, bool keep_tallies) {
   const std::size_t head = 8, want = head + 5 * cells_ + 1;
   if ((s.size() != want && s.size() != want + cells_ - 1) || static_cast<std::size_t>(s[0]) != cells_)
     throw std::runtime_error(
@@ -236,13 +240,12 @@ void WindField::restore(const std::vector<double>& s) {
   auto at = s.begin() + head;
   const long c = static_cast<long>(cells_);
   std::copy(at, at + c, snap_.u.begin());
-  for (std::size_t k = 0; k < cells_; ++k)
-    tally_a_[k] = static_cast<std::int64_t>(at[c + static_cast<long>(k)]);
-  for (std::size_t k = 0; k < cells_; ++k)
-    tally_b_[k] = static_cast<std::int64_t>(at[2 * c + static_cast<long>(k)]);
+  auto tally = [&](long from) { return keep_tallies ? static_cast<std::int64_t>(at[from]) : 0; };
+  for (std::size_t k = 0; k < cells_; ++k) {
+    const long kk = static_cast<long>(k);
+    tally_a_[k] = tally(c + kk), tally_b_[k] = tally(2 * c + kk), tally_applied_[k] = tally(4 * c + kk);
+  }
   std::copy(at + 3 * c, at + 4 * c, snap_.grain_stress.begin());
-  for (std::size_t k = 0; k < cells_; ++k)
-    tally_applied_[k] = static_cast<std::int64_t>(at[4 * c + static_cast<long>(k)]);
   snap_.applied_per_area = at[5 * c];
   eddy_.assign(at + 5 * c + 1, s.end());
   snap_.u_clean =

@@ -61,9 +61,11 @@ class WindField {
   double bed_area() const { return width_ * thickness_; }
   const WindSpec& spec() const { return w_; }
 
-  // Checkpoints: everything that the next steps depend on, and back.
-  std::vector<double> save() const;
-  void restore(const std::vector<double>& s);
+  // Checkpoints: everything that the next steps depend on, and back. The tallies of the interval under
+  // way are summed over the ranks by save (collective when distributed) and kept by one rank on restore
+  // (`keep_tallies`; the others start theirs at zero), so the sums at the next update are the same.
+  std::vector<double> save(bool distributed) const;
+  void restore(const std::vector<double>& s, bool keep_tallies);
 
  private:
   void update(const Particles& p, std::size_t n, double t, bool distributed);

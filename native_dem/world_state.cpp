@@ -47,6 +47,8 @@ WorldState World::save_state() const {
     build = parallel::gather_to_root(build);
     history = parallel::gather_to_root(history);
   }
+  // The wind's tallies of the interval under way are per rank: summed here (collective).
+  if (wind_) s.wind = wind_->save(domain_.has_value());
   if (domain_ && parallel::rank() != 0) return {};
   build = sorted_rows(build, 3);
   history = sorted_rows(history, 3);
@@ -61,7 +63,6 @@ WorldState World::save_state() const {
   }
   s.t = t_, s.dt = dt_, s.dt_prev = dt_prev_, s.have_prev = have_prev_;
   s.diagnostics = diag_;
-  if (wind_) s.wind = wind_->save();  // replicated on every rank
   return s;
 }
 
@@ -102,7 +103,7 @@ void World::restore_state(const WorldState& s) {
   for (std::uint32_t k : mine) x_build_.push_back(s.x_build[k]), y_build_.push_back(s.y_build[k]);
   t_ = s.t, dt_ = s.dt, dt_prev_ = s.dt_prev, have_prev_ = s.have_prev;
   diag_ = s.diagnostics;
-  if (wind_) wind_->restore(s.wind);
+  if (wind_) wind_->restore(s.wind, !domain_ || domain_->rank == 0);
   rebuild_after_restore(s.history);
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 
+#include "dem_saltation_state.hpp"
 #include "impact_bed.hpp"
 #include "parallel.hpp"
 #include "scene.hpp"
@@ -24,17 +25,11 @@ double grain_mass(const DemSaltationOptions& o, double d) {
   return o.grain_density * M_PI / 6 * d * d * d;
 }
 
-// What one grain is doing between samples: its unwrapped x, whether it is airborne, and its flight.
-struct GrainTrack {
-  double x = 0, y = 0, vx = 0, vy = 0, x_unwrapped = 0;
-  bool airborne = false;
-  Crossing up{};
-  double peak = 0;
-};
+using namespace dem_saltation_detail;
 
-struct Flight {
-  double t_up, height, length, impact_vx, impact_vy;
-};
+// Profile bins: half a diameter from 5 d below the bed to 400 d above it.
+constexpr std::size_t kProfileBins = 810;
+constexpr double kProfileFloor = -5;  // diameters
 
 // Every hop, and the saltating ones (higher than `salton_height`) apart: their impacts are the ones the
 // classic saltation numbers (impact speed nearly independent of u*) are about.
@@ -223,6 +218,67 @@ std::string dem_saltation_scene(const DemSaltationOptions& o) {
       fmt::arg("rmax", r * (1 + o.polydispersity)), fmt::arg("kick", kick_row(o, spacing)));
 }
 
+namespace {
+
+// One sample of every grain at time t: crossings, flights, the flux, and (in the window) the profiles.
+void take_sample(const DemSaltationOptions& o, const dem::Particles& p, const dem::WindField& wind, double t,
+                 bool first, double width, double area, StudyState& s) {
+  const dem::WindField::Snapshot& w = wind.snapshot();
+  const double bed = w.bed_level, d = o.diameter, dz = 0.5 * d, z_lo = kProfileFloor * d;
+  const bool in_window = t >= o.average_from - 1e-12;
+  if (s.track.empty()) s.track.resize(p.size());
+  double q = 0;
+  std::size_t air = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    GrainTrack& g = s.track[i];
+    const double level = bed + 2 * p.r[i];
+    double dx = p.x[i] - g.x;
+    if (!first) dx -= width * std::round(dx / width);
+    const double xu = !first ? g.x_unwrapped + dx : p.x[i];
+    const bool up = p.y[i] > level;
+    if (!first && up != g.airborne) {
+      const Crossing c =
+          crossing(g, t - o.sample_interval, g.x_unwrapped, p.y[i], p.vx[i], p.vy[i], xu, t, level, i);
+      if (up) {
+        g.up = c, g.peak = p.y[i] - bed;
+        if (in_window) s.liftoffs.push_back(c);
+      } else {
+        if (in_window) s.impacts.push_back(c);
+        if (g.up.t >= o.average_from) s.flights.push_back({g.up.t, g.peak, c.x - g.up.x, c.vx, c.vy});
+      }
+    }
+    if (up) g.peak = std::max(g.peak, p.y[i] - bed), ++air;
+    g.airborne = up, g.x = p.x[i], g.y = p.y[i], g.vx = p.vx[i], g.vy = p.vy[i], g.x_unwrapped = xu;
+    q += p.m[i] * p.vx[i];
+    if (in_window) {
+      const double k = std::floor((p.y[i] - bed - z_lo) / dz);
+      if (k >= 0 && k < static_cast<double>(kProfileBins)) {
+        s.mass_z[static_cast<std::size_t>(k)] += p.m[i];
+        s.flux_z[static_cast<std::size_t>(k)] += p.m[i] * p.vx[i];
+      }
+    }
+  }
+  if (s.next_sample % 10 == 0) s.series.push_back({t, q / area, w.u_star_eff, static_cast<double>(air)});
+  if (!in_window) return;
+  s.window.push_back({q / area, w.u_star_eff, static_cast<double>(air), w.applied_per_area, w.drag_per_area,
+                      w.stress_partition, std::abs(w.applied_per_area - w.drag_per_area)});
+  for (std::size_t k = 0; k < kProfileBins; ++k) {
+    const double y = bed + z_lo + (static_cast<double>(k) + 0.5) * dz;
+    s.wind_z[k] += wind.u_at(y);
+    const double sk = (y - w.y.front()) / (w.y[1] - w.y[0]);
+    const std::size_t e = static_cast<std::size_t>(std::clamp(std::round(sk), 0.0, double(w.y.size() - 1)));
+    s.clean_z[k] += w.u_clean[e], s.tau_z[k] += w.grain_stress[e];
+  }
+}
+
+std::vector<double> column(const std::vector<WindowSample>& rows, std::size_t c) {
+  std::vector<double> v;
+  for (const WindowSample& r : rows) v.push_back(r[c]);
+  return v;
+}
+
+}  // namespace
+
 DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const Scene scene = parse_scene(dem_saltation_scene(o), "<saltation dem>");
@@ -235,97 +291,62 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
   const double area = wind.bed_area(), d = o.diameter;
   const bool root = parallel::rank() == 0;
 
-  // Profile bins: half a diameter from 5 d below the bed to 400 d above it.
-  const double dz = 0.5 * d, z_lo = -5 * d;
-  const std::size_t nz = 810;
-  std::vector<double> mass_z(nz, 0.0), flux_z(nz, 0.0), wind_z(nz, 0.0), clean_z(nz, 0.0), tau_z(nz, 0.0);
-  std::vector<GrainTrack> track;
-  std::vector<Flight> flights;
-  std::vector<double> q_series, ustar_series, air_series, gain_series, loss_series, partition_series,
-      lag_series;
-  std::size_t window_samples = 0;
+  StudyState s;
+  if (!o.restart.empty()) {
+    auto [state, study] = read_checkpoint(o.restart, o);
+    world.restore_state(state);
+    s = std::move(study);
+  }
+  s.mass_z.resize(kProfileBins), s.flux_z.resize(kProfileBins), s.wind_z.resize(kProfileBins);
+  s.clean_z.resize(kProfileBins), s.tau_z.resize(kProfileBins);
   const long total_samples = std::lround(o.duration / o.sample_interval);
-  for (long s = 0; s <= total_samples; ++s) {
-    const double t = static_cast<double>(s) * o.sample_interval;
+  const long per_checkpoint = std::max(1L, std::lround(o.checkpoint_every / o.sample_interval));
+  for (; s.next_sample <= total_samples; ++s.next_sample) {
+    const double t = static_cast<double>(s.next_sample) * o.sample_interval;
     world.advance_to(t);
     const dem::Particles p = world.gather_particles();
     if (o.progress && root) o.progress(t, o.duration);
-    if (!root) continue;
-    const dem::WindField::Snapshot& w = wind.snapshot();
-    const double bed = w.bed_level;
-    const bool in_window = t >= o.average_from - 1e-12;
-    if (track.empty()) track.resize(p.size());
-    double q = 0;
-    std::size_t air = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      GrainTrack& g = track[i];
-      const double level = bed + 2 * p.r[i];
-      double dx = p.x[i] - g.x;
-      if (s > 0) dx -= r.bed_width * std::round(dx / r.bed_width);
-      const double xu = s > 0 ? g.x_unwrapped + dx : p.x[i];
-      const bool up = p.y[i] > level;
-      if (s > 0 && up != g.airborne) {
-        const Crossing c =
-            crossing(g, t - o.sample_interval, g.x_unwrapped, p.y[i], p.vx[i], p.vy[i], xu, t, level, i);
-        if (up) {
-          g.up = c, g.peak = p.y[i] - bed;
-          if (in_window) r.liftoffs.push_back(c);
-        } else {
-          if (in_window) r.impacts.push_back(c);
-          if (g.up.t >= o.average_from) flights.push_back({g.up.t, g.peak, c.x - g.up.x, c.vx, c.vy});
-        }
-      }
-      if (up) g.peak = std::max(g.peak, p.y[i] - bed), ++air;
-      g.airborne = up, g.x = p.x[i], g.y = p.y[i], g.vx = p.vx[i], g.vy = p.vy[i], g.x_unwrapped = xu;
-      q += p.m[i] * p.vx[i];
-      if (in_window) {
-        const double k = std::floor((p.y[i] - bed - z_lo) / dz);
-        if (k >= 0 && k < static_cast<double>(nz)) {
-          mass_z[static_cast<std::size_t>(k)] += p.m[i];
-          flux_z[static_cast<std::size_t>(k)] += p.m[i] * p.vx[i];
-        }
-      }
+    if (root) take_sample(o, p, wind, t, s.next_sample == 0, r.bed_width, area, s);
+    const bool stop = o.stop_at > 0 && t >= o.stop_at - 1e-12;
+    if (!o.checkpoint.empty() && s.next_sample < total_samples &&
+        (s.next_sample % per_checkpoint == 0 || stop)) {
+      StudyState next = s;  // the file resumes with the sample after this one
+      ++next.next_sample;
+      const dem::WorldState state = world.save_state();  // collective
+      if (root) write_checkpoint(o.checkpoint, o, state, next);
     }
-    if (s % 10 == 0) r.series.push_back({t, q / area, w.u_star_eff, static_cast<double>(air)});
-    if (!in_window) continue;
-    ++window_samples;
-    q_series.push_back(q / area), ustar_series.push_back(w.u_star_eff);
-    air_series.push_back(static_cast<double>(air));
-    gain_series.push_back(w.applied_per_area), loss_series.push_back(w.drag_per_area);
-    partition_series.push_back(w.stress_partition),
-        lag_series.push_back(std::abs(w.applied_per_area - w.drag_per_area));
-    for (std::size_t k = 0; k < nz; ++k) {
-      const double y = bed + z_lo + (static_cast<double>(k) + 0.5) * dz;
-      wind_z[k] += wind.u_at(y);
-      const double sk = (y - w.y.front()) / (w.y[1] - w.y[0]);
-      const std::size_t e = static_cast<std::size_t>(std::clamp(std::round(sk), 0.0, double(w.y.size() - 1)));
-      clean_z[k] += w.u_clean[e], tau_z[k] += w.grain_stress[e];
+    if (stop) {
+      r.stopped = true;
+      break;
     }
   }
   r.steps = world.diagnostics().steps;
   r.wind_seconds = world.diagnostics().seconds_wind;
-  r.grains = track.size();
+  r.grains = s.track.size();
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!root || window_samples == 0) return r;
+  if (!root || s.window.empty() || r.stopped) return r;
 
+  const std::vector<double> q_series = column(s.window, 0), ustar_series = column(s.window, 1);
+  r.series = s.series, r.impacts = s.impacts, r.liftoffs = s.liftoffs;
   r.mass_flux = block_interval(q_series, o.sample_interval);
   r.u_star_eff = block_interval(ustar_series, o.sample_interval);
-  r.airborne = block_interval(air_series, o.sample_interval);
+  r.airborne = block_interval(column(s.window, 2), o.sample_interval);
   r.first_half_flux = mean_of(q_series, 0, q_series.size() / 2);
   r.second_half_flux = mean_of(q_series, q_series.size() / 2, q_series.size());
-  r.grain_momentum_gain = mean_of(gain_series, 0, gain_series.size());
-  r.wind_momentum_loss = mean_of(loss_series, 0, loss_series.size());
-  r.coupling_lag = mean_of(lag_series, 0, lag_series.size());
-  const double n = static_cast<double>(window_samples), volume = dz * area;
-  for (std::size_t k = 0; k < nz; ++k) {
-    r.z.push_back(z_lo + (static_cast<double>(k) + 0.5) * dz);
-    r.concentration.push_back(mass_z[k] / (n * volume));
-    r.flux_density.push_back(flux_z[k] / (n * volume));
-    r.wind.push_back(wind_z[k] / n), r.wind_clean.push_back(clean_z[k] / n);
-    r.grain_stress.push_back(tau_z[k] / n);
+  const std::size_t nw = s.window.size();
+  r.grain_momentum_gain = mean_of(column(s.window, 3), 0, nw);
+  r.wind_momentum_loss = mean_of(column(s.window, 4), 0, nw);
+  r.stress_partition = mean_of(column(s.window, 5), 0, nw);
+  r.coupling_lag = mean_of(column(s.window, 6), 0, nw);
+  const double n = static_cast<double>(nw), dz = 0.5 * d, volume = dz * area;
+  for (std::size_t k = 0; k < kProfileBins; ++k) {
+    r.z.push_back((kProfileFloor + 0.5 * (static_cast<double>(k) + 0.5)) * d);
+    r.concentration.push_back(s.mass_z[k] / (n * volume));
+    r.flux_density.push_back(s.flux_z[k] / (n * volume));
+    r.wind.push_back(s.wind_z[k] / n), r.wind_clean.push_back(s.clean_z[k] / n);
+    r.grain_stress.push_back(s.tau_z[k] / n);
   }
-  r.stress_partition = mean_of(partition_series, 0, partition_series.size());
-  summarize_flights(flights, 5 * d, r);
+  summarize_flights(s.flights, 5 * d, r);
   std::vector<double> is, ia, ls, la;
   for (const Crossing& c : r.impacts)
     is.push_back(std::hypot(c.vx, c.vy)), ia.push_back(std::atan2(-c.vy, c.vx) / kDeg);

@@ -39,6 +39,11 @@ struct DemSaltationOptions {
   bool distributed = false;                      // spread the bed over the MPI ranks
   bool model_comparison = true;                  // run the Ch. IV model with the measured splash afterwards
   std::function<void(double, double)> progress;  // (t, duration)
+  // Checkpoints (docs/saltation.md): the world and everything measured so far are written to
+  // `checkpoint` every `checkpoint_every` s of physical time; `restart` continues from such a file to the
+  // same result, bit for bit; `stop_at` (> 0) ends the run at that time right after its checkpoint.
+  std::string checkpoint, restart;
+  double checkpoint_every = 0.1, stop_at = 0;
 };
 
 // The scene the study runs (TOML text), ready for load_scene's parser.
@@ -82,6 +87,7 @@ struct DemSaltationResult {
   double bed_width = 0, slab_thickness = 0, dt = 0;
   double wall_seconds = 0, wind_seconds = 0;  // wind_seconds: drag and updates (measured share)
   std::uint64_t steps = 0;
+  bool stopped = false;  // ended at stop_at: only the checkpoint was written, nothing is measured
 };
 
 DemSaltationResult run_dem_saltation(const DemSaltationOptions& o);
