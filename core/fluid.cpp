@@ -11,6 +11,10 @@ double drag_coefficient(WindSpec::DragLaw law, double re) {
     const double s = 0.63 + 4.8 / std::sqrt(re);
     return s * s;
   }
+  if (law == WindSpec::DragLaw::Huo2021) {  // C_d_inf = 0.5, Re_c = 24 (Huo et al. 2021, after Cheng)
+    const double s = std::sqrt(0.5) + std::sqrt(24 / re);
+    return s * s;
+  }
   return 24 / re + 6 / (1 + std::sqrt(re)) + 0.4;  // eq. 4.31
 }
 

@@ -10,7 +10,8 @@
 namespace grainlab::fluid {
 
 // Drag coefficient of a sphere at Reynolds number re = d |v_rel| / nu.
-// Thesis (eq. 4.31): 24/Re + 6/(1 + sqrt(Re)) + 0.4. Dalla Valle: (0.63 + 4.8/sqrt(Re))^2.
+// Thesis (eq. 4.31): 24/Re + 6/(1 + sqrt(Re)) + 0.4. Dalla Valle: (0.63 + 4.8/sqrt(Re))^2. Huo et al.
+// 2021: (sqrt(0.5) + sqrt(24/Re))^2.
 double drag_coefficient(WindSpec::DragLaw law, double re);
 
 // The acceleration drag gives a sphere of diameter d and density rho_grain moving at v_rel relative to

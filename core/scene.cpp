@@ -666,8 +666,11 @@ class SceneReader {
       w.drag_law = WindSpec::DragLaw::Thesis;
     else if (law == "dalla_valle")
       w.drag_law = WindSpec::DragLaw::DallaValle;
+    else if (law == "huo2021")
+      w.drag_law = WindSpec::DragLaw::Huo2021;
     else
-      r.fail("drag_law", "must be \"thesis\" (eqs 4.30-4.31) or \"dalla_valle\", found \"" + law + "\"");
+      r.fail("drag_law",
+             "must be \"thesis\" (eqs 4.30-4.31), \"dalla_valle\" or \"huo2021\", found \"" + law + "\"");
     w.u_star = r.number("u_star", Range::non_negative());
     w.kappa = r.number_or("kappa", w.kappa, Range::closed(0.1, 1));
     w.roughness = r.number_or("roughness", 0, Range::non_negative());

@@ -30,9 +30,10 @@ struct WindSpec {
   // the grains' drag taken out of it. VanDriest: l = kappa z (1 - exp(-z u*/(26 nu))) plus molecular
   // viscosity (Huo et al. 2021).
   enum class Model { Fixed, MixingLength, VanDriest };
-  enum class DragLaw { Thesis, DallaValle };
+  enum class DragLaw { Thesis, DallaValle, Huo2021 };
   Model model = Model::MixingLength;
-  DragLaw drag_law = DragLaw::Thesis;  // Thesis: eqs 4.30-4.31; DallaValle: (0.63 + 4.8/sqrt(Re))^2
+  DragLaw drag_law = DragLaw::Thesis;  // Thesis: eqs 4.30-4.31; DallaValle: (0.63 + 4.8/sqrt(Re))^2;
+                                       // Huo2021: (sqrt(0.5) + sqrt(24/Re))^2
   double u_star = 0;                   // cm/s, shear velocity above the grains
   double kappa = 0.4;
   double roughness = 0;           // cm; 0: median grain diameter / 30 (the thesis's y0)

@@ -154,7 +154,9 @@ TEST(Fluid, DragLawsHaveTheirLimits) {
   EXPECT_NEAR(fluid::drag_coefficient(WindSpec::DragLaw::Thesis, 1e-6) * 1e-6, 24, 1e-3);
   EXPECT_NEAR(fluid::drag_coefficient(WindSpec::DragLaw::DallaValle, 1e-8) * 1e-8, 23.04, 1e-2);
   // Newton: the thesis's 0.4, Dalla Valle's 0.63^2.
+  EXPECT_NEAR(fluid::drag_coefficient(WindSpec::DragLaw::Huo2021, 1e-8) * 1e-8, 24, 1e-2);
   EXPECT_NEAR(fluid::drag_coefficient(WindSpec::DragLaw::Thesis, 1e12), 0.4, 1e-5);
+  EXPECT_NEAR(fluid::drag_coefficient(WindSpec::DragLaw::Huo2021, 1e14), 0.5, 1e-5);
   EXPECT_NEAR(fluid::drag_coefficient(WindSpec::DragLaw::DallaValle, 1e14), 0.3969, 1e-5);
 }
 

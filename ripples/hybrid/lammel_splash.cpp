@@ -1,0 +1,107 @@
+#include "lammel_splash.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace grainlab::ripples::hybrid {
+
+namespace {
+constexpr double kLn2 = 0.69314718055994531;
+double normal_tail(double x) {
+  return 0.5 * std::erfc(x / std::sqrt(2.0));
+}  // P(Z > x)
+
+// x with P(Z > x) = q, by bisection on erfc (accurate in the far tail, where ejecta energies come from):
+// ejecta are drawn rarely enough that accuracy matters more than speed here.
+double tail_quantile(double q) {
+  double lo = -40, hi = 40;
+  for (int k = 0; k < 100; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (normal_tail(mid) > q ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+}  // namespace
+
+LammelParameters LammelParameters::paper2021() {
+  return {};
+}
+
+LammelParameters LammelParameters::lammel2017() {
+  return {"lammel2017", 0.73, -0.18, true, 0.05};
+}
+
+LammelParameters LammelParameters::named(const std::string& name) {
+  if (name == "paper2021") return paper2021();
+  if (name == "lammel2017") return lammel2017();
+  throw std::invalid_argument("unknown splash parameter set \"" + name +
+                              "\" (known: \"paper2021\", \"lammel2017\")");
+}
+
+LammelCoefficients lammel_coefficients(const LammelParameters& p, double d1, double d2) {
+  const double v1 = d1 * d1 * d1, v2 = d2 * d2 * d2, eps = p.restitution;
+  const double eta = p.effective_eta ? eps * v1 / (v1 + eps * v2) : v1 / v2;
+  const double alpha = (1 + eps) / (1 + eta) - 1;
+  const double beta = 1 - (2.0 / 7.0) * (1 - p.tangential) / (1 + eta);
+  const double ratio = beta / (alpha + beta);
+  return {eta, alpha, beta, 2 * (d1 + d2) / (9 * d2) * ratio * ratio};
+}
+
+double mean_restitution(const LammelCoefficients& c, double d1, double d2, double theta) {
+  return c.beta - (c.beta * c.beta - c.alpha * c.alpha) * d2 * theta / (c.beta * (d1 + d2));
+}
+
+double rebound_angle(const LammelCoefficients& c, double theta, double u) {
+  // F(s) = s (1 - ln s) rises from 0 to 1 on (0, 1] with F' = -ln s: Newton from the right, where F is
+  // concave, converges monotonically.
+  u = std::clamp(u, 1e-300, 1.0);
+  double s = 1;
+  for (int k = 0; k < 60 && s > 0; ++k) {
+    const double f = s * (1 - std::log(s)) - u, slope = -std::log(s);
+    if (slope <= 0) {
+      s = 0.5 * (1 + u);  // s = 1 is the flat top: step into the interior first
+      continue;
+    }
+    const double next = std::max(s - f / slope, 0.5 * s);
+    if (std::abs(next - s) < 1e-15 * s) break;
+    s = next;
+  }
+  return std::sqrt(s * 2 * theta / c.gamma) - theta;
+}
+
+double mean_rebound_angle(const LammelCoefficients& c, double theta) {
+  return 4 * std::sqrt(2.0) / 9 * std::sqrt(theta / c.gamma) - theta;
+}
+
+EjectaLaw ejecta_law(const LammelParameters& p, double e_bar, double e1, double e_d2) {
+  EjectaLaw law;
+  law.e_d2 = e_d2;
+  const double available = (1 - e_bar * e_bar) * e1, x = available / e_d2;
+  if (!(x > 1)) return law;  // the rebound keeps too much: no bed grain can be lifted
+  const double lambda = 2 * std::log(x);
+  law.sigma = std::sqrt(lambda) * kLn2;
+  law.mu_e = std::log(available) - lambda * kLn2;
+  law.escape_probability = normal_tail((std::log(e_d2) - law.mu_e) / law.sigma);
+  law.mean_count = p.ejecta_fraction * std::pow(x, (2 - kLn2) * kLn2) * law.escape_probability;
+  return law;
+}
+
+double EjectaLaw::mean_energy() const {
+  if (escape_probability <= 0) return 0;
+  const double a = (std::log(e_d2) - mu_e) / sigma;
+  return std::exp(mu_e + 0.5 * sigma * sigma) * normal_tail(a - sigma) / normal_tail(a);
+}
+
+int sample_ejecta_count(const EjectaLaw& law, Rng& rng) {
+  const double whole = std::floor(law.mean_count);
+  return static_cast<int>(whole) + (rng.uniform() < law.mean_count - whole ? 1 : 0);
+}
+
+double sample_ejectum_energy(const EjectaLaw& law, Rng& rng) {
+  // The lognormal above e_d2, by inverting its CDF over the tail.
+  const double q = law.escape_probability * (1 - rng.uniform());  // in (0, P(E2 > e_d2)]
+  return std::exp(law.mu_e + law.sigma * tail_quantile(q));
+}
+
+}  // namespace grainlab::ripples::hybrid
