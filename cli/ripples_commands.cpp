@@ -326,10 +326,44 @@ void RipplesCommands::add(CLI::App& app) {
       group->add_subcommand("wavelength", "Fig. 5.24: the largest ripple a merger can make, by size ratio");
   wavelength->add_flag("--json", json, "print the table as JSON");
   triangles->add_flag("--json", json, "print the sizes after the collision and the minimum effective height");
+  hybrid_flux = group->add_subcommand(
+      "hybrid-flux", "the 3-D hybrid model's saturated flux over a flat bed (Huo et al. 2021, eq. 31)");
+  hybrid_flux->add_option("--ustar", flux.u_star, "wind-shear velocity, cm/s")
+      ->default_val(40)
+      ->check(CLI::Range(0.1, 1e4));
+  hybrid_flux->add_option("--diameter", flux.diameter, "grain diameter, cm")
+      ->default_val(0.025)
+      ->check(CLI::Range(1e-5, 10.0));
+  hybrid_flux->add_option("--grain-density", flux.grain_density, "g/cm^3")->default_val(2.65)->check(CLI::PositiveNumber);
+  hybrid_flux->add_option("--fluid-density", flux.fluid_density, "g/cm^3")
+      ->default_val(0.00123)
+      ->check(CLI::PositiveNumber);
+  hybrid_flux->add_option("--viscosity", flux.viscosity, "kinematic, cm^2/s")->default_val(0.146)->check(CLI::PositiveNumber);
+  hybrid_flux->add_option("--length", flux.length, "domain length, grain diameters")
+      ->default_val(400)
+      ->check(CLI::Range(3.0, 1e6));
+  hybrid_flux->add_option("--width", flux.width, "domain width, grain diameters")
+      ->default_val(10)
+      ->check(CLI::Range(3.0, 1e6));
+  hybrid_flux->add_option("--duration", flux.duration, "t* = t / sqrt(d / g^)")
+      ->default_val(4000)
+      ->check(CLI::Range(1.0, 1e8));
+  hybrid_flux->add_option("--average-from", flux.average_from, "start of the averaging window, t*")
+      ->default_val(2000)
+      ->check(CLI::Range(0.0, 1e8));
+  hybrid_flux->add_option("--splash", flux.splash, "Lammel parameter set")
+      ->default_val("paper2021")
+      ->check(CLI::IsMember({"paper2021", "lammel2017"}));
+  hybrid_flux->add_flag("--no-collisions", [this](std::int64_t) { flux.collisions = false; },
+                        "no mid-air collisions");
+  hybrid_flux->add_option("--seed", flux.seed, "seed")->default_val(2021);
+  hybrid_flux->add_flag("--json", json, "print the result as JSON");
+  hybrid_flux->add_flag("--quiet", quiet, "no progress bar");
 }
 
 int RipplesCommands::dispatch() const {
   if (wavelength && *wavelength) return wavelength_command(*this);
+  if (hybrid_flux && *hybrid_flux) return hybrid_flux_command(*this);
   if (bin_cmd && *bin_cmd) return bins_command(*this);
   if (lattice && *lattice) return lattice_command(*this);
   if (analyze && *analyze) return analyze_command(*this);

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "flux_model.hpp"
+
 namespace grainlab::cli {
 
 struct RipplesCommands {
@@ -27,6 +29,9 @@ struct RipplesCommands {
   CLI::App *analyze = nullptr, *run = nullptr, *continuum = nullptr;
   double shape_speed = 0.1;
   double lattice_ejections = 0;  // 0: the config's
+  CLI::App* hybrid_flux = nullptr;
+  ripples::hybrid::FluxOptions flux;
+  bool quiet = false;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
@@ -37,6 +42,7 @@ int lattice_command(const RipplesCommands& a);
 int analyze_command(const RipplesCommands& a);
 int run_command(const RipplesCommands& a);
 int continuum_command(const RipplesCommands& a);
+int hybrid_flux_command(const RipplesCommands& a);
 // The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file.
 std::vector<double> splash_hops(const std::string& splash, double angle, double speed);
 
