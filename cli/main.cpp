@@ -13,6 +13,7 @@
 #include "die_model_command.hpp"
 #include "engine.hpp"
 #include "h5_input.hpp"
+#include "hybrid_benchmark.hpp"
 #include "impact_benchmark.hpp"
 #include "impact_commands.hpp"
 #include "input_error.hpp"
@@ -363,6 +364,25 @@ int main(int argc, char** argv) {
       ->default_val(5)
       ->check(CLI::Range(1, 100));
   lattice_bench_cmd->add_option("--json", lattice_bench.json, "also write the result as JSON to this file");
+  bench::HybridBenchOptions hybrid_bench;
+  CLI::App* hybrid_bench_cmd = bench_cmd->add_subcommand(
+      "hybrid", "airborne grain-steps per second of the 3-D hybrid ripple model's flux run on one core");
+  hybrid_bench_cmd->add_option("--length", hybrid_bench.length, "domain length, grain diameters")
+      ->default_val(400)
+      ->check(CLI::Range(3.0, 1e6));
+  hybrid_bench_cmd->add_option("--width", hybrid_bench.width, "domain width, grain diameters")
+      ->default_val(10)
+      ->check(CLI::Range(3.0, 1e6));
+  hybrid_bench_cmd->add_option("--ustar", hybrid_bench.u_star, "cm/s")
+      ->default_val(40)
+      ->check(CLI::Range(20.0, 500.0));
+  hybrid_bench_cmd->add_option("--duration", hybrid_bench.duration, "t* per run")
+      ->default_val(1000)
+      ->check(CLI::Range(10.0, 1e7));
+  hybrid_bench_cmd->add_option("--repeats", hybrid_bench.repeats, "timed repetitions (median reported)")
+      ->default_val(3)
+      ->check(CLI::Range(1, 100));
+  hybrid_bench_cmd->add_option("--json", hybrid_bench.json, "also write the result as JSON to this file");
 
   cli::ImpactCommands impacts;
   impacts.add(app);
@@ -392,6 +412,7 @@ int main(int argc, char** argv) {
     if (*bed_cmd) return bench::run_bed_command(bed);
     if (*impact_bench_cmd) return bench::run_impact_bench(impact_bench);
     if (*lattice_bench_cmd) return bench::run_lattice_bench(lattice_bench);
+    if (*hybrid_bench_cmd) return bench::run_hybrid_bench(hybrid_bench);
     if (*bed3d_cmd) return bench::run_bed3d_bench(bed3d);
     if (const int status = impacts.dispatch(); status >= 0) return status;
     if (const int status = saltation.dispatch(); status >= 0) return status;

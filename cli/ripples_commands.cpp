@@ -334,11 +334,15 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_flux->add_option("--diameter", flux.diameter, "grain diameter, cm")
       ->default_val(0.025)
       ->check(CLI::Range(1e-5, 10.0));
-  hybrid_flux->add_option("--grain-density", flux.grain_density, "g/cm^3")->default_val(2.65)->check(CLI::PositiveNumber);
+  hybrid_flux->add_option("--grain-density", flux.grain_density, "g/cm^3")
+      ->default_val(2.65)
+      ->check(CLI::PositiveNumber);
   hybrid_flux->add_option("--fluid-density", flux.fluid_density, "g/cm^3")
       ->default_val(0.00123)
       ->check(CLI::PositiveNumber);
-  hybrid_flux->add_option("--viscosity", flux.viscosity, "kinematic, cm^2/s")->default_val(0.146)->check(CLI::PositiveNumber);
+  hybrid_flux->add_option("--viscosity", flux.viscosity, "kinematic, cm^2/s")
+      ->default_val(0.146)
+      ->check(CLI::PositiveNumber);
   hybrid_flux->add_option("--length", flux.length, "domain length, grain diameters")
       ->default_val(400)
       ->check(CLI::Range(3.0, 1e6));
@@ -354,8 +358,8 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_flux->add_option("--splash", flux.splash, "Lammel parameter set")
       ->default_val("paper2021")
       ->check(CLI::IsMember({"paper2021", "lammel2017"}));
-  hybrid_flux->add_flag("--no-collisions", [this](std::int64_t) { flux.collisions = false; },
-                        "no mid-air collisions");
+  hybrid_flux->add_flag(
+      "--no-collisions", [this](std::int64_t) { flux.collisions = false; }, "no mid-air collisions");
   hybrid_flux->add_option("--seed", flux.seed, "seed")->default_val(2021);
   hybrid_flux->add_flag("--json", json, "print the result as JSON");
   hybrid_flux->add_flag("--quiet", quiet, "no progress bar");

@@ -47,8 +47,9 @@ int hybrid_flux_command(const RipplesCommands& a) {
   }
   fmt::print("hybrid flux: s = {:.0f}, Ga = {:.1f}, S = {:.4f} (u* = {} cm/s, splash {})\n", r.s, r.galileo,
              r.shields, o.u_star, o.splash);
-  fmt::print("  Q = {:.4g} g/(cm s) (sd {:.3g}), Q* = {:.4g}; {:.0f} grains airborne; u* at the bed {:.2f} cm/s\n",
-             r.mass_flux, r.mass_flux_sd, r.mass_flux_star, r.airborne, r.u_star_bed);
+  fmt::print(
+      "  Q = {:.4g} g/(cm s) (sd {:.3g}), Q* = {:.4g}; {:.0f} grains airborne; u* at the bed {:.2f} cm/s\n",
+      r.mass_flux, r.mass_flux_sd, r.mass_flux_star, r.airborne, r.u_star_bed);
   fmt::print("  impacts {:.1f} cm/s at {:.1f} deg; {} mid-air collisions\n", r.mean_impact_speed,
              r.mean_impact_angle_deg, r.collisions);
   fmt::print("  {} grain-steps in {:.1f} s: {:.3g} grain-steps/s\n", r.grain_steps, r.wall_seconds, rate);

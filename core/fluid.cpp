@@ -45,9 +45,12 @@ std::vector<double> wind_profile(const WindProfileInput& in, const std::vector<d
     if (z[k] <= in.roughness) continue;
     const double s = std::max(0.0, stress[k]);
     const double s_mid = s_prev < 0 ? s : 0.5 * (s + s_prev);
-    // Midpoint in log z: exact for du/dz proportional to 1/z at constant stress.
-    const double zg = std::sqrt(z_prev * z[k]);
-    u[k] = u_prev + shear_rate(in, zg, s_mid) * zg * std::log(z[k] / z_prev);
+    if (z_prev <= 0) {  // a smooth wall (z0 = 0, van Driest): the midpoint rule from the wall itself
+      u[k] = shear_rate(in, 0.5 * z[k], s_mid) * z[k];
+    } else {  // midpoint in log z: exact for du/dz proportional to 1/z at constant stress
+      const double zg = std::sqrt(z_prev * z[k]);
+      u[k] = u_prev + shear_rate(in, zg, s_mid) * zg * std::log(z[k] / z_prev);
+    }
     z_prev = z[k], u_prev = u[k], s_prev = s;
   }
   return u;

@@ -30,7 +30,8 @@ struct WindProfileInput {
 // tau_f / rho at those heights (cm^2/s^2, negative read as 0). u(z0) = 0; between heights the slope
 // solves l^2 (du/dz)^2 + nu_eff du/dz = tau/rho with l = kappa z (thesis: nu_eff = 0, so du/dz =
 // sqrt(tau/rho)/(kappa z)) or l = kappa z (1 - exp(-z u*/(26 nu))) and nu_eff = nu (van Driest),
-// integrated in log z so the log law is exact for constant stress.
+// integrated in log z so the log law is exact for constant stress. z0 = 0 is a smooth wall (van Driest
+// only: the first height should then lie in the viscous sublayer, z u* / nu << 1).
 std::vector<double> wind_profile(const WindProfileInput& in, const std::vector<double>& z,
                                  const std::vector<double>& stress);
 

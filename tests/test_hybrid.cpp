@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "collision.hpp"
+#include "flux_model.hpp"
 #include "lammel_splash.hpp"
 #include "rng.hpp"
 
@@ -129,6 +130,40 @@ TEST(LammelSplash, EjectaCountsAndEnergiesMatchTheLaw) {
   }
   // Too slow to lift anything: no ejecta.
   EXPECT_EQ(ejecta_law(p, e_bar, 1.0, 1).mean_count, 0);
+}
+
+}  // namespace grainlab::ripples::hybrid
+
+namespace grainlab::ripples::hybrid {
+
+TEST(HybridWind, GrainFreeColumnIsViscousAtTheWallAndLogarithmicAbove) {
+  FluxOptions o;
+  const WindColumn w = clean_wind(o);
+  auto u_plus = [&](double z_plus) {
+    const double z = z_plus * o.viscosity / o.u_star;
+    std::size_t k = 0;
+    while (k + 2 < w.z.size() && w.z[k + 1] < z) ++k;
+    const double a = (z - w.z[k]) / (w.z[k + 1] - w.z[k]);
+    return (w.u[k] * (1 - a) + w.u[k + 1] * a) / o.u_star;
+  };
+  EXPECT_NEAR(u_plus(0.5), 0.5, 0.005);
+  EXPECT_NEAR(u_plus(2000) - u_plus(200), std::log(10.0) / 0.42, 0.05);
+}
+
+TEST(HybridFlux, SameSeedSameRunAndTransportNeedsWind) {
+  FluxOptions o;
+  o.length = 100, o.duration = 150, o.average_from = 75;
+  const FluxResult a = run_flux(o), b = run_flux(o);
+  EXPECT_EQ(a.mass_flux, b.mass_flux);
+  EXPECT_EQ(a.grain_steps, b.grain_steps);
+  EXPECT_GT(a.mass_flux_star, 0);
+  // The grains take up part of the wind's stress: less is left at the bed than u*^2.
+  EXPECT_LT(a.u_star_bed, o.u_star);
+  o.u_star = 15;  // S = 0.004, far below the threshold (~0.009): the trigger grains die out
+  o.duration = 800, o.average_from = 600;
+  EXPECT_EQ(run_flux(o).airborne, 0);
+  o.length = -1;
+  EXPECT_THROW(run_flux(o), std::invalid_argument);
 }
 
 }  // namespace grainlab::ripples::hybrid

@@ -47,6 +47,10 @@ const std::vector<Suite>& suites() {
        "wind_drag): momentum balance, flux against u*, impact speeds, stiffness independence, the Ch. IV "
        "model with the DEM's own splash",
        run_dem_saltation_suite},
+      {"hybrid",
+       "the 3-D hybrid ripple model (Huo et al. 2021), so far: drag limits, mid-air collisions, the Lammel "
+       "splash's moments, the grain-free wind, flux runs on a flat bed against eq. 31",
+       run_hybrid_suite},
   };
   return all;
 }

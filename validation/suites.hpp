@@ -36,6 +36,7 @@ void run_impacts_suite(Report& r, const SuiteOptions& o);  // the 3-D part of th
 void run_saltation_suite(Report& r, const SuiteOptions& o);
 void run_ripples_suite(Report& r, const SuiteOptions& o);
 void run_dem_saltation_suite(Report& r, const SuiteOptions& o);
+void run_hybrid_suite(Report& r, const SuiteOptions& o);
 // The 3-D single-body checks on one engine; appends a row to the markdown table `md`.
 void single_body_3d_checks(Report& r, const std::string& engine, std::string& md);
 // g in cm/s^2, as the thesis and the analytic references use it.

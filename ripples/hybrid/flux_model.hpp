@@ -16,18 +16,18 @@
 namespace grainlab::ripples::hybrid {
 
 struct FluxOptions {
-  double diameter = 0.025;        // cm
-  double grain_density = 2.65;    // g/cm^3
-  double fluid_density = 0.00123;  // g/cm^3
-  double viscosity = 0.146;       // cm^2/s
-  double g = 981;                 // cm/s^2
-  double u_star = 40;             // cm/s
+  double diameter = 0.025;                         // cm
+  double grain_density = 2.65;                     // g/cm^3
+  double fluid_density = 0.00123;                  // g/cm^3
+  double viscosity = 0.146;                        // cm^2/s
+  double g = 981;                                  // cm/s^2
+  double u_star = 40;                              // cm/s
   double length = 400, width = 10, height = 1200;  // domain in diameters (x streamwise, y, wind column)
-  int triggers = 40;              // grains thrown at the start (random places, 20 d/s up)
-  double duration = 4000, average_from = 2000;  // t* = t / sqrt(d / g^)
-  double dt_max = 0.02;           // in sqrt(d / g); also |v| dt < 0.2 d
-  double wind_interval = 1;       // t* between wind updates
-  double wind_memory = 20;        // t*: the grains' drag is a running mean over this
+  int triggers = 40;                               // grains thrown at the start (random places, 20 d/s up)
+  double duration = 4000, average_from = 2000;     // t* = t / sqrt(d / g^)
+  double dt_max = 0.02;                            // in sqrt(d / g); also |v| dt < 0.2 d
+  double wind_interval = 1;                        // t* between wind updates
+  double wind_memory = 20;                         // t*: the grains' drag is a running mean over this
   bool collisions = true;
   double collision_restitution = 0.9, collision_friction = 0.4;
   std::string splash = "paper2021";  // LammelParameters::named
@@ -36,14 +36,15 @@ struct FluxOptions {
 };
 
 struct FluxResult {
-  double s = 0, galileo = 0, shields = 0;  // s = rho_p / rho_f, Ga = sqrt(s g^ d^3)/nu, S = rho_f u*^2/(rho_p g^ d)
+  double s = 0, galileo = 0,
+         shields = 0;  // s = rho_p / rho_f, Ga = sqrt(s g^ d^3)/nu, S = rho_f u*^2/(rho_p g^ d)
   double mass_flux = 0, mass_flux_star = 0;  // window means: g/(cm s) and Q / (rho_p d sqrt(s g^ d))
   double mass_flux_sd = 0;                   // of the window's samples (one per t*)
   double airborne = 0;                       // grains in flight, window mean
   double u_star_bed = 0;                     // sqrt(tau_f / rho_f) at the bed
   double impacts_per_area_time = 0;          // 1/(cm^2 s)
   double mean_impact_speed = 0, mean_impact_angle_deg = 0;
-  std::vector<double> z, u, u_clean;  // the wind at the end (cm, cm/s)
+  std::vector<double> z, u, u_clean;          // the wind at the end (cm, cm/s)
   std::vector<std::array<double, 3>> series;  // t*, Q*, airborne
   std::uint64_t grain_steps = 0, steps = 0, collisions = 0;
   double wall_seconds = 0;
@@ -51,6 +52,12 @@ struct FluxResult {
 
 // Throws std::invalid_argument for options that cannot run (non-positive sizes, unknown splash set).
 FluxResult run_flux(const FluxOptions& o);
+
+// The grain-free wind of the flux run's column: heights (cm) and speeds (cm/s).
+struct WindColumn {
+  std::vector<double> z, u;
+};
+WindColumn clean_wind(const FluxOptions& o);
 
 // Eq. 31 (Pahtz & Duran 2020 form): Q* = (2 sqrt(S_d) / (kappa mu_b)) (S - S_d) [1 + (c_M / mu_b)(S - S_d)].
 double flux_law(double shields, double shields_threshold, double kappa = 0.42, double mu_b = 0.61,
