@@ -37,6 +37,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"impact_angle_deg", r.mean_impact_angle_deg},
                            {"collisions", r.collisions},
                            {"splash", o.splash},
+                           {"wind_loosened", o.wind_loosened},
                            {"grain_steps", r.grain_steps},
                            {"steps", r.steps},
                            {"grain_steps_per_second", rate},

@@ -211,6 +211,34 @@ std::string RunWriter::commit() {
   return xmf;
 }
 
+namespace {
+
+// One table as a checksummed 2-D dataset (a damaged table is refused on reading, as run files are), its
+// intermediate groups ("suite/engine") created as needed.
+void write_table(hid_t f, const SampleTable& t) {
+  std::vector<double> flat;
+  for (const auto& row : t.rows) {
+    if (row.size() != t.columns.size())
+      throw std::logic_error("sample table " + t.name + ": row width differs from its columns");
+    flat.insert(flat.end(), row.begin(), row.end());
+  }
+  hsize_t dims[2] = {t.rows.size(), t.columns.size()};
+  hid_t space = H5Screate_simple(2, dims, nullptr);
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE), lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  if (!flat.empty()) H5Pset_chunk(dcpl, 2, dims), H5Pset_fletcher32(dcpl);
+  hid_t d = H5Dcreate2(f, t.name.c_str(), H5T_NATIVE_DOUBLE, space, lcpl, dcpl, H5P_DEFAULT);
+  H5Pclose(dcpl), H5Pclose(lcpl);
+  if (d < 0) throw std::runtime_error("HDF5: failed to create dataset " + t.name);
+  if (!flat.empty())
+    check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, flat.data()), "write samples");
+  attr_string(d, "columns", fmt::format("{}", fmt::join(t.columns, ",")));
+  attr_string(d, "description", t.description);
+  H5Dclose(d), H5Sclose(space);
+}
+
+}  // namespace
+
 void write_sample_tables(const std::string& path, const std::vector<SampleTable>& tables,
                          const std::map<std::string, std::string>& metadata) {
   const std::string tmp = temp_name(path);
@@ -218,33 +246,7 @@ void write_sample_tables(const std::string& path, const std::vector<SampleTable>
     hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     if (f < 0) throw std::runtime_error("cannot create " + path);
     for (const auto& [k, v] : metadata) attr_string(f, k, v);
-    // Intermediate groups ("suite/engine") are created as needed.
-    hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
-    H5Pset_create_intermediate_group(lcpl, 1);
-    for (const SampleTable& t : tables) {
-      std::vector<double> flat;
-      for (const auto& row : t.rows) {
-        if (row.size() != t.columns.size())
-          throw std::logic_error("sample table " + t.name + ": row width differs from its columns");
-        flat.insert(flat.end(), row.begin(), row.end());
-      }
-      hsize_t dims[2] = {t.rows.size(), t.columns.size()};
-      hid_t space = H5Screate_simple(2, dims, nullptr);
-      hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
-      if (!flat.empty()) {  // checksummed, as run files are: a damaged table is refused on reading
-        H5Pset_chunk(dcpl, 2, dims);
-        H5Pset_fletcher32(dcpl);
-      }
-      hid_t d = H5Dcreate2(f, t.name.c_str(), H5T_NATIVE_DOUBLE, space, lcpl, dcpl, H5P_DEFAULT);
-      H5Pclose(dcpl);
-      if (d < 0) throw std::runtime_error("HDF5: failed to create dataset " + t.name);
-      if (!flat.empty())
-        check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, flat.data()), "write samples");
-      attr_string(d, "columns", fmt::format("{}", fmt::join(t.columns, ",")));
-      attr_string(d, "description", t.description);
-      H5Dclose(d), H5Sclose(space);
-    }
-    H5Pclose(lcpl);
+    for (const SampleTable& t : tables) write_table(f, t);
     check(H5Fclose(f), "close the samples file");
   } catch (...) {
     std::error_code ec;
@@ -266,6 +268,86 @@ void write_file_atomically(const std::string& path, const std::string& text) {
     }
   }
   fs::rename(tmp, path);
+}
+
+GridSeriesWriter::GridSeriesWriter(std::string path, bool overwrite, std::size_t nx, std::size_t ny, double dx,
+                                   std::string field)
+    : path_(std::move(path)), tmp_(temp_name(path_)), field_(std::move(field)), nx_(nx), ny_(ny), dx_(dx) {
+  if (!overwrite && fs::exists(path_)) throw std::runtime_error(path_ + " exists");
+  file_ = H5Fcreate(tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_ < 0) throw std::runtime_error("cannot create " + path_);
+  hid_t g = H5Gcreate2(file_, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Gclose(g);
+}
+
+GridSeriesWriter::~GridSeriesWriter() {
+  if (file_ >= 0) H5Fclose(file_);
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove(tmp_, ec);
+  }
+}
+
+void GridSeriesWriter::add_frame(double time, const std::vector<double>& values) {
+  if (values.size() != nx_ * ny_) throw std::logic_error("grid frame: wrong number of values");
+  const std::string name = fmt::format("/frames/{:06d}", times_.size());
+  hsize_t dims[2] = {ny_, nx_};
+  hid_t space = H5Screate_simple(2, dims, nullptr);
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(dcpl, 2, dims), H5Pset_fletcher32(dcpl);
+  hid_t d = H5Dcreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  H5Pclose(dcpl);
+  if (d < 0) throw std::runtime_error("HDF5: failed to create " + name);
+  check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), "write a frame");
+  attr_double(d, "time", time);
+  H5Dclose(d), H5Sclose(space);
+  H5Fflush(file_, H5F_SCOPE_LOCAL);
+  times_.push_back(time);
+}
+
+std::string GridSeriesWriter::commit(const std::vector<SampleTable>& tables,
+                                     const std::map<std::string, std::string>& metadata) {
+  const std::string xmf = fs::path(path_).replace_extension(".xmf").string(), tmp_xmf = temp_name(xmf);
+  try {
+    for (const SampleTable& t : tables) write_table(file_, t);
+    for (const auto& [k, v] : metadata) attr_string(file_, k, v);
+    check(H5Fclose(file_), "close the grid series");
+    file_ = -1;
+    write_file_atomically(tmp_xmf, xdmf());
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp_xmf, ec);
+    throw;
+  }
+  fs::rename(tmp_, path_);
+  fs::rename(tmp_xmf, xmf);
+  committed_ = true;
+  return xmf;
+}
+
+// A temporal collection of 2-D co-rectilinear grids, one per frame, each with its values as a node scalar
+// (ParaView: colour by the field, or Warp By Scalar for the relief).
+std::string GridSeriesWriter::xdmf() const {
+  const std::string h5 = fs::path(path_).filename().string();
+  std::string x =
+      "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
+      "  <Grid Name=\"bed\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (std::size_t k = 0; k < times_.size(); ++k) {
+    x += fmt::format("   <Grid Name=\"frame{}\" GridType=\"Uniform\">\n    <Time Value=\"{:.17g}\"/>\n", k,
+                     times_[k]);
+    x += fmt::format("    <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"{} {}\"/>\n", ny_, nx_);
+    x += fmt::format(
+        "    <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
+        "     <DataItem Dimensions=\"2\" Format=\"XML\">0 0</DataItem>\n"
+        "     <DataItem Dimensions=\"2\" Format=\"XML\">{:.17g} {:.17g}</DataItem>\n    </Geometry>\n",
+        dx_, dx_);
+    x += fmt::format(
+        "    <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+        "     <DataItem Dimensions=\"{} {}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/frames/{:06d}"
+        "</DataItem>\n    </Attribute>\n   </Grid>\n",
+        field_, ny_, nx_, h5, k);
+  }
+  return x + "  </Grid>\n </Domain>\n</Xdmf>\n";
 }
 
 }  // namespace grainlab

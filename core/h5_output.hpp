@@ -110,6 +110,32 @@ struct SampleTable {
 void write_sample_tables(const std::string& path, const std::vector<SampleTable>& tables,
                          const std::map<std::string, std::string>& metadata);
 
+// A time series of 2-D grids (a bed's heights, x fastest) streamed to HDF5 as it is taken: each frame is
+// written and flushed when added, so memory does not grow with the run; the file lives under a temporary
+// name until commit() adds the tables and metadata, writes the XDMF sidecar and renames both into place.
+// Destroyed uncommitted, it removes the temporary (no half-written output).
+class GridSeriesWriter {
+ public:
+  // Fails (std::runtime_error) if `path` exists and !overwrite.
+  GridSeriesWriter(std::string path, bool overwrite, std::size_t nx, std::size_t ny, double dx,
+                   std::string field);
+  ~GridSeriesWriter();
+  GridSeriesWriter(const GridSeriesWriter&) = delete;
+  GridSeriesWriter& operator=(const GridSeriesWriter&) = delete;
+  void add_frame(double time, const std::vector<double>& values);
+  // Returns the .xmf path.
+  std::string commit(const std::vector<SampleTable>& tables, const std::map<std::string, std::string>& metadata);
+
+ private:
+  std::string xdmf() const;
+  std::string path_, tmp_, field_;
+  std::size_t nx_, ny_;
+  double dx_;
+  std::int64_t file_ = -1;
+  std::vector<double> times_;
+  bool committed_ = false;
+};
+
 // Writes `text` to `path` through a temporary file and a rename.
 void write_file_atomically(const std::string& path, const std::string& text);
 

@@ -8,9 +8,6 @@
 
 namespace grainlab::ripples {
 
-namespace {
-
-// The named table of a config, parsed strictly (the only table allowed).
 toml::table config_root(const std::string& text, const std::string& path) {
   try {
     return toml::parse(text, path);
@@ -18,6 +15,8 @@ toml::table config_root(const std::string& text, const std::string& path) {
     throw InputError({path, static_cast<int>(e.source().begin.line)}, "", std::string(e.description()));
   }
 }
+
+namespace {
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
@@ -27,7 +26,8 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
-// The model's table in a config that must hold that table and nothing else.
+}  // namespace
+
 const toml::table& model_table(const toml::table& root, const std::string& name, const std::string& path) {
   TomlReader top(root, "", path);
   const toml::table* t = top.subtable(name);
@@ -35,8 +35,6 @@ const toml::table& model_table(const toml::table& root, const std::string& name,
   top.finish();
   return *t;
 }
-
-}  // namespace
 
 BinModelRun parse_bin_model_config(const std::string& text, const std::string& path) {
   const toml::table root = config_root(text, path);

@@ -1,6 +1,8 @@
 #pragma once
 // Ripple models read TOML configs with the scenes' strict reader: unknown keys, wrong types and values out
 // of range stop with the file, line and key, and exit status 2. docs/ripples.md lists the keys.
+#include <toml++/toml.h>
+
 #include <string>
 
 #include "bin_model.hpp"
@@ -50,6 +52,10 @@ struct TriangleRun {
   std::string text;
 };
 TriangleRun parse_triangle_config(const std::string& text, const std::string& path);
+// A config parsed strictly (TOML syntax errors become InputError with the line), and the model's table in
+// a config that must hold that table and nothing else.
+toml::table config_root(const std::string& text, const std::string& path);
+const toml::table& model_table(const toml::table& root, const std::string& name, const std::string& path);
 // A config file's text (InputError if it cannot be read).
 std::string read_config_text(const std::string& path);
 

@@ -138,7 +138,7 @@ namespace grainlab::ripples::hybrid {
 
 TEST(HybridWind, GrainFreeColumnIsViscousAtTheWallAndLogarithmicAbove) {
   FluxOptions o;
-  const WindColumn w = clean_wind(o);
+  const CleanWind w = clean_wind(o);
   auto u_plus = [&](double z_plus) {
     const double z = z_plus * o.viscosity / o.u_star;
     std::size_t k = 0;

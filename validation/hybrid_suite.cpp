@@ -91,7 +91,7 @@ void splash_checks(Report& rep, std::string& md) {
 }
 
 void wind_checks(Report& rep, const FluxOptions& o) {
-  const WindColumn w = clean_wind(o);
+  const CleanWind w = clean_wind(o);
   const double nu = o.viscosity, us = o.u_star;
   auto u_plus = [&](double z_plus) {  // interpolated in the column
     const double z = z_plus * nu / us;

@@ -1,7 +1,7 @@
 #pragma once
 // The 3-D hybrid model's transport over a fixed flat bed (Huo et al. 2021, section 3.1's flux runs):
 // airborne grains tracked one by one (drag of the huo2021 law, gravity with buoyancy, Heun steps),
-// mid-air collisions found with a spatial hash, the Lammel splash where a grain reaches the bed, and a
+// mid-air collisions found in a column grid, the Lammel splash where a grain reaches the bed, and a
 // steady 1-D wind (van Driest mixing length, kappa 0.42) whose stress the grains' drag takes up. The bed
 // never changes: an unlimited supply of grains to eject, and grains that land dead are gone. What it
 // measures is the saturated flux Q* against the Shields number S, the law the paper fits (eq. 31).
@@ -11,27 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "lammel_splash.hpp"
+#include "transport.hpp"
 
 namespace grainlab::ripples::hybrid {
 
-struct FluxOptions {
-  double diameter = 0.025;                         // cm
-  double grain_density = 2.65;                     // g/cm^3
-  double fluid_density = 0.00123;                  // g/cm^3
-  double viscosity = 0.146;                        // cm^2/s
-  double g = 981;                                  // cm/s^2
-  double u_star = 40;                              // cm/s
-  double length = 400, width = 10, height = 1200;  // domain in diameters (x streamwise, y, wind column)
-  int triggers = 40;                               // grains thrown at the start (random places, 20 d/s up)
-  double duration = 4000, average_from = 2000;     // t* = t / sqrt(d / g^)
-  double dt_max = 0.02;                            // in sqrt(d / g); also |v| dt < 0.2 d
-  double wind_interval = 1;                        // t* between wind updates
-  double wind_memory = 20;                         // t*: the grains' drag is a running mean over this
-  bool collisions = true;
-  double collision_restitution = 0.9, collision_friction = 0.4;
-  std::string splash = "paper2021";  // LammelParameters::named
-  std::uint64_t seed = 2021;
+struct FluxOptions : TransportOptions {
+  double duration = 4000, average_from = 2000;   // t* = t / sqrt(d / g^)
   std::function<void(double, double)> progress;  // (t*, duration)
 };
 
@@ -54,10 +39,10 @@ struct FluxResult {
 FluxResult run_flux(const FluxOptions& o);
 
 // The grain-free wind of the flux run's column: heights (cm) and speeds (cm/s).
-struct WindColumn {
+struct CleanWind {
   std::vector<double> z, u;
 };
-WindColumn clean_wind(const FluxOptions& o);
+CleanWind clean_wind(const FluxOptions& o);
 
 // Eq. 31 (Pahtz & Duran 2020 form): Q* = (2 sqrt(S_d) / (kappa mu_b)) (S - S_d) [1 + (c_M / mu_b)(S - S_d)].
 double flux_law(double shields, double shields_threshold, double kappa = 0.42, double mu_b = 0.61,

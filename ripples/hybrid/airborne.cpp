@@ -1,0 +1,64 @@
+#include "airborne.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace grainlab::ripples::hybrid {
+
+namespace {
+long wrap(long i, long n) { return i < 0 ? i + n : (i >= n ? i - n : i); }
+// The nearest periodic image of a separation (both grains inside the box).
+double nearest(double s, double period) {
+  return s > 0.5 * period ? s - period : (s < -0.5 * period ? s + period : s);
+}
+}  // namespace
+
+CollisionGrid::CollisionGrid(double length, double width, double d)
+    : nx_(std::max(3L, static_cast<long>(length / d))),
+      ny_(std::max(3L, static_cast<long>(width / d))),
+      inv_hx_(static_cast<double>(nx_) / length),
+      inv_hy_(static_cast<double>(ny_) / width),
+      d_(d),
+      length_(length),
+      width_(width) {}
+
+std::uint64_t CollisionGrid::collide_all(Grains& g, double m, const CollisionLaw& law) {
+  const std::size_t n = g.size(), columns = static_cast<std::size_t>(nx_ * ny_);
+  start_.assign(columns + 1, 0), column_.resize(n), order_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const long ix = std::min(nx_ - 1, static_cast<long>(g.x[i] * inv_hx_));
+    const long iy = std::min(ny_ - 1, static_cast<long>(g.y[i] * inv_hy_));
+    column_[i] = static_cast<std::uint32_t>(ix * ny_ + iy);
+    ++start_[column_[i] + 1];
+  }
+  for (std::size_t c = 0; c < columns; ++c) start_[c + 1] += start_[c];
+  fill_ = start_;
+  for (std::size_t i = 0; i < n; ++i) order_[fill_[column_[i]]++] = static_cast<std::uint32_t>(i);
+  std::uint64_t hits = 0;
+  static constexpr long kAhead[4][2] = {{1, -1}, {1, 0}, {1, 1}, {0, 1}};
+  // By grain, not by column: most columns are empty.
+  for (std::uint32_t a = 0; a < n; ++a) {
+    const std::uint32_t i = order_[a], c = column_[i];
+    const long ix = static_cast<long>(c) / ny_, iy = static_cast<long>(c) % ny_;
+    for (std::uint32_t b = a + 1; b < start_[c + 1]; ++b) hits += pair(g, i, order_[b], m, law);
+    for (const auto& off : kAhead) {
+      const auto o = static_cast<std::size_t>(wrap(ix + off[0], nx_) * ny_ + wrap(iy + off[1], ny_));
+      for (std::uint32_t b = start_[o]; b < start_[o + 1]; ++b) hits += pair(g, i, order_[b], m, law);
+    }
+  }
+  return hits;
+}
+
+bool CollisionGrid::pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) const {
+  const double dz = g.z[j] - g.z[i];
+  if (dz >= d_ || dz <= -d_) return false;
+  const double dx = nearest(g.x[j] - g.x[i], length_), dy = nearest(g.y[j] - g.y[i], width_);
+  const double r2 = dx * dx + dy * dy + dz * dz;
+  if (r2 >= d_ * d_ || r2 <= 0) return false;
+  Vec3 v1{g.vx[i], g.vy[i], g.vz[i]}, v2{g.vx[j], g.vy[j], g.vz[j]};
+  if (!collide(v1, v2, m, m, Vec3{dx, dy, dz} / std::sqrt(r2), law)) return false;
+  g.vx[i] = v1.x(), g.vy[i] = v1.y(), g.vz[i] = v1.z(), g.vx[j] = v2.x(), g.vy[j] = v2.y(), g.vz[j] = v2.z();
+  return true;
+}
+
+}  // namespace grainlab::ripples::hybrid

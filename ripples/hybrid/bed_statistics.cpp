@@ -1,0 +1,88 @@
+#include "bed_statistics.hpp"
+
+#include <unsupported/Eigen/FFT>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+namespace grainlab::ripples::hybrid {
+
+namespace {
+
+using Spectrum = std::vector<std::complex<double>>;
+
+// Each slice's spectrum, its mean removed.
+std::vector<Spectrum> slice_spectra(const std::vector<double>& h, std::size_t nx, std::size_t ny) {
+  Eigen::FFT<double> fft;
+  std::vector<Spectrum> out(ny);
+  std::vector<double> row(nx);
+  for (std::size_t j = 0; j < ny; ++j) {
+    double mean = 0;
+    for (std::size_t i = 0; i < nx; ++i) mean += h[j * nx + i];
+    mean /= static_cast<double>(nx);
+    for (std::size_t i = 0; i < nx; ++i) row[i] = h[j * nx + i] - mean;
+    fft.fwd(out[j], row);
+  }
+  return out;
+}
+
+// The slice-averaged circular cross-correlation of a and b: sum_x a(x) b(x + dl) / nx.
+std::vector<double> correlate(const std::vector<Spectrum>& a, const std::vector<Spectrum>& b, std::size_t nx) {
+  Eigen::FFT<double> fft;
+  Spectrum sum(a[0].size(), 0.0);
+  for (std::size_t j = 0; j < a.size(); ++j)
+    for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += std::conj(a[j][k]) * b[j][k];
+  std::vector<double> c(nx);
+  fft.inv(c, sum);
+  const double scale = 1 / (static_cast<double>(nx) * static_cast<double>(a.size()));
+  for (double& v : c) v *= scale;
+  return c;
+}
+
+}  // namespace
+
+std::vector<double> slice_autocorrelation(const std::vector<double>& h, std::size_t nx, std::size_t ny) {
+  const std::vector<Spectrum> s = slice_spectra(h, nx, ny);
+  return correlate(s, s, nx);
+}
+
+BedStatistics bed_statistics(const std::vector<double>& h, std::size_t nx, std::size_t ny, double dx) {
+  BedStatistics r;
+  for (double v : h) r.mean += v;
+  r.mean /= static_cast<double>(h.size());
+  const std::vector<double> c = slice_autocorrelation(h, nx, ny);
+  r.amplitude = 2 * std::sqrt(2 * std::max(0.0, c[0]));
+  // The first peak beyond the first trough: from the first negative lag, the largest C up to where it
+  // turns negative again (the first positive lobe after the first negative one).
+  const std::size_t half = nx / 2;
+  std::size_t k = 1;
+  while (k < half && c[k] > 0) ++k;
+  while (k < half && c[k] <= 0) ++k;
+  std::size_t best = 0;
+  for (; k < half && c[k] > 0; ++k)
+    if (best == 0 || c[k] > c[best]) best = k;
+  if (best > 0) {
+    // A parabola through the peak and its neighbours puts it between grid points.
+    const double a = c[best - 1], b = c[best], e = c[best + 1], den = a - 2 * b + e;
+    const double off = den < 0 ? std::clamp(0.5 * (a - e) / den, -0.5, 0.5) : 0.0;
+    r.wavelength = (static_cast<double>(best) + off) * dx;
+    if (r.amplitude > 0) r.ripple_index = r.wavelength / r.amplitude;
+  }
+  return r;
+}
+
+double bed_shift(const std::vector<double>& before, const std::vector<double>& after, std::size_t nx,
+                 std::size_t ny, double dx, double max_shift) {
+  const std::vector<double> c = correlate(slice_spectra(before, nx, ny), slice_spectra(after, nx, ny), nx);
+  const auto reach = std::min<long>(static_cast<long>(max_shift / dx), static_cast<long>(nx / 2) - 1);
+  long best = 0;
+  for (long s = -reach; s <= reach; ++s) {
+    const auto k = static_cast<std::size_t>(s < 0 ? s + static_cast<long>(nx) : s);
+    const auto kb = static_cast<std::size_t>(best < 0 ? best + static_cast<long>(nx) : best);
+    if (c[k] > c[kb]) best = s;
+  }
+  return static_cast<double>(best) * dx;
+}
+
+}  // namespace grainlab::ripples::hybrid

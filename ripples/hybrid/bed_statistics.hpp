@@ -1,0 +1,27 @@
+#pragma once
+// Ripple diagnostics of a height field (Huo et al. 2021, section 3.2): the bed cut into streamwise slices,
+// each slice's autocorrelation C(dl) = <h(x) h(x + dl)> - <h>^2, averaged over slices. The amplitude is
+// A = 2 sqrt(2 C(0)) (for a sine, its crest-to-trough height), the wavelength the first peak of C at
+// dl > 0, the ripple index lambda / A. The migration between two bed frames is the shift that best lines
+// the slices up (the peak of their cross-correlation).
+#include <cstddef>
+#include <vector>
+
+namespace grainlab::ripples::hybrid {
+
+struct BedStatistics {
+  double amplitude = 0;     // A, same unit as h
+  double wavelength = 0;    // same unit as dx; 0 when C has no peak beyond its first trough
+  double ripple_index = 0;  // lambda / A (0 without a wavelength)
+  double mean = 0;
+};
+
+// h: nx * ny heights, x fastest, spacing dx, periodic in x.
+BedStatistics bed_statistics(const std::vector<double>& h, std::size_t nx, std::size_t ny, double dx);
+// The slice-averaged autocorrelation C(dl) at lags 0..nx-1 (periodic).
+std::vector<double> slice_autocorrelation(const std::vector<double>& h, std::size_t nx, std::size_t ny);
+// The downwind shift (same unit as dx) that carries `before` onto `after`, searched within +-max_shift.
+double bed_shift(const std::vector<double>& before, const std::vector<double>& after, std::size_t nx,
+                 std::size_t ny, double dx, double max_shift);
+
+}  // namespace grainlab::ripples::hybrid

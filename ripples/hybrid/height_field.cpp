@@ -1,0 +1,107 @@
+#include "height_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace grainlab::ripples::hybrid {
+
+namespace {
+// A grain can roll or be taken over at most this many sub-regions (a guard; slopes stop it long before).
+constexpr int kMaxMoves = 64;
+}  // namespace
+
+HeightField::HeightField(const HeightFieldParams& p) : p_(p) {
+  if (!(p.cell > 0) || !(p.length >= 3 * p.cell) || !(p.width >= 3 * p.cell) || !(p.packing > 0) ||
+      !(p.packing <= 1) || !(p.repose_deg > 0) || !(p.repose_deg < 90) || !(p.erodible >= 0))
+    throw std::invalid_argument("height field: cell > 0, at least 3 cells each way, 0 < packing <= 1, "
+                                "0 < repose < 90 deg, erodible >= 0");
+  nx_ = static_cast<std::size_t>(std::lround(p.length / p.cell));
+  ny_ = static_cast<std::size_t>(std::lround(p.width / p.cell));
+  cell_ = p.length / static_cast<double>(nx_);  // exactly periodic in x; y spacing taken equal
+  inv_cell_ = 1 / cell_;
+  step_ = M_PI / 6 * p.diameter * p.diameter * p.diameter / (p.packing * cell_ * cell_);
+  slope_drop_ = std::tan(p.repose_deg * M_PI / 180) * cell_;
+  h_.assign(nx_ * ny_, 0.0);
+}
+
+std::size_t HeightField::nearest(double x, double y) const {
+  auto index = [&](double s, std::size_t n) {
+    const long k = std::lround(s * inv_cell_) % static_cast<long>(n);
+    return static_cast<std::size_t>(k < 0 ? k + static_cast<long>(n) : k);
+  };
+  return index(y, ny_) * nx_ + index(x, nx_);
+}
+
+std::size_t HeightField::neighbour(std::size_t k, int which) const {
+  const std::size_t i = k % nx_, j = k / nx_;
+  switch (which) {
+    case 0: return j * nx_ + (i == 0 ? nx_ - 1 : i - 1);
+    case 1: return j * nx_ + (i + 1 == nx_ ? 0 : i + 1);
+    case 2: return (j == 0 ? ny_ - 1 : j - 1) * nx_ + i;
+    default: return (j + 1 == ny_ ? 0 : j + 1) * nx_ + i;
+  }
+}
+
+BedPoint HeightField::at(double x, double y) const {
+  const double sx = x * inv_cell_, sy = y * inv_cell_;
+  const double fx0 = std::floor(sx), fy0 = std::floor(sy);
+  const double fx = sx - fx0, fy = sy - fy0;
+  const auto wrap = [](double s, std::size_t n) {
+    long k = static_cast<long>(s) % static_cast<long>(n);
+    return static_cast<std::size_t>(k < 0 ? k + static_cast<long>(n) : k);
+  };
+  const std::size_t i0 = wrap(fx0, nx_), j0 = wrap(fy0, ny_);
+  const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
+  const double h00 = h_[j0 * nx_ + i0], h10 = h_[j0 * nx_ + i1], h01 = h_[j1 * nx_ + i0],
+               h11 = h_[j1 * nx_ + i1];
+  double h, gx, gy;  // the triangle's height and slopes
+  if (fx + fy <= 1) {
+    gx = (h10 - h00) * inv_cell_, gy = (h01 - h00) * inv_cell_;
+    h = h00 + (h10 - h00) * fx + (h01 - h00) * fy;
+  } else {
+    gx = (h11 - h01) * inv_cell_, gy = (h11 - h10) * inv_cell_;
+    h = h11 - (h11 - h01) * (1 - fx) - (h11 - h10) * (1 - fy);
+  }
+  const double norm = 1 / std::sqrt(1 + gx * gx + gy * gy);
+  return {h, -gx * norm, -gy * norm, norm};
+}
+
+void HeightField::deposit(double x, double y) {
+  std::size_t k = nearest(x, y);
+  for (int move = 0; move < kMaxMoves; ++move) {
+    std::size_t low = k;
+    for (int w = 0; w < 4; ++w) {
+      const std::size_t q = neighbour(k, w);
+      if (h_[q] < h_[low]) low = q;
+    }
+    if (low == k || h_[k] + step_ - h_[low] <= slope_drop_) break;
+    k = low, ++rolled;
+  }
+  h_[k] += step_, sum_ += step_, ++deposited;
+  top_ = std::max(top_, h_[k]);
+}
+
+bool HeightField::erode(double x, double y) {
+  std::size_t k = nearest(x, y);
+  for (int move = 0; move < kMaxMoves; ++move) {
+    std::size_t high = k;
+    for (int w = 0; w < 4; ++w) {
+      const std::size_t q = neighbour(k, w);
+      if (h_[q] > h_[high]) high = q;
+    }
+    if (high == k || h_[high] - (h_[k] - step_) <= slope_drop_) break;
+    k = high, ++pit_taken;
+  }
+  if (h_[k] - step_ < -p_.erodible) return false;
+  h_[k] -= step_, sum_ -= step_, ++eroded;
+  return true;
+}
+
+void HeightField::refresh() {
+  top_ = *std::max_element(h_.begin(), h_.end());
+  sum_ = 0;
+  for (double v : h_) sum_ += v;
+}
+
+}  // namespace grainlab::ripples::hybrid

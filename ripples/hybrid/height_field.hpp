@@ -1,0 +1,62 @@
+#pragma once
+// The hybrid model's bed (Huo et al. 2021, section 2.4): key points on a square grid, periodic in x and y,
+// each owning the square sub-region around it; the surface between them is triangulated (each grid cell
+// cut along its diagonal), so a grain's height above the bed and the bed's normal come from the triangle
+// beneath it. A grain that settles raises its sub-region by V / (phi_b A), one that leaves lowers it.
+// The angle of repose: a settling grain rolls on to the lowest neighbour while settling where it fell
+// would make a slope steeper than repose toward it; a grain taken from a steep pit comes from the highest
+// neighbour instead. (The paper states the rule only in words; this reading keeps every slope between
+// neighbours within repose plus one grain's step, docs/ripples.md.)
+#include <cstdint>
+#include <vector>
+
+namespace grainlab::ripples::hybrid {
+
+struct HeightFieldParams {
+  double length = 100, width = 5;  // cm, periodic
+  double cell = 0.05;              // key-point spacing, cm
+  double diameter = 0.025;         // cm
+  double packing = 0.6;            // phi_b
+  double repose_deg = 30;
+  double erodible = 2;  // depth of sand below the initial surface, cm
+};
+
+struct BedPoint {
+  double h;           // surface height, cm
+  double nx, ny, nz;  // unit normal of the triangle beneath
+};
+
+class HeightField {
+ public:
+  explicit HeightField(const HeightFieldParams& p);
+  std::size_t nx() const { return nx_; }
+  std::size_t ny() const { return ny_; }
+  double cell() const { return cell_; }
+  double step() const { return step_; }  // height change per grain, cm
+  // Heights of the key points, x fastest (index j * nx + i is the point at (i cell, j cell)).
+  const std::vector<double>& heights() const { return h_; }
+  std::vector<double>& heights() { return h_; }
+  double height(double x, double y) const { return at(x, y).h; }
+  BedPoint at(double x, double y) const;
+  // A grain settles at (x, y) / leaves from (x, y); erode returns false (and changes nothing) where the
+  // erodible layer is used up.
+  void deposit(double x, double y);
+  bool erode(double x, double y);
+  double mean() const { return sum_ / static_cast<double>(h_.size()); }
+  // An upper bound of the highest key point (exact after refresh()).
+  double top() const { return top_; }
+  void refresh();
+  // Grains settled and taken since the start, and how many of each moved to a neighbour by the repose
+  // rule.
+  std::int64_t deposited = 0, eroded = 0, rolled = 0, pit_taken = 0;
+
+ private:
+  std::size_t nearest(double x, double y) const;
+  std::size_t neighbour(std::size_t k, int which) const;  // 0..3: -x, +x, -y, +y
+  HeightFieldParams p_;
+  std::size_t nx_, ny_;
+  double cell_, inv_cell_, step_, slope_drop_, sum_ = 0, top_ = 0;
+  std::vector<double> h_;
+};
+
+}  // namespace grainlab::ripples::hybrid

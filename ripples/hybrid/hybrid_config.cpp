@@ -1,0 +1,68 @@
+#include "hybrid_config.hpp"
+
+#include <climits>
+
+#include "ripple_config.hpp"
+#include "toml_reader.hpp"
+
+namespace grainlab::ripples::hybrid {
+
+namespace {
+
+void read_grains_and_wind(const TomlReader& r, RippleOptions& o) {
+  o.diameter = r.number_or("diameter", o.diameter, Range{1e-5, 10, false});
+  o.grain_density = r.number_or("grain_density", o.grain_density, Range::positive());
+  o.fluid_density = r.number_or("fluid_density", o.fluid_density, Range::positive());
+  o.viscosity = r.number_or("viscosity", o.viscosity, Range::positive());
+  o.g = r.number_or("gravity", o.g, Range::positive());
+  o.u_star = r.number_or("u_star", o.u_star, Range{0, 1e4, true});
+  o.height = r.number_or("height", o.height, Range{2, 1e6, false});
+  o.wind_interval = r.number_or("wind_interval", o.wind_interval, Range::positive());
+  o.wind_memory = r.number_or("wind_memory", o.wind_memory, Range::positive());
+}
+
+void read_bed(const TomlReader& r, RippleOptions& o) {
+  o.length = r.number_or("length", o.length, Range{3, 1e7, false});
+  o.width = r.number_or("width", o.width, Range{3, 1e7, false});
+  o.cell = r.number_or("cell", o.cell, Range{0.25, 1e4, false});
+  o.packing = r.number_or("packing", o.packing, Range{0, 1, true});
+  o.repose_deg = r.number_or("repose_angle", o.repose_deg, Range{1, 89, false});
+  o.erodible = r.number_or("erodible", o.erodible, Range::non_negative());
+}
+
+void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
+  o.splash = r.string_or("splash", o.splash);
+  if (o.splash != "paper2021" && o.splash != "lammel2017")
+    r.fail("splash", "must be \"paper2021\" or \"lammel2017\"");
+  o.wind_loosened = r.boolean_or("wind_loosened", o.wind_loosened);
+  o.loosened_floor = r.number_or("loosened_floor", o.loosened_floor, Range{0, 1, true});
+  o.collisions = r.boolean_or("collisions", o.collisions);
+  o.collision_restitution = r.number_or("collision_restitution", o.collision_restitution, Range{0, 1, false});
+  o.collision_friction = r.number_or("collision_friction", o.collision_friction, Range::non_negative());
+  o.triggers = static_cast<int>(r.integer_or("triggers", o.triggers, 1, 10000000));
+  o.dt_max = r.number_or("dt_max", o.dt_max, Range{0, 1, true});
+  o.duration = r.number_or("duration", o.duration, Range{0, 1e9, true});
+  o.frame_every = r.number_or("frame_every", o.frame_every, Range{0, 1e9, true});
+  o.sample_every = r.number_or("sample_every", o.sample_every, Range{0, 1e9, true});
+  o.seed = static_cast<std::uint64_t>(r.integer_or("seed", static_cast<std::int64_t>(o.seed), 0, INT64_MAX));
+}
+
+}  // namespace
+
+HybridConfig parse_hybrid_config(const std::string& text, const std::string& path) {
+  const toml::table root = config_root(text, path);
+  TomlReader r(model_table(root, "hybrid", path), "hybrid", path);
+  HybridConfig c;
+  RippleOptions& o = c.options;
+  read_grains_and_wind(r, o);
+  read_bed(r, o);
+  read_splash_and_run(r, o);
+  r.finish();
+  if (o.cell > o.length / 3 || o.cell > o.width / 3) r.fail("cell", "the bed needs at least 3 cells each way");
+  if (o.frame_every > o.duration) r.fail("frame_every", "must not be longer than the duration");
+  if (o.sample_every > o.frame_every) r.fail("sample_every", "must not be longer than frame_every");
+  c.text = text;
+  return c;
+}
+
+}  // namespace grainlab::ripples::hybrid

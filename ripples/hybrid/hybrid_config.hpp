@@ -1,0 +1,18 @@
+#pragma once
+// `[hybrid]` configs for `grainlab ripples hybrid --config FILE`: every key of the 3-D hybrid model's
+// ripple run, checked like scene keys (unknown keys, wrong types and values out of range stop with file,
+// line and key). docs/ripples.md lists the keys; ripples/presets/huo2021_ripples.toml is the paper's case.
+#include <string>
+
+#include "ripple_run.hpp"
+
+namespace grainlab::ripples::hybrid {
+
+struct HybridConfig {
+  RippleOptions options;
+  std::string text;  // the config as read
+};
+// Throws InputError.
+HybridConfig parse_hybrid_config(const std::string& text, const std::string& path);
+
+}  // namespace grainlab::ripples::hybrid

@@ -1,0 +1,70 @@
+#include "ripple_run.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace grainlab::ripples::hybrid {
+
+RippleOptions::RippleOptions() {
+  // s = 2098 and Ga = 38 (section 3.2): quartz-like grains of 0.0251 cm in air of 0.00126 g/cm^3.
+  grain_density = 2.65, fluid_density = 2.65 / 2098, diameter = 0.0251, viscosity = 0.146;
+  length = 4000, width = 200, height = 1200, triggers = 200, u_star = 30;
+  wind_loosened = true;
+}
+
+void check_ripple_options(const RippleOptions& o) {
+  check_transport_options(o);
+  for (double v : {o.cell, o.packing, o.duration, o.frame_every, o.sample_every})
+    if (!(v > 0) || !std::isfinite(v))
+      throw std::invalid_argument("cell, packing, duration, frame_every and sample_every must be positive");
+  if (o.length < 3 * o.cell || o.width < 3 * o.cell)
+    throw std::invalid_argument("the bed needs at least 3 cells each way");
+}
+
+namespace {
+HeightFieldParams bed_params(const RippleOptions& o) {
+  check_ripple_options(o);
+  const double d = o.diameter;
+  return {o.length * d, o.width * d, o.cell * d, d, o.packing, o.repose_deg, o.erodible * d};
+}
+}  // namespace
+
+RippleRun::RippleRun(const RippleOptions& o)
+    : o_(o), bed_(bed_params(o)), transport_(std::make_unique<Transport>(o, &bed_)) {
+  last_h_.assign(bed_.heights().size(), 0.0);
+}
+
+void RippleRun::advance_to(double t_star, const std::function<void(double)>& progress) {
+  Transport& t = *transport_;
+  const double unit = t.time_unit();
+  while (t.time() < t_star * unit && t.airborne() > 0) {
+    t.step();
+    if (t.time() < next_sample_ * unit) continue;
+    const double q = t.mass_flux() / t.flux_unit(), air = static_cast<double>(t.airborne());
+    series_.push_back({t.time() / unit, q, air});
+    q_sum_ += q, air_sum_ += air, samples_ += 1;
+    next_sample_ += o_.sample_every;
+    if (progress) progress(t.time() / unit);
+  }
+}
+
+BedFrame RippleRun::frame() {
+  BedFrame f;
+  f.t_star = t_star();
+  const double d = o_.diameter;
+  f.h = bed_.heights();
+  for (double& v : f.h) v /= d;
+  const double dx = bed_.cell() / d;
+  f.stats = bed_statistics(f.h, bed_.nx(), bed_.ny(), dx);
+  // Within half a wavelength (a quarter of the bed while there are no ripples) a shift is unambiguous.
+  const double reach = f.stats.wavelength > 0 ? 0.5 * f.stats.wavelength : 0.25 * o_.length;
+  f.shift = bed_shift(last_h_, f.h, bed_.nx(), bed_.ny(), dx, reach);
+  if (samples_ > 0) f.mass_flux_star = q_sum_ / samples_, f.airborne = air_sum_ / samples_;
+  f.u_star_bed = std::sqrt(transport_->wind().bed_stress());
+  f.loosening = transport_->loosening();
+  q_sum_ = air_sum_ = samples_ = 0;
+  last_h_ = f.h;
+  return f;
+}
+
+}  // namespace grainlab::ripples::hybrid

@@ -1,0 +1,65 @@
+#pragma once
+// The 3-D hybrid model's ripple runs (Huo et al. 2021, section 3.2): the transport of transport.hpp over
+// an erodible height-field bed, started flat with a few trigger grains, with the bed statistics of
+// bed_statistics.hpp taken at every frame. The caller drives it frame by frame (the CLI streams frames to
+// HDF5 and shows progress).
+#include <array>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "bed_statistics.hpp"
+#include "height_field.hpp"
+#include "transport.hpp"
+
+namespace grainlab::ripples::hybrid {
+
+struct RippleOptions : TransportOptions {
+  RippleOptions();        // the paper's ripple case: 4000 d x 200 d, s = 2098, Ga = 38
+  double cell = 2;        // key-point spacing, d
+  double packing = 0.6;   // phi_b
+  double repose_deg = 30;
+  double erodible = 80;         // depth of sand, d
+  double duration = 100000;     // t*
+  double frame_every = 1000;    // t* between bed frames
+  double sample_every = 10;     // t* between flux samples
+};
+void check_ripple_options(const RippleOptions& o);  // throws std::invalid_argument
+
+// One bed frame: heights in grain diameters relative to the initial surface, x fastest.
+struct BedFrame {
+  double t_star = 0;
+  std::vector<double> h;
+  BedStatistics stats;            // grain diameters
+  double shift = 0;               // downwind shift since the previous frame, d
+  double mass_flux_star = 0;      // Q* averaged since the previous frame
+  double airborne = 0;            // grains in flight, averaged since the previous frame
+  double u_star_bed = 0;          // cm/s
+  double loosening = 1;           // E_eff / E_d2
+};
+
+class RippleRun {
+ public:
+  explicit RippleRun(const RippleOptions& o);
+  // Runs until t* reaches `t_star` (or transport dies: no grain airborne); calls progress(t*) at every
+  // flux sample.
+  void advance_to(double t_star, const std::function<void(double)>& progress = nullptr);
+  double t_star() const { return transport_->time() / transport_->time_unit(); }
+  // The bed now, with the averages since the previous call (the first call: since the start).
+  BedFrame frame();
+  const HeightField& bed() const { return bed_; }
+  const Transport& transport() const { return *transport_; }
+  // Flux samples since the start: t*, Q*, grains airborne.
+  const std::vector<std::array<double, 3>>& series() const { return series_; }
+  const RippleOptions& options() const { return o_; }
+
+ private:
+  RippleOptions o_;
+  HeightField bed_;
+  std::unique_ptr<Transport> transport_;
+  std::vector<std::array<double, 3>> series_;
+  std::vector<double> last_h_;
+  double next_sample_ = 0, q_sum_ = 0, air_sum_ = 0, samples_ = 0;
+};
+
+}  // namespace grainlab::ripples::hybrid

@@ -1,0 +1,176 @@
+#include "transport.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace grainlab::ripples::hybrid {
+
+void check_transport_options(const TransportOptions& o) {
+  for (double v : {o.diameter, o.grain_density, o.fluid_density, o.viscosity, o.g, o.u_star, o.length, o.width,
+                   o.height, o.dt_max, o.wind_interval, o.wind_memory})
+    if (!(v > 0) || !std::isfinite(v))
+      throw std::invalid_argument("every size, density, speed and time of the hybrid model must be positive");
+  if (o.triggers < 1) throw std::invalid_argument("triggers must be at least 1");
+  if (!(o.loosened_floor > 0) || !(o.loosened_floor <= 1))
+    throw std::invalid_argument("loosened_floor must be in (0, 1]");
+  LammelParameters::named(o.splash);  // throws for an unknown set
+}
+
+namespace {
+WindColumnParams wind_params(const TransportOptions& o) {
+  check_transport_options(o);
+  return {o.u_star, o.viscosity, o.fluid_density, o.diameter, o.height * o.diameter};
+}
+}  // namespace
+
+Transport::Transport(const TransportOptions& o, HeightField* bed)
+    : o_(o),
+      bed_(bed),
+      splash_(LammelParameters::named(o.splash)),
+      wind_(wind_params(o)),
+      rng_(o.seed),
+      grid_(o.length * o.diameter, o.width * o.diameter, o.diameter),
+      law_{o.collision_restitution, o.collision_friction} {
+  d_ = o.diameter, s_ = o.grain_density / o.fluid_density, g_hat_ = (1 - 1 / s_) * o.g;
+  t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
+  volume_ = M_PI / 6 * d_ * d_ * d_, m_ = o.grain_density * volume_;
+  coefficients_ = lammel_coefficients(splash_, d_, d_);
+  e_d2_ = m_ * o.g * d_;
+  // The huo2021 drag written out for the hot loop: the acceleration is c (u - v) with c = 3/4 (rho_f /
+  // (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) + sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
+  drag_a_ = 0.75 * o.fluid_density / (o.grain_density * d_), drag_b_ = std::sqrt(24 * o.viscosity / d_);
+  for (auto* v : {&drag_mean_, &volume_mean_, &drag_now_, &volume_now_}) v->assign(wind_.bins(), 0.0);
+  const double lift = 20 * std::sqrt(o.g * d_);
+  for (int k = 0; k < o.triggers; ++k) {
+    const double x = rng_.uniform(0, length_), y = rng_.uniform(0, width_);
+    grains_.add(x, y, (bed_ ? bed_->height(x, y) : 0) + d_, 0, 0, lift);
+  }
+  v2_launch_ = lift * lift;
+  next_wind_ = o.wind_interval * t_unit_;
+}
+
+double Transport::mass_flux() const {
+  double q = 0;
+  for (std::size_t i = 0; i < grains_.size(); ++i) q += grains_.vx[i];
+  return m_ * q / area_;
+}
+double Transport::flux_unit() const { return o_.grain_density * d_ * std::sqrt(s_ * g_hat_ * d_); }
+double Transport::shields() const { return o_.fluid_density * o_.u_star * o_.u_star / (o_.grain_density * g_hat_ * d_); }
+double Transport::galileo() const { return std::sqrt(s_ * g_hat_ * d_ * d_ * d_) / o_.viscosity; }
+
+double Transport::tau_threshold() const {
+  // u*_t^2 = A_N (sigma_p g d + gamma / (rho_f d)), A_N = 0.0123, gamma = 3e-4 N/m = 0.3 g/s^2.
+  return 0.0123 * (s_ * o_.g * d_ + 0.3 / (o_.fluid_density * d_));
+}
+
+void Transport::step() {
+  // The step: no grain moves more than 0.2 d (the fastest of the last step's grains and of any launched
+  // since, by the splash's bound) and no more than dt_max sqrt(d / g).
+  const double v2max = std::max(v2_next_, v2_launch_);
+  v2_next_ = 0, v2_launch_ = 0;
+  const double dt = std::min(o_.dt_max * std::sqrt(d_ / o_.g), v2max > 0 ? 0.2 * d_ / std::sqrt(v2max) : 1e300);
+  move_grains(dt);
+  grain_steps += grains_.size(), ++steps;
+  if (o_.collisions) collide();
+  impacts();
+  t_ += dt, since_wind_ += dt;
+  if (t_ >= next_wind_) update_wind();
+}
+
+void Transport::move_grains(double dt) {
+  const double base = base_, g_hat = g_hat_, drag_a = drag_a_, drag_b = drag_b_;
+  auto accel = [&](double z, double vx, double vy, double vz, double& ax, double& ay, double& az) {
+    const double rx = vx - wind_.at(z - base), speed = std::sqrt(rx * rx + vy * vy + vz * vz);
+    const double root = std::sqrt(0.5 * speed) + drag_b, c = drag_a * root * root;
+    ax = -c * rx, ay = -c * vy, az = -c * vz - g_hat;
+    return -c * rx;  // the drag the wind gives per unit grain mass, x
+  };
+  Grains& g = grains_;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    double ax, ay, az, bx, by, bz;
+    const double f1 = accel(g.z[i], g.vx[i], g.vy[i], g.vz[i], ax, ay, az);
+    const double wx = g.vx[i] + dt * ax, wy = g.vy[i] + dt * ay, wz = g.vz[i] + dt * az;
+    const double f2 = accel(g.z[i] + dt * g.vz[i], wx, wy, wz, bx, by, bz);
+    g.x[i] += 0.5 * dt * (g.vx[i] + wx), g.y[i] += 0.5 * dt * (g.vy[i] + wy), g.z[i] += 0.5 * dt * (g.vz[i] + wz);
+    g.vx[i] += 0.5 * dt * (ax + bx), g.vy[i] += 0.5 * dt * (ay + by), g.vz[i] += 0.5 * dt * (az + bz);
+    g.x[i] = into(g.x[i], length_), g.y[i] = into(g.y[i], width_);
+    v2_next_ = std::max(v2_next_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + g.vz[i] * g.vz[i]);
+    const std::size_t k = wind_.bin(g.z[i] - base);
+    drag_now_[k] += m_ * 0.5 * (f1 + f2) * dt, volume_now_[k] += volume_ * dt;
+  }
+}
+
+void Transport::collide() { collisions += grid_.collide_all(grains_, m_, law_); }
+
+void Transport::launch(double x, double y, const BedPoint& b, double vx, double vy, double vz) {
+  grains_.add(x, y, b.h + 0.5 * d_, vx, vy, vz);
+  v2_launch_ = std::max(v2_launch_, vx * vx + vy * vy + vz * vz);
+}
+
+// A grain whose bottom is below the bed beneath it while moving into the bed rebounds (or settles, if it
+// cannot rise a diameter) and ejects bed grains, all in the frame of the bed triangle beneath it.
+void Transport::impacts() {
+  const double r = 0.5 * d_, top = bed_ ? bed_->top() : 0, rise2 = 2 * g_hat_ * d_;
+  Grains& g = grains_;
+  for (std::size_t i = g.size(); i-- > 0;) {
+    const double bottom = g.z[i] - r;
+    if (bottom > top) continue;
+    const BedPoint b = bed_ ? bed_->at(g.x[i], g.y[i]) : BedPoint{0, 0, 0, 1};
+    if (bottom > b.h) continue;
+    const double vn = g.vx[i] * b.nx + g.vy[i] * b.ny + g.vz[i] * b.nz;
+    if (vn >= 0) {  // leaving the bed; buried only if the bed rose over it
+      if (bed_ && bottom < b.h - d_) bed_->deposit(g.x[i], g.y[i]), g.remove(i), ++tally.deaths;
+      continue;
+    }
+    double tx = g.vx[i] - vn * b.nx, ty = g.vy[i] - vn * b.ny, tz = g.vz[i] - vn * b.nz;
+    const double vt = std::sqrt(tx * tx + ty * ty + tz * tz), speed = std::hypot(vt, vn);
+    if (vt > 0) {
+      tx /= vt, ty /= vt, tz /= vt;
+    } else {  // straight down: any tangent, taken downwind
+      const double k = 1 / std::hypot(b.nz, b.nx);
+      tx = b.nz * k, ty = 0, tz = -b.nx * k;
+    }
+    const double theta = std::atan2(-vn, vt), px = g.x[i], py = g.y[i];
+    tally.impacts += 1, tally.speed_sum += speed, tally.angle_sum += theta;
+    const double e_bar = std::max(0.0, mean_restitution(coefficients_, d_, d_, theta));
+    const double up = rebound_angle(coefficients_, theta, rng_.uniform()), rebound = e_bar * speed;
+    const double along = rebound * std::cos(up), off = rebound * std::sin(up);
+    const double ux = along * tx + off * b.nx, uy = along * ty + off * b.ny, uz = along * tz + off * b.nz;
+    if (up > 0 && uz > 0 && uz * uz > rise2) {
+      g.z[i] = b.h + r, g.vx[i] = ux, g.vy[i] = uy, g.vz[i] = uz;
+      v2_launch_ = std::max(v2_launch_, rebound * rebound);
+    } else {  // dead: it settles
+      g.remove(i), ++tally.deaths;
+      if (bed_) bed_->deposit(px, py);
+    }
+    const EjectaLaw ejecta = ejecta_law(splash_, e_bar, 0.5 * m_ * speed * speed, e_d2_ * loosening_);
+    const int count = sample_ejecta_count(ejecta, rng_);
+    for (int k = 0; k < count; ++k) {
+      const double v = std::sqrt(2 * sample_ejectum_energy(ejecta, rng_) / m_);
+      if (v * b.nz * v * b.nz <= rise2) continue;  // cannot rise a diameter: it stays
+      const double rho = d_ * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
+      const double x = into(px + rho * std::cos(phi), length_), y = into(py + rho * std::sin(phi), width_);
+      if (bed_ && !bed_->erode(x, y)) continue;  // the erodible layer is used up here
+      launch(x, y, bed_ ? bed_->at(x, y) : b, v * b.nx, v * b.ny, v * b.nz);
+      ++tally.ejecta;
+    }
+  }
+}
+
+// The drag's running mean over wind_memory, then the steady column; the bed's mean level is the wind's
+// origin, and the wind-loosened surface follows the new stress at the bed.
+void Transport::update_wind() {
+  const double a = std::min(1.0, since_wind_ / (o_.wind_memory * t_unit_));
+  for (std::size_t k = 0; k < wind_.bins(); ++k) {
+    drag_mean_[k] += a * (drag_now_[k] / since_wind_ - drag_mean_[k]);
+    volume_mean_[k] += a * (volume_now_[k] / since_wind_ - volume_mean_[k]);
+  }
+  std::fill(drag_now_.begin(), drag_now_.end(), 0.0), std::fill(volume_now_.begin(), volume_now_.end(), 0.0);
+  wind_.solve(drag_mean_, volume_mean_, area_);
+  if (o_.wind_loosened) loosening_ = std::max(o_.loosened_floor, 1 - wind_.bed_stress() / tau_threshold());
+  if (bed_) bed_->refresh(), base_ = bed_->mean();
+  next_wind_ = t_ + o_.wind_interval * t_unit_, since_wind_ = 0;
+}
+
+}  // namespace grainlab::ripples::hybrid

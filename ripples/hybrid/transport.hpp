@@ -1,0 +1,93 @@
+#pragma once
+// One step of the 3-D hybrid model's transport (Huo et al. 2021, section 2.6, steps ii-v and vii):
+// airborne grains tracked one by one (drag of the huo2021 law, buoyant gravity, Heun steps with the wind
+// frozen), mid-air collisions, the Lammel splash where a grain reaches the bed (in the frame of the bed
+// triangle beneath it, with the wind-loosened E_eff if asked), and the steady wind column updated from
+// the grains' drag every wind_interval. The bed is either fixed and flat (the flux runs) or a height field
+// that the grains that settle and leave change (the ripple runs).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "airborne.hpp"
+#include "height_field.hpp"
+#include "lammel_splash.hpp"
+#include "rng.hpp"
+#include "wind_column.hpp"
+
+namespace grainlab::ripples::hybrid {
+
+struct TransportOptions {
+  double diameter = 0.025;                         // cm
+  double grain_density = 2.65;                     // g/cm^3
+  double fluid_density = 0.00123;                  // g/cm^3
+  double viscosity = 0.146;                        // cm^2/s
+  double g = 981;                                  // cm/s^2
+  double u_star = 40;                              // cm/s
+  double length = 400, width = 10, height = 1200;  // domain in diameters (x streamwise, y, wind column)
+  int triggers = 40;                               // grains thrown at the start (random places, 20 d/s up)
+  double dt_max = 0.02;                            // in sqrt(d / g); also |v| dt < 0.2 d
+  double wind_interval = 1;                        // t* between wind updates
+  double wind_memory = 20;                         // t*: the grains' drag is a running mean over this
+  bool collisions = true;
+  double collision_restitution = 0.9, collision_friction = 0.4;
+  std::string splash = "paper2021";  // LammelParameters::named
+  // Eq. 19: bed grains loosened by the wind's stress at the bed need E_eff = E_d2 (1 - tau_fw / tau_ft),
+  // tau_ft of Shao & Lu (2000); floored at loosened_floor E_d2 (early on the stress passes the threshold).
+  bool wind_loosened = false;
+  double loosened_floor = 0.1;
+  std::uint64_t seed = 2021;
+};
+
+// Throws std::invalid_argument for options that cannot run.
+void check_transport_options(const TransportOptions& o);
+
+// Impacts counted since the caller last cleared them.
+struct ImpactTally {
+  double impacts = 0, speed_sum = 0, angle_sum = 0;  // cm/s, rad
+  std::uint64_t deaths = 0, ejecta = 0;
+};
+
+class Transport {
+ public:
+  // `bed` null: a fixed flat bed at z = 0 with unlimited sand. Otherwise the bed must cover the domain.
+  Transport(const TransportOptions& o, HeightField* bed);
+  void step();
+  double time() const { return t_; }           // s
+  double time_unit() const { return t_unit_; }  // sqrt(d / g^), s
+  double mass_flux() const;                     // g/(cm s), now
+  double flux_unit() const;                     // rho_p d sqrt(s g^ d): Q* = Q / flux_unit
+  std::size_t airborne() const { return grains_.size(); }
+  const Grains& grains() const { return grains_; }
+  const WindColumn& wind() const { return wind_; }
+  double loosening() const { return loosening_; }  // E_eff / E_d2 now
+  double shields() const;
+  double galileo() const;
+  double density_ratio() const { return s_; }
+  ImpactTally tally;
+  std::uint64_t grain_steps = 0, steps = 0, collisions = 0;
+
+ private:
+  void move_grains(double dt);
+  void collide();
+  void impacts();
+  void launch(double x, double y, const BedPoint& b, double vx, double vy, double vz);
+  void update_wind();
+  double tau_threshold() const;  // Shao & Lu (2000), tau_ft / rho_f
+
+  TransportOptions o_;
+  HeightField* bed_;
+  LammelParameters splash_;
+  LammelCoefficients coefficients_;
+  double d_, s_, g_hat_, t_unit_, length_, width_, area_, m_, volume_, e_d2_;
+  double drag_a_, drag_b_, base_ = 0, loosening_ = 1;
+  WindColumn wind_;
+  std::vector<double> drag_mean_, volume_mean_, drag_now_, volume_now_;
+  Rng rng_;
+  Grains grains_;
+  CollisionGrid grid_;
+  CollisionLaw law_;
+  double t_ = 0, next_wind_ = 0, since_wind_ = 0, v2_next_ = 0, v2_launch_ = 0;
+};
+
+}  // namespace grainlab::ripples::hybrid
