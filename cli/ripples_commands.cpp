@@ -365,11 +365,23 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_flux->add_option("--seed", flux.seed, "seed")->default_val(2021);
   hybrid_flux->add_flag("--json", json, "print the result as JSON");
   hybrid_flux->add_flag("--quiet", quiet, "no progress bar");
+  hybrid_ripples = group->add_subcommand(
+      "hybrid", "the 3-D hybrid model's ripple run over an erodible bed (Huo et al. 2021): --config FILE");
+  hybrid_ripples->add_option("--config", config, "a [hybrid] config (ripples/presets/huo2021_ripples.toml)")
+      ->required();
+  hybrid_ripples->add_option("--out", out,
+                             "bed history: HDF5 frames + XDMF sidecar, history and flux tables");
+  hybrid_ripples->add_option("--duration", duration_override, "t*, in place of the config's")
+      ->check(CLI::Range(0.0, 1e9));
+  hybrid_ripples->add_flag("--force", force, "overwrite --out");
+  hybrid_ripples->add_flag("--json", json, "print the result as JSON");
+  hybrid_ripples->add_flag("--quiet", quiet, "no progress bar");
 }
 
 int RipplesCommands::dispatch() const {
   if (wavelength && *wavelength) return wavelength_command(*this);
   if (hybrid_flux && *hybrid_flux) return hybrid_flux_command(*this);
+  if (hybrid_ripples && *hybrid_ripples) return hybrid_ripples_command(*this);
   if (bin_cmd && *bin_cmd) return bins_command(*this);
   if (lattice && *lattice) return lattice_command(*this);
   if (analyze && *analyze) return analyze_command(*this);

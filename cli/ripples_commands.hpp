@@ -29,7 +29,8 @@ struct RipplesCommands {
   CLI::App *analyze = nullptr, *run = nullptr, *continuum = nullptr;
   double shape_speed = 0.1;
   double lattice_ejections = 0;  // 0: the config's
-  CLI::App* hybrid_flux = nullptr;
+  CLI::App *hybrid_flux = nullptr, *hybrid_ripples = nullptr;
+  double duration_override = 0;  // ripples hybrid --duration: 0 keeps the config's
   ripples::hybrid::FluxOptions flux;
   bool quiet = false;
   void add(CLI::App& app);
@@ -43,6 +44,7 @@ int analyze_command(const RipplesCommands& a);
 int run_command(const RipplesCommands& a);
 int continuum_command(const RipplesCommands& a);
 int hybrid_flux_command(const RipplesCommands& a);
+int hybrid_ripples_command(const RipplesCommands& a);
 // The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file.
 std::vector<double> splash_hops(const std::string& splash, double angle, double speed);
 

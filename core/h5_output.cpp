@@ -270,8 +270,8 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-GridSeriesWriter::GridSeriesWriter(std::string path, bool overwrite, std::size_t nx, std::size_t ny, double dx,
-                                   std::string field)
+GridSeriesWriter::GridSeriesWriter(std::string path, bool overwrite, std::size_t nx, std::size_t ny,
+                                   double dx, std::string field)
     : path_(std::move(path)), tmp_(temp_name(path_)), field_(std::move(field)), nx_(nx), ny_(ny), dx_(dx) {
   if (!overwrite && fs::exists(path_)) throw std::runtime_error(path_ + " exists");
   file_ = H5Fcreate(tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
@@ -343,7 +343,8 @@ std::string GridSeriesWriter::xdmf() const {
         dx_, dx_);
     x += fmt::format(
         "    <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-        "     <DataItem Dimensions=\"{} {}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/frames/{:06d}"
+        "     <DataItem Dimensions=\"{} {}\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"HDF\">{}:/frames/{:06d}"
         "</DataItem>\n    </Attribute>\n   </Grid>\n",
         field_, ny_, nx_, h5, k);
   }

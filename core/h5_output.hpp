@@ -124,7 +124,8 @@ class GridSeriesWriter {
   GridSeriesWriter& operator=(const GridSeriesWriter&) = delete;
   void add_frame(double time, const std::vector<double>& values);
   // Returns the .xmf path.
-  std::string commit(const std::vector<SampleTable>& tables, const std::map<std::string, std::string>& metadata);
+  std::string commit(const std::vector<SampleTable>& tables,
+                     const std::map<std::string, std::string>& metadata);
 
  private:
   std::string xdmf() const;

@@ -3,11 +3,15 @@
 // samples have its analytic moments.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "bed_statistics.hpp"
 #include "collision.hpp"
 #include "flux_model.hpp"
+#include "height_field.hpp"
 #include "lammel_splash.hpp"
+#include "ripple_run.hpp"
 #include "rng.hpp"
 
 namespace grainlab::ripples::hybrid {
@@ -164,6 +168,113 @@ TEST(HybridFlux, SameSeedSameRunAndTransportNeedsWind) {
   EXPECT_EQ(run_flux(o).airborne, 0);
   o.length = -1;
   EXPECT_THROW(run_flux(o), std::invalid_argument);
+}
+
+}  // namespace grainlab::ripples::hybrid
+
+namespace grainlab::ripples::hybrid {
+
+namespace {
+HeightFieldParams small_bed() {
+  return {2.0, 1.0, 0.05, 0.025, 0.6, 30, 0.5};
+}  // 40 x 20 key points
+}  // namespace
+
+TEST(HybridBed, TrianglesGiveAPlaneItsHeightAndNormal) {
+  HeightField bed(small_bed());
+  // A plane rising 0.3 in x and falling 0.2 in y, away from the periodic seam.
+  for (std::size_t j = 0; j < bed.ny(); ++j)
+    for (std::size_t i = 0; i < bed.nx(); ++i)
+      bed.heights()[j * bed.nx() + i] = 0.3 * i * bed.cell() - 0.2 * j * bed.cell();
+  for (const auto& [x, y] :
+       std::vector<std::pair<double, double>>{{0.51, 0.33}, {1.234, 0.777}, {0.1, 0.1}}) {
+    const BedPoint b = bed.at(x, y);
+    EXPECT_NEAR(b.h, 0.3 * x - 0.2 * y, 1e-12);
+    const double k = 1 / std::sqrt(1 + 0.09 + 0.04);
+    EXPECT_NEAR(b.nx, -0.3 * k, 1e-12);
+    EXPECT_NEAR(b.ny, 0.2 * k, 1e-12);
+    EXPECT_NEAR(b.nz, k, 1e-12);
+  }
+}
+
+TEST(HybridBed, KeepsEveryGrainsVolumeAndTheAngleOfRepose) {
+  HeightField bed(small_bed());
+  Rng rng(5);
+  // A pile poured on one point spreads into a cone no steeper than repose (plus one grain's step);
+  // grains taken from around it keep it so; the volume is the grains' count times V / phi_b.
+  for (int k = 0; k < 20000; ++k) bed.deposit(1.0 + 0.01 * rng.normal(), 0.5 + 0.01 * rng.normal());
+  for (int k = 0; k < 3000; ++k) bed.erode(rng.uniform(0.8, 1.2), rng.uniform(0.3, 0.7));
+  EXPECT_GT(bed.rolled, 0);
+  EXPECT_GT(bed.pit_taken, 0);
+  const double drop = std::tan(30 * kDeg) * bed.cell() + bed.step() + 1e-12;
+  const auto& h = bed.heights();
+  double sum = 0, steepest = 0;
+  for (std::size_t j = 0; j < bed.ny(); ++j)
+    for (std::size_t i = 0; i < bed.nx(); ++i) {
+      const double v = h[j * bed.nx() + i];
+      sum += v;
+      steepest = std::max({steepest, std::abs(v - h[j * bed.nx() + (i + 1) % bed.nx()]),
+                           std::abs(v - h[((j + 1) % bed.ny()) * bed.nx() + i])});
+    }
+  EXPECT_LE(steepest, drop);
+  EXPECT_GT(steepest, 0.8 * std::tan(30 * kDeg) * bed.cell());  // the cone does reach repose
+  const double volume = M_PI / 6 * std::pow(0.025, 3);
+  EXPECT_NEAR(sum * bed.cell() * bed.cell() * 0.6, static_cast<double>(bed.deposited - bed.eroded) * volume,
+              1e-9 * sum);
+  bed.refresh();
+  EXPECT_NEAR(bed.mean() * static_cast<double>(h.size()), sum, 1e-9 * sum);
+}
+
+TEST(HybridBed, ErosionStopsAtTheBottomOfTheErodibleLayer) {
+  HeightFieldParams p = small_bed();
+  p.erodible = 0.01;  // less than two grains' steps
+  HeightField bed(p);
+  int taken = 0;
+  for (int k = 0; k < 1000; ++k) taken += bed.erode(1.0, 0.5);
+  EXPECT_GT(taken, 0);
+  EXPECT_LT(taken, 1000);
+  for (double v : bed.heights()) EXPECT_GE(v, -0.01 - 1e-12);
+}
+
+TEST(HybridBedStatistics, ASineHasItsAmplitudeWavelengthAndShift) {
+  const std::size_t nx = 240, ny = 6;
+  const double dx = 2, a = 1.5, wavelength = 60;  // 30 grid points
+  auto sine = [&](double shift) {
+    std::vector<double> h(nx * ny);
+    for (std::size_t j = 0; j < ny; ++j)
+      for (std::size_t i = 0; i < nx; ++i)
+        h[j * nx + i] = 4 + a * std::sin(2 * M_PI * (static_cast<double>(i) * dx - shift) / wavelength);
+    return h;
+  };
+  const BedStatistics s = bed_statistics(sine(0), nx, ny, dx);
+  EXPECT_NEAR(s.amplitude, 2 * a, 1e-9);  // crest to trough
+  EXPECT_NEAR(s.wavelength, wavelength, 0.05 * dx);
+  EXPECT_NEAR(s.ripple_index, wavelength / (2 * a), 0.05);
+  EXPECT_NEAR(s.mean, 4, 1e-12);
+  EXPECT_NEAR(bed_shift(sine(0), sine(6), nx, ny, dx, 30), 6, 1e-12);      // downwind
+  EXPECT_NEAR(bed_shift(sine(0), sine(-10), nx, ny, dx, 30), -10, 1e-12);  // upwind
+  const BedStatistics flat = bed_statistics(std::vector<double>(nx * ny, 1.0), nx, ny, dx);
+  EXPECT_EQ(flat.amplitude, 0);
+  EXPECT_EQ(flat.wavelength, 0);
+}
+
+TEST(HybridRipples, RunsAreReproducibleAndKeepTheBedsVolume) {
+  RippleOptions o;
+  o.u_star = 40, o.length = 120, o.width = 8, o.triggers = 10, o.duration = 200, o.frame_every = 100;
+  RippleRun a(o), b(o);
+  a.advance_to(200), b.advance_to(200);
+  EXPECT_EQ(a.bed().heights(), b.bed().heights());
+  EXPECT_GT(a.bed().deposited, 100);
+  EXPECT_GT(a.bed().eroded, 100);
+  double sum = 0;
+  for (double v : a.bed().heights()) sum += v;
+  const double volume = M_PI / 6 * std::pow(o.diameter, 3), cell = a.bed().cell();
+  EXPECT_NEAR(sum * cell * cell * o.packing, static_cast<double>(a.bed().deposited - a.bed().eroded) * volume,
+              1e-9 * volume);
+  const BedFrame f = a.frame();
+  EXPECT_NEAR(f.t_star, 200, 1);
+  EXPECT_GT(f.mass_flux_star, 0);
+  EXPECT_GT(f.stats.amplitude, 0);
 }
 
 }  // namespace grainlab::ripples::hybrid

@@ -6,6 +6,7 @@
 #include <random>
 #include <sstream>
 
+#include "hybrid_config.hpp"
 #include "input_error.hpp"
 #include "ripple_config.hpp"
 
@@ -133,3 +134,42 @@ TEST(RippleConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {
 }
 
 }  // namespace grainlab::ripples
+
+namespace grainlab::ripples::hybrid {
+
+TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
+  const std::string good = "[hybrid]\nu_star = 35\nlength = 300\nwidth = 12\ncell = 2\nduration = 500\n";
+  const HybridConfig c = parse_hybrid_config(good, "h.toml");
+  EXPECT_EQ(c.options.u_star, 35);
+  EXPECT_EQ(c.options.length, 300);
+  EXPECT_TRUE(c.options.wind_loosened);  // the paper's default
+  auto error_of = [](const std::string& text) {
+    try {
+      parse_hybrid_config(text, "h.toml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(error_of("[hybrid]\nustar = 3\n").find("ustar"), std::string::npos);
+  EXPECT_NE(error_of("[hybrid]\nu_star = -3\n").find("h.toml:2"), std::string::npos);
+  EXPECT_NE(error_of("[hybrid]\nsplash = \"x\"\n").find("splash"), std::string::npos);
+  EXPECT_NE(error_of("[hybrid]\nwidth = 5\ncell = 2\n").find("cell"), std::string::npos);
+  EXPECT_NE(error_of("[hybrid]\nduration = 10\nframe_every = 20\n").find("frame_every"), std::string::npos);
+  EXPECT_NE(error_of("[bins]\nbins = 20\n").find("[hybrid]"), std::string::npos);
+}
+
+TEST(HybridConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {
+  for (const char* name : {"huo2021_ripples.toml", "hybrid_quick.toml"})
+    fuzz_shipped_config(
+        name, parse_hybrid_config,
+        [](const HybridConfig& c) {
+          EXPECT_GT(c.options.u_star, 0);
+          EXPECT_LE(3 * c.options.cell, c.options.width);
+          EXPECT_LE(c.options.frame_every, c.options.duration);
+          EXPECT_NO_THROW(check_ripple_options(c.options));
+        },
+        2030);
+}
+
+}  // namespace grainlab::ripples::hybrid

@@ -1,10 +1,9 @@
 #include "bed_statistics.hpp"
 
-#include <unsupported/Eigen/FFT>
-
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <unsupported/Eigen/FFT>
 
 namespace grainlab::ripples::hybrid {
 
@@ -28,7 +27,8 @@ std::vector<Spectrum> slice_spectra(const std::vector<double>& h, std::size_t nx
 }
 
 // The slice-averaged circular cross-correlation of a and b: sum_x a(x) b(x + dl) / nx.
-std::vector<double> correlate(const std::vector<Spectrum>& a, const std::vector<Spectrum>& b, std::size_t nx) {
+std::vector<double> correlate(const std::vector<Spectrum>& a, const std::vector<Spectrum>& b,
+                              std::size_t nx) {
   Eigen::FFT<double> fft;
   Spectrum sum(a[0].size(), 0.0);
   for (std::size_t j = 0; j < a.size(); ++j)

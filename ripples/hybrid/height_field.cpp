@@ -14,8 +14,9 @@ constexpr int kMaxMoves = 64;
 HeightField::HeightField(const HeightFieldParams& p) : p_(p) {
   if (!(p.cell > 0) || !(p.length >= 3 * p.cell) || !(p.width >= 3 * p.cell) || !(p.packing > 0) ||
       !(p.packing <= 1) || !(p.repose_deg > 0) || !(p.repose_deg < 90) || !(p.erodible >= 0))
-    throw std::invalid_argument("height field: cell > 0, at least 3 cells each way, 0 < packing <= 1, "
-                                "0 < repose < 90 deg, erodible >= 0");
+    throw std::invalid_argument(
+        "height field: cell > 0, at least 3 cells each way, 0 < packing <= 1, "
+        "0 < repose < 90 deg, erodible >= 0");
   nx_ = static_cast<std::size_t>(std::lround(p.length / p.cell));
   ny_ = static_cast<std::size_t>(std::lround(p.width / p.cell));
   cell_ = p.length / static_cast<double>(nx_);  // exactly periodic in x; y spacing taken equal
@@ -36,10 +37,14 @@ std::size_t HeightField::nearest(double x, double y) const {
 std::size_t HeightField::neighbour(std::size_t k, int which) const {
   const std::size_t i = k % nx_, j = k / nx_;
   switch (which) {
-    case 0: return j * nx_ + (i == 0 ? nx_ - 1 : i - 1);
-    case 1: return j * nx_ + (i + 1 == nx_ ? 0 : i + 1);
-    case 2: return (j == 0 ? ny_ - 1 : j - 1) * nx_ + i;
-    default: return (j + 1 == ny_ ? 0 : j + 1) * nx_ + i;
+    case 0:
+      return j * nx_ + (i == 0 ? nx_ - 1 : i - 1);
+    case 1:
+      return j * nx_ + (i + 1 == nx_ ? 0 : i + 1);
+    case 2:
+      return (j == 0 ? ny_ - 1 : j - 1) * nx_ + i;
+    default:
+      return (j + 1 == ny_ ? 0 : j + 1) * nx_ + i;
   }
 }
 

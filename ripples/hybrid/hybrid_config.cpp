@@ -1,5 +1,6 @@
 #include "hybrid_config.hpp"
 
+#include <algorithm>
 #include <climits>
 
 #include "ripple_config.hpp"
@@ -58,7 +59,11 @@ HybridConfig parse_hybrid_config(const std::string& text, const std::string& pat
   read_bed(r, o);
   read_splash_and_run(r, o);
   r.finish();
-  if (o.cell > o.length / 3 || o.cell > o.width / 3) r.fail("cell", "the bed needs at least 3 cells each way");
+  // Defaults follow a short duration; values given must fit it.
+  if (!r.has("frame_every")) o.frame_every = std::min(o.frame_every, o.duration);
+  if (!r.has("sample_every")) o.sample_every = std::min(o.sample_every, o.frame_every);
+  if (o.cell > o.length / 3 || o.cell > o.width / 3)
+    r.fail("cell", "the bed needs at least 3 cells each way");
   if (o.frame_every > o.duration) r.fail("frame_every", "must not be longer than the duration");
   if (o.sample_every > o.frame_every) r.fail("sample_every", "must not be longer than frame_every");
   c.text = text;

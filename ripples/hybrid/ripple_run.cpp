@@ -1,5 +1,6 @@
 #include "ripple_run.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -65,6 +66,46 @@ BedFrame RippleRun::frame() {
   q_sum_ = air_sum_ = samples_ = 0;
   last_h_ = f.h;
   return f;
+}
+
+}  // namespace grainlab::ripples::hybrid
+
+namespace grainlab::ripples::hybrid {
+
+namespace {
+// Least-squares slope of y against x; NaN with fewer than 3 points.
+double slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const auto n = static_cast<double>(x.size());
+  if (x.size() < 3) return std::nan("");
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sx += x[i], sy += y[i], sxx += x[i] * x[i], sxy += x[i] * y[i];
+  const double den = n * sxx - sx * sx;
+  return den > 0 ? (n * sxy - sx * sy) / den : std::nan("");
+}
+}  // namespace
+
+RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {
+  RippleTrends r;
+  const std::size_t half = frames.size() / 2;
+  std::vector<double> t, ln_a, ln_t, ln_l, speed;
+  for (std::size_t k = 1; k < frames.size(); ++k) {
+    const BedFrame& f = frames[k];
+    if (k <= half && f.stats.amplitude > 0)
+      t.push_back(f.t_star), ln_a.push_back(std::log(f.stats.amplitude));
+    if (k > half && f.stats.wavelength > 0) {
+      ln_t.push_back(std::log(f.t_star)), ln_l.push_back(std::log(f.stats.wavelength));
+      speed.push_back(f.shift / (f.t_star - frames[k - 1].t_star));
+    }
+  }
+  r.growth_rate = slope(t, ln_a);
+  r.chi = slope(ln_t, ln_l);
+  if (speed.empty()) {
+    r.migration_speed = std::nan("");
+  } else {
+    std::sort(speed.begin(), speed.end());
+    r.migration_speed = speed[speed.size() / 2];
+  }
+  return r;
 }
 
 }  // namespace grainlab::ripples::hybrid

@@ -15,14 +15,14 @@
 namespace grainlab::ripples::hybrid {
 
 struct RippleOptions : TransportOptions {
-  RippleOptions();        // the paper's ripple case: 4000 d x 200 d, s = 2098, Ga = 38
-  double cell = 2;        // key-point spacing, d
-  double packing = 0.6;   // phi_b
+  RippleOptions();       // the paper's ripple case: 4000 d x 200 d, s = 2098, Ga = 38
+  double cell = 2;       // key-point spacing, d
+  double packing = 0.6;  // phi_b
   double repose_deg = 30;
-  double erodible = 80;         // depth of sand, d
-  double duration = 100000;     // t*
-  double frame_every = 1000;    // t* between bed frames
-  double sample_every = 10;     // t* between flux samples
+  double erodible = 80;       // depth of sand, d
+  double duration = 100000;   // t*
+  double frame_every = 1000;  // t* between bed frames
+  double sample_every = 10;   // t* between flux samples
 };
 void check_ripple_options(const RippleOptions& o);  // throws std::invalid_argument
 
@@ -30,12 +30,12 @@ void check_ripple_options(const RippleOptions& o);  // throws std::invalid_argum
 struct BedFrame {
   double t_star = 0;
   std::vector<double> h;
-  BedStatistics stats;            // grain diameters
-  double shift = 0;               // downwind shift since the previous frame, d
-  double mass_flux_star = 0;      // Q* averaged since the previous frame
-  double airborne = 0;            // grains in flight, averaged since the previous frame
-  double u_star_bed = 0;          // cm/s
-  double loosening = 1;           // E_eff / E_d2
+  BedStatistics stats;        // grain diameters
+  double shift = 0;           // downwind shift since the previous frame, d
+  double mass_flux_star = 0;  // Q* averaged since the previous frame
+  double airborne = 0;        // grains in flight, averaged since the previous frame
+  double u_star_bed = 0;      // cm/s
+  double loosening = 1;       // E_eff / E_d2
 };
 
 class RippleRun {
@@ -61,5 +61,17 @@ class RippleRun {
   std::vector<double> last_h_;
   double next_sample_ = 0, q_sum_ = 0, air_sum_ = 0, samples_ = 0;
 };
+
+}  // namespace grainlab::ripples::hybrid
+
+namespace grainlab::ripples::hybrid {
+
+// What a ripple run's frames show: the exponential growth rate of A over the first half of the frames
+// (1/t*), the coarsening exponent chi of lambda ~ t^chi over the second half, the migration speed (d per
+// t*, downwind positive) over the second half. NaN where the frames do not allow a fit (no wavelength).
+struct RippleTrends {
+  double growth_rate = 0, chi = 0, migration_speed = 0;
+};
+RippleTrends ripple_trends(const std::vector<BedFrame>& frames);
 
 }  // namespace grainlab::ripples::hybrid

@@ -7,8 +7,8 @@
 namespace grainlab::ripples::hybrid {
 
 void check_transport_options(const TransportOptions& o) {
-  for (double v : {o.diameter, o.grain_density, o.fluid_density, o.viscosity, o.g, o.u_star, o.length, o.width,
-                   o.height, o.dt_max, o.wind_interval, o.wind_memory})
+  for (double v : {o.diameter, o.grain_density, o.fluid_density, o.viscosity, o.g, o.u_star, o.length,
+                   o.width, o.height, o.dt_max, o.wind_interval, o.wind_memory})
     if (!(v > 0) || !std::isfinite(v))
       throw std::invalid_argument("every size, density, speed and time of the hybrid model must be positive");
   if (o.triggers < 1) throw std::invalid_argument("triggers must be at least 1");
@@ -55,9 +55,15 @@ double Transport::mass_flux() const {
   for (std::size_t i = 0; i < grains_.size(); ++i) q += grains_.vx[i];
   return m_ * q / area_;
 }
-double Transport::flux_unit() const { return o_.grain_density * d_ * std::sqrt(s_ * g_hat_ * d_); }
-double Transport::shields() const { return o_.fluid_density * o_.u_star * o_.u_star / (o_.grain_density * g_hat_ * d_); }
-double Transport::galileo() const { return std::sqrt(s_ * g_hat_ * d_ * d_ * d_) / o_.viscosity; }
+double Transport::flux_unit() const {
+  return o_.grain_density * d_ * std::sqrt(s_ * g_hat_ * d_);
+}
+double Transport::shields() const {
+  return o_.fluid_density * o_.u_star * o_.u_star / (o_.grain_density * g_hat_ * d_);
+}
+double Transport::galileo() const {
+  return std::sqrt(s_ * g_hat_ * d_ * d_ * d_) / o_.viscosity;
+}
 
 double Transport::tau_threshold() const {
   // u*_t^2 = A_N (sigma_p g d + gamma / (rho_f d)), A_N = 0.0123, gamma = 3e-4 N/m = 0.3 g/s^2.
@@ -69,7 +75,8 @@ void Transport::step() {
   // since, by the splash's bound) and no more than dt_max sqrt(d / g).
   const double v2max = std::max(v2_next_, v2_launch_);
   v2_next_ = 0, v2_launch_ = 0;
-  const double dt = std::min(o_.dt_max * std::sqrt(d_ / o_.g), v2max > 0 ? 0.2 * d_ / std::sqrt(v2max) : 1e300);
+  const double dt =
+      std::min(o_.dt_max * std::sqrt(d_ / o_.g), v2max > 0 ? 0.2 * d_ / std::sqrt(v2max) : 1e300);
   move_grains(dt);
   grain_steps += grains_.size(), ++steps;
   if (o_.collisions) collide();
@@ -92,7 +99,8 @@ void Transport::move_grains(double dt) {
     const double f1 = accel(g.z[i], g.vx[i], g.vy[i], g.vz[i], ax, ay, az);
     const double wx = g.vx[i] + dt * ax, wy = g.vy[i] + dt * ay, wz = g.vz[i] + dt * az;
     const double f2 = accel(g.z[i] + dt * g.vz[i], wx, wy, wz, bx, by, bz);
-    g.x[i] += 0.5 * dt * (g.vx[i] + wx), g.y[i] += 0.5 * dt * (g.vy[i] + wy), g.z[i] += 0.5 * dt * (g.vz[i] + wz);
+    g.x[i] += 0.5 * dt * (g.vx[i] + wx), g.y[i] += 0.5 * dt * (g.vy[i] + wy),
+        g.z[i] += 0.5 * dt * (g.vz[i] + wz);
     g.vx[i] += 0.5 * dt * (ax + bx), g.vy[i] += 0.5 * dt * (ay + by), g.vz[i] += 0.5 * dt * (az + bz);
     g.x[i] = into(g.x[i], length_), g.y[i] = into(g.y[i], width_);
     v2_next_ = std::max(v2_next_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + g.vz[i] * g.vz[i]);
@@ -101,7 +109,9 @@ void Transport::move_grains(double dt) {
   }
 }
 
-void Transport::collide() { collisions += grid_.collide_all(grains_, m_, law_); }
+void Transport::collide() {
+  collisions += grid_.collide_all(grains_, m_, law_);
+}
 
 void Transport::launch(double x, double y, const BedPoint& b, double vx, double vy, double vz) {
   grains_.add(x, y, b.h + 0.5 * d_, vx, vy, vz);

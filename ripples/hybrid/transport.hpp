@@ -53,7 +53,7 @@ class Transport {
   // `bed` null: a fixed flat bed at z = 0 with unlimited sand. Otherwise the bed must cover the domain.
   Transport(const TransportOptions& o, HeightField* bed);
   void step();
-  double time() const { return t_; }           // s
+  double time() const { return t_; }            // s
   double time_unit() const { return t_unit_; }  // sqrt(d / g^), s
   double mass_flux() const;                     // g/(cm s), now
   double flux_unit() const;                     // rho_p d sqrt(s g^ d): Q* = Q / flux_unit

@@ -14,7 +14,7 @@ namespace grainlab::ripples::hybrid {
 
 struct WindColumnParams {
   double u_star = 40, viscosity = 0.146, fluid_density = 0.00123, diameter = 0.025;  // cm, s, g
-  double top = 30;                                                                    // cm
+  double top = 30;                                                                   // cm
 };
 
 class WindColumn {

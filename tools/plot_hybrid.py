@@ -1,0 +1,64 @@
+#!/usr/bin/python3
+"""Plots of a hybrid ripple run (`grainlab ripples hybrid --config F --out RUN.h5`): the bed at the last
+frame (plan view), the slice-averaged profile h(x, t) as a space-time image, and A(t), lambda(t), RI(t),
+Q*(t) against t*.
+
+    /usr/bin/python3 tools/plot_hybrid.py RUN.h5 [out.png]
+"""
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def text(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def main():
+    if len(sys.argv) < 2:
+        sys.exit(__doc__)
+    path = sys.argv[1]
+    out = sys.argv[2] if len(sys.argv) > 2 else path.rsplit(".", 1)[0] + "_ripples.png"
+    f = h5py.File(path, "r")
+    dx = float(text(f.attrs["dx"]))
+    cols = text(f["history"].attrs["columns"]).split(",")
+    hist = f["history"][:]
+    col = {c: hist[:, i] for i, c in enumerate(cols)}
+    names = sorted(f["frames"].keys())
+    last = f["frames"][names[-1]][:]
+    profiles = np.array([f["frames"][n][:].mean(axis=0) for n in names])
+    t = col["t_star"]
+    fig = plt.figure(figsize=(13, 9))
+    grid = fig.add_gridspec(3, 4)
+    ax = fig.add_subplot(grid[0, :])
+    ny, nx = last.shape
+    im = ax.imshow(last - last.mean(), origin="lower", cmap="terrain", aspect="auto",
+                   extent=[0, nx * dx, 0, ny * dx])
+    fig.colorbar(im, ax=ax, label="h - mean (d)")
+    ax.set(xlabel="x (d), wind to the right", ylabel="y (d)", title=f"bed at t* = {t[-1]:.0f}")
+    ax = fig.add_subplot(grid[1, :])
+    dev = profiles - profiles.mean(axis=1, keepdims=True)
+    im = ax.imshow(dev, origin="lower", cmap="terrain", aspect="auto", extent=[0, nx * dx, t[0], t[-1]])
+    fig.colorbar(im, ax=ax, label="slice-mean h - mean (d)")
+    ax.set(xlabel="x (d)", ylabel="t*", title="h(x, t), averaged across the bed: ripples emerge and migrate")
+    for k, (key, label, log) in enumerate([("amplitude", "A (d)", True), ("wavelength", "lambda (d)", True),
+                                            ("ripple_index", "RI = lambda / A", True),
+                                            ("mass_flux_star", "Q*", False)]):
+        ax = fig.add_subplot(grid[2, k])
+        keep = (col[key] > 0) & (t > 0)
+        ax.plot(t[keep], col[key][keep], "o-", ms=3)
+        if log:
+            ax.set_xscale("log"), ax.set_yscale("log")
+        ax.set(xlabel="t*", ylabel=label)
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    print(out)
+
+
+if __name__ == "__main__":
+    main()
