@@ -48,28 +48,30 @@ std::size_t HeightField::neighbour(std::size_t k, int which) const {
   }
 }
 
-BedPoint HeightField::at(double x, double y) const {
+// The grid cell holding (x, y) and the position in it (x and y inside the periodic box, so no division).
+HeightField::Corner HeightField::corner(double x, double y) const {
   const double sx = x * inv_cell_, sy = y * inv_cell_;
-  const double fx0 = std::floor(sx), fy0 = std::floor(sy);
-  const double fx = sx - fx0, fy = sy - fy0;
-  const auto wrap = [](double s, std::size_t n) {
-    long k = static_cast<long>(s) % static_cast<long>(n);
-    return static_cast<std::size_t>(k < 0 ? k + static_cast<long>(n) : k);
-  };
-  const std::size_t i0 = wrap(fx0, nx_), j0 = wrap(fy0, ny_);
+  auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
+  const double fx = sx - static_cast<double>(i0), fy = sy - static_cast<double>(j0);
+  if (i0 >= nx_) i0 -= nx_;
+  if (j0 >= ny_) j0 -= ny_;
   const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
-  const double h00 = h_[j0 * nx_ + i0], h10 = h_[j0 * nx_ + i1], h01 = h_[j1 * nx_ + i0],
-               h11 = h_[j1 * nx_ + i1];
-  double h, gx, gy;  // the triangle's height and slopes
-  if (fx + fy <= 1) {
-    gx = (h10 - h00) * inv_cell_, gy = (h01 - h00) * inv_cell_;
-    h = h00 + (h10 - h00) * fx + (h01 - h00) * fy;
-  } else {
-    gx = (h11 - h01) * inv_cell_, gy = (h11 - h10) * inv_cell_;
-    h = h11 - (h11 - h01) * (1 - fx) - (h11 - h10) * (1 - fy);
-  }
+  return {h_[j0 * nx_ + i0], h_[j0 * nx_ + i1], h_[j1 * nx_ + i0], h_[j1 * nx_ + i1], fx, fy};
+}
+
+double HeightField::height(double x, double y) const {
+  const Corner c = corner(x, y);
+  return c.fx + c.fy <= 1 ? c.h00 + (c.h10 - c.h00) * c.fx + (c.h01 - c.h00) * c.fy
+                          : c.h11 - (c.h11 - c.h01) * (1 - c.fx) - (c.h11 - c.h10) * (1 - c.fy);
+}
+
+BedPoint HeightField::at(double x, double y) const {
+  const Corner c = corner(x, y);
+  const bool lower = c.fx + c.fy <= 1;  // the triangle (00, 10, 01) or (11, 01, 10)
+  const double gx = (lower ? c.h10 - c.h00 : c.h11 - c.h01) * inv_cell_;
+  const double gy = (lower ? c.h01 - c.h00 : c.h11 - c.h10) * inv_cell_;
   const double norm = 1 / std::sqrt(1 + gx * gx + gy * gy);
-  return {h, -gx * norm, -gy * norm, norm};
+  return {height(x, y), -gx * norm, -gy * norm, norm};
 }
 
 void HeightField::deposit(double x, double y) {

@@ -36,7 +36,8 @@ class HeightField {
   // Heights of the key points, x fastest (index j * nx + i is the point at (i cell, j cell)).
   const std::vector<double>& heights() const { return h_; }
   std::vector<double>& heights() { return h_; }
-  double height(double x, double y) const { return at(x, y).h; }
+  // The surface at (x, y), inside the box: its height alone (cheap), or with the normal.
+  double height(double x, double y) const;
   BedPoint at(double x, double y) const;
   // A grain settles at (x, y) / leaves from (x, y); erode returns false (and changes nothing) where the
   // erodible layer is used up.
@@ -51,6 +52,10 @@ class HeightField {
   std::int64_t deposited = 0, eroded = 0, rolled = 0, pit_taken = 0;
 
  private:
+  struct Corner {
+    double h00, h10, h01, h11, fx, fy;
+  };
+  Corner corner(double x, double y) const;
   std::size_t nearest(double x, double y) const;
   std::size_t neighbour(std::size_t k, int which) const;  // 0..3: -x, +x, -y, +y
   HeightFieldParams p_;

@@ -44,7 +44,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   const double lift = 20 * std::sqrt(o.g * d_);
   for (int k = 0; k < o.triggers; ++k) {
     const double x = rng_.uniform(0, length_), y = rng_.uniform(0, width_);
-    grains_.add(x, y, (bed_ ? bed_->height(x, y) : 0) + d_, 0, 0, lift);
+    grains_.add(x, y, (bed_ ? bed_->height(x, y) : 0) + d_, 0, 0, lift);  // x, y inside the box
   }
   v2_launch_ = lift * lift;
   next_wind_ = o.wind_interval * t_unit_;
@@ -126,8 +126,8 @@ void Transport::impacts() {
   for (std::size_t i = g.size(); i-- > 0;) {
     const double bottom = g.z[i] - r;
     if (bottom > top) continue;
+    if (bed_ && bottom > bed_->height(g.x[i], g.y[i])) continue;
     const BedPoint b = bed_ ? bed_->at(g.x[i], g.y[i]) : BedPoint{0, 0, 0, 1};
-    if (bottom > b.h) continue;
     const double vn = g.vx[i] * b.nx + g.vy[i] * b.ny + g.vz[i] * b.nz;
     if (vn >= 0) {  // leaving the bed; buried only if the bed rose over it
       if (bed_ && bottom < b.h - d_) bed_->deposit(g.x[i], g.y[i]), g.remove(i), ++tally.deaths;
