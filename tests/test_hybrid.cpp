@@ -253,6 +253,18 @@ TEST(HybridBedStatistics, ASineHasItsAmplitudeWavelengthAndShift) {
   EXPECT_NEAR(s.mean, 4, 1e-12);
   EXPECT_NEAR(bed_shift(sine(0), sine(6), nx, ny, dx, 30), 6, 1e-12);      // downwind
   EXPECT_NEAR(bed_shift(sine(0), sine(-10), nx, ny, dx, 30), -10, 1e-12);  // upwind
+  // A sine moving 3 d per frame under frozen noise twice its size: the noise is removed with the time mean.
+  Rng rng(3);
+  std::vector<double> frozen(nx);
+  for (double& v : frozen) v = 2 * a * rng.normal();
+  std::vector<std::vector<double>> profiles;
+  for (int k = 0; k < 12; ++k) {
+    std::vector<double> p = frozen;
+    for (std::size_t i = 0; i < nx; ++i)
+      p[i] += a * std::sin(2 * M_PI * (static_cast<double>(i) * dx - 3.0 * k) / wavelength);
+    profiles.push_back(p);
+  }
+  EXPECT_NEAR(profile_migration(profiles, dx, 30), 3, 0.2);
   const BedStatistics flat = bed_statistics(std::vector<double>(nx * ny, 1.0), nx, ny, dx);
   EXPECT_EQ(flat.amplitude, 0);
   EXPECT_EQ(flat.wavelength, 0);

@@ -85,4 +85,31 @@ double bed_shift(const std::vector<double>& before, const std::vector<double>& a
   return static_cast<double>(best) * dx;
 }
 
+double profile_migration(const std::vector<std::vector<double>>& profiles, double dx, double max_shift) {
+  if (profiles.size() < 2) return 0;
+  const std::size_t nx = profiles[0].size();
+  std::vector<double> mean(nx, 0.0);
+  for (const auto& p : profiles)
+    for (std::size_t i = 0; i < nx; ++i) mean[i] += p[i] / static_cast<double>(profiles.size());
+  std::vector<Spectrum> spectra;
+  for (const auto& p : profiles) {
+    std::vector<double> moving(nx);
+    for (std::size_t i = 0; i < nx; ++i) moving[i] = p[i] - mean[i];
+    spectra.push_back(slice_spectra(moving, nx, 1)[0]);
+  }
+  std::vector<double> c(nx, 0.0);
+  for (std::size_t k = 1; k < spectra.size(); ++k) {
+    const std::vector<double> one = correlate({spectra[k - 1]}, {spectra[k]}, nx);
+    for (std::size_t i = 0; i < nx; ++i) c[i] += one[i];
+  }
+  const auto reach = std::min<long>(static_cast<long>(max_shift / dx), static_cast<long>(nx / 2) - 1);
+  auto at = [&](long s) { return c[static_cast<std::size_t>(s < 0 ? s + static_cast<long>(nx) : s)]; };
+  long best = 0;
+  for (long s = -reach; s <= reach; ++s)
+    if (at(s) > at(best)) best = s;
+  const double a = at(best - 1), b = at(best), e = at(best + 1), den = a - 2 * b + e;
+  const double off = den < 0 ? std::clamp(0.5 * (a - e) / den, -0.5, 0.5) : 0.0;
+  return (static_cast<double>(best) + off) * dx;
+}
+
 }  // namespace grainlab::ripples::hybrid

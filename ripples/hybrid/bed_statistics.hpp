@@ -24,4 +24,10 @@ std::vector<double> slice_autocorrelation(const std::vector<double>& h, std::siz
 double bed_shift(const std::vector<double>& before, const std::vector<double>& after, std::size_t nx,
                  std::size_t ny, double dx, double max_shift);
 
+// The downwind shift per frame of bedforms in a series of slice-averaged profiles (one per frame, equally
+// spaced in time): each position's mean over the series is removed first, so roughness that stays put
+// (grain-scale noise no grain has touched) does not pin the answer to zero; then the cross-correlations
+// of consecutive profiles are summed and their peak within +-max_shift taken (refined by a parabola).
+double profile_migration(const std::vector<std::vector<double>>& profiles, double dx, double max_shift);
+
 }  // namespace grainlab::ripples::hybrid

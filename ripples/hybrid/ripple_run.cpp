@@ -57,6 +57,11 @@ BedFrame RippleRun::frame() {
   for (double& v : f.h) v /= d;
   const double dx = bed_.cell() / d;
   f.stats = bed_statistics(f.h, bed_.nx(), bed_.ny(), dx);
+  f.dx = dx;
+  f.profile.assign(bed_.nx(), 0.0);
+  for (std::size_t j = 0; j < bed_.ny(); ++j)
+    for (std::size_t i = 0; i < bed_.nx(); ++i)
+      f.profile[i] += f.h[j * bed_.nx() + i] / static_cast<double>(bed_.ny());
   // Within half a wavelength (a quarter of the bed while there are no ripples) a shift is unambiguous.
   const double reach = f.stats.wavelength > 0 ? 0.5 * f.stats.wavelength : 0.25 * o_.length;
   f.shift = bed_shift(last_h_, f.h, bed_.nx(), bed_.ny(), dx, reach);
@@ -87,23 +92,27 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {
   RippleTrends r;
   const std::size_t half = frames.size() / 2;
-  std::vector<double> t, ln_a, ln_t, ln_l, speed;
+  std::vector<double> t, ln_a, ln_t, ln_l, wavelengths;
+  std::vector<std::vector<double>> profiles;
   for (std::size_t k = 1; k < frames.size(); ++k) {
     const BedFrame& f = frames[k];
     if (k <= half && f.stats.amplitude > 0)
       t.push_back(f.t_star), ln_a.push_back(std::log(f.stats.amplitude));
     if (k > half && f.stats.wavelength > 0) {
       ln_t.push_back(std::log(f.t_star)), ln_l.push_back(std::log(f.stats.wavelength));
-      speed.push_back(f.shift / (f.t_star - frames[k - 1].t_star));
+      wavelengths.push_back(f.stats.wavelength);
     }
+    if (k >= half && !f.profile.empty()) profiles.push_back(f.profile);
   }
   r.growth_rate = slope(t, ln_a);
   r.chi = slope(ln_t, ln_l);
-  if (speed.empty()) {
-    r.migration_speed = std::nan("");
-  } else {
-    std::sort(speed.begin(), speed.end());
-    r.migration_speed = speed[speed.size() / 2];
+  r.migration_speed = std::nan("");
+  if (profiles.size() >= 3 && !wavelengths.empty()) {
+    std::sort(wavelengths.begin(), wavelengths.end());
+    const double interval =
+        (frames.back().t_star - frames[half].t_star) / static_cast<double>(profiles.size() - 1);
+    r.migration_speed =
+        profile_migration(profiles, frames.back().dx, 0.5 * wavelengths[wavelengths.size() / 2]) / interval;
   }
   return r;
 }

@@ -30,12 +30,14 @@ void check_ripple_options(const RippleOptions& o);  // throws std::invalid_argum
 struct BedFrame {
   double t_star = 0;
   std::vector<double> h;
-  BedStatistics stats;        // grain diameters
-  double shift = 0;           // downwind shift since the previous frame, d
-  double mass_flux_star = 0;  // Q* averaged since the previous frame
-  double airborne = 0;        // grains in flight, averaged since the previous frame
-  double u_star_bed = 0;      // cm/s
-  double loosening = 1;       // E_eff / E_d2
+  std::vector<double> profile;  // h averaged across the bed (over y), one value per key-point column
+  double dx = 0;                // key-point spacing, d
+  BedStatistics stats;          // grain diameters
+  double shift = 0;             // downwind shift since the previous frame, d
+  double mass_flux_star = 0;    // Q* averaged since the previous frame
+  double airborne = 0;          // grains in flight, averaged since the previous frame
+  double u_star_bed = 0;        // cm/s
+  double loosening = 1;         // E_eff / E_d2
 };
 
 class RippleRun {
@@ -68,7 +70,8 @@ namespace grainlab::ripples::hybrid {
 
 // What a ripple run's frames show: the exponential growth rate of A over the first half of the frames
 // (1/t*), the coarsening exponent chi of lambda ~ t^chi over the second half, the migration speed (d per
-// t*, downwind positive) over the second half. NaN where the frames do not allow a fit (no wavelength).
+// t*, downwind positive) over the second half, from the frames' profiles with their time mean removed
+// (profile_migration). NaN where the frames do not allow a fit (no wavelength).
 struct RippleTrends {
   double growth_rate = 0, chi = 0, migration_speed = 0;
 };
