@@ -74,32 +74,32 @@ BedPoint HeightField::at(double x, double y) const {
   return {height(x, y), -gx * norm, -gy * norm, norm};
 }
 
-void HeightField::deposit(double x, double y) {
+// Where a grain settles (sign +1) or is taken (sign -1): from the nearest key point, on to the neighbour
+// lying furthest below it (settling) or above it (taking) while the step to that neighbour, once the grain
+// is settled or taken here, would pass repose.
+std::size_t HeightField::repose_walk(double x, double y, double sign, std::int64_t& moves) const {
   std::size_t k = nearest(x, y);
   for (int move = 0; move < kMaxMoves; ++move) {
-    std::size_t low = k;
+    std::size_t next = k;
+    double drop = 0;
     for (int w = 0; w < 4; ++w) {
       const std::size_t q = neighbour(k, w);
-      if (h_[q] < h_[low]) low = q;
+      if (sign * (h_[k] - h_[q]) > drop) next = q, drop = sign * (h_[k] - h_[q]);
     }
-    if (low == k || h_[k] + step_ - h_[low] <= slope_drop_) break;
-    k = low, ++rolled;
+    if (next == k || drop + step_ <= slope_drop_) break;
+    k = next, ++moves;
   }
+  return k;
+}
+
+void HeightField::deposit(double x, double y) {
+  const std::size_t k = repose_walk(x, y, 1, rolled);
   h_[k] += step_, sum_ += step_, ++deposited;
   top_ = std::max(top_, h_[k]);
 }
 
 bool HeightField::erode(double x, double y) {
-  std::size_t k = nearest(x, y);
-  for (int move = 0; move < kMaxMoves; ++move) {
-    std::size_t high = k;
-    for (int w = 0; w < 4; ++w) {
-      const std::size_t q = neighbour(k, w);
-      if (h_[q] > h_[high]) high = q;
-    }
-    if (high == k || h_[high] - (h_[k] - step_) <= slope_drop_) break;
-    k = high, ++pit_taken;
-  }
+  const std::size_t k = repose_walk(x, y, -1, pit_taken);
   if (h_[k] - step_ < -p_.erodible) return false;
   h_[k] -= step_, sum_ -= step_, ++eroded;
   return true;
