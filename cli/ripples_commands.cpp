@@ -373,6 +373,15 @@ void RipplesCommands::add(CLI::App& app) {
                              "bed history: HDF5 frames + XDMF sidecar, history and flux tables");
   hybrid_ripples->add_option("--duration", duration_override, "t*, in place of the config's")
       ->check(CLI::Range(0.0, 1e9));
+  hybrid_ripples->add_option("--checkpoint", hybrid_checkpoint,
+                             "write the run's state here every --checkpoint-every t* (and at --stop-at)");
+  hybrid_ripples->add_option("--checkpoint-every", checkpoint_every, "t* between checkpoints")
+      ->default_val(10000)
+      ->check(CLI::PositiveNumber);
+  hybrid_ripples->add_option("--stop-at", stop_at, "stop after the frame at this t* (needs --checkpoint)")
+      ->check(CLI::PositiveNumber);
+  hybrid_ripples->add_option("--restart", hybrid_restart,
+                             "continue a run from its checkpoint (same config and --duration)");
   hybrid_ripples->add_flag("--force", force, "overwrite --out");
   hybrid_ripples->add_flag("--json", json, "print the result as JSON");
   hybrid_ripples->add_flag("--quiet", quiet, "no progress bar");

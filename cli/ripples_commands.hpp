@@ -31,6 +31,8 @@ struct RipplesCommands {
   double lattice_ejections = 0;  // 0: the config's
   CLI::App *hybrid_flux = nullptr, *hybrid_ripples = nullptr;
   double duration_override = 0;  // ripples hybrid --duration: 0 keeps the config's
+  std::string hybrid_checkpoint, hybrid_restart;
+  double checkpoint_every = 10000, stop_at = 0;  // t*
   ripples::hybrid::FluxOptions flux;
   bool quiet = false;
   void add(CLI::App& app);

@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "h5_input.hpp"
 #include "h5_output.hpp"
 #include "hybrid_config.hpp"
 #include "input_error.hpp"
@@ -85,11 +86,88 @@ nlohmann::json number_or_null(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
 }
 
+BedFrame frame_of_row(const std::vector<double>& r) {
+  BedFrame f;
+  f.t_star = r[0], f.stats = {r[1], r[2], r[3], r[4]}, f.shift = r[5], f.mass_flux_star = r[6];
+  f.airborne = r[7], f.u_star_bed = r[8], f.loosening = r[9];
+  return f;
+}
+
+constexpr const char* kCheckpointKind = "grainlab-hybrid-ripples-checkpoint/1";
+
+// What a continued run must match: the config as read and the duration it runs to.
+std::string fingerprint(const ripples::hybrid::HybridConfig& c) {
+  return fmt::format("{}\n# duration {:.17g}", c.text, c.options.duration);
+}
+
+// The run's state, the frames taken so far (their statistics and profiles) and, when the bed history is
+// being written, every frame's heights, so a continued run rewrites the same file.
+void write_hybrid_checkpoint(const std::string& path, const ripples::hybrid::HybridConfig& c,
+                             const ripples::hybrid::RippleRun& run, const std::vector<BedFrame>& frames,
+                             const std::vector<std::vector<double>>& written) {
+  std::vector<SampleTable> tables = run.save("run/");
+  SampleTable history{"cli/history", "frames so far", kHistoryColumns, {}};
+  std::vector<std::string> xs;
+  for (std::size_t i = 0; i < frames.front().profile.size(); ++i) xs.push_back(fmt::format("x{}", i));
+  SampleTable profiles{"cli/profiles", "each frame's profile (d)", xs, {}};
+  for (const BedFrame& f : frames) history.rows.push_back(history_row(f)), profiles.rows.push_back(f.profile);
+  SampleTable heights{"cli/frames", "every written frame's heights (d), frame after frame", {"h"}, {}};
+  for (const auto& h : written)
+    for (double v : h) heights.rows.push_back({v});
+  tables.insert(tables.end(), {history, profiles, heights});
+  write_sample_tables(
+      path, tables,
+      {{"kind", kCheckpointKind}, {"grainlab_version", GRAINLAB_VERSION}, {"options", fingerprint(c)}});
+}
+
+void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::HybridConfig& c,
+                            ripples::hybrid::RippleRun& run, std::vector<BedFrame>& frames,
+                            std::vector<std::vector<double>>& written, std::size_t cells) {
+  std::map<std::string, std::vector<std::string>> wanted{
+      {"cli/history", kHistoryColumns}, {"cli/profiles", {}}, {"cli/frames", {"h"}}};
+  for (const SampleTable& t : run.save("run/")) wanted[t.name] = t.columns;  // the tables a run writes
+  const TableFile file = read_sample_tables(path, wanted);
+  auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
+  auto meta = [&](const char* key) {
+    auto it = file.metadata.find(key);
+    return it == file.metadata.end() ? std::string() : it->second;
+  };
+  if (meta("kind") != kCheckpointKind)
+    refuse(fmt::format("is not a hybrid ripple checkpoint (kind \"{}\")", meta("kind")));
+  if (meta("grainlab_version") != GRAINLAB_VERSION)
+    refuse(fmt::format("was written by grainlab {}, this is {}", meta("grainlab_version"), GRAINLAB_VERSION));
+  if (meta("options") != fingerprint(c))
+    refuse("was written for another config or duration: pass the ones it was started with");
+  try {
+    run.restore(file.tables, "run/");
+    const auto& history = file.tables.at("cli/history").rows;
+    const auto& profiles =
+        ripples::hybrid::checkpoint_table(file.tables, "cli/profiles", run.bed().nx()).rows;
+    if (history.empty() || profiles.size() != history.size()) refuse("has no frames, or profiles missing");
+    for (std::size_t k = 0; k < history.size(); ++k) {
+      frames.push_back(frame_of_row(history[k]));
+      frames.back().profile = profiles[k], frames.back().dx = run.bed().cell() / c.options.diameter;
+    }
+    const auto& h = ripples::hybrid::checkpoint_table(file.tables, "cli/frames", 1).rows;
+    if (h.size() % cells != 0) refuse("has a bed history of the wrong size");
+    for (std::size_t k = 0; k < h.size(); k += cells) {
+      written.emplace_back();
+      for (std::size_t i = 0; i < cells; ++i) written.back().push_back(h[k + i][0]);
+    }
+  } catch (const std::invalid_argument& e) {
+    refuse(e.what());
+  } catch (const std::out_of_range&) {
+    refuse("has no frame history");
+  }
+}
+
 }  // namespace
 
 int hybrid_ripples_command(const RipplesCommands& a) {
   if (a.config.empty()) throw InputError({"--config", 0}, "", "give a [hybrid] config (docs/ripples.md)");
   refuse_existing_out(a.out, a.force);
+  if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
+    throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
   const std::string text = ripples::read_config_text(a.config);
   ripples::hybrid::HybridConfig config = ripples::hybrid::parse_hybrid_config(text, a.config);
   ripples::hybrid::RippleOptions& o = config.options;
@@ -110,17 +188,42 @@ int hybrid_ripples_command(const RipplesCommands& a) {
         run.transport().shields(), o.u_star, o.splash);
   ProgressBar bar(talk, "t*");
   std::vector<BedFrame> frames;
+  std::vector<std::vector<double>> written;  // the frames' heights, kept only for checkpoints
+  const bool keep = out && !a.hybrid_checkpoint.empty();
+  if (!a.hybrid_restart.empty()) {
+    read_hybrid_checkpoint(a.hybrid_restart, config, run, frames, written, bed.nx() * bed.ny());
+    if (out)
+      for (std::size_t k = 0; k < written.size(); ++k) out->add_frame(frames[k].t_star, written[k]);
+    if (!keep) written.clear();
+    if (talk) fmt::print("continuing from t* = {:.0f} ({})\n", frames.back().t_star, a.hybrid_restart);
+  }
   auto take = [&] {
     frames.push_back(run.frame());
     const BedFrame& f = frames.back();
     if (out) out->add_frame(f.t_star, f.h);
+    if (keep) written.push_back(f.h);
     frames.back().h.clear();  // streamed; the statistics stay
   };
-  take();
+  if (frames.empty()) take();
   const auto start = std::chrono::steady_clock::now();
-  for (double t = o.frame_every; t <= o.duration * (1 + 1e-12); t += o.frame_every) {
+  const std::uint64_t steps_before = run.transport().grain_steps;
+  const auto last_frame = static_cast<std::size_t>(std::floor(o.duration / o.frame_every + 1e-9));
+  double next_checkpoint =
+      (std::floor(frames.back().t_star / a.checkpoint_every + 1e-9) + 1) * a.checkpoint_every;
+  for (std::size_t k = frames.size(); k <= last_frame; ++k) {
+    const double t = static_cast<double>(k) * o.frame_every;
     run.advance_to(t, [&](double now) { bar.update(now, o.duration); });
     take();
+    const bool stop = a.stop_at > 0 && t >= a.stop_at * (1 - 1e-12);
+    if (!a.hybrid_checkpoint.empty() && (t >= next_checkpoint * (1 - 1e-12) || stop)) {
+      write_hybrid_checkpoint(a.hybrid_checkpoint, config, run, frames, written);
+      next_checkpoint += a.checkpoint_every;
+    }
+    if (stop) {
+      bar.finish();
+      fmt::print(stderr, "stopped at t* = {:.0f}; continue with --restart {}\n", t, a.hybrid_checkpoint);
+      return 0;  // the output stays unwritten: the continued run writes it whole
+    }
     if (run.transport().airborne() == 0) break;  // transport died
   }
   bar.finish();
@@ -152,7 +255,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
     if (talk) fmt::print("wrote {} and {}\n", a.out, xmf);
   }
   const auto& tr = run.transport();
-  const double rate = wall > 0 ? static_cast<double>(tr.grain_steps) / wall : 0;
+  const double rate = wall > 0 ? static_cast<double>(tr.grain_steps - steps_before) / wall : 0;
   if (a.json) {
     nlohmann::json rows = nlohmann::json::array();
     for (const BedFrame& f : frames) rows.push_back(history_row(f));

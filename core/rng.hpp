@@ -11,6 +11,9 @@ class Rng {
  public:
   Rng(std::uint64_t seed, std::uint64_t run_index = 0)
       : s_(mix(seed ^ mix(run_index + 0x9E3779B97F4A7C15ull))) {}
+  // The whole state, for checkpoints: a generator set to a saved state continues the same sequence.
+  std::uint64_t state() const { return s_; }
+  void set_state(std::uint64_t s) { s_ = s; }
   std::uint64_t next() { return mix(s_ += 0x9E3779B97F4A7C15ull); }
   double uniform() { return (next() >> 11) * 0x1.0p-53; }  // [0, 1)
   double uniform(double a, double b) { return a + (b - a) * uniform(); }

@@ -105,6 +105,13 @@ bool HeightField::erode(double x, double y) {
   return true;
 }
 
+void HeightField::restore(const std::vector<double>& heights, const std::array<std::int64_t, 4>& counters,
+                          double sum, double top) {
+  if (heights.size() != h_.size()) throw std::invalid_argument("the checkpoint's bed has another size");
+  h_ = heights, sum_ = sum, top_ = top;
+  deposited = counters[0], eroded = counters[1], rolled = counters[2], pit_taken = counters[3];
+}
+
 void HeightField::refresh() {
   top_ = *std::max_element(h_.begin(), h_.end());
   sum_ = 0;

@@ -7,6 +7,7 @@
 // would make a slope steeper than repose toward it; a grain taken from a steep pit comes from the highest
 // neighbour instead. (The paper states the rule only in words; this reading keeps every slope between
 // neighbours within repose plus one grain's step, docs/ripples.md.)
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -47,6 +48,10 @@ class HeightField {
   // An upper bound of the highest key point (exact after refresh()).
   double top() const { return top_; }
   void refresh();
+  // Sets every height and the counters (a checkpoint's); throws std::invalid_argument for a wrong size.
+  void restore(const std::vector<double>& heights, const std::array<std::int64_t, 4>& counters, double sum,
+               double top);
+  double sum() const { return sum_; }
   // Grains settled and taken since the start, and how many of each moved to a neighbour by the repose
   // rule.
   std::int64_t deposited = 0, eroded = 0, rolled = 0, pit_taken = 0;

@@ -89,6 +89,45 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
 }
 }  // namespace
 
+std::vector<SampleTable> RippleRun::save(const std::string& prefix) const {
+  std::vector<SampleTable> out = transport_->save(prefix + "transport/");
+  SampleTable bed{prefix + "bed", "key-point heights (cm), x fastest", {"h"}, {}};
+  for (double v : bed_.heights()) bed.rows.push_back({v});
+  SampleTable last{prefix + "last_frame", "heights at the previous frame (d)", {"h"}, {}};
+  for (double v : last_h_) last.rows.push_back({v});
+  SampleTable series{prefix + "series", "flux samples", {"t_star", "mass_flux_star", "airborne"}, {}};
+  for (const auto& s : series_) series.rows.push_back({s[0], s[1], s[2]});
+  SampleTable clock{prefix + "clock",
+                    "bed counters and sums, next flux sample, sums since the last frame",
+                    {"deposited", "eroded", "rolled", "pit_taken", "sum", "top", "next_sample", "q_sum",
+                     "air_sum", "samples"},
+                    {{static_cast<double>(bed_.deposited), static_cast<double>(bed_.eroded),
+                      static_cast<double>(bed_.rolled), static_cast<double>(bed_.pit_taken), bed_.sum(),
+                      bed_.top(), next_sample_, q_sum_, air_sum_, samples_}}};
+  out.insert(out.end(), {bed, last, series, clock});
+  return out;
+}
+
+void RippleRun::restore(const std::map<std::string, SampleTable>& tables, const std::string& prefix) {
+  const auto& clock = checkpoint_table(tables, prefix + "clock", 10).rows;
+  if (clock.size() != 1) throw std::invalid_argument("the checkpoint's run clock has no row");
+  const auto& c = clock[0];
+  std::vector<double> h;
+  for (const auto& r : checkpoint_table(tables, prefix + "bed", 1).rows) h.push_back(r[0]);
+  bed_.restore(h,
+               {static_cast<std::int64_t>(c[0]), static_cast<std::int64_t>(c[1]),
+                static_cast<std::int64_t>(c[2]), static_cast<std::int64_t>(c[3])},
+               c[4], c[5]);
+  last_h_.clear();
+  for (const auto& r : checkpoint_table(tables, prefix + "last_frame", 1).rows) last_h_.push_back(r[0]);
+  if (last_h_.size() != h.size()) throw std::invalid_argument("the checkpoint's last frame has another size");
+  series_.clear();
+  for (const auto& r : checkpoint_table(tables, prefix + "series", 3).rows)
+    series_.push_back({r[0], r[1], r[2]});
+  next_sample_ = c[6], q_sum_ = c[7], air_sum_ = c[8], samples_ = c[9];
+  transport_->restore(tables, prefix + "transport/");
+}
+
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {
   RippleTrends r;
   const std::size_t half = frames.size() / 2;

@@ -54,6 +54,9 @@ class RippleRun {
   // Flux samples since the start: t*, Q*, grains airborne.
   const std::vector<std::array<double, 3>>& series() const { return series_; }
   const RippleOptions& options() const { return o_; }
+  // The run's whole state as named tables under `prefix`, and back (throws std::invalid_argument).
+  std::vector<SampleTable> save(const std::string& prefix) const;
+  void restore(const std::map<std::string, SampleTable>& tables, const std::string& prefix);
 
  private:
   RippleOptions o_;

@@ -183,4 +183,66 @@ void Transport::update_wind() {
   next_wind_ = t_ + o_.wind_interval * t_unit_, since_wind_ = 0;
 }
 
+namespace {
+const std::vector<std::string> kGrainColumns = {"x", "y", "z", "vx", "vy", "vz"};
+const std::vector<std::string> kWindColumns = {"drag_mean", "volume_mean", "drag_now", "volume_now"};
+const std::vector<std::string> kClockColumns = {
+    "t",         "next_wind", "since_wind", "v2_next",     "v2_launch", "base",
+    "loosening", "rng_high",  "rng_low",    "grain_steps", "steps",     "collisions",
+    "impacts",   "speed_sum", "angle_sum",  "deaths",      "ejecta"};
+
+}  // namespace
+
+const SampleTable& checkpoint_table(const std::map<std::string, SampleTable>& tables, const std::string& name,
+                                    std::size_t columns) {
+  const auto it = tables.find(name);
+  if (it == tables.end()) throw std::invalid_argument("the checkpoint has no table " + name);
+  for (const auto& row : it->second.rows)
+    if (row.size() != columns) throw std::invalid_argument("table " + name + " has rows of the wrong width");
+  return it->second;
+}
+
+std::vector<SampleTable> Transport::save(const std::string& prefix) const {
+  SampleTable grains{prefix + "grains", "airborne grains: cm, cm/s", kGrainColumns, {}};
+  for (std::size_t i = 0; i < grains_.size(); ++i)
+    grains.rows.push_back(
+        {grains_.x[i], grains_.y[i], grains_.z[i], grains_.vx[i], grains_.vy[i], grains_.vz[i]});
+  SampleTable wind{prefix + "wind", "the grains' drag and volume per wind bin", kWindColumns, {}};
+  for (std::size_t k = 0; k < drag_mean_.size(); ++k)
+    wind.rows.push_back({drag_mean_[k], volume_mean_[k], drag_now_[k], volume_now_[k]});
+  const std::uint64_t rng = rng_.state();
+  SampleTable clock{
+      prefix + "clock",
+      "time, wind clock, step bounds, bed level, E_eff / E_d2, generator state, counters",
+      kClockColumns,
+      {{t_, next_wind_, since_wind_, v2_next_, v2_launch_, base_, loosening_, static_cast<double>(rng >> 32),
+        static_cast<double>(rng & 0xffffffffull), static_cast<double>(grain_steps),
+        static_cast<double>(steps), static_cast<double>(collisions), tally.impacts, tally.speed_sum,
+        tally.angle_sum, static_cast<double>(tally.deaths), static_cast<double>(tally.ejecta)}}};
+  return {grains, wind, clock};
+}
+
+void Transport::restore(const std::map<std::string, SampleTable>& tables, const std::string& prefix) {
+  const SampleTable& wind = checkpoint_table(tables, prefix + "wind", kWindColumns.size());
+  const SampleTable& clock = checkpoint_table(tables, prefix + "clock", kClockColumns.size());
+  if (wind.rows.size() != drag_mean_.size() || clock.rows.size() != 1)
+    throw std::invalid_argument("the checkpoint's wind or clock does not fit this run");
+  grains_ = {};
+  for (const auto& r : checkpoint_table(tables, prefix + "grains", kGrainColumns.size()).rows)
+    grains_.add(r[0], r[1], r[2], r[3], r[4], r[5]);
+  for (std::size_t k = 0; k < drag_mean_.size(); ++k) {
+    const auto& r = wind.rows[k];
+    drag_mean_[k] = r[0], volume_mean_[k] = r[1], drag_now_[k] = r[2], volume_now_[k] = r[3];
+  }
+  const auto& c = clock.rows[0];
+  t_ = c[0], next_wind_ = c[1], since_wind_ = c[2], v2_next_ = c[3], v2_launch_ = c[4], base_ = c[5];
+  loosening_ = c[6];
+  rng_.set_state((static_cast<std::uint64_t>(c[7]) << 32) | static_cast<std::uint64_t>(c[8]));
+  grain_steps = static_cast<std::uint64_t>(c[9]), steps = static_cast<std::uint64_t>(c[10]);
+  collisions = static_cast<std::uint64_t>(c[11]);
+  tally = {c[12], c[13], c[14], static_cast<std::uint64_t>(c[15]), static_cast<std::uint64_t>(c[16])};
+  // The wind as it was: solved from the same running means at the last update.
+  wind_.solve(drag_mean_, volume_mean_, area_);
+}
+
 }  // namespace grainlab::ripples::hybrid

@@ -6,10 +6,12 @@
 // the grains' drag every wind_interval. The bed is either fixed and flat (the flux runs) or a height field
 // that the grains that settle and leave change (the ripple runs).
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "airborne.hpp"
+#include "h5_output.hpp"
 #include "height_field.hpp"
 #include "lammel_splash.hpp"
 #include "rng.hpp"
@@ -39,6 +41,10 @@ struct TransportOptions {
   std::uint64_t seed = 2021;
 };
 
+// A checkpoint's table by name with rows `columns` wide; throws std::invalid_argument otherwise.
+const SampleTable& checkpoint_table(const std::map<std::string, SampleTable>& tables, const std::string& name,
+                                    std::size_t columns);
+
 // Throws std::invalid_argument for options that cannot run.
 void check_transport_options(const TransportOptions& o);
 
@@ -66,6 +72,10 @@ class Transport {
   double density_ratio() const { return s_; }
   ImpactTally tally;
   std::uint64_t grain_steps = 0, steps = 0, collisions = 0;
+  // Everything a continued run needs, as named tables (prefix + "grains", "wind", "clock"); restore takes
+  // them back (throws std::invalid_argument when one is missing or the wrong shape).
+  std::vector<SampleTable> save(const std::string& prefix) const;
+  void restore(const std::map<std::string, SampleTable>& tables, const std::string& prefix);
 
  private:
   void move_grains(double dt);
