@@ -154,6 +154,7 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   EXPECT_NE(error_of("[hybrid]\nustar = 3\n").find("ustar"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nu_star = -3\n").find("h.toml:2"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nsplash = \"x\"\n").find("splash"), std::string::npos);
+  EXPECT_NE(error_of("[hybrid]\nejecta_launch = \"up\"\n").find("ejecta_launch"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nwidth = 5\ncell = 2\n").find("cell"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nduration = 10\nframe_every = 20\n").find("frame_every"), std::string::npos);
   EXPECT_NE(error_of("[bins]\nbins = 20\n").find("[hybrid]"), std::string::npos);

@@ -158,11 +158,15 @@ void Transport::impacts() {
     const int count = sample_ejecta_count(ejecta, rng_);
     for (int k = 0; k < count; ++k) {
       const double v = std::sqrt(2 * sample_ejectum_energy(ejecta, rng_) / m_);
-      if (v * b.nz * v * b.nz <= rise2) continue;  // cannot rise a diameter: it stays
+      const double lift_speed = o_.ejecta_vertical ? v : v * b.nz;
+      if (lift_speed * lift_speed <= rise2) continue;  // cannot rise a diameter: it stays
       const double rho = d_ * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
       const double x = into(px + rho * std::cos(phi), length_), y = into(py + rho * std::sin(phi), width_);
       if (bed_ && !bed_->erode(x, y)) continue;  // the erodible layer is used up here
-      launch(x, y, bed_ ? bed_->at(x, y) : b, v * b.nx, v * b.ny, v * b.nz);
+      if (o_.ejecta_vertical)
+        launch(x, y, bed_ ? bed_->at(x, y) : b, 0, 0, v);
+      else
+        launch(x, y, bed_ ? bed_->at(x, y) : b, v * b.nx, v * b.ny, v * b.nz);
       ++tally.ejecta;
     }
   }

@@ -37,6 +37,8 @@ struct TransportOptions {
   // Eq. 19: bed grains loosened by the wind's stress at the bed need E_eff = E_d2 (1 - tau_fw / tau_ft),
   // tau_ft of Shao & Lu (2000); floored at loosened_floor E_d2 (early on the stress passes the threshold).
   bool wind_loosened = false;
+  // Ejecta leave along the local bed's normal (the spec's reading of the paper), or straight up.
+  bool ejecta_vertical = false;
   double loosened_floor = 0.1;
   std::uint64_t seed = 2021;
 };
