@@ -35,6 +35,16 @@ Dataset read_all(hid_t parent, const std::string& name, const std::string& path)
   H5Sget_simple_extent_dims(space.id, out.dims.data(), nullptr);
   hsize_t count = 1;
   for (hsize_t x : out.dims) count *= x;
+  // A damaged datatype or storage record can make libhdf5 copy past the buffer (seen when fuzzing splash
+  // files): numbers of at most 8 bytes, all of them stored, before anything is read.
+  Handle type{H5Dget_type(d.id), H5Tclose};
+  const H5T_class_t kind = type.id < 0 ? H5T_NO_CLASS : H5Tget_class(type.id);
+  const std::size_t size = type.id < 0 ? 0 : H5Tget_size(type.id);
+  if ((kind != H5T_FLOAT && kind != H5T_INTEGER) || size == 0 || size > 8)
+    corrupt(path, name + " does not hold numbers (damaged)");
+  if (count > 0 && H5Dget_storage_size(d.id) < count * size)
+    corrupt(path,
+            name + ": less data stored than its shape says (the file is truncated, damaged or compressed)");
   out.data.resize(count);
   if (count > 0 && H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data.data()) < 0)
     corrupt(path, name + ": its data cannot be read (the file is truncated or damaged)");

@@ -134,7 +134,16 @@ std::vector<double> get_table(hid_t parent, const std::string& name, hsize_t col
   if (cols != 0 && dims[1] != cols)
     bad(path, fmt::format("{}/{} has {} columns, expected {}", where, name, dims[1], cols));
   rows = dims[0];
-  std::vector<double> out(rows * std::max<hsize_t>(cols, 1));
+  // A damaged datatype or storage record can make libhdf5 copy past the buffer (seen in the fuzz test):
+  // the data must be 8-byte floats, and all of it must be stored, before anything is read.
+  Handle type{H5Dget_type(d.id), H5Tclose};
+  if (type.id < 0 || H5Tget_class(type.id) != H5T_FLOAT || H5Tget_size(type.id) != sizeof(double))
+    bad(path, fmt::format("{}/{} does not hold 8-byte floats (damaged)", where, name));
+  const hsize_t values = rows * std::max<hsize_t>(cols, 1);
+  if (H5Dget_storage_size(d.id) < values * sizeof(double) && values > 0)
+    bad(path, fmt::format("{}/{}: less data stored than its shape says (truncated, damaged or compressed)",
+                          where, name));
+  std::vector<double> out(values);
   if (!out.empty() && H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
     bad(path, fmt::format("{}/{}: its data cannot be read (truncated or damaged)", where, name));
   for (double v : out)
