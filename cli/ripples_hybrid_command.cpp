@@ -127,17 +127,9 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
       {"cli/history", kHistoryColumns}, {"cli/profiles", {}}, {"cli/frames", {"h"}}};
   for (const SampleTable& t : run.save("run/")) wanted[t.name] = t.columns;  // the tables a run writes
   const TableFile file = read_sample_tables(path, wanted);
+  require_checkpoint(file, path, kCheckpointKind, "hybrid ripple checkpoint", fingerprint(c),
+                     "was written for another config or duration: pass the ones it was started with");
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
-  auto meta = [&](const char* key) {
-    auto it = file.metadata.find(key);
-    return it == file.metadata.end() ? std::string() : it->second;
-  };
-  if (meta("kind") != kCheckpointKind)
-    refuse(fmt::format("is not a hybrid ripple checkpoint (kind \"{}\")", meta("kind")));
-  if (meta("grainlab_version") != GRAINLAB_VERSION)
-    refuse(fmt::format("was written by grainlab {}, this is {}", meta("grainlab_version"), GRAINLAB_VERSION));
-  if (meta("options") != fingerprint(c))
-    refuse("was written for another config or duration: pass the ones it was started with");
   try {
     run.restore(file.tables, "run/");
     const auto& history = file.tables.at("cli/history").rows;

@@ -157,4 +157,17 @@ TableFile read_sample_tables(const std::string& path,
   return out;
 }
 
+void require_checkpoint(const TableFile& file, const std::string& path, const std::string& kind,
+                        const std::string& what, const std::string& options, const std::string& mismatch) {
+  auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
+  auto meta = [&](const char* key) {
+    auto it = file.metadata.find(key);
+    return it == file.metadata.end() ? std::string() : it->second;
+  };
+  if (meta("kind") != kind) refuse(fmt::format("is not a {} (kind \"{}\")", what, meta("kind")));
+  if (meta("grainlab_version") != GRAINLAB_VERSION)
+    refuse(fmt::format("was written by grainlab {}, this is {}", meta("grainlab_version"), GRAINLAB_VERSION));
+  if (meta("options") != options) refuse(mismatch);
+}
+
 }  // namespace grainlab

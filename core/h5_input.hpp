@@ -31,4 +31,10 @@ struct TableFile {
 TableFile read_sample_tables(const std::string& path,
                              const std::map<std::string, std::vector<std::string>>& wanted);
 
+// Stops with InputError (key "--restart") unless the file's metadata says it is a checkpoint of `kind`
+// (`what` names it in the message), written by this grainlab version with these options (`mismatch` says
+// what to pass instead).
+void require_checkpoint(const TableFile& file, const std::string& path, const std::string& kind,
+                        const std::string& what, const std::string& options, const std::string& mismatch);
+
 }  // namespace grainlab

@@ -90,19 +90,10 @@ std::pair<dem::WorldState, StudyState> read_checkpoint(const std::string& path,
                  {"study/profiles", kProfileColumns},
                  {"study/clock", kClockColumns}});
   const TableFile file = read_sample_tables(path, wanted);
+  require_checkpoint(file, path, kKind, "saltation dem checkpoint", fingerprint(o),
+                     "was written with other options (u*, bed, grains, duration or sampling): pass the "
+                     "ones it was started with");
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
-  auto meta = [&](const char* key) {
-    auto it = file.metadata.find(key);
-    return it == file.metadata.end() ? std::string() : it->second;
-  };
-  if (meta("kind") != kKind)
-    refuse(fmt::format("is not a saltation dem checkpoint (kind \"{}\")", meta("kind")));
-  if (meta("grainlab_version") != GRAINLAB_VERSION)
-    refuse(fmt::format("was written by grainlab {}, this is {}", meta("grainlab_version"), GRAINLAB_VERSION));
-  if (meta("options") != fingerprint(o))
-    refuse(
-        "was written with other options (u*, bed, grains, duration or sampling): pass the "
-        "ones it was started with");
   StudyState s;
   const auto& clock = file.tables.at("study/clock").rows;
   if (clock.size() != 1) refuse("has no clock row");
