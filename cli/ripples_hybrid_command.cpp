@@ -107,13 +107,17 @@ void write_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hyb
                              const std::vector<std::vector<double>>& written) {
   std::vector<SampleTable> tables = run.save("run/");
   SampleTable history{"cli/history", "frames so far", kHistoryColumns, {}};
-  std::vector<std::string> xs;
-  for (std::size_t i = 0; i < frames.front().profile.size(); ++i) xs.push_back(fmt::format("x{}", i));
-  SampleTable profiles{"cli/profiles", "each frame's profile (d)", xs, {}};
-  for (const BedFrame& f : frames) history.rows.push_back(history_row(f)), profiles.rows.push_back(f.profile);
-  SampleTable heights{"cli/frames", "every written frame's heights (d), frame after frame", {"h"}, {}};
-  for (const auto& h : written)
-    for (double v : h) heights.rows.push_back({v});
+  std::vector<double> profile_values, height_values;
+  for (const BedFrame& f : frames) {
+    history.rows.push_back(history_row(f));
+    profile_values.insert(profile_values.end(), f.profile.begin(), f.profile.end());
+  }
+  for (const auto& h : written) height_values.insert(height_values.end(), h.begin(), h.end());
+  const std::size_t nx = run.bed().nx();
+  const SampleTable profiles =
+      ripples::hybrid::grid_table("cli/profiles", "each frame's profile (d)", profile_values, nx);
+  const SampleTable heights = ripples::hybrid::grid_table(
+      "cli/frames", "every written frame's heights (d), frame after frame", height_values, nx);
   tables.insert(tables.end(), {history, profiles, heights});
   write_sample_tables(
       path, tables,
@@ -124,7 +128,7 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
                             ripples::hybrid::RippleRun& run, std::vector<BedFrame>& frames,
                             std::vector<std::vector<double>>& written, std::size_t cells) {
   std::map<std::string, std::vector<std::string>> wanted{
-      {"cli/history", kHistoryColumns}, {"cli/profiles", {}}, {"cli/frames", {"h"}}};
+      {"cli/history", kHistoryColumns}, {"cli/profiles", {}}, {"cli/frames", {}}};
   for (const SampleTable& t : run.save("run/")) wanted[t.name] = t.columns;  // the tables a run writes
   const TableFile file = read_sample_tables(path, wanted);
   require_checkpoint(file, path, kCheckpointKind, "hybrid ripple checkpoint", fingerprint(c),
@@ -140,12 +144,11 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
       frames.push_back(frame_of_row(history[k]));
       frames.back().profile = profiles[k], frames.back().dx = run.bed().cell() / c.options.diameter;
     }
-    const auto& h = ripples::hybrid::checkpoint_table(file.tables, "cli/frames", 1).rows;
+    const std::vector<double> h = ripples::hybrid::grid_values(
+        ripples::hybrid::checkpoint_table(file.tables, "cli/frames", run.bed().nx()));
     if (h.size() % cells != 0) refuse("has a bed history of the wrong size");
-    for (std::size_t k = 0; k < h.size(); k += cells) {
-      written.emplace_back();
-      for (std::size_t i = 0; i < cells; ++i) written.back().push_back(h[k + i][0]);
-    }
+    for (std::size_t k = 0; k < h.size(); k += cells)
+      written.emplace_back(h.begin() + static_cast<long>(k), h.begin() + static_cast<long>(k + cells));
   } catch (const std::invalid_argument& e) {
     refuse(e.what());
   } catch (const std::out_of_range&) {

@@ -36,9 +36,10 @@ void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
   if (o.splash != "paper2021" && o.splash != "lammel2017")
     r.fail("splash", "must be \"paper2021\" or \"lammel2017\"");
   o.wind_loosened = r.boolean_or("wind_loosened", o.wind_loosened);
-  o.ejecta_vertical = r.string_or("ejecta_launch", "normal") == "vertical";
-  if (const std::string l = r.string_or("ejecta_launch", "normal"); l != "normal" && l != "vertical")
+  const std::string launch = r.string_or("ejecta_launch", "normal");
+  if (launch != "normal" && launch != "vertical")
     r.fail("ejecta_launch", "must be \"normal\" (to the local bed) or \"vertical\"");
+  o.ejecta_vertical = launch == "vertical";
   o.loosened_floor = r.number_or("loosened_floor", o.loosened_floor, Range{0, 1, true});
   o.collisions = r.boolean_or("collisions", o.collisions);
   o.collision_restitution = r.number_or("collision_restitution", o.collision_restitution, Range{0, 1, false});

@@ -73,10 +73,6 @@ BedFrame RippleRun::frame() {
   return f;
 }
 
-}  // namespace grainlab::ripples::hybrid
-
-namespace grainlab::ripples::hybrid {
-
 namespace {
 // Least-squares slope of y against x; NaN with fewer than 3 points.
 double slope(const std::vector<double>& x, const std::vector<double>& y) {
@@ -91,10 +87,9 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
 
 std::vector<SampleTable> RippleRun::save(const std::string& prefix) const {
   std::vector<SampleTable> out = transport_->save(prefix + "transport/");
-  SampleTable bed{prefix + "bed", "key-point heights (cm), x fastest", {"h"}, {}};
-  for (double v : bed_.heights()) bed.rows.push_back({v});
-  SampleTable last{prefix + "last_frame", "heights at the previous frame (d)", {"h"}, {}};
-  for (double v : last_h_) last.rows.push_back({v});
+  const SampleTable bed = grid_table(prefix + "bed", "key-point heights (cm)", bed_.heights(), bed_.nx());
+  const SampleTable last =
+      grid_table(prefix + "last_frame", "heights at the previous frame (d)", last_h_, bed_.nx());
   SampleTable series{prefix + "series", "flux samples", {"t_star", "mass_flux_star", "airborne"}, {}};
   for (const auto& s : series_) series.rows.push_back({s[0], s[1], s[2]});
   SampleTable clock{prefix + "clock",
@@ -112,14 +107,12 @@ void RippleRun::restore(const std::map<std::string, SampleTable>& tables, const 
   const auto& clock = checkpoint_table(tables, prefix + "clock", 10).rows;
   if (clock.size() != 1) throw std::invalid_argument("the checkpoint's run clock has no row");
   const auto& c = clock[0];
-  std::vector<double> h;
-  for (const auto& r : checkpoint_table(tables, prefix + "bed", 1).rows) h.push_back(r[0]);
+  const std::vector<double> h = grid_values(checkpoint_table(tables, prefix + "bed", bed_.nx()));
   bed_.restore(h,
                {static_cast<std::int64_t>(c[0]), static_cast<std::int64_t>(c[1]),
                 static_cast<std::int64_t>(c[2]), static_cast<std::int64_t>(c[3])},
                c[4], c[5]);
-  last_h_.clear();
-  for (const auto& r : checkpoint_table(tables, prefix + "last_frame", 1).rows) last_h_.push_back(r[0]);
+  last_h_ = grid_values(checkpoint_table(tables, prefix + "last_frame", bed_.nx()));
   if (last_h_.size() != h.size()) throw std::invalid_argument("the checkpoint's last frame has another size");
   series_.clear();
   for (const auto& r : checkpoint_table(tables, prefix + "series", 3).rows)

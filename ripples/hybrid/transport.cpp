@@ -1,5 +1,7 @@
 #include "transport.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -113,8 +115,8 @@ void Transport::collide() {
   collisions += grid_.collide_all(grains_, m_, law_);
 }
 
-void Transport::launch(double x, double y, const BedPoint& b, double vx, double vy, double vz) {
-  grains_.add(x, y, b.h + 0.5 * d_, vx, vy, vz);
+void Transport::launch(double x, double y, double bed_height, double vx, double vy, double vz) {
+  grains_.add(x, y, bed_height + 0.5 * d_, vx, vy, vz);
   v2_launch_ = std::max(v2_launch_, vx * vx + vy * vy + vz * vz);
 }
 
@@ -162,11 +164,12 @@ void Transport::impacts() {
       if (lift_speed * lift_speed <= rise2) continue;  // cannot rise a diameter: it stays
       const double rho = d_ * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
       const double x = into(px + rho * std::cos(phi), length_), y = into(py + rho * std::sin(phi), width_);
-      if (bed_ && !bed_->erode(x, y)) continue;  // the erodible layer is used up here
+      if (bed_ && !bed_->erode(x, y)) continue;        // the erodible layer is used up here
+      const double h = bed_ ? bed_->height(x, y) : 0;  // the launch direction is the impact's normal
       if (o_.ejecta_vertical)
-        launch(x, y, bed_ ? bed_->at(x, y) : b, 0, 0, v);
+        launch(x, y, h, 0, 0, v);
       else
-        launch(x, y, bed_ ? bed_->at(x, y) : b, v * b.nx, v * b.ny, v * b.nz);
+        launch(x, y, h, v * b.nx, v * b.ny, v * b.nz);
       ++tally.ejecta;
     }
   }
@@ -204,6 +207,21 @@ const SampleTable& checkpoint_table(const std::map<std::string, SampleTable>& ta
   for (const auto& row : it->second.rows)
     if (row.size() != columns) throw std::invalid_argument("table " + name + " has rows of the wrong width");
   return it->second;
+}
+
+SampleTable grid_table(std::string name, std::string description, const std::vector<double>& values,
+                       std::size_t nx) {
+  SampleTable t{std::move(name), std::move(description), {}, {}};
+  for (std::size_t i = 0; i < nx; ++i) t.columns.push_back(fmt::format("x{}", i));
+  for (std::size_t k = 0; k + nx <= values.size(); k += nx)
+    t.rows.emplace_back(values.begin() + static_cast<long>(k), values.begin() + static_cast<long>(k + nx));
+  return t;
+}
+
+std::vector<double> grid_values(const SampleTable& t) {
+  std::vector<double> out;
+  for (const auto& r : t.rows) out.insert(out.end(), r.begin(), r.end());
+  return out;
 }
 
 std::vector<SampleTable> Transport::save(const std::string& prefix) const {

@@ -47,6 +47,12 @@ struct TransportOptions {
 const SampleTable& checkpoint_table(const std::map<std::string, SampleTable>& tables, const std::string& name,
                                     std::size_t columns);
 
+// Values on a grid nx wide (x fastest) as a table with one row per line of nx (columns x0, x1, ...), and
+// back: a checkpoint holds beds and profiles without a row per value.
+SampleTable grid_table(std::string name, std::string description, const std::vector<double>& values,
+                       std::size_t nx);
+std::vector<double> grid_values(const SampleTable& t);
+
 // Throws std::invalid_argument for options that cannot run.
 void check_transport_options(const TransportOptions& o);
 
@@ -83,7 +89,7 @@ class Transport {
   void move_grains(double dt);
   void collide();
   void impacts();
-  void launch(double x, double y, const BedPoint& b, double vx, double vy, double vz);
+  void launch(double x, double y, double bed_height, double vx, double vy, double vz);
   void update_wind();
   double tau_threshold() const;  // Shao & Lu (2000), tau_ft / rho_f
 
