@@ -1,6 +1,7 @@
 #include "lattice_model.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 
@@ -11,7 +12,7 @@ namespace grainlab::ripples {
 namespace {
 constexpr double kColumn = 0.8660254037844386;  // sqrt(3) / 2: column width in grain diameters
 constexpr double kLayer = 0.5, kRadius = 0.5;
-constexpr int kBlock = 16;  // columns per block of the hit search
+constexpr int kBlock = 64;  // columns per block of the hit search
 }  // namespace
 
 LatticeModel::LatticeModel(const LatticeParams& p)
@@ -30,22 +31,22 @@ LatticeModel::LatticeModel(const LatticeParams& p)
   Rng start(p.seed, 1);
   for (int i = 0; i < p.columns; i += 2)
     if (start.uniform() < p.roughness) h_[static_cast<std::size_t>(i)] += 2;
-  height_count_.assign(static_cast<std::size_t>(base + 64), 0);
-  for (int v : h_) ++height_count_[static_cast<std::size_t>(v)], max_h_ = std::max(max_h_, v);
-  block_max_.assign(static_cast<std::size_t>((p.columns + kBlock - 1) / kBlock), 0);
+  max_h_ = *std::max_element(h_.begin(), h_.end());
+  rise_.assign(static_cast<std::size_t>((p.columns + 2 * kPad) / 64 + 2), 0);
+  for (int j = 0; j < p.columns; ++j)
+    put_rise(j, h_[static_cast<std::size_t>(near(j + 1))] > h_[static_cast<std::size_t>(j)]);
+  step_ = tan_a_ * kColumn;
+  g_.resize(h_.size());
+  block_g_.assign(static_cast<std::size_t>((p.columns + kBlock - 1) / kBlock), -HUGE_VAL);
   for (int i = 0; i < p.columns; ++i) {
-    int& top = block_max_[static_cast<std::size_t>(i / kBlock)];
-    top = std::max(top, h_[static_cast<std::size_t>(i)]);
+    g_[static_cast<std::size_t>(i)] = ray_invariant(i, h_[static_cast<std::size_t>(i)]);
+    double& top = block_g_[static_cast<std::size_t>(i / kBlock)];
+    top = std::max(top, g_[static_cast<std::size_t>(i)]);
   }
 }
 
 int LatticeModel::near(int i) const {
   return i < 0 ? i + p_.columns : (i >= p_.columns ? i - p_.columns : i);
-}
-
-int LatticeModel::wrap(long i) const {
-  const long n = p_.columns;
-  return static_cast<int>(((i % n) + n) % n);
 }
 
 long LatticeModel::grains() const {
@@ -55,67 +56,129 @@ long LatticeModel::grains() const {
 }
 
 void LatticeModel::set(int i, int v) {
-  int& h = h_[static_cast<std::size_t>(i)];
-  const int old = h;
-  --height_count_[static_cast<std::size_t>(old)];
-  if (static_cast<std::size_t>(v) >= height_count_.size())
-    height_count_.resize(static_cast<std::size_t>(v) + 64, 0);
-  ++height_count_[static_cast<std::size_t>(v)];
-  h = v;
-  if (v > max_h_) max_h_ = v;
-  while (height_count_[static_cast<std::size_t>(max_h_)] == 0) --max_h_;
-  int& top = block_max_[static_cast<std::size_t>(i / kBlock)];
-  if (v > top) {
-    top = v;
-  } else if (old == top && v < old) {
+  const int n = p_.columns, left = near(i - 1);
+  h_[static_cast<std::size_t>(i)] = v;
+  const bool left_up = v > h_[static_cast<std::size_t>(left)],
+             right_up = h_[static_cast<std::size_t>(near(i + 1))] > v;
+  if (i > kPad && i < n - kPad - 1) {  // the usual case: two bits, no copies in the margins
+    for (int b : {i - 1 + kPad, i + kPad}) {
+      std::uint64_t& w = rise_[static_cast<std::size_t>(b >> 6)];
+      const std::uint64_t bit = std::uint64_t{1} << (b & 63);
+      w = (w & ~bit) | ((b == i + kPad ? right_up : left_up) ? bit : 0);
+    }
+  } else {
+    put_rise(left, left_up);
+    put_rise(i, right_up);
+  }
+  max_h_ = std::max(max_h_, v);
+  double& g = g_[static_cast<std::size_t>(i)];
+  const double old_g = g;
+  g = ray_invariant(i, v);
+  double& top = block_g_[static_cast<std::size_t>(i / kBlock)];
+  if (g > top) {
+    top = g;
+  } else if (old_g == top && g < old_g) {
     const int b = (i / kBlock) * kBlock, e = std::min(b + kBlock, p_.columns);
-    top = *std::max_element(h_.begin() + b, h_.begin() + e);
+    top = *std::max_element(g_.begin() + b, g_.begin() + e);
   }
 }
 
 // The first surface grain the path from (start_x, above every grain) meets, scanning downstream. `p` gets
-// the signed distance of the path from that grain's centre (perpendicular to the path). Blocks of columns
-// the path passes above (judged by their highest grain) are skipped whole: the same hit, found faster.
+// the signed distance of the path from that grain's centre (perpendicular to the path). The start's
+// height is max_h_ d / 2 + 2 R, max_h_ an upper bound on the surface: starting higher by any fixed amount
+// moves every path's start the same distance upstream, which leaves the hits of uniformly random starts on
+// a periodic bed distributed as before.
+// The path's height at column i is top + tan a start_x - step i, and it hits the column's top grain when
+// it passes less than `reach` (one radius, perpendicular to the path) above its centre h_i d / 2, i.e.
+// when the column's ray invariant g_i = h_i d / 2 + step i exceeds c = top + tan a start_x - reach: one
+// comparison per column, and whole blocks whose largest g the path clears are skipped. Past the domain's
+// end the path continues at column 0 with its unwrapped index i + n, i.e. with c lowered by step n.
 int LatticeModel::hit_column(double start_x, double& p) {
   const int n = p_.columns;
+  const double reach = kRadius / cos_a_;
+  double c = max_h_ * kLayer + 2 * kRadius + tan_a_ * start_x - reach;
   // The first column at or after start_x (0 <= start_x < the domain's length, so no modulo is needed).
-  const int first = static_cast<int>(start_x * (1 / kColumn)) + 1;
-  const double step = tan_a_ * kColumn, reach = kRadius / cos_a_;
-  // The path's height at the column under test, relative to the layer grid: hit when it passes less than
-  // one radius (perpendicular to the path) above the column's top grain centre.
-  double ray = max_h_ * kLayer + 2 * kRadius - tan_a_ * (first * kColumn - start_x);
-  int i = first >= n ? first - n : first;
+  int i = static_cast<int>(start_x * (1 / kColumn)) + 1;
+  if (i >= n) i -= n, c -= step_ * n;
+  const double* g = g_.data();
   for (;;) {
-    const int block = i / kBlock, last = std::min((block + 1) * kBlock, n) - 1;
-    if (ray - step * (last - i) - block_max_[static_cast<std::size_t>(block)] * kLayer >= reach) {
-      ray -= step * (last - i + 1);
-      i = last + 1 == n ? 0 : last + 1;
-      continue;
+    const int last = std::min((i / kBlock + 1) * kBlock, n) - 1;
+    if (block_g_[static_cast<std::size_t>(i / kBlock)] > c) {
+      for (; i <= last; ++i)
+        if (g[i] > c) {
+          p = (c + reach - g[i]) * cos_a_;
+          return i;
+        }
     }
-    for (; i <= last; ++i, ray -= step) {
-      const double above = ray - h_[static_cast<std::size_t>(i)] * kLayer;
-      if (above < reach) {
-        p = above * cos_a_;
-        return i;
-      }
-    }
-    if (i == n) i = 0;
+    i = last + 1;
+    if (i == n) i = 0, c -= step_ * n;
   }
 }
 
 // Where a dropped grain rests: a pocket (a column lower than both neighbours). From a slope it rolls down;
 // from a crest it goes on in the direction it was moving.
+// Neighbouring columns never have equal heights (their layer indices differ in parity), so the way down
+// is the same all the way to the pocket: the first pocket on that side.
 void LatticeModel::drop(int c, int direction) {
+  const bool left_lower = rises(near(c - 1)), right_lower = !rises(c);
+  if (left_lower && right_lower)
+    land_at(first_pocket(c, direction));
+  else if (left_lower || right_lower)
+    land_at(first_pocket(c, left_lower ? -1 : 1));
+  else
+    land_at(c);
+}
+
+void LatticeModel::land_at(int c) {
+  set(c, h_[static_cast<std::size_t>(c)] + 2);
+}
+
+bool LatticeModel::rises(int j) const {
+  const int b = j + kPad;
+  return (rise_[static_cast<std::size_t>(b >> 6)] >> (b & 63)) & 1;
+}
+
+// 64 slope bits from column j on: bit b tells whether column j + b + 1 is higher than column j + b
+// (-kPad <= j, j + 64 <= n + kPad).
+std::uint64_t LatticeModel::rise_bits(int j) const {
+  const int b = j + kPad, s = b & 63;
+  const std::uint64_t* w = rise_.data() + (b >> 6);
+  return s ? (w[0] >> s) | (w[1] << (64 - s)) : w[0];
+}
+
+// Column j's slope bit (column j + 1 higher than j), stored at j + kPad and at every position that
+// stands for column j in the wrapped margins.
+void LatticeModel::put_rise(int j, bool up) {
+  const int n = p_.columns, total = n + 2 * kPad;
+  auto put = [&](int b) {
+    std::uint64_t& w = rise_[static_cast<std::size_t>(b >> 6)];
+    const std::uint64_t bit = std::uint64_t{1} << (b & 63);
+    w = (w & ~bit) | (up ? bit : 0);
+  };
+  if (n >= 2 * kPad) {  // one copy in the middle, another in a margin for the columns near the ends
+    put(j + kPad);
+    if (j < kPad) put(j + kPad + n);
+    if (j >= n - kPad) put(j + kPad - n);
+    return;
+  }
+  int first = j + kPad;
+  while (first >= n) first -= n;
+  for (int b = first; b < total; b += n) put(b);
+}
+
+// The first pocket (a column lower than both neighbours: its left slope falls, its own rises) at or after
+// column c in `direction`, 63 columns per word test.
+int LatticeModel::first_pocket(int c, int direction) const {
   for (;;) {
-    const int h = h_[static_cast<std::size_t>(c)];
-    const int left = h_[static_cast<std::size_t>(near(c - 1))],
-              right = h_[static_cast<std::size_t>(near(c + 1))];
-    if (left > h && right > h) {
-      set(c, h + 2);
-      return;
+    if (direction > 0) {
+      const std::uint64_t w = rise_bits(c - 1), pockets = ~w & (w >> 1);  // bit m: pocket at c + m
+      if (pockets) return near(c + std::countr_zero(pockets));
+      c = near(c + 63);
+    } else {
+      const std::uint64_t w = rise_bits(c - 63), pockets = ~w & (w >> 1);  // bit b: pocket at c - 62 + b
+      if (pockets) return near(c - 62 + (63 - std::countl_zero(pockets)));
+      c = near(c - 63);
     }
-    const int step = left < h && right < h ? direction : (left < h ? -1 : 1);
-    c = near(c + step);
   }
 }
 
@@ -147,7 +210,20 @@ int LatticeModel::find_brink(int from, int direction, int limit) const {
   // A window of four heights slides along `direction` (one load per column): at offset k it holds the
   // columns k - 1, k, k + 1 and k + 2 steps on.
   // (near() wraps by one domain length, enough while the look-ahead stays below it, as configs ensure.)
-  auto at = [&](int k) { return h_[static_cast<std::size_t>(near(from + direction * k))]; };
+  // At rest neighbouring columns differ by one layer, so a brink is a rise into a column followed by two
+  // falls: three slope bits, tested for the whole look-ahead at once.
+  if (limit <= 61) {
+    const std::uint64_t in_reach = (std::uint64_t{2} << limit) - 1;
+    if (direction > 0) {
+      const std::uint64_t w = rise_bits(from - 1), brinks = w & ~(w >> 1) & ~(w >> 2) & in_reach;
+      return brinks ? near(from + std::countr_zero(brinks)) : -1;
+    }
+    // bit b: slopes from - limit - 2 + b (rising), + 1 (rising), + 2 (falling): a brink at from - limit + b
+    const std::uint64_t w = rise_bits(from - limit - 2), brinks = w & (w >> 1) & ~(w >> 2) & in_reach;
+    return brinks ? near(from - limit + (63 - std::countl_zero(brinks))) : -1;
+  }
+  const int* h = h_.data();
+  auto at = [&](int k) { return h[near(from + direction * k)]; };
   int prev = at(-1), cur = at(0), next = at(1), next2 = at(2);
   for (int k = 0; k <= limit; ++k) {
     if (prev < cur && next < cur && next2 <= cur - 2) return near(from + direction * k);
@@ -159,19 +235,12 @@ int LatticeModel::find_brink(int from, int direction, int limit) const {
 // The thesis's landing rule: a hopping grain that does not land in a pocket moves on in its direction of
 // motion until it finds one (over a crest if need be).
 void LatticeModel::land_onward(int c, int direction) {
-  for (;;) {
-    const int h = h_[static_cast<std::size_t>(c)];
-    if (h_[static_cast<std::size_t>(near(c - 1))] > h && h_[static_cast<std::size_t>(near(c + 1))] > h) {
-      set(c, h + 2);
-      return;
-    }
-    c = near(c + direction);
-  }
+  land_at(first_pocket(c, direction));
 }
 
 void LatticeModel::eject(int column, int direction, int hop_columns) {
   remove_top(column);
-  const int at = wrap(column + direction * hop_columns);
+  const int at = near(column + direction * hop_columns);  // hops are shorter than the domain
   if (p_.land_downhill)
     drop(at, direction);
   else
@@ -182,14 +251,20 @@ void LatticeModel::eject(int column, int direction, int hop_columns) {
 void LatticeModel::fire(long impacts) {
   const double length = p_.columns * kColumn;
   for (long n = 0; n < impacts;) {
+    // max_h_ only rises between these exact recounts: any height above the bed serves as the paths'
+    // start (see hit_column), a close one saves the search some blocks.
+    if (impacts_ >= next_recount_) {
+      max_h_ = *std::max_element(h_.begin(), h_.end());
+      next_recount_ = impacts_ + 4096;
+    }
     const double x0 = rng_.uniform() * length;
     for (int k = 0; k < p_.hits_per_point && n < impacts; ++k, ++n, ++impacts_) {
       double p = 0;
       const int c = hit_column(x0, p);
       // The contact point lies downstream of the grain's centre when the path grazes its top
-      // (p sin a > sqrt(R^2 - p^2) cos a): then the grain is hit on its downstream side.
-      const double sin_a = tan_a_ * cos_a_;
-      const bool downstream = p * sin_a > std::sqrt(std::max(0.0, kRadius * kRadius - p * p)) * cos_a_;
+      // (p sin a > sqrt(R^2 - p^2) cos a, i.e. p > R cos a for |p| < R): then the grain is hit on its
+      // downstream side.
+      const bool downstream = p > kRadius * cos_a_;
       int direction = downstream ? -1 : 1;
       int hop = 2 * (downstream ? p_.backward : p_.forward);
       if (!p_.hops_d.empty()) {  // splash mode: the hop, and its direction, drawn from the measured ones

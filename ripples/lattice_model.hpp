@@ -26,7 +26,7 @@ struct LatticeParams {
   // Splash mode: each ejected grain hops a length drawn from these (grain diameters, negative: upstream),
   // e.g. the measured ejecta of a grainlab-splash/1 file; empty: the fixed forward / backward hops.
   std::vector<double> hops_d;
-  int depth = 40;  // initial bed thickness, layers
+  int depth = 40;  // the flat start's layer index (a datum: the bed has no floor, troughs may go below 0)
   // Where a hopping grain settles if it does not land in a pocket: onward in its direction to the next
   // pocket (the thesis's words, the default), or downhill to the nearest one (as a grain rolls).
   bool land_downhill = false;
@@ -53,17 +53,29 @@ class LatticeModel {
   void eject(int column, int direction, int hop_columns);
   void drop(int column, int direction);
   void land_onward(int column, int direction);
+  void land_at(int column);
+  int first_pocket(int column, int direction) const;
+  // Slope bits (is the next column higher?) with kPad columns of wrapped margin on each side, so that
+  // pockets and brinks are found a word at a time.
+  static constexpr int kPad = 128;
+  bool rises(int column) const;
+  std::uint64_t rise_bits(int column) const;
+  void put_rise(int column, bool up);
+  std::vector<std::uint64_t> rise_;
   void set(int i, int v);
   void remove_top(int i);
-  int wrap(long i) const;
   int near(int i) const;  // wrap for |offsets| below the domain length
   int find_brink(int from, int direction, int limit) const;
   LatticeParams p_;
   std::vector<int> h_;
-  std::vector<long> height_count_;  // columns per height, for the running maximum
-  std::vector<int> unstable_;       // remove_top's work list, kept to avoid allocating per impact
-  std::vector<int> block_max_;      // highest column of each block of the hit search
-  int max_h_ = 0;
+  std::vector<int> unstable_;  // remove_top's work list, kept to avoid allocating per impact
+  // g_i = h_i d / 2 + step i: the hit search's one number per column (see hit_column), and its largest
+  // value in each block of columns.
+  double ray_invariant(int i, int h) const { return h * 0.5 + step_ * i; }
+  std::vector<double> g_, block_g_;
+  double step_ = 0;  // the path's drop per column, d
+  int max_h_ = 0;    // at least the highest column's height (exact every 4096 impacts)
+  long next_recount_ = 0;
   Rng rng_;
   long impacts_ = 0, forward_ = 0, backward_ = 0;
   double tan_a_, cos_a_;

@@ -3,6 +3,7 @@
 // target ejection roughens it into a ripple-like population.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "lattice_model.hpp"
@@ -28,6 +29,23 @@ TEST(LatticeModel, SurfaceStaysAtTheReposeAngleAndGrainsAreConserved) {
   EXPECT_EQ(m.impacts(), 20000);
   EXPECT_GT(m.backward_hops(), 0);  // grazing paths hit some grains on their downstream side
   EXPECT_GT(m.forward_hops(), 10 * m.backward_hops());
+}
+
+// Narrow domains take the slope bits' slow path (several wrapped copies of each column), and long runs
+// dig troughs below the initial bed's datum: neither may break the lattice or lose grains.
+TEST(LatticeModel, NarrowDomainsAndDeepTroughsKeepTheLattice) {
+  for (const bool downhill : {false, true}) {
+    LatticeParams p;
+    p.columns = 40, p.forward = 6, p.backward = 2, p.brink_lookahead = 5, p.depth = 0, p.roughness = 0.5;
+    p.land_downhill = downhill;
+    LatticeModel m(p);
+    const long grains = m.grains();
+    m.fire(200000);
+    const auto& h = m.heights();
+    for (std::size_t i = 0; i < h.size(); ++i) ASSERT_EQ(std::abs(h[i] - h[(i + 1) % h.size()]), 1) << i;
+    EXPECT_EQ(m.grains(), grains);
+    EXPECT_LT(*std::min_element(h.begin(), h.end()), 0);  // the troughs went below the start's layer 0
+  }
 }
 
 TEST(LatticeModel, BrinkEjectionKeepsTheSurfaceFlatTargetEjectionRoughensIt) {
