@@ -198,42 +198,51 @@ TEST(HybridBed, TrianglesGiveAPlaneItsHeightAndNormal) {
 }
 
 TEST(HybridBed, KeepsEveryGrainsVolumeAndTheAngleOfRepose) {
-  HeightField bed(small_bed());
-  Rng rng(5);
-  // A pile poured on one point spreads into a cone no steeper than repose (plus one grain's step);
-  // grains taken from around it keep it so; the volume is the grains' count times V / phi_b.
-  for (int k = 0; k < 20000; ++k) bed.deposit(1.0 + 0.01 * rng.normal(), 0.5 + 0.01 * rng.normal());
-  for (int k = 0; k < 3000; ++k) bed.erode(rng.uniform(0.8, 1.2), rng.uniform(0.3, 0.7));
-  EXPECT_GT(bed.rolled, 0);
-  EXPECT_GT(bed.pit_taken, 0);
-  const double drop = std::tan(30 * kDeg) * bed.cell() + bed.step() + 1e-12;
-  const auto& h = bed.heights();
-  double sum = 0, steepest = 0;
-  for (std::size_t j = 0; j < bed.ny(); ++j)
-    for (std::size_t i = 0; i < bed.nx(); ++i) {
-      const double v = h[j * bed.nx() + i];
-      sum += v;
-      steepest = std::max({steepest, std::abs(v - h[j * bed.nx() + (i + 1) % bed.nx()]),
-                           std::abs(v - h[((j + 1) % bed.ny()) * bed.nx() + i])});
-    }
-  EXPECT_LE(steepest, drop);
-  EXPECT_GT(steepest, 0.8 * std::tan(30 * kDeg) * bed.cell());  // the cone does reach repose
-  const double volume = M_PI / 6 * std::pow(0.025, 3);
-  EXPECT_NEAR(sum * bed.cell() * bed.cell() * 0.6, static_cast<double>(bed.deposited - bed.eroded) * volume,
-              1e-9 * sum);
-  bed.refresh();
-  EXPECT_NEAR(bed.mean() * static_cast<double>(h.size()), sum, 1e-9 * sum);
+  for (const bool bilinear : {false, true}) {
+    SCOPED_TRACE(bilinear ? "bilinear" : "nearest");
+    HeightFieldParams p = small_bed();
+    p.bilinear = bilinear;
+    HeightField bed(p);
+    Rng rng(5);
+    // A pile poured on one point spreads into a cone no steeper than repose (plus one grain's step);
+    // grains taken from around it keep it so; the volume is the grains' count times V / phi_b.
+    for (int k = 0; k < 20000; ++k) bed.deposit(1.0 + 0.01 * rng.normal(), 0.5 + 0.01 * rng.normal());
+    for (int k = 0; k < 3000; ++k) bed.erode(rng.uniform(0.8, 1.2), rng.uniform(0.3, 0.7));
+    EXPECT_GT(bed.rolled, 0);
+    EXPECT_GT(bed.pit_taken, 0);
+    const double drop = std::tan(30 * kDeg) * bed.cell() + bed.step() + 1e-12;
+    const auto& h = bed.heights();
+    double sum = 0, steepest = 0;
+    for (std::size_t j = 0; j < bed.ny(); ++j)
+      for (std::size_t i = 0; i < bed.nx(); ++i) {
+        const double v = h[j * bed.nx() + i];
+        sum += v;
+        steepest = std::max({steepest, std::abs(v - h[j * bed.nx() + (i + 1) % bed.nx()]),
+                             std::abs(v - h[((j + 1) % bed.ny()) * bed.nx() + i])});
+      }
+    EXPECT_LE(steepest, drop);
+    EXPECT_GT(steepest, 0.8 * std::tan(30 * kDeg) * bed.cell());  // the cone does reach repose
+    const double volume = M_PI / 6 * std::pow(0.025, 3);
+    EXPECT_NEAR(sum * bed.cell() * bed.cell() * 0.6, static_cast<double>(bed.deposited - bed.eroded) * volume,
+                1e-9 * sum);
+    bed.refresh();
+    EXPECT_NEAR(bed.mean() * static_cast<double>(h.size()), sum, 1e-9 * sum);
+  }
 }
 
 TEST(HybridBed, ErosionStopsAtTheBottomOfTheErodibleLayer) {
-  HeightFieldParams p = small_bed();
-  p.erodible = 0.01;  // less than two grains' steps
-  HeightField bed(p);
-  int taken = 0;
-  for (int k = 0; k < 1000; ++k) taken += bed.erode(1.0, 0.5);
-  EXPECT_GT(taken, 0);
-  EXPECT_LT(taken, 1000);
-  for (double v : bed.heights()) EXPECT_GE(v, -0.01 - 1e-12);
+  for (const bool bilinear : {false, true}) {
+    HeightFieldParams p = small_bed();
+    p.erodible = 0.01;  // less than two grains' steps
+    p.bilinear = bilinear;
+    HeightField bed(p);
+    int taken = 0;
+    for (int k = 0; k < 1000; ++k) taken += bed.erode(1.01, 0.51);
+    EXPECT_GT(taken, 0);
+    EXPECT_LT(taken, 1000);
+    for (double v : bed.heights()) EXPECT_GE(v, -0.01 - 1e-12);
+    EXPECT_NEAR(bed.sum(), -taken * bed.step(), 1e-12);
+  }
 }
 
 TEST(HybridBedStatistics, ASineHasItsAmplitudeWavelengthAndShift) {

@@ -25,29 +25,26 @@ CollisionGrid::CollisionGrid(double length, double width, double d)
       width_(width) {}
 
 std::uint64_t CollisionGrid::collide_all(Grains& g, double m, const CollisionLaw& law) {
-  const std::size_t n = g.size(), columns = static_cast<std::size_t>(nx_ * ny_);
-  start_.assign(columns + 1, 0), column_.resize(n), order_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  const std::size_t n = g.size();
+  if (head_.empty()) head_.assign(static_cast<std::size_t>(nx_ * ny_), kNone);
+  next_.resize(n), column_.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
     const long ix = std::min(nx_ - 1, static_cast<long>(g.x[i] * inv_hx_));
     const long iy = std::min(ny_ - 1, static_cast<long>(g.y[i] * inv_hy_));
-    column_[i] = static_cast<std::uint32_t>(ix * ny_ + iy);
-    ++start_[column_[i] + 1];
+    const auto c = static_cast<std::uint32_t>(ix * ny_ + iy);
+    column_[i] = c, next_[i] = head_[c], head_[c] = i;
   }
-  for (std::size_t c = 0; c < columns; ++c) start_[c + 1] += start_[c];
-  fill_ = start_;
-  for (std::size_t i = 0; i < n; ++i) order_[fill_[column_[i]]++] = static_cast<std::uint32_t>(i);
   std::uint64_t hits = 0;
   static constexpr long kAhead[4][2] = {{1, -1}, {1, 0}, {1, 1}, {0, 1}};
-  // By grain, not by column: most columns are empty.
-  for (std::uint32_t a = 0; a < n; ++a) {
-    const std::uint32_t i = order_[a], c = column_[i];
-    const long ix = static_cast<long>(c) / ny_, iy = static_cast<long>(c) % ny_;
-    for (std::uint32_t b = a + 1; b < start_[c + 1]; ++b) hits += pair(g, i, order_[b], m, law);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t j = next_[i]; j != kNone; j = next_[j]) hits += pair(g, i, j, m, law);
+    const long ix = static_cast<long>(column_[i]) / ny_, iy = static_cast<long>(column_[i]) % ny_;
     for (const auto& off : kAhead) {
       const auto o = static_cast<std::size_t>(wrap(ix + off[0], nx_) * ny_ + wrap(iy + off[1], ny_));
-      for (std::uint32_t b = start_[o]; b < start_[o + 1]; ++b) hits += pair(g, i, order_[b], m, law);
+      for (std::uint32_t j = head_[o]; j != kNone; j = next_[j]) hits += pair(g, i, j, m, law);
     }
   }
+  for (std::uint32_t i = 0; i < n; ++i) head_[column_[i]] = kNone;
   return hits;
 }
 

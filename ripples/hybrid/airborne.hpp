@@ -24,10 +24,12 @@ inline double into(double x, double period) {
   return x < 0 ? x + period : (x >= period ? x - period : x);
 }
 
-// Mid-air collisions: grains sorted into vertical columns one diameter square (periodic in x and y; a
-// counting sort, so the cost is linear), each grain checked against the rest of its column and the four
-// columns ahead of it, each pair of overlapping, approaching grains collided once per step. Saltation is
-// dilute, so a column holds a grain or two and the z test rejects most of them.
+// Mid-air collisions: grains chained into vertical columns one diameter square (periodic in x and y), each
+// grain checked against the grains chained before it in its column and against the four columns ahead of
+// it, each pair of overlapping, approaching grains collided once per step. Saltation is dilute: most
+// columns are empty (the bed has tens of columns per airborne grain), so the work per step touches only
+// the grains' columns (the chain heads are cleared grain by grain, never column by column), and a column
+// holds a grain or two whose z test rejects most pairs.
 class CollisionGrid {
  public:
   CollisionGrid(double length, double width, double d);
@@ -38,7 +40,9 @@ class CollisionGrid {
   bool pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) const;
   long nx_, ny_;
   double inv_hx_, inv_hy_, d_, length_, width_;
-  std::vector<std::uint32_t> start_, fill_, column_, order_;
+  static constexpr std::uint32_t kNone = ~std::uint32_t{0};
+  std::vector<std::uint32_t> head_;           // per column: the last grain chained into it, or kNone
+  std::vector<std::uint32_t> next_, column_;  // per grain: the grain chained before it, its column
 };
 
 }  // namespace grainlab::ripples::hybrid

@@ -49,14 +49,29 @@ std::size_t HeightField::neighbour(std::size_t k, int which) const {
 }
 
 // The grid cell holding (x, y) and the position in it (x and y inside the periodic box, so no division).
-HeightField::Corner HeightField::corner(double x, double y) const {
+HeightField::Cell HeightField::cell_at(double x, double y) const {
   const double sx = x * inv_cell_, sy = y * inv_cell_;
   auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
   const double fx = sx - static_cast<double>(i0), fy = sy - static_cast<double>(j0);
   if (i0 >= nx_) i0 -= nx_;
   if (j0 >= ny_) j0 -= ny_;
   const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
-  return {h_[j0 * nx_ + i0], h_[j0 * nx_ + i1], h_[j1 * nx_ + i0], h_[j1 * nx_ + i1], fx, fy};
+  return {{j0 * nx_ + i0, j0 * nx_ + i1, j1 * nx_ + i0, j1 * nx_ + i1}, fx, fy};
+}
+
+HeightField::Corner HeightField::corner(double x, double y) const {
+  const Cell c = cell_at(x, y);
+  return {h_[c.k[0]], h_[c.k[1]], h_[c.k[2]], h_[c.k[3]], c.fx, c.fy};
+}
+
+bool HeightField::share(double x, double y, double dh) {
+  const Cell c = cell_at(x, y);
+  const double w[4] = {(1 - c.fx) * (1 - c.fy), c.fx * (1 - c.fy), (1 - c.fx) * c.fy, c.fx * c.fy};
+  for (int q = 0; q < 4; ++q)
+    if (h_[c.k[q]] + dh * w[q] < -p_.erodible) return false;
+  for (int q = 0; q < 4; ++q) h_[c.k[q]] += dh * w[q], top_ = std::max(top_, h_[c.k[q]]);
+  sum_ += dh;
+  return true;
 }
 
 double HeightField::height(double x, double y) const {
@@ -93,15 +108,27 @@ std::size_t HeightField::repose_walk(double x, double y, double sign, std::int64
 }
 
 void HeightField::deposit(double x, double y) {
-  const std::size_t k = repose_walk(x, y, 1, rolled);
-  h_[k] += step_, sum_ += step_, ++deposited;
+  std::int64_t moves = 0;
+  const std::size_t k = repose_walk(x, y, 1, moves);
+  ++deposited, rolled += moves;
+  if (p_.bilinear && moves == 0) {
+    share(x, y, step_);  // settling never meets the floor
+    return;
+  }
+  h_[k] += step_, sum_ += step_;
   top_ = std::max(top_, h_[k]);
 }
 
 bool HeightField::erode(double x, double y) {
-  const std::size_t k = repose_walk(x, y, -1, pit_taken);
-  if (h_[k] - step_ < -p_.erodible) return false;
-  h_[k] -= step_, sum_ -= step_, ++eroded;
+  std::int64_t moves = 0;
+  const std::size_t k = repose_walk(x, y, -1, moves);
+  if (p_.bilinear && moves == 0) {
+    if (!share(x, y, -step_)) return false;
+  } else {
+    if (h_[k] - step_ < -p_.erodible) return false;
+    h_[k] -= step_, sum_ -= step_;
+  }
+  ++eroded, pit_taken += moves;
   return true;
 }
 

@@ -20,6 +20,10 @@ struct HeightFieldParams {
   double packing = 0.6;            // phi_b
   double repose_deg = 30;
   double erodible = 2;  // depth of sand below the initial surface, cm
+  // Where a grain that does not roll settles or is taken: all at the nearest key point (false), or
+  // shared among the four key points around it by bilinear weights (true: a smoother bed, the grain's
+  // volume placed where it fell rather than moved up to half a cell).
+  bool bilinear = false;
 };
 
 struct BedPoint {
@@ -60,7 +64,15 @@ class HeightField {
   struct Corner {
     double h00, h10, h01, h11, fx, fy;
   };
+  struct Cell {
+    std::size_t k[4];  // key points 00, 10, 01, 11
+    double fx, fy;
+  };
+  Cell cell_at(double x, double y) const;
   Corner corner(double x, double y) const;
+  // Adds dh x (bilinear weight) to the four key points around (x, y); false (nothing changed) if one of
+  // them would go below the erodible layer.
+  bool share(double x, double y, double dh);
   std::size_t nearest(double x, double y) const;
   std::size_t repose_walk(double x, double y, double sign, std::int64_t& moves) const;
   std::size_t neighbour(std::size_t k, int which) const;  // 0..3: -x, +x, -y, +y

@@ -29,6 +29,11 @@ void read_bed(const TomlReader& r, RippleOptions& o) {
   o.packing = r.number_or("packing", o.packing, Range{0, 1, true});
   o.repose_deg = r.number_or("repose_angle", o.repose_deg, Range{1, 89, false});
   o.erodible = r.number_or("erodible", o.erodible, Range::non_negative());
+  const std::string deposition = r.string_or("deposition", "nearest");
+  if (deposition != "nearest" && deposition != "bilinear")
+    r.fail("deposition",
+           "must be \"nearest\" (the key point nearest the grain) or \"bilinear\" (shared among four)");
+  o.bilinear = deposition == "bilinear";
 }
 
 void read_splash_and_run(const TomlReader& r, RippleOptions& o) {

@@ -26,7 +26,7 @@ namespace {
 HeightFieldParams bed_params(const RippleOptions& o) {
   check_ripple_options(o);
   const double d = o.diameter;
-  return {o.length * d, o.width * d, o.cell * d, d, o.packing, o.repose_deg, o.erodible * d};
+  return {o.length * d, o.width * d, o.cell * d, d, o.packing, o.repose_deg, o.erodible * d, o.bilinear};
 }
 }  // namespace
 

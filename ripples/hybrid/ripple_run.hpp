@@ -20,6 +20,7 @@ struct RippleOptions : TransportOptions {
   double packing = 0.6;  // phi_b
   double repose_deg = 30;
   double erodible = 80;       // depth of sand, d
+  bool bilinear = false;      // grains settle / leave shared among four key points (HeightFieldParams)
   double duration = 100000;   // t*
   double frame_every = 1000;  // t* between bed frames
   double sample_every = 10;   // t* between flux samples
