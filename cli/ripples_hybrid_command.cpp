@@ -254,6 +254,13 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   if (a.json) {
     nlohmann::json rows = nlohmann::json::array();
     for (const BedFrame& f : frames) rows.push_back(history_row(f));
+    nlohmann::json response = nlohmann::json::array();
+    for (const auto& b : trend.response)
+      response.push_back({{"lambda_min", b.lambda_min},
+                          {"lambda_max", b.lambda_max},
+                          {"growth_rate", b.growth_rate},
+                          {"phase_speed", b.phase_speed},
+                          {"growth_error", number_or_null(b.growth_error)}});
     const nlohmann::json j{{"t_star", last.t_star},
                            {"amplitude", last.stats.amplitude},
                            {"wavelength", last.stats.wavelength},
@@ -262,6 +269,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"growth_rate", number_or_null(trend.growth_rate)},
                            {"chi", number_or_null(trend.chi)},
                            {"migration_speed", number_or_null(trend.migration_speed)},
+                           {"bed_response", response},
                            {"s", tr.density_ratio()},
                            {"galileo", tr.galileo()},
                            {"shields", tr.shields()},
@@ -284,6 +292,14 @@ int hybrid_ripples_command(const RipplesCommands& a) {
       "  growth rate of A {:.3g} per t* (first half), chi = {:.3g} (second half), migration {:.3g} d per "
       "t*\n",
       trend.growth_rate, trend.chi, trend.migration_speed);
+  if (!trend.response.empty()) {
+    fmt::print(
+        "  the bed's response by wavelength band (growth rate per t*, downwind phase speed d per t*):\n");
+    for (const auto& b : trend.response)
+      fmt::print("    {:7.1f}-{:7.1f} d: {:+.2e} +- {:.1e} per t*, {:+.2e} d per t*{}\n", b.lambda_min,
+                 b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed,
+                 b.growth_rate > 2 * b.growth_error ? "  (growing)" : "");
+  }
   fmt::print("  {} grain-steps in {:.1f} s: {:.3g} grain-steps/s\n", tr.grain_steps, wall, rate);
   return 0;
 }

@@ -245,6 +245,41 @@ TEST(HybridBed, ErosionStopsAtTheBottomOfTheErodibleLayer) {
   }
 }
 
+// Two sines in different octaves, one growing and moving downwind, one decaying and moving upwind: the
+// band fit returns each one's rate and speed, and the empty bands are left out or carry no power.
+TEST(HybridBedStatistics, BandResponseFindsGrowthDecayAndPhaseSpeed) {
+  const std::size_t n = 128;
+  const double dx = 2, dt = 10, length = n * dx;
+  const double k1 = 2 * M_PI * 6 / length, k2 = 2 * M_PI * 20 / length;  // octaves [4, 8) and [16, 32)
+  std::vector<std::vector<double>> profiles;
+  for (int t = 0; t < 12; ++t) {
+    std::vector<double> h(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = dx * static_cast<double>(i), time = dt * t;
+      h[i] = 0.5 * std::exp(2e-3 * time) * std::sin(k1 * (x - 0.03 * time)) +
+             0.8 * std::exp(-5e-3 * time) * std::cos(k2 * (x + 0.01 * time));
+    }
+    profiles.push_back(h);
+  }
+  const std::vector<BandResponse> r = band_response(profiles, dx, dt);
+  bool saw_growth = false, saw_decay = false;
+  for (const BandResponse& b : r) {
+    if (b.lambda_min <= length / 6 && length / 6 <= b.lambda_max) {
+      EXPECT_NEAR(b.growth_rate, 2e-3, 1e-9);
+      EXPECT_LT(b.growth_error, 1e-9);  // an exact exponential leaves no residual
+      EXPECT_NEAR(b.phase_speed, 0.03, 1e-9);
+      saw_growth = true;
+    }
+    if (b.lambda_min <= length / 20 && length / 20 <= b.lambda_max) {
+      EXPECT_NEAR(b.growth_rate, -5e-3, 1e-9);
+      EXPECT_NEAR(b.phase_speed, -0.01, 1e-9);
+      saw_decay = true;
+    }
+  }
+  EXPECT_TRUE(saw_growth);
+  EXPECT_TRUE(saw_decay);
+}
+
 TEST(HybridBedStatistics, ASineHasItsAmplitudeWavelengthAndShift) {
   const std::size_t nx = 240, ny = 6;
   const double dx = 2, a = 1.5, wavelength = 60;  // 30 grid points

@@ -112,4 +112,42 @@ double profile_migration(const std::vector<std::vector<double>>& profiles, doubl
   return (static_cast<double>(best) + off) * dx;
 }
 
+std::vector<BandResponse> band_response(const std::vector<std::vector<double>>& profiles, double dx,
+                                        double dt) {
+  std::vector<BandResponse> out;
+  if (profiles.size() < 3 || profiles[0].size() < 4) return out;
+  const std::size_t n = profiles[0].size();
+  std::vector<Spectrum> spectra;
+  for (const auto& p : profiles) spectra.push_back(slice_spectra(p, n, 1)[0]);
+  for (std::size_t lo = 1; lo <= n / 2; lo *= 2) {
+    const std::size_t hi = std::min(2 * lo, n / 2 + 1);  // modes [lo, hi)
+    std::complex<double> cross = 0;
+    double power = 0, k_mean = 0;  // k weighted by each mode's power: the band's phase speed is its modes'
+    for (std::size_t m = lo; m < hi; ++m) {
+      const double k = 2 * M_PI * static_cast<double>(m) / (static_cast<double>(n) * dx);
+      for (std::size_t t = 0; t + 1 < spectra.size(); ++t) {
+        cross += std::conj(spectra[t][m]) * spectra[t + 1][m];
+        power += std::norm(spectra[t][m]), k_mean += k * std::norm(spectra[t][m]);
+      }
+    }
+    if (!(power > 0)) continue;
+    k_mean /= power;
+    const std::complex<double> rho = cross / power, s = std::log(rho) / dt;
+    // The fit's standard error: the residuals' variance over the power, split between the real and
+    // imaginary parts, carried through the logarithm.
+    double residual = 0;
+    std::size_t samples = 0;
+    for (std::size_t m = lo; m < hi; ++m)
+      for (std::size_t t = 0; t + 1 < spectra.size(); ++t, ++samples)
+        residual += std::norm(spectra[t + 1][m] - rho * spectra[t][m]);
+    const double se = samples > 1 ? std::sqrt(residual / static_cast<double>(samples - 1) / (2 * power)) /
+                                        (std::abs(rho) * dt)
+                                  : std::nan("");
+    const double length = static_cast<double>(n) * dx;
+    out.push_back({length / static_cast<double>(hi - 1), length / static_cast<double>(lo), s.real(),
+                   -s.imag() / k_mean, se});
+  }
+  return out;
+}
+
 }  // namespace grainlab::ripples::hybrid

@@ -30,4 +30,18 @@ double bed_shift(const std::vector<double>& before, const std::vector<double>& a
 // of consecutive profiles are summed and their peak within +-max_shift taken (refined by a parabola).
 double profile_migration(const std::vector<std::vector<double>>& profiles, double dx, double max_shift);
 
+// The bed's linear response, band by band: a series of slice-averaged profiles (equally spaced by dt) is
+// fitted, Fourier mode by mode, with h_k(t + dt) = exp(s dt) h_k(t) (least squares over consecutive frames,
+// pooled over the modes of a band). Re s is the growth rate (negative: the band is damped; shot noise that
+// the bed forgets gives a negative rate, a linearly unstable bed a positive one), -Im s / k the downwind
+// phase speed. Bands are octaves of wavelength from the domain length down to two spacings.
+struct BandResponse {
+  double lambda_min = 0, lambda_max = 0;  // same unit as dx
+  double growth_rate = 0;                 // per unit of dt
+  double phase_speed = 0;                 // dx units per unit of dt, downwind positive
+  double growth_error = 0;                // the growth rate's standard error (from the fit's residuals)
+};
+std::vector<BandResponse> band_response(const std::vector<std::vector<double>>& profiles, double dx,
+                                        double dt);
+
 }  // namespace grainlab::ripples::hybrid

@@ -136,6 +136,17 @@ RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {
     }
     if (k >= half && !f.profile.empty()) profiles.push_back(f.profile);
   }
+  // Frames 1.. at the first interval, to within a step (the last one can be shorter when the duration is
+  // not a multiple of it).
+  if (frames.size() >= 4) {
+    const double interval = frames[2].t_star - frames[1].t_star;
+    std::vector<std::vector<double>> series;
+    for (std::size_t k = 1; k < frames.size(); ++k) {
+      if (k > 1 && std::abs(frames[k].t_star - frames[k - 1].t_star - interval) > 0.01 * interval) break;
+      series.push_back(frames[k].profile);
+    }
+    r.response = band_response(series, frames.back().dx, interval);
+  }
   r.growth_rate = slope(t, ln_a);
   r.chi = slope(ln_t, ln_l);
   r.migration_speed = std::nan("");

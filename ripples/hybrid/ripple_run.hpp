@@ -78,6 +78,9 @@ namespace grainlab::ripples::hybrid {
 // (profile_migration). NaN where the frames do not allow a fit (no wavelength).
 struct RippleTrends {
   double growth_rate = 0, chi = 0, migration_speed = 0;
+  // The linear response by wavelength band (d, per t*, d per t*) over the frames after the flat start
+  // that are equally spaced: a positive growth rate marks the band in which ripples emerge.
+  std::vector<BandResponse> response;
 };
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames);
 
