@@ -4,8 +4,12 @@
 #include <cmath>
 
 #include "stepping.hpp"
+#include "world3d_detail.hpp"
 
 namespace grainlab::dem {
+
+using detail3d::effective_gravity;
+using detail3d::turned;
 
 namespace {
 // A sphere's (or a cube's) inertia is the same about every axis: turning it changes nothing, so the
@@ -27,23 +31,6 @@ Vec3 Body3::angular_momentum() const {
   const Mat3 R = q.toRotationMatrix();
   return R * inertia * R.transpose() * w;
 }
-
-namespace {
-// Orientation after turning at angular velocity w (world frame) for time dt.
-Quat turned(const Quat& q, const Vec3& w, double dt) {
-  if (w.x() == 0 && w.y() == 0 && w.z() == 0) return q.normalized();  // the identity turn
-  return (quat_from_rotation_vector(w * dt) * q).normalized();
-}
-}  // namespace
-
-namespace {
-// Gravity as the effects give it: off, as given, or reduced by buoyancy.
-Vec3 effective_gravity(const Scene& s) {
-  if (!s.effects.has(Effect::gravity)) return Vec3::Zero();
-  const double keep = s.effects.has(Effect::buoyancy) ? 1 - s.fluid.density / s.fluid.grain_density : 1.0;
-  return s.gravity3d * keep;
-}
-}  // namespace
 
 World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
   if (effects_.has(Effect::wind_drag))
@@ -101,23 +88,9 @@ void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const Cont
     const Vec3 vt = vrel - vn * c.normal;
     const ContactKey3 key{a.id, key_b, c.feature};
     Vec3 xi = Vec3::Zero();
-    if (auto it = history_.find(key); it != history_.end()) {
-      // The contact has turned since the spring was stored: lay the spring back into the tangent
-      // plane, keeping its length (a projection alone would shorten it and leak stored force).
-      xi = it->second.xi;
-      const double len = xi.norm();
-      xi -= c.normal * c.normal.dot(xi);
-      if (xi.norm() > 0) xi *= len / xi.norm();
-    }
-    xi += h * vt;
-    Vec3 fs = -law.k_s * xi - law.shear.coefficient(meff) * vt;
-    const double cap = law.mu * std::max(fn, 0.0);
-    if (fs.norm() > cap) {
-      fs *= cap / fs.norm();
-      xi = -fs / law.k_s;  // the anchor slides: the spring holds exactly the friction limit
-    }
+    if (auto it = history_.find(key); it != history_.end()) xi = it->second.xi;
+    F += detail3d::shear_force(law, xi, c.normal, vt, h, meff, fn);
     trial_[key] = {xi, law.k_s};
-    F += fs;
   }
   a.f += F;
   if (b) b->f -= F;
@@ -179,13 +152,18 @@ void World3d::compute_forces(double h) {
 // ---------------------------------------------------------------- integration
 
 void World3d::advance_to(double t_end) {
+  if (mode_ == Mode::undecided) mode_ = sphere_kernel_eligible() ? Mode::spheres : Mode::general;
+  if (mode_ == Mode::spheres) load_spheres();
   advance_steps(t_, dt_, t_end, scene_.accuracy.integrator == Integrator::VelocityVerlet, diag_,
                 [this] { step(); });
+  if (mode_ == Mode::spheres) store_spheres();
 }
 
 void World3d::step() {
   const double before = t_;
-  if (scene_.accuracy.integrator == Integrator::VelocityVerlet)
+  if (mode_ == Mode::spheres)
+    sphere_step();
+  else if (scene_.accuracy.integrator == Integrator::VelocityVerlet)
     step_verlet();
   else
     step_predictor_corrector();
@@ -338,8 +316,10 @@ Energies World3d::energies() const {
       spring(b_[i].material, plane_material_[k]);
     }
   }
-  if (effects_.has(Effect::friction))
+  if (effects_.has(Effect::friction)) {
     for (const auto& [key, s] : history_) e.elastic += 0.5 * s.k_s * s.xi.squaredNorm();
+    if (mode_ == Mode::spheres) e.elastic += sphere_spring_energy();
+  }
   return e;
 }
 

@@ -51,6 +51,11 @@ class World3d {
   const std::map<std::pair<std::int64_t, std::int64_t>, double>& step_impulses() const { return impulses_; }
   // Called after every accepted step with (time, step length); empty: nothing is called.
   void set_after_step(std::function<void(double, double)> f) { after_step_ = std::move(f); }
+  // Beds of spheres (at least kCellsFrom of them, velocity Verlet, no after-step callback) run on the
+  // sphere kernel: the same physics on arrays of the hot fields, with the shear springs kept beside the
+  // neighbour lists instead of in a map. false (before the first advance): the general path, for tests.
+  void use_sphere_kernel(bool on) { sphere_kernel_allowed_ = on; }
+  bool on_sphere_kernel() const { return mode_ == Mode::spheres; }
 
  private:
   void step();
@@ -67,6 +72,26 @@ class World3d {
                    double h);
   Vec3 angular_acceleration(const Body3& b) const;
   void commit_history() { history_.swap(trial_); }
+  // The sphere kernel (world3d_spheres.cpp).
+  bool sphere_kernel_eligible() const;
+  void load_spheres();
+  void store_spheres();
+  void sphere_step();
+  void sphere_forces(double h);
+  void rebuild_sphere_lists();
+  void sphere_contact(std::size_t i, std::size_t j, bool plane, const Vec3& n, const Vec3& point,
+                      double depth, const ContactLaw& law, Vec3& xi, double h);
+  double sphere_spring_energy() const;
+  enum class Mode { undecided, general, spheres };
+  Mode mode_ = Mode::undecided;
+  bool sphere_kernel_allowed_ = true;
+  struct Spheres {
+    std::vector<Vec3> x, v, w, f, tq;
+    std::vector<Quat> q;
+    std::vector<double> m, inv_m, inv_i, r;
+    std::vector<int> mat;
+    std::vector<Vec3> pair_xi, plane_xi;  // springs: one per neighbour-list entry, one per body and plane
+  } sp_;
 
   Scene scene_;
   Effects effects_;

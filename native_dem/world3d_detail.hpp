@@ -1,0 +1,45 @@
+#pragma once
+#include <algorithm>
+// Helpers shared by the 3-D engine's general path (world3d.cpp) and its sphere kernel
+// (world3d_spheres.cpp).
+#include "contact_law.hpp"
+#include "polyhedron.hpp"
+#include "scene.hpp"
+#include "world_types.hpp"
+
+namespace grainlab::dem::detail3d {
+
+// Orientation after turning at angular velocity w (world frame) for time dt.
+inline Quat turned(const Quat& q, const Vec3& w, double dt) {
+  if (w.x() == 0 && w.y() == 0 && w.z() == 0) return q;  // the identity turn: q stays as it was
+  return (quat_from_rotation_vector(w * dt) * q).normalized();
+}
+
+// Gravity as the effects give it: off, as given, or reduced by buoyancy.
+inline Vec3 effective_gravity(const Scene& s) {
+  if (!s.effects.has(Effect::gravity)) return Vec3::Zero();
+  const double keep = s.effects.has(Effect::buoyancy) ? 1 - s.fluid.density / s.fluid.grain_density : 1.0;
+  return s.gravity3d * keep;
+}
+
+// The shear force of a contact with normal n, tangential velocity vt and normal force fn, from the spring
+// xi stored at the last step (zero: a new contact), which is updated in place. The contact has turned
+// since the spring was stored: the spring is laid back into the tangent plane keeping its length (a
+// projection alone would shorten it and leak stored force), extended by h vt, and capped at mu fn (the
+// anchor slides: the spring then holds exactly the friction limit).
+inline Vec3 shear_force(const ContactLaw& law, Vec3& xi, const Vec3& n, const Vec3& vt, double h, double meff,
+                        double fn) {
+  const double len = xi.norm();
+  xi -= n * n.dot(xi);
+  if (xi.norm() > 0) xi *= len / xi.norm();
+  xi += h * vt;
+  Vec3 fs = -law.k_s * xi - law.shear.coefficient(meff) * vt;
+  const double cap = law.mu * std::max(fn, 0.0);
+  if (fs.norm() > cap) {
+    fs *= cap / fs.norm();
+    xi = -fs / law.k_s;
+  }
+  return fs;
+}
+
+}  // namespace grainlab::dem::detail3d

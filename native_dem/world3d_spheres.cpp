@@ -1,0 +1,172 @@
+// The 3-D engine's sphere kernel: velocity Verlet on a bed of spheres with the same physics as the
+// general path (world3d.cpp: step_verlet, compute_forces, add_contact), written for speed. The hot fields
+// live in arrays of their own (a bed's passes touch only what they use), spheres need no placement or
+// narrow phase, and each shear spring sits beside its neighbour-list entry (or its body-plane slot)
+// instead of in a map keyed by ids: a spring is read and rewritten once per force evaluation, which is
+// what committing the general path's trial map amounts to under Verlet. A spring at zero is the same as
+// no spring, so a pair out of contact simply holds zero.
+#include <algorithm>
+#include <cmath>
+
+#include "world3d.hpp"
+#include "world3d_detail.hpp"
+
+namespace grainlab::dem {
+
+bool World3d::sphere_kernel_eligible() const {
+  if (!sphere_kernel_allowed_ || after_step_ || b_.size() < kCellsFrom) return false;
+  if (scene_.accuracy.integrator != Integrator::VelocityVerlet) return false;
+  return std::all_of(b_.begin(), b_.end(), [](const Body3& b) { return !b.hull && b.isotropic; });
+}
+
+void World3d::load_spheres() {
+  const std::size_t n = b_.size();
+  for (auto* v : {&sp_.x, &sp_.v, &sp_.w, &sp_.f, &sp_.tq}) v->resize(n);
+  sp_.q.resize(n), sp_.m.resize(n), sp_.inv_m.resize(n), sp_.inv_i.resize(n), sp_.r.resize(n),
+      sp_.mat.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Body3& b = b_[i];
+    sp_.x[i] = b.x, sp_.v[i] = b.v, sp_.w[i] = b.w, sp_.f[i] = b.f, sp_.tq[i] = b.tq, sp_.q[i] = b.q;
+    sp_.m[i] = b.m, sp_.inv_m[i] = b.inv_m, sp_.inv_i[i] = b.inv_inertia(0, 0), sp_.r[i] = b.radius;
+    sp_.mat[i] = b.material;
+  }
+  sp_.plane_xi.resize(n * planes_.size(), Vec3::Zero());
+}
+
+void World3d::store_spheres() {
+  for (std::size_t i = 0; i < b_.size(); ++i) {
+    Body3& b = b_[i];
+    b.x = sp_.x[i], b.v = sp_.v[i], b.w = sp_.w[i], b.f = sp_.f[i], b.tq = sp_.tq[i], b.q = sp_.q[i];
+  }
+}
+
+// Half kick, drift, forces, half kick (as step_verlet; an isotropic body's angular momentum I w + h tq
+// turned back into w is w + h tq / I).
+void World3d::sphere_step() {
+  const double dt = dt_, h = dt / 2;
+  const bool rotation = effects_.has(Effect::rotation);
+  if (diag_.force_evaluations == 0) sphere_forces(0);
+  const std::size_t n = sp_.x.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    sp_.v[i] += h * sp_.inv_m[i] * sp_.f[i];
+    sp_.x[i] += dt * sp_.v[i];
+    if (!rotation) continue;
+    sp_.w[i] += h * sp_.inv_i[i] * sp_.tq[i];
+    sp_.q[i] = detail3d::turned(sp_.q[i], sp_.w[i], dt);
+  }
+  t_ += dt;
+  sphere_forces(dt);
+  for (std::size_t i = 0; i < n; ++i) {
+    sp_.v[i] += h * sp_.inv_m[i] * sp_.f[i];
+    if (rotation) sp_.w[i] += h * sp_.inv_i[i] * sp_.tq[i];
+  }
+}
+
+// New neighbour lists when a sphere has moved half the skin; the springs move to their pairs' new
+// entries (both lists hold each i's partners j > i in ascending order, so one merge per sphere).
+void World3d::rebuild_sphere_lists() {
+  if (!cells_.stale(sp_.x)) return;
+  struct Held {
+    std::size_t i, j;
+    Vec3 xi;
+  };
+  std::vector<Held> held;
+  if (!sp_.pair_xi.empty()) {
+    const std::size_t* base = cells_.begin(0);
+    for (std::size_t i = 0; i < sp_.x.size(); ++i)
+      for (const std::size_t* j = cells_.begin(i); j != cells_.end(i); ++j)
+        if (const Vec3& xi = sp_.pair_xi[static_cast<std::size_t>(j - base)]; !xi.isZero(0))
+          held.push_back({i, *j, xi});
+  }
+  cells_.build(sp_.x, *std::max_element(sp_.r.begin(), sp_.r.end()),
+               0.2 * *std::max_element(sp_.r.begin(), sp_.r.end()));
+  const std::size_t* base = cells_.begin(0);
+  sp_.pair_xi.assign(static_cast<std::size_t>(cells_.end(sp_.x.size() - 1) - base), Vec3::Zero());
+  auto it = held.begin();
+  for (std::size_t i = 0; i < sp_.x.size() && it != held.end(); ++i)
+    for (const std::size_t* j = cells_.begin(i); j != cells_.end(i) && it != held.end() && it->i == i; ++j) {
+      while (it != held.end() && it->i == i && it->j < *j) ++it;  // a pair now out of reach: its spring is 0
+      if (it != held.end() && it->i == i && it->j == *j)
+        sp_.pair_xi[static_cast<std::size_t>(j - base)] = it->xi, ++it;
+    }
+}
+
+// add_contact for spheres: body i against sphere j, or against a plane (plane = true, j unused).
+void World3d::sphere_contact(std::size_t i, std::size_t j, bool plane, const Vec3& n, const Vec3& point,
+                             double depth, const ContactLaw& law, Vec3& xi, double h) {
+  const Vec3 ra = point - sp_.x[i], rb = plane ? Vec3::Zero() : Vec3(point - sp_.x[j]);
+  Vec3 vrel = sp_.v[i] + sp_.w[i].cross(ra);
+  if (!plane) vrel -= sp_.v[j] + sp_.w[j].cross(rb);
+  const double vn = n.dot(vrel);
+  const double meff = plane ? sp_.m[i] : sp_.m[i] * sp_.m[j] / (sp_.m[i] + sp_.m[j]);
+  const double fn = normal_force(law, depth, vn, law.normal.coefficient(meff));
+  Vec3 F = fn * n;
+  if (effects_.has(Effect::friction)) {
+    F += detail3d::shear_force(law, xi, n, vrel - vn * n, h, meff, fn);
+  } else {
+    xi.setZero();
+  }
+  sp_.f[i] += F;
+  if (!plane) sp_.f[j] -= F;
+  if (effects_.has(Effect::rotation)) {
+    sp_.tq[i] += ra.cross(F);
+    if (!plane) sp_.tq[j] -= rb.cross(F);
+  }
+  ++contacts_now_;
+}
+
+void World3d::sphere_forces(double h) {
+  ++diag_.force_evaluations;
+  const Vec3 g = detail3d::effective_gravity(scene_);
+  const std::size_t n = sp_.x.size();
+  for (std::size_t i = 0; i < n; ++i) sp_.f[i] = sp_.m[i] * g, sp_.tq[i].setZero();
+  contacts_now_ = 0;
+  if (!effects_.has(Effect::normal_contact)) return;
+  rebuild_sphere_lists();
+  const std::size_t* base = cells_.begin(0);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const std::size_t* jp = cells_.begin(i); jp != cells_.end(i); ++jp) {
+      const std::size_t j = *jp;
+      Vec3& xi = sp_.pair_xi[static_cast<std::size_t>(jp - base)];
+      const Vec3 d = sp_.x[i] - sp_.x[j];
+      const double reach = sp_.r[i] + sp_.r[j], r2 = d.squaredNorm();
+      if (r2 >= reach * reach || r2 == 0) {  // apart (as sphere_sphere: depth <= 0 or coincident)
+        if (xi.x() != 0 || xi.y() != 0 || xi.z() != 0) xi.setZero();
+        continue;
+      }
+      const double dist = std::sqrt(r2), depth = reach - dist;
+      const Vec3 normal = d / dist;
+      sphere_contact(i, j, false, normal, sp_.x[j] + normal * (sp_.r[j] - depth / 2), depth,
+                     laws_[sp_.mat[i] * n_mat_ + sp_.mat[j]], xi, h);
+    }
+    for (std::size_t k = 0; k < planes_.size(); ++k) {
+      Vec3& xi = sp_.plane_xi[i * planes_.size() + k];
+      const Plane3& p = planes_[k];
+      const double depth = sp_.r[i] - p.normal.dot(sp_.x[i] - p.point);
+      if (depth <= 0) {
+        if (xi.x() != 0 || xi.y() != 0 || xi.z() != 0) xi.setZero();
+        continue;
+      }
+      sphere_contact(i, i, true, p.normal, sp_.x[i] - p.normal * (sp_.r[i] - depth / 2), depth,
+                     laws_[sp_.mat[i] * n_mat_ + plane_material_[k]], xi, h);
+    }
+  }
+}
+
+double World3d::sphere_spring_energy() const {
+  double e = 0;
+  const std::size_t n = sp_.x.size();
+  if (n == 0 || sp_.pair_xi.empty()) return e;
+  const std::size_t* base = cells_.begin(0);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const std::size_t* j = cells_.begin(i); j != cells_.end(i); ++j)
+      e += 0.5 * laws_[sp_.mat[i] * n_mat_ + sp_.mat[*j]].k_s *
+           sp_.pair_xi[static_cast<std::size_t>(j - base)].squaredNorm();
+    for (std::size_t k = 0; k < planes_.size(); ++k)
+      e += 0.5 * laws_[sp_.mat[i] * n_mat_ + plane_material_[k]].k_s *
+           sp_.plane_xi[i * planes_.size() + k].squaredNorm();
+  }
+  return e;
+}
+
+}  // namespace grainlab::dem
