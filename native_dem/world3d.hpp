@@ -91,6 +91,7 @@ class World3d {
     std::vector<double> m, inv_m, inv_i, r;
     std::vector<int> mat;
     std::vector<Vec3> pair_xi, plane_xi;  // springs: one per neighbour-list entry, one per body and plane
+    std::vector<std::size_t> plane_start, plane_of;  // per sphere, the planes it may touch (at rebuilds)
   } sp_;
 
   Scene scene_;

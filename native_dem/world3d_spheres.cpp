@@ -78,13 +78,22 @@ void World3d::rebuild_sphere_lists() {
         if (const Vec3& xi = sp_.pair_xi[static_cast<std::size_t>(j - base)]; !xi.isZero(0))
           held.push_back({i, *j, xi});
   }
-  cells_.build(sp_.x, *std::max_element(sp_.r.begin(), sp_.r.end()),
-               0.2 * *std::max_element(sp_.r.begin(), sp_.r.end()));
+  const double r_max = *std::max_element(sp_.r.begin(), sp_.r.end()), skin = 0.2 * r_max;
+  cells_.build(sp_.x, r_max, skin);
+  // The planes each sphere can reach before the next rebuild (it moves less than half the skin): most
+  // of a bed's spheres touch none of them, and then test none.
+  sp_.plane_start.assign(1, 0), sp_.plane_of.clear();
+  for (std::size_t i = 0; i < sp_.x.size(); ++i) {
+    for (std::size_t k = 0; k < planes_.size(); ++k)
+      if (planes_[k].normal.dot(sp_.x[i] - planes_[k].point) < sp_.r[i] + skin) sp_.plane_of.push_back(k);
+    sp_.plane_start.push_back(sp_.plane_of.size());
+  }
   const std::size_t* base = cells_.begin(0);
   sp_.pair_xi.assign(static_cast<std::size_t>(cells_.end(sp_.x.size() - 1) - base), Vec3::Zero());
   auto it = held.begin();
   for (std::size_t i = 0; i < sp_.x.size() && it != held.end(); ++i)
     for (const std::size_t* j = cells_.begin(i); j != cells_.end(i) && it != held.end() && it->i == i; ++j) {
+      // (A pair in contact is always within the new lists' reach, so no held spring is skipped.)
       while (it != held.end() && it->i == i && it->j < *j) ++it;  // a pair now out of reach: its spring is 0
       if (it != held.end() && it->i == i && it->j == *j)
         sp_.pair_xi[static_cast<std::size_t>(j - base)] = it->xi, ++it;
@@ -139,7 +148,8 @@ void World3d::sphere_forces(double h) {
       sphere_contact(i, j, false, normal, sp_.x[j] + normal * (sp_.r[j] - depth / 2), depth,
                      laws_[sp_.mat[i] * n_mat_ + sp_.mat[j]], xi, h);
     }
-    for (std::size_t k = 0; k < planes_.size(); ++k) {
+    for (std::size_t c = sp_.plane_start[i]; c < sp_.plane_start[i + 1]; ++c) {
+      const std::size_t k = sp_.plane_of[c];
       Vec3& xi = sp_.plane_xi[i * planes_.size() + k];
       const Plane3& p = planes_[k];
       const double depth = sp_.r[i] - p.normal.dot(sp_.x[i] - p.point);
