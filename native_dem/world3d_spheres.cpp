@@ -47,18 +47,24 @@ void World3d::sphere_step() {
   const bool rotation = effects_.has(Effect::rotation);
   if (diag_.force_evaluations == 0) sphere_forces(0);
   const std::size_t n = sp_.x.size();
+  // Raw pointers, declared unaliased: through the vectors the compiler reloads every array's address
+  // after each store.
+  Vec3* __restrict x = sp_.x.data(), * __restrict v = sp_.v.data(), * __restrict w = sp_.w.data();
+  const Vec3* __restrict f = sp_.f.data(), * __restrict tq = sp_.tq.data();
+  const double* __restrict inv_m = sp_.inv_m.data(), * __restrict inv_i = sp_.inv_i.data();
+  Quat* __restrict q = sp_.q.data();
   for (std::size_t i = 0; i < n; ++i) {
-    sp_.v[i] += h * sp_.inv_m[i] * sp_.f[i];
-    sp_.x[i] += dt * sp_.v[i];
+    v[i] += h * inv_m[i] * f[i];
+    x[i] += dt * v[i];
     if (!rotation) continue;
-    sp_.w[i] += h * sp_.inv_i[i] * sp_.tq[i];
-    sp_.q[i] = detail3d::turned(sp_.q[i], sp_.w[i], dt);
+    w[i] += h * inv_i[i] * tq[i];
+    if (w[i].x() != 0 || w[i].y() != 0 || w[i].z() != 0) q[i] = detail3d::turned(q[i], w[i], dt);
   }
   t_ += dt;
   sphere_forces(dt);
   for (std::size_t i = 0; i < n; ++i) {
-    sp_.v[i] += h * sp_.inv_m[i] * sp_.f[i];
-    if (rotation) sp_.w[i] += h * sp_.inv_i[i] * sp_.tq[i];
+    v[i] += h * inv_m[i] * f[i];
+    if (rotation) w[i] += h * inv_i[i] * tq[i];
   }
 }
 
@@ -128,7 +134,11 @@ void World3d::sphere_forces(double h) {
   ++diag_.force_evaluations;
   const Vec3 g = detail3d::effective_gravity(scene_);
   const std::size_t n = sp_.x.size();
-  for (std::size_t i = 0; i < n; ++i) sp_.f[i] = sp_.m[i] * g, sp_.tq[i].setZero();
+  {
+    Vec3* __restrict f = sp_.f.data(), * __restrict tq = sp_.tq.data();
+    const double* __restrict m = sp_.m.data();
+    for (std::size_t i = 0; i < n; ++i) f[i] = m[i] * g, tq[i].setZero();
+  }
   contacts_now_ = 0;
   if (!effects_.has(Effect::normal_contact)) return;
   rebuild_sphere_lists();
