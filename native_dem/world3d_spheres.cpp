@@ -143,12 +143,16 @@ void World3d::sphere_forces(double h) {
   if (!effects_.has(Effect::normal_contact)) return;
   rebuild_sphere_lists();
   const std::size_t* base = cells_.begin(0);
+  const Vec3* __restrict x = sp_.x.data();
+  const double* __restrict r = sp_.r.data();
+  Vec3* __restrict pair_xi = sp_.pair_xi.data();
   for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 xi_pos = x[i];
     for (const std::size_t* jp = cells_.begin(i); jp != cells_.end(i); ++jp) {
       const std::size_t j = *jp;
-      Vec3& xi = sp_.pair_xi[static_cast<std::size_t>(jp - base)];
-      const Vec3 d = sp_.x[i] - sp_.x[j];
-      const double reach = sp_.r[i] + sp_.r[j], r2 = d.squaredNorm();
+      Vec3& xi = pair_xi[static_cast<std::size_t>(jp - base)];
+      const Vec3 d = xi_pos - x[j];
+      const double reach = r[i] + r[j], r2 = d.squaredNorm();
       if (r2 >= reach * reach || r2 == 0) {  // apart (as sphere_sphere: depth <= 0 or coincident)
         if (xi.x() != 0 || xi.y() != 0 || xi.z() != 0) xi.setZero();
         continue;
