@@ -333,4 +333,24 @@ TEST(HybridRipples, RunsAreReproducibleAndKeepTheBedsVolume) {
   EXPECT_GT(f.stats.amplitude, 0);
 }
 
+// A seeded sine: the bed starts as it, with the wavelength rounded to fit the length, zero mean volume,
+// and the diagnostics read it back (A = 2 sqrt(2 C(0)) is twice a sine's amplitude).
+TEST(HybridRipples, StartsFromASeededSine) {
+  RippleOptions o;
+  o.u_star = 40, o.length = 120, o.width = 8, o.triggers = 10, o.initial_amplitude = 1.5;
+  o.initial_wavelength = 41;  // three waves fit: 40 d
+  RippleRun run(o);
+  const BedFrame f = run.frame();
+  EXPECT_NEAR(f.stats.amplitude, 3.0, 1e-9);
+  EXPECT_NEAR(f.stats.wavelength, 40, 1e-9);
+  EXPECT_NEAR(run.bed().mean(), 0, 1e-15);
+  for (double bad : {-1.0, 80.0}) {
+    RippleOptions w = o;
+    w.initial_amplitude = bad;
+    EXPECT_THROW(RippleRun{w}, std::invalid_argument) << bad;
+  }
+  o.initial_wavelength = 3;  // under two cells
+  EXPECT_THROW(RippleRun{o}, std::invalid_argument);
+}
+
 }  // namespace grainlab::ripples::hybrid

@@ -34,6 +34,13 @@ void read_bed(const TomlReader& r, RippleOptions& o) {
     r.fail("deposition",
            "must be \"nearest\" (the key point nearest the grain) or \"bilinear\" (shared among four)");
   o.bilinear = deposition == "bilinear";
+  o.initial_amplitude = r.number_or("initial_amplitude", o.initial_amplitude, Range::non_negative());
+  o.initial_wavelength = r.number_or("initial_wavelength", o.initial_wavelength, Range::non_negative());
+  if (o.initial_amplitude > 0 && o.initial_amplitude >= o.erodible)
+    r.fail("initial_amplitude", "must be smaller than the erodible depth");
+  if (o.initial_amplitude > 0 && !(o.initial_wavelength >= 2 * o.cell && o.initial_wavelength <= o.length))
+    r.fail("initial_wavelength",
+           "must be between two cells and the bed's length when initial_amplitude is set");
 }
 
 void read_splash_and_run(const TomlReader& r, RippleOptions& o) {

@@ -20,6 +20,10 @@ void check_ripple_options(const RippleOptions& o) {
       throw std::invalid_argument("cell, packing, duration, frame_every and sample_every must be positive");
   if (o.length < 3 * o.cell || o.width < 3 * o.cell)
     throw std::invalid_argument("the bed needs at least 3 cells each way");
+  if (o.initial_amplitude < 0 || o.initial_amplitude >= o.erodible ||
+      (o.initial_amplitude > 0 && !(o.initial_wavelength >= 2 * o.cell && o.initial_wavelength <= o.length)))
+    throw std::invalid_argument(
+        "an initial sine needs amplitude in [0, erodible) and a wavelength of 2 cells to the bed's length");
 }
 
 namespace {
@@ -30,9 +34,29 @@ HeightFieldParams bed_params(const RippleOptions& o) {
 }
 }  // namespace
 
+namespace {
+// The bed at the start: flat, or a downwind sine of the configured amplitude whose wavelength is the
+// nearest that fits the periodic length (a seeded perturbation: whether it grows or decays measures the
+// model's linear stability directly, above the shot noise).
+HeightField initial_bed(const RippleOptions& o) {
+  HeightField bed(bed_params(o));
+  if (o.initial_amplitude > 0) {
+    const double waves = std::max(1.0, std::round(o.length / o.initial_wavelength));
+    auto& h = bed.heights();
+    for (std::size_t j = 0; j < bed.ny(); ++j)
+      for (std::size_t i = 0; i < bed.nx(); ++i)
+        h[j * bed.nx() + i] =
+            o.initial_amplitude * o.diameter *
+            std::sin(2 * M_PI * waves * static_cast<double>(i) / static_cast<double>(bed.nx()));
+    bed.refresh();
+  }
+  return bed;
+}
+}  // namespace
+
 RippleRun::RippleRun(const RippleOptions& o)
-    : o_(o), bed_(bed_params(o)), transport_(std::make_unique<Transport>(o, &bed_)) {
-  last_h_.assign(bed_.heights().size(), 0.0);
+    : o_(o), bed_(initial_bed(o)), transport_(std::make_unique<Transport>(o, &bed_)) {
+  last_h_ = bed_.heights();
 }
 
 void RippleRun::advance_to(double t_star, const std::function<void(double)>& progress) {

@@ -19,11 +19,13 @@ struct RippleOptions : TransportOptions {
   double cell = 2;       // key-point spacing, d
   double packing = 0.6;  // phi_b
   double repose_deg = 30;
-  double erodible = 80;       // depth of sand, d
-  bool bilinear = false;      // grains settle / leave shared among four key points (HeightFieldParams)
-  double duration = 100000;   // t*
-  double frame_every = 1000;  // t* between bed frames
-  double sample_every = 10;   // t* between flux samples
+  double erodible = 80;           // depth of sand, d
+  bool bilinear = false;          // grains settle / leave shared among four key points (HeightFieldParams)
+  double initial_amplitude = 0;   // d: the bed starts as a downwind sine of this amplitude (0: flat)
+  double initial_wavelength = 0;  // d, rounded to fit the length a whole number of times
+  double duration = 100000;       // t*
+  double frame_every = 1000;      // t* between bed frames
+  double sample_every = 10;       // t* between flux samples
 };
 void check_ripple_options(const RippleOptions& o);  // throws std::invalid_argument
 
