@@ -130,7 +130,8 @@ class SceneReader {
                  C = M / u.time;  // stiffness (force/length), damping (force/velocity)
     auto len = [L](Vec2& v) { v = v * L; };
     s_.gravity = s_.gravity * A;
-    if (s_.periodic_x) s_.periodic_x = std::make_pair(s_.periodic_x->first * L, s_.periodic_x->second * L);
+    for (auto* p : {&s_.periodic_x, &s_.periodic_y})
+      if (*p) *p = std::make_pair((*p)->first * L, (*p)->second * L);
     s_.accuracy.velocity_floor *= V;
     if (s_.accuracy.skin) *s_.accuracy.skin *= L;
     auto material = [&](Material& m) {
@@ -219,12 +220,13 @@ class SceneReader {
     } else {
       s_.gravity = r.vec2_or("gravity", {0, -981.0});
     }
-    if (r.has("periodic_x") && s_.dimension == 3)
-      r.fail("periodic_x", "periodic boundaries are 2-D only so far");
-    if (r.has("periodic_x")) {
-      const Vec2 p = r.vec2("periodic_x");
-      if (!(p.y > p.x)) r.fail("periodic_x", "must be [xmin, xmax] with xmax > xmin");
-      s_.periodic_x = std::make_pair(p.x, p.y);
+    if (r.has("periodic_y") && s_.dimension != 3)
+      r.fail("periodic_y", "is for 3-D scenes (a 2-D scene is periodic in x only)");
+    for (const char* key : {"periodic_x", "periodic_y"}) {
+      if (!r.has(key)) continue;
+      const Vec2 p = r.vec2(key);
+      if (!(p.y > p.x)) r.fail(key, "must be [min, max] with max > min");
+      (key[9] == 'x' ? s_.periodic_x : s_.periodic_y) = std::make_pair(p.x, p.y);
     }
     s_.effects = read_effects(r);
     r.finish();

@@ -195,6 +195,7 @@ struct Scene {
   Vec2 gravity{0, -981.0};                              // 2-D
   Vec3 gravity3d{0.0, 0.0, -981.0};                     // 3-D (z up)
   std::optional<std::pair<double, double>> periodic_x;  // [xmin, xmax)
+  std::optional<std::pair<double, double>> periodic_y;  // [ymin, ymax), 3-D only
   bool clip_attractive_normal_force = false;
   double overlap_tolerance = 0.01;  // allowed initial overlap as a fraction of the smaller radius
   Effects effects;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace grainlab::dem {
 
@@ -19,13 +20,23 @@ void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double sk
          4.0 * static_cast<double>(n) + 64)
     size_ *= 1.5;
   origin_ = lo, nx_ = cells_along(extent.x()), ny_ = cells_along(extent.y()), nz_ = cells_along(extent.z());
+  cell_ = Vec3::Constant(size_);
+  // A periodic axis: cells tile the period exactly, each at least one reach wide.
+  for (int k = 0; k < 2; ++k) {
+    if (period_[k] <= 0) continue;
+    const long cells = static_cast<long>(std::floor(period_[k] / size_));
+    if (cells < 3) throw std::invalid_argument("a periodic box must be at least three neighbour cells wide");
+    origin_[k] = period_lo_[k], cell_[k] = period_[k] / static_cast<double>(cells);
+    (k == 0 ? nx_ : ny_) = cells;
+  }
   const std::size_t cells = static_cast<std::size_t>(nx_ * ny_ * nz_);
   coords_.resize(n);
   std::vector<std::size_t> cell_of(n);
   start_.assign(cells + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 r = (x[i] - origin_) / size_;
-    coords_[i] = {std::min(static_cast<long>(r.x()), nx_ - 1), std::min(static_cast<long>(r.y()), ny_ - 1),
+    const Vec3 r = (x[i] - origin_).cwiseQuotient(cell_);
+    coords_[i] = {std::clamp(static_cast<long>(std::floor(r.x())), 0L, nx_ - 1),
+                  std::clamp(static_cast<long>(std::floor(r.y())), 0L, ny_ - 1),
                   std::min(static_cast<long>(r.z()), nz_ - 1)};
     cell_of[i] = cell_index(coords_[i][0], coords_[i][1], coords_[i][2]);
     ++start_[cell_of[i] + 1];
@@ -41,13 +52,29 @@ void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double sk
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t first = list_.size();
     const auto [cx, cy, cz] = coords_[i];
-    for (long z = std::max(0L, cz - 1); z <= std::min(nz_ - 1, cz + 1); ++z)
-      for (long y = std::max(0L, cy - 1); y <= std::min(ny_ - 1, cy + 1); ++y)
-        for (long xx = std::max(0L, cx - 1); xx <= std::min(nx_ - 1, cx + 1); ++xx) {
-          const std::size_t c = cell_index(xx, y, z);
+    // The neighbouring cells along an axis: clamped at a free edge, wrapped on a periodic one.
+    auto around = [](long c, long n, bool periodic, long out[3]) {
+      int m = 0;
+      for (long d = -1; d <= 1; ++d) {
+        long v = c + d;
+        if (periodic)
+          v = (v + n) % n;
+        else if (v < 0 || v >= n)
+          continue;
+        out[m++] = v;
+      }
+      return m;
+    };
+    long xs[3], ys[3], zs[3];
+    const int mx = around(cx, nx_, period_[0] > 0, xs), my = around(cy, ny_, period_[1] > 0, ys),
+              mz = around(cz, nz_, false, zs);
+    for (int a = 0; a < mz; ++a)
+      for (int b = 0; b < my; ++b)
+        for (int e = 0; e < mx; ++e) {
+          const std::size_t c = cell_index(xs[e], ys[b], zs[a]);
           for (std::size_t k = start_[c]; k < start_[c + 1]; ++k) {
             const std::size_t j = items_[k];
-            if (j > i && (x[i] - x[j]).squaredNorm() < reach2) list_.push_back(j);
+            if (j > i && separation(x[i], x[j]).squaredNorm() < reach2) list_.push_back(j);
           }
         }
     std::sort(list_.begin() + static_cast<long>(first), list_.end());

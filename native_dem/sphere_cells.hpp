@@ -4,6 +4,7 @@
 // A force loop over them visits the overlapping pairs in exactly the all-pairs order (the same sums, bit
 // for bit) in O(N). The lists stay valid until some body has moved half the skin since they were built.
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -13,6 +14,16 @@ namespace grainlab::dem {
 
 class SphereCells {
  public:
+  // Makes axis 0 (x) or 1 (y) periodic over [lo, hi): cells wrap and distances take the nearest image.
+  // Bodies must be inside [lo, hi) when the lists are built, and the period must hold three cells.
+  void set_period(int axis, double lo, double hi) { period_[axis] = hi - lo, period_lo_[axis] = lo; }
+  // The separation a - b, through the nearest periodic image.
+  Vec3 separation(const Vec3& a, const Vec3& b) const {
+    Vec3 d = a - b;
+    for (int k = 0; k < 2; ++k)
+      if (period_[k] > 0) d[k] -= period_[k] * std::round(d[k] / period_[k]);
+    return d;
+  }
   // Builds the lists for bodies at `centres` whose bounding radii are at most `max_radius`.
   void build(const std::vector<Vec3>& centres, double max_radius, double skin = 0);
   // True if the lists must be rebuilt for these positions (never built, another count, or a body moved
@@ -32,6 +43,8 @@ class SphereCells {
   std::vector<std::size_t> start_, items_, offset_, list_;
   std::vector<std::array<long, 3>> coords_;
   std::size_t builds_ = 0;
+  double period_[2] = {0, 0}, period_lo_[2] = {0, 0};
+  Vec3 cell_ = Vec3::Ones();  // cell size along each axis
 };
 
 }  // namespace grainlab::dem

@@ -152,7 +152,14 @@ void World3d::compute_forces(double h) {
 // ---------------------------------------------------------------- integration
 
 void World3d::advance_to(double t_end) {
-  if (mode_ == Mode::undecided) mode_ = sphere_kernel_eligible() ? Mode::spheres : Mode::general;
+  if (mode_ == Mode::undecided) {
+    mode_ = sphere_kernel_eligible() ? Mode::spheres : Mode::general;
+    if (mode_ == Mode::general && (scene_.periodic_x || scene_.periodic_y))
+      throw InputError(
+          {scene_.path, 0}, "periodic_x",
+          "periodic 3-D boxes run on the sphere kernel: at least 32 spheres, integrator \"verlet\", "
+          "and no contact events");
+  }
   if (mode_ == Mode::spheres) load_spheres();
   advance_steps(t_, dt_, t_end, scene_.accuracy.integrator == Integrator::VelocityVerlet, diag_,
                 [this] { step(); });
@@ -286,6 +293,10 @@ Energies World3d::energies() const {
     e.potential_gravity -= b.m * g.dot(b.x);
   }
   if (!effects_.has(Effect::normal_contact)) return e;
+  if (mode_ == Mode::spheres) {  // the kernel's own pairs (through periodic sides) and springs
+    e.elastic += sphere_elastic_energy();
+    return e;
+  }
   std::vector<Placed3> placed = placed_;
   for (std::size_t i = 0; i < b_.size(); ++i) {
     placed[i].x = b_[i].x;
@@ -316,10 +327,8 @@ Energies World3d::energies() const {
       spring(b_[i].material, plane_material_[k]);
     }
   }
-  if (effects_.has(Effect::friction)) {
+  if (effects_.has(Effect::friction))
     for (const auto& [key, s] : history_) e.elastic += 0.5 * s.k_s * s.xi.squaredNorm();
-    if (mode_ == Mode::spheres) e.elastic += sphere_spring_energy();
-  }
   return e;
 }
 

@@ -79,9 +79,10 @@ class World3d {
   void sphere_step();
   void sphere_forces(double h);
   void rebuild_sphere_lists();
-  void sphere_contact(std::size_t i, std::size_t j, bool plane, const Vec3& n, const Vec3& point,
+  // ra, rb: the contact point from i's and j's centres.
+  void sphere_contact(std::size_t i, std::size_t j, bool plane, const Vec3& n, const Vec3& ra, const Vec3& rb,
                       double depth, const ContactLaw& law, Vec3& xi, double h);
-  double sphere_spring_energy() const;
+  double sphere_elastic_energy() const;  // normal and shear springs of the kernel's contacts
   enum class Mode { undecided, general, spheres };
   Mode mode_ = Mode::undecided;
   bool sphere_kernel_allowed_ = true;

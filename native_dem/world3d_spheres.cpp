@@ -31,6 +31,8 @@ void World3d::load_spheres() {
     sp_.mat[i] = b.material;
   }
   sp_.plane_xi.resize(n * planes_.size(), Vec3::Zero());
+  if (scene_.periodic_x) cells_.set_period(0, scene_.periodic_x->first, scene_.periodic_x->second);
+  if (scene_.periodic_y) cells_.set_period(1, scene_.periodic_y->first, scene_.periodic_y->second);
 }
 
 void World3d::store_spheres() {
@@ -72,6 +74,15 @@ void World3d::sphere_step() {
 // entries (both lists hold each i's partners j > i in ascending order, so one merge per sphere).
 void World3d::rebuild_sphere_lists() {
   if (!cells_.stale(sp_.x)) return;
+  // Spheres that crossed a periodic side come back in on the other (only here, so a list's
+  // displacements stay continuous between builds).
+  for (const auto& [axis, period] :
+       {std::make_pair(0, scene_.periodic_x), std::make_pair(1, scene_.periodic_y)})
+    if (period)
+      for (Vec3& p : sp_.x) {
+        const double L = period->second - period->first;
+        p[axis] -= L * std::floor((p[axis] - period->first) / L);
+      }
   struct Held {
     std::size_t i, j;
     Vec3 xi;
@@ -107,9 +118,8 @@ void World3d::rebuild_sphere_lists() {
 }
 
 // add_contact for spheres: body i against sphere j, or against a plane (plane = true, j unused).
-void World3d::sphere_contact(std::size_t i, std::size_t j, bool plane, const Vec3& n, const Vec3& point,
-                             double depth, const ContactLaw& law, Vec3& xi, double h) {
-  const Vec3 ra = point - sp_.x[i], rb = plane ? Vec3::Zero() : Vec3(point - sp_.x[j]);
+void World3d::sphere_contact(std::size_t i, std::size_t j, bool plane, const Vec3& n, const Vec3& ra,
+                             const Vec3& rb, double depth, const ContactLaw& law, Vec3& xi, double h) {
   Vec3 vrel = sp_.v[i] + sp_.w[i].cross(ra);
   if (!plane) vrel -= sp_.v[j] + sp_.w[j].cross(rb);
   const double vn = n.dot(vrel);
@@ -151,7 +161,7 @@ void World3d::sphere_forces(double h) {
     for (const std::size_t* jp = cells_.begin(i); jp != cells_.end(i); ++jp) {
       const std::size_t j = *jp;
       Vec3& xi = pair_xi[static_cast<std::size_t>(jp - base)];
-      const Vec3 d = xi_pos - x[j];
+      const Vec3 d = cells_.separation(xi_pos, x[j]);  // through the nearest periodic image
       const double reach = r[i] + r[j], r2 = d.squaredNorm();
       if (r2 >= reach * reach || r2 == 0) {  // apart (as sphere_sphere: depth <= 0 or coincident)
         if (xi.x() != 0 || xi.y() != 0 || xi.z() != 0) xi.setZero();
@@ -159,8 +169,9 @@ void World3d::sphere_forces(double h) {
       }
       const double dist = std::sqrt(r2), depth = reach - dist;
       const Vec3 normal = d / dist;
-      sphere_contact(i, j, false, normal, sp_.x[j] + normal * (sp_.r[j] - depth / 2), depth,
-                     laws_[sp_.mat[i] * n_mat_ + sp_.mat[j]], xi, h);
+      // The contact point, from i's centre: a -> (r_i - depth / 2) back along the normal.
+      const Vec3 ra = -normal * (r[i] - depth / 2), rb = ra + d;
+      sphere_contact(i, j, false, normal, ra, rb, depth, laws_[sp_.mat[i] * n_mat_ + sp_.mat[j]], xi, h);
     }
     for (std::size_t c = sp_.plane_start[i]; c < sp_.plane_start[i + 1]; ++c) {
       const std::size_t k = sp_.plane_of[c];
@@ -171,24 +182,31 @@ void World3d::sphere_forces(double h) {
         if (xi.x() != 0 || xi.y() != 0 || xi.z() != 0) xi.setZero();
         continue;
       }
-      sphere_contact(i, i, true, p.normal, sp_.x[i] - p.normal * (sp_.r[i] - depth / 2), depth,
+      sphere_contact(i, i, true, p.normal, -p.normal * (sp_.r[i] - depth / 2), Vec3::Zero(), depth,
                      laws_[sp_.mat[i] * n_mat_ + plane_material_[k]], xi, h);
     }
   }
 }
 
-double World3d::sphere_spring_energy() const {
+double World3d::sphere_elastic_energy() const {
   double e = 0;
   const std::size_t n = sp_.x.size();
   if (n == 0 || sp_.pair_xi.empty()) return e;
+  const bool friction = effects_.has(Effect::friction);
   const std::size_t* base = cells_.begin(0);
   for (std::size_t i = 0; i < n; ++i) {
-    for (const std::size_t* j = cells_.begin(i); j != cells_.end(i); ++j)
-      e += 0.5 * laws_[sp_.mat[i] * n_mat_ + sp_.mat[*j]].k_s *
-           sp_.pair_xi[static_cast<std::size_t>(j - base)].squaredNorm();
-    for (std::size_t k = 0; k < planes_.size(); ++k)
-      e += 0.5 * laws_[sp_.mat[i] * n_mat_ + plane_material_[k]].k_s *
-           sp_.plane_xi[i * planes_.size() + k].squaredNorm();
+    for (const std::size_t* j = cells_.begin(i); j != cells_.end(i); ++j) {
+      const ContactLaw& law = laws_[sp_.mat[i] * n_mat_ + sp_.mat[*j]];
+      const double depth = sp_.r[i] + sp_.r[*j] - cells_.separation(sp_.x[i], sp_.x[*j]).norm();
+      if (depth > 0) e += 0.5 * law.k_n * depth * depth;
+      if (friction) e += 0.5 * law.k_s * sp_.pair_xi[static_cast<std::size_t>(j - base)].squaredNorm();
+    }
+    for (std::size_t k = 0; k < planes_.size(); ++k) {
+      const ContactLaw& law = laws_[sp_.mat[i] * n_mat_ + plane_material_[k]];
+      const double depth = sp_.r[i] - planes_[k].normal.dot(sp_.x[i] - planes_[k].point);
+      if (depth > 0) e += 0.5 * law.k_n * depth * depth;
+      if (friction) e += 0.5 * law.k_s * sp_.plane_xi[i * planes_.size() + k].squaredNorm();
+    }
   }
   return e;
 }

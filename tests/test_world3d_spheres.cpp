@@ -80,3 +80,78 @@ TEST(SphereKernel3d, MatchesTheGeneralPathOnAJostlingPile) {
 }
 
 }  // namespace grainlab::dem
+
+namespace grainlab::dem {
+
+namespace {
+// Two spheres head on at x0 - 0.6 and x0 + 0.6 (wrapped into [0, 20)), and 32 still spectators in two
+// rows, in a box periodic in x and y; no gravity.
+std::string periodic_scene(double x0) {
+  std::string t = R"toml(
+[scene]
+name = "periodic pair"
+dimension = 3
+duration = 1.0
+periodic_x = [0, 20]
+periodic_y = [0, 12]
+gravity = [0, 0, 0]
+effects = ["normal_contact", "friction", "rotation"]
+[accuracy]
+integrator = "verlet"
+dt = 2e-5
+[materials.grain]
+k_n = 2e5
+gamma_n = 40
+k_s = 1.5e5
+gamma_s = 20
+mu = 0.4
+)toml";
+  auto sphere = [&](double x, double y, double vx) {
+    t += fmt::format(
+        "[[bodies]]\nshape = \"sphere\"\nradius = 0.5\ndensity = 2.65\nposition = [{}, {}, 5]\nvelocity = "
+        "[{}, "
+        "3, 0]\n",
+        x - 20 * std::floor(x / 20), y, vx);
+  };
+  sphere(x0 - 0.6, 6, 50);
+  sphere(x0 + 0.6, 6.2, -50);
+  for (int k = 0; k < 16; ++k) sphere(0.6 + 1.2 * k, 2, 0), sphere(0.6 + 1.2 * k, 10, 0);
+  return t;
+}
+}  // namespace
+
+// A collision through the periodic side is the same collision as in the middle of the box, and momentum
+// is kept; grains that leave through one side come back through the other.
+TEST(SphereKernel3d, PeriodicSidesCollideLikeTheMiddle) {
+  World3d across(parse_scene(periodic_scene(0), "<across>")),
+      middle(parse_scene(periodic_scene(10), "<mid>"));
+  Vec3 p0 = Vec3::Zero();
+  for (const Body3& b : across.bodies()) p0 += b.m * b.v;
+  across.advance_to(0.05), middle.advance_to(0.05);
+  ASSERT_TRUE(across.on_sphere_kernel());
+  const Body3 &a = across.bodies()[0], &b = middle.bodies()[0];
+  EXPECT_LT(a.v.x(), -10);  // it bounced back
+  EXPECT_NEAR(a.v.x(), b.v.x(), 1e-9);
+  EXPECT_NEAR(a.v.y(), b.v.y(), 1e-9);
+  EXPECT_NEAR((a.w - b.w).norm(), 0, 1e-9);
+  Vec3 p1 = Vec3::Zero();
+  for (const Body3& c : across.bodies()) p1 += c.m * c.v;
+  EXPECT_LT((p1 - p0).norm(), 1e-9 * p0.norm() + 1e-9);
+  across.advance_to(1.0);  // at 40-50 cm/s the pair crosses the x sides twice more
+  for (const Body3& c : across.bodies()) {
+    EXPECT_GT(c.x.x(), -0.2);
+    EXPECT_LT(c.x.x(), 20.2);
+    EXPECT_GT(c.x.y(), -0.2);
+    EXPECT_LT(c.x.y(), 12.2);
+  }
+}
+
+TEST(SphereKernel3d, PeriodicBoxesNeedTheSphereKernel) {
+  std::string s = periodic_scene(10);
+  s.replace(s.find("\"verlet\""), 8, "\"predictor-corrector\"");
+  World3d w(parse_scene(s, "<pc>"));
+  EXPECT_THROW(w.advance_to(1e-4), InputError);
+  EXPECT_THROW(parse_scene("[scene]\nname = \"p\"\nduration = 1\nperiodic_y = [0, 1]\n", "<2d>"), InputError);
+}
+
+}  // namespace grainlab::dem
