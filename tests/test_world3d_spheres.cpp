@@ -14,13 +14,8 @@
 namespace grainlab::dem {
 
 namespace {
-std::string pile_scene(bool friction) {
-  std::string t = fmt::format(R"toml(
-[scene]
-name = "sphere kernel pile"
-dimension = 3
-duration = 1.0
-effects = ["gravity", "normal_contact", {}"rotation"]
+// The steps and the grains' material, shared by the scenes below.
+constexpr const char* kVerletGrain = R"toml(
 [accuracy]
 integrator = "verlet"
 dt = 2e-5
@@ -30,8 +25,17 @@ gamma_n = 40
 k_s = 1.5e5
 gamma_s = 20
 mu = 0.4
-)toml",
-                              friction ? "\"friction\", " : "");
+)toml";
+
+std::string pile_scene(bool friction) {
+  std::string t = fmt::format(R"toml(
+[scene]
+name = "sphere kernel pile"
+dimension = 3
+duration = 1.0
+effects = ["gravity", "normal_contact", {}"rotation"]
+{})toml",
+                              friction ? "\"friction\", " : "", kVerletGrain);
   Rng rng(11, 0);
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 4; ++j)
@@ -96,16 +100,7 @@ periodic_x = [0, 20]
 periodic_y = [0, 12]
 gravity = [0, 0, 0]
 effects = ["normal_contact", "friction", "rotation"]
-[accuracy]
-integrator = "verlet"
-dt = 2e-5
-[materials.grain]
-k_n = 2e5
-gamma_n = 40
-k_s = 1.5e5
-gamma_s = 20
-mu = 0.4
-)toml";
+)toml" + std::string(kVerletGrain);
   auto sphere = [&](double x, double y, double vx) {
     t += fmt::format(
         "[[bodies]]\nshape = \"sphere\"\nradius = 0.5\ndensity = 2.65\nposition = [{}, {}, 5]\nvelocity = "
