@@ -154,6 +154,7 @@ void World3d::sphere_forces(double h) {
   rebuild_sphere_lists();
   const std::size_t* base = cells_.begin(0);
   const Vec3* __restrict x = sp_.x.data();
+  const bool periodic = scene_.periodic_x || scene_.periodic_y;
   const double* __restrict r = sp_.r.data();
   Vec3* __restrict pair_xi = sp_.pair_xi.data();
   for (std::size_t i = 0; i < n; ++i) {
@@ -161,7 +162,7 @@ void World3d::sphere_forces(double h) {
     for (const std::size_t* jp = cells_.begin(i); jp != cells_.end(i); ++jp) {
       const std::size_t j = *jp;
       Vec3& xi = pair_xi[static_cast<std::size_t>(jp - base)];
-      const Vec3 d = cells_.separation(xi_pos, x[j]);  // through the nearest periodic image
+      const Vec3 d = periodic ? cells_.separation(xi_pos, x[j]) : Vec3(xi_pos - x[j]);  // nearest image
       const double reach = r[i] + r[j], r2 = d.squaredNorm();
       if (r2 >= reach * reach || r2 == 0) {  // apart (as sphere_sphere: depth <= 0 or coincident)
         if (xi.x() != 0 || xi.y() != 0 || xi.z() != 0) xi.setZero();
