@@ -238,8 +238,15 @@ int hybrid_ripples_command(const RipplesCommands& a) {
     SampleTable flux{
         "flux", "flux samples: t*, Q*, grains airborne", {"t_star", "mass_flux_star", "airborne"}, {}};
     for (const auto& s : run.series()) flux.rows.push_back({s[0], s[1], s[2]});
+    SampleTable response{"bed_response",
+                         "the bed's linear response by wavelength band over the frames: growth rate (per t*, "
+                         "with its standard error) and downwind phase speed (d per t*); wavelengths in d",
+                         {"lambda_min", "lambda_max", "growth_rate", "growth_error", "phase_speed"},
+                         {}};
+    for (const auto& b : trend.response)
+      response.rows.push_back({b.lambda_min, b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed});
     const std::string xmf = out->commit(
-        {history, flux}, {{"grainlab_version", GRAINLAB_VERSION},
+        {history, flux, response}, {{"grainlab_version", GRAINLAB_VERSION},
                           {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},
                           {"config", config.text},
                           {"units",

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Plots of a hybrid ripple run (`grainlab ripples hybrid --config F --out RUN.h5`): the bed at the last
-frame (plan view), the slice-averaged profile h(x, t) as a space-time image, and A(t), lambda(t), RI(t),
-Q*(t) against t*.
+frame (plan view), the slice-averaged profile h(x, t) as a space-time image, A(t), lambda(t), RI(t),
+Q*(t) against t*, and the bed's growth rate by wavelength band (positive: ripples grow there).
 
     /usr/bin/python3 tools/plot_hybrid.py RUN.h5 [out.png]
 """
@@ -34,7 +34,7 @@ def main():
     profiles = np.array([f["frames"][n][:].mean(axis=0) for n in names])
     t = col["t_star"]
     fig = plt.figure(figsize=(13, 9))
-    grid = fig.add_gridspec(3, 4)
+    grid = fig.add_gridspec(3, 5)
     ax = fig.add_subplot(grid[0, :])
     ny, nx = last.shape
     im = ax.imshow(last - last.mean(), origin="lower", cmap="terrain", aspect="auto",
@@ -45,7 +45,7 @@ def main():
     dev = profiles - profiles.mean(axis=1, keepdims=True)
     im = ax.imshow(dev, origin="lower", cmap="terrain", aspect="auto", extent=[0, nx * dx, t[0], t[-1]])
     fig.colorbar(im, ax=ax, label="slice-mean h - mean (d)")
-    ax.set(xlabel="x (d)", ylabel="t*", title="h(x, t), averaged across the bed: ripples emerge and migrate")
+    ax.set(xlabel="x (d)", ylabel="t*", title="h(x, t), averaged across the bed (streaks leaning right: bedforms moving downwind)")
     for k, (key, label, log) in enumerate([("amplitude", "A (d)", True), ("wavelength", "lambda (d)", True),
                                             ("ripple_index", "RI = lambda / A", True),
                                             ("mass_flux_star", "Q*", False)]):
@@ -55,6 +55,15 @@ def main():
         if log:
             ax.set_xscale("log"), ax.set_yscale("log")
         ax.set(xlabel="t*", ylabel=label)
+    if "bed_response" in f and len(f["bed_response"]) > 0:
+        rcols = text(f["bed_response"].attrs["columns"]).split(",")
+        r = {c: f["bed_response"][:, i] for i, c in enumerate(rcols)}
+        ax = fig.add_subplot(grid[2, 4])
+        mid = np.sqrt(r["lambda_min"] * r["lambda_max"])
+        ax.errorbar(mid, r["growth_rate"], yerr=2 * r["growth_error"], fmt="o", ms=3)
+        ax.axhline(0, color="k", lw=0.8)
+        ax.set_xscale("log")
+        ax.set(xlabel="wavelength (d)", ylabel="growth rate per t* (+- 2 s.e.)")
     fig.tight_layout()
     fig.savefig(out, dpi=90)
     print(out)
