@@ -245,15 +245,16 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                          {}};
     for (const auto& b : trend.response)
       response.rows.push_back({b.lambda_min, b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed});
-    const std::string xmf = out->commit(
-        {history, flux, response}, {{"grainlab_version", GRAINLAB_VERSION},
-                          {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},
-                          {"config", config.text},
-                          {"units",
-                           "frames: bed height in grain diameters above the initial surface, x and y in "
-                           "grain diameters (x downwind); time t* = t / sqrt(d / g^)"},
-                          {"dx", fmt::format("{:.17g}", dx)},
-                          {"time_unit", "t*"}});
+    const std::string xmf =
+        out->commit({history, flux, response},
+                    {{"grainlab_version", GRAINLAB_VERSION},
+                     {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},
+                     {"config", config.text},
+                     {"units",
+                      "frames: bed height in grain diameters above the initial surface, x and y in "
+                      "grain diameters (x downwind); time t* = t / sqrt(d / g^)"},
+                     {"dx", fmt::format("{:.17g}", dx)},
+                     {"time_unit", "t*"}});
     if (talk) fmt::print("wrote {} and {}\n", a.out, xmf);
   }
   const auto& tr = run.transport();
