@@ -1,5 +1,6 @@
 #pragma once
 #include <algorithm>
+#include <cmath>
 // Helpers shared by the 3-D engine's general path (world3d.cpp) and its sphere kernel
 // (world3d_spheres.cpp).
 #include "contact_law.hpp"
@@ -29,14 +30,15 @@ inline Vec3 effective_gravity(const Scene& s) {
 // anchor slides: the spring then holds exactly the friction limit).
 inline Vec3 shear_force(const ContactLaw& law, Vec3& xi, const Vec3& n, const Vec3& vt, double h, double meff,
                         double fn) {
-  const double len = xi.norm();
-  xi -= n * n.dot(xi);
-  if (xi.norm() > 0) xi *= len / xi.norm();
+  if (const double len2 = xi.squaredNorm(); len2 > 0) {  // (one square root, not three: hot in beds)
+    xi -= n * n.dot(xi);
+    if (const double now2 = xi.squaredNorm(); now2 > 0) xi *= std::sqrt(len2 / now2);
+  }
   xi += h * vt;
   Vec3 fs = -law.k_s * xi - law.shear.coefficient(meff) * vt;
   const double cap = law.mu * std::max(fn, 0.0);
-  if (fs.norm() > cap) {
-    fs *= cap / fs.norm();
+  if (const double f2 = fs.squaredNorm(); f2 > cap * cap) {
+    fs *= cap / std::sqrt(f2);
     xi = -fs / law.k_s;
   }
   return fs;
