@@ -156,7 +156,7 @@ void World3d::advance_to(double t_end) {
     mode_ = sphere_kernel_eligible() ? Mode::spheres : Mode::general;
     if (mode_ == Mode::general && (scene_.periodic_x || scene_.periodic_y))
       throw InputError(
-          {scene_.path, 0}, "periodic_x",
+          {scene_.path, 0}, scene_.periodic_x ? "periodic_x" : "periodic_y",
           "periodic 3-D boxes run on the sphere kernel: at least 32 spheres, integrator \"verlet\", "
           "and no contact events");
   }

@@ -1,8 +1,9 @@
 #pragma once
-#include <algorithm>
-#include <cmath>
 // Helpers shared by the 3-D engine's general path (world3d.cpp) and its sphere kernel
 // (world3d_spheres.cpp).
+#include <algorithm>
+#include <cmath>
+
 #include "contact_law.hpp"
 #include "polyhedron.hpp"
 #include "scene.hpp"

@@ -13,6 +13,17 @@
 
 namespace grainlab::dem {
 
+namespace {
+// A spring that holds something (a pair or plane that touched at the last evaluation).
+bool holds(const Vec3& xi) {
+  return xi.x() != 0 || xi.y() != 0 || xi.z() != 0;
+}
+// Apart: the spring goes. Reading first, since most entries apart have nothing to clear.
+void forget(Vec3& xi) {
+  if (holds(xi)) xi.setZero();
+}
+}  // namespace
+
 bool World3d::sphere_kernel_eligible() const {
   if (!sphere_kernel_allowed_ || after_step_ || b_.size() < kCellsFrom) return false;
   if (scene_.accuracy.integrator != Integrator::VelocityVerlet) return false;
@@ -92,7 +103,7 @@ void World3d::rebuild_sphere_lists() {
     const std::size_t* base = cells_.begin(0);
     for (std::size_t i = 0; i < sp_.x.size(); ++i)
       for (const std::size_t* j = cells_.begin(i); j != cells_.end(i); ++j)
-        if (const Vec3& xi = sp_.pair_xi[static_cast<std::size_t>(j - base)]; !xi.isZero(0))
+        if (const Vec3& xi = sp_.pair_xi[static_cast<std::size_t>(j - base)]; holds(xi))
           held.push_back({i, *j, xi});
   }
   const double r_max = *std::max_element(sp_.r.begin(), sp_.r.end()), skin = 0.2 * r_max;
@@ -107,11 +118,12 @@ void World3d::rebuild_sphere_lists() {
   }
   const std::size_t* base = cells_.begin(0);
   sp_.pair_xi.assign(static_cast<std::size_t>(cells_.end(sp_.x.size() - 1) - base), Vec3::Zero());
+  // Both are sorted by (i, j); a held pair missing from the new lists (none is: a pair in contact is
+  // within their reach) would just be passed over.
   auto it = held.begin();
   for (std::size_t i = 0; i < sp_.x.size() && it != held.end(); ++i)
-    for (const std::size_t* j = cells_.begin(i); j != cells_.end(i) && it != held.end() && it->i == i; ++j) {
-      // (A pair in contact is always within the new lists' reach, so no held spring is skipped.)
-      while (it != held.end() && it->i == i && it->j < *j) ++it;  // a pair now out of reach: its spring is 0
+    for (const std::size_t* j = cells_.begin(i); j != cells_.end(i); ++j) {
+      while (it != held.end() && (it->i < i || (it->i == i && it->j < *j))) ++it;
       if (it != held.end() && it->i == i && it->j == *j)
         sp_.pair_xi[static_cast<std::size_t>(j - base)] = it->xi, ++it;
     }
@@ -126,11 +138,7 @@ void World3d::sphere_contact(std::size_t i, std::size_t j, bool plane, const Vec
   const double meff = plane ? sp_.m[i] : sp_.m[i] * sp_.m[j] / (sp_.m[i] + sp_.m[j]);
   const double fn = normal_force(law, depth, vn, law.normal.coefficient(meff));
   Vec3 F = fn * n;
-  if (effects_.has(Effect::friction)) {
-    F += detail3d::shear_force(law, xi, n, vrel - vn * n, h, meff, fn);
-  } else {
-    xi.setZero();
-  }
+  if (effects_.has(Effect::friction)) F += detail3d::shear_force(law, xi, n, vrel - vn * n, h, meff, fn);
   sp_.f[i] += F;
   if (!plane) sp_.f[j] -= F;
   if (effects_.has(Effect::rotation)) {
@@ -165,12 +173,12 @@ void World3d::sphere_forces(double h) {
       const Vec3 d = periodic ? cells_.separation(xi_pos, x[j]) : Vec3(xi_pos - x[j]);  // nearest image
       const double reach = r[i] + r[j], r2 = d.squaredNorm();
       if (r2 >= reach * reach || r2 == 0) {  // apart (as sphere_sphere: depth <= 0 or coincident)
-        if (xi.x() != 0 || xi.y() != 0 || xi.z() != 0) xi.setZero();
+        forget(xi);
         continue;
       }
       const double dist = std::sqrt(r2), depth = reach - dist;
       const Vec3 normal = d / dist;
-      // The contact point, from i's centre: a -> (r_i - depth / 2) back along the normal.
+      // The contact point lies r_i - depth / 2 from i's centre, against the normal (which points j to i).
       const Vec3 ra = -normal * (r[i] - depth / 2), rb = ra + d;
       sphere_contact(i, j, false, normal, ra, rb, depth, laws_[sp_.mat[i] * n_mat_ + sp_.mat[j]], xi, h);
     }
@@ -180,7 +188,7 @@ void World3d::sphere_forces(double h) {
       const Plane3& p = planes_[k];
       const double depth = sp_.r[i] - p.normal.dot(sp_.x[i] - p.point);
       if (depth <= 0) {
-        if (xi.x() != 0 || xi.y() != 0 || xi.z() != 0) xi.setZero();
+        forget(xi);
         continue;
       }
       sphere_contact(i, i, true, p.normal, -p.normal * (sp_.r[i] - depth / 2), Vec3::Zero(), depth,
@@ -192,7 +200,7 @@ void World3d::sphere_forces(double h) {
 double World3d::sphere_elastic_energy() const {
   double e = 0;
   const std::size_t n = sp_.x.size();
-  if (n == 0 || sp_.pair_xi.empty()) return e;
+  if (n == 0 || cells_.builds() == 0) return e;  // (no force evaluation yet: no contacts known)
   const bool friction = effects_.has(Effect::friction);
   const std::size_t* base = cells_.begin(0);
   for (std::size_t i = 0; i < n; ++i) {

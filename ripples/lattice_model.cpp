@@ -61,11 +61,8 @@ void LatticeModel::set(int i, int v) {
   const bool left_up = v > h_[static_cast<std::size_t>(left)],
              right_up = h_[static_cast<std::size_t>(near(i + 1))] > v;
   if (i > kPad && i < n - kPad - 1) {  // the usual case: two bits, no copies in the margins
-    for (int b : {i - 1 + kPad, i + kPad}) {
-      std::uint64_t& w = rise_[static_cast<std::size_t>(b >> 6)];
-      const std::uint64_t bit = std::uint64_t{1} << (b & 63);
-      w = (w & ~bit) | ((b == i + kPad ? right_up : left_up) ? bit : 0);
-    }
+    write_bit(i - 1 + kPad, left_up);
+    write_bit(i + kPad, right_up);
   } else {
     put_rise(left, left_up);
     put_rise(i, right_up);
@@ -150,11 +147,7 @@ std::uint64_t LatticeModel::rise_bits(int j) const {
 // stands for column j in the wrapped margins.
 void LatticeModel::put_rise(int j, bool up) {
   const int n = p_.columns, total = n + 2 * kPad;
-  auto put = [&](int b) {
-    std::uint64_t& w = rise_[static_cast<std::size_t>(b >> 6)];
-    const std::uint64_t bit = std::uint64_t{1} << (b & 63);
-    w = (w & ~bit) | (up ? bit : 0);
-  };
+  auto put = [&](int b) { write_bit(b, up); };
   if (n >= 2 * kPad) {  // one copy in the middle, another in a margin for the columns near the ends
     put(j + kPad);
     if (j < kPad) put(j + kPad + n);
@@ -207,9 +200,6 @@ void LatticeModel::remove_top(int i) {
 // of a face. The crests of a flat close-packed top are not brinks, so brink ejection leaves it alone.
 // -1 if none.
 int LatticeModel::find_brink(int from, int direction, int limit) const {
-  // A window of four heights slides along `direction` (one load per column): at offset k it holds the
-  // columns k - 1, k, k + 1 and k + 2 steps on.
-  // (near() wraps by one domain length, enough while the look-ahead stays below it, as configs ensure.)
   // At rest neighbouring columns differ by one layer, so a brink is a rise into a column followed by two
   // falls: three slope bits, tested for the whole look-ahead at once.
   if (limit <= 61) {
@@ -222,6 +212,9 @@ int LatticeModel::find_brink(int from, int direction, int limit) const {
     const std::uint64_t w = rise_bits(from - limit - 2), brinks = w & (w >> 1) & ~(w >> 2) & in_reach;
     return brinks ? near(from - limit + (63 - std::countl_zero(brinks))) : -1;
   }
+  // A look-ahead longer than a word: a window of four heights slides along `direction` (one load per
+  // column); at offset k it holds the columns k - 1, k, k + 1 and k + 2 steps on. (near() wraps by one
+  // domain length, enough while the look-ahead stays below it, as configs ensure.)
   const int* h = h_.data();
   auto at = [&](int k) { return h[near(from + direction * k)]; };
   int prev = at(-1), cur = at(0), next = at(1), next2 = at(2);

@@ -61,6 +61,11 @@ class LatticeModel {
   bool rises(int column) const;
   std::uint64_t rise_bits(int column) const;
   void put_rise(int column, bool up);
+  void write_bit(int b, bool up) {  // slope bit at position b of rise_
+    std::uint64_t& w = rise_[static_cast<std::size_t>(b >> 6)];
+    const std::uint64_t bit = std::uint64_t{1} << (b & 63);
+    w = (w & ~bit) | (up ? bit : 0);
+  }
   std::vector<std::uint64_t> rise_;
   void set(int i, int v);
   void remove_top(int i);

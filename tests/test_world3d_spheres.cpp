@@ -83,6 +83,37 @@ TEST(SphereKernel3d, MatchesTheGeneralPathOnAJostlingPile) {
   }
 }
 
+// Spheres far apart, resting on the floor: no pair is near another, and all of the stored energy is in
+// the floor contacts, which the kernel must count as the general path does.
+TEST(SphereKernel3d, CountsFloorEnergyWithNoPairsNear) {
+  std::string t = fmt::format(R"toml(
+[scene]
+name = "sparse spheres on a floor"
+dimension = 3
+duration = 1.0
+effects = ["gravity", "normal_contact", "friction", "rotation"]
+{}[[walls]]
+type = "plane"
+point = [0, 0, 0]
+normal = [0, 0, 1]
+)toml",
+                              kVerletGrain);
+  for (int k = 0; k < 40; ++k)
+    t += fmt::format(
+        "[[bodies]]\nshape = \"sphere\"\nradius = 0.5\ndensity = 2.65\nposition = [{}, {}, 0.5]\n"
+        "velocity = [3, 0, 0]\n",
+        5.0 * (k % 8), 5.0 * (k / 8));
+  const Scene scene = parse_scene(t, "<sparse>");
+  World3d kernel(scene), general(scene);
+  general.use_sphere_kernel(false);
+  kernel.advance_to(0.01), general.advance_to(0.01);
+  ASSERT_TRUE(kernel.on_sphere_kernel());
+  EXPECT_EQ(kernel.count_contacts(), 40u);
+  const double ea = kernel.energies().elastic, eb = general.energies().elastic;
+  EXPECT_GT(eb, 0);
+  EXPECT_NEAR(ea, eb, 1e-9 * eb);
+}
+
 }  // namespace grainlab::dem
 
 namespace grainlab::dem {
