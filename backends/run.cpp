@@ -57,43 +57,31 @@ std::string units_description(const Scene& scene) {
 
 namespace {
 
-const std::vector<std::string> kFrameColumns = {"frame", "time",  "id",   "x",      "y",    "vx",
-                                                "vy",    "angle", "spin", "radius", "shape"};
 const std::vector<std::string> kEnergyColumns = {
     "time", "kinetic_translational", "kinetic_rotational", "potential_gravity", "elastic", "total"};
 const std::vector<std::string> kProgressColumns = {"frames_done", "kinetic_translational",
                                                    "kinetic_rotational", "potential_gravity", "elastic"};
-constexpr const char* kCheckpointKind = "grainlab checkpoint 1";
+// 2: the frames are HDF5 groups copied from the streamed run file (1 held them as a table, 2-D only).
+constexpr const char* kCheckpointKind = "grainlab checkpoint 2";
+constexpr const char* kCheckpointFrames = "/run/frames";
 
 std::string joined_overrides(const Scene& scene) {
   return fmt::format("{}", fmt::join(scene.overrides, "\n"));
 }
 
-// What a run has written so far, kept so a checkpoint can carry it (the run file is written once, at
-// the end, so a restarted run's file holds every frame).
-struct Written {
-  std::vector<Frame> frames;
-  std::vector<std::vector<double>> energy;
-};
-
+// A checkpoint carries the engine's state, the energy rows and the frames written so far (copied from
+// the streamed run file), so a restarted run's file holds every frame.
 void write_checkpoint(const std::string& path, const Scene& scene, const Engine& engine,
-                      const std::vector<SampleTable>& state, const Written& w, int frames_done,
+                      const std::vector<SampleTable>& state, RunWriter& writer,
+                      const std::vector<std::vector<double>>& energy, int frames_done,
                       const EnergyReport& initial) {
-  SampleTable frames{"run/frames", "the frames written so far (scene units)", kFrameColumns, {}};
-  for (std::size_t k = 0; k < w.frames.size(); ++k) {
-    const Frame& f = w.frames[k];
-    for (std::size_t i = 0; i < f.id.size(); ++i)
-      frames.rows.push_back({double(k), f.time, double(f.id[i]), f.position[3 * i], f.position[3 * i + 1],
-                             f.velocity[3 * i], f.velocity[3 * i + 1], f.angle[i], f.spin[i], f.radius[i],
-                             double(f.shape[i])});
-  }
-  SampleTable energy{"run/energy", "the energy rows written so far", kEnergyColumns, w.energy};
+  SampleTable energy_table{"run/energy", "the energy rows written so far", kEnergyColumns, energy};
   SampleTable progress{"run/progress",
                        "frames done and the initial energies",
                        kProgressColumns,
                        {{double(frames_done), initial.kinetic_translational, initial.kinetic_rotational,
                          initial.potential_gravity, initial.elastic}}};
-  std::vector<SampleTable> tables = {frames, energy, progress};
+  std::vector<SampleTable> tables = {energy_table, progress};
   tables.insert(tables.end(), state.begin(), state.end());
   write_sample_tables(path, tables,
                       {{"kind", kCheckpointKind},
@@ -103,15 +91,15 @@ void write_checkpoint(const std::string& path, const Scene& scene, const Engine&
                        {"scene_overrides", joined_overrides(scene)},
                        {"engine", engine.name()},
                        {"integrator", engine.integrator()},
-                       {"frames", std::to_string(scene.output.frames)}});
+                       {"frames", std::to_string(scene.output.frames)}},
+                      [&](std::int64_t file) { writer.copy_frames(file, kCheckpointFrames); });
 }
 
-// Reads a checkpoint and puts the engine and the written frames back; returns the frames done.
-// A file from another scene, engine or version, or a damaged one, is refused with InputError.
-int restore_checkpoint(const std::string& path, const Scene& scene, Engine& engine, Written& w,
-                       EnergyReport& initial) {
+// Reads a checkpoint and puts the engine, the energy rows and (when writing) the frames back; returns the
+// frames done. A file from another scene, engine or version, or a damaged one, is refused with InputError.
+int restore_checkpoint(const std::string& path, const Scene& scene, Engine& engine, RunWriter* writer,
+                       std::vector<std::vector<double>>& energy, EnergyReport& initial) {
   auto wanted = engine.state_columns();
-  wanted["run/frames"] = kFrameColumns;
   wanted["run/energy"] = kEnergyColumns;
   wanted["run/progress"] = kProgressColumns;
   const TableFile file = read_sample_tables(path, wanted);
@@ -135,48 +123,52 @@ int restore_checkpoint(const std::string& path, const Scene& scene, Engine& engi
   const int done = static_cast<int>(progress[0][0]);
   if (done < 0 || done > scene.output.frames) refuse("is at an impossible frame");
   initial = {progress[0][1], progress[0][2], progress[0][3], progress[0][4]};
-  w.frames.assign(static_cast<std::size_t>(done) + 1, Frame{});
-  for (const auto& r : file.tables.at("run/frames").rows) {
-    const auto k = static_cast<std::size_t>(r[0]);
-    if (r[0] < 0 || k >= w.frames.size()) refuse("has a frame row beyond its progress");
-    w.frames[k].time = r[1];
-    w.frames[k].add_body(static_cast<std::int64_t>(r[2]), r[3], r[4], r[5], r[6], r[7], r[8], r[9],
-                         static_cast<std::int32_t>(r[10]));
-  }
-  w.energy = file.tables.at("run/energy").rows;
-  if (w.energy.size() != w.frames.size()) refuse("has a different number of energy rows and frames");
+  energy = file.tables.at("run/energy").rows;
+  if (energy.size() != static_cast<std::size_t>(done) + 1)
+    refuse("has a different number of energy rows and frames");
   try {
     engine.restore_state(file.tables);
   } catch (const std::runtime_error& e) {
     refuse(std::string("does not fit this scene: ") + e.what());
   }
+  if (writer)
+    read_frames(path, kCheckpointFrames, static_cast<std::size_t>(done) + 1,
+                [&](const Frame& f) { writer->add_frame(f); });
   return done;
 }
 
 }  // namespace
 
 RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& options) {
-  std::optional<RunWriter> writer;  // refuses to overwrite before any work is done
-  if (options.write && options.stop_after_frame == 0) writer.emplace(options.out, options.overwrite);
   if ((options.checkpoint_every > 0 || !options.restart.empty()) && !engine.checkpointable())
     throw InputError({"--checkpoint-every", 0}, engine.name(),
                      "checkpoints are written by the native 2-D engine for disc scenes only so far");
   if ((options.checkpoint_every > 0 || !options.restart.empty()) && scene.output.contacts)
     throw InputError({"--checkpoint-every", 0}, "contacts",
                      "a run recording contact events ([output] contacts) cannot be checkpointed yet");
+  // Frames stream into the writer's temporary file as they are taken. It refuses to overwrite before any
+  // work is done; a run stopped at a frame keeps its frames only in the checkpoint (the temporary goes).
+  std::optional<RunWriter> writer;
+  if (options.write) writer.emplace(options.out, options.overwrite || options.stop_after_frame > 0);
+  RunWriter* const out = writer ? &*writer : nullptr;
   RunSummary summary;
   engine.track_contacts(scene.output.contacts);
   const int frames = std::max(1, scene.output.frames);
   const double T = scene.to_cgs.time;
-  Written written;
+  std::vector<std::vector<double>> energy;
+  // engine.frame() is collective in a distributed engine: every rank takes it, rank 0 writes it.
+  auto take_frame = [&] {
+    const Frame f = in_scene_units(engine.frame(), scene);
+    if (out) out->add_frame(f);
+  };
   int start = 0;
   if (!options.restart.empty()) {
-    start = restore_checkpoint(options.restart, scene, engine, written, summary.initial);
+    start = restore_checkpoint(options.restart, scene, engine, out, energy, summary.initial);
     summary.restarted_from_frame = start;
   } else {
     summary.initial = in_scene_units(engine.energies(), scene);
-    written.frames.push_back(in_scene_units(engine.frame(), scene));
-    written.energy.push_back(energy_row(engine.time() / T, summary.initial));
+    take_frame();
+    energy.push_back(energy_row(engine.time() / T, summary.initial));
   }
   // Between frames, advance in slices so the progress display stays live on long runs.
   const int slices = 20;
@@ -186,13 +178,12 @@ RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& optio
       engine.advance_to(t0 + (t1 - t0) * s / slices);
       if (options.progress) options.progress(engine.time() / T, scene.duration / T);
     }
-    written.frames.push_back(in_scene_units(engine.frame(), scene));
-    written.energy.push_back(energy_row(engine.time() / T, in_scene_units(engine.energies(), scene)));
+    take_frame();
+    energy.push_back(energy_row(engine.time() / T, in_scene_units(engine.energies(), scene)));
     const bool stop = k == options.stop_after_frame;
     if ((options.checkpoint_every > 0 && k % options.checkpoint_every == 0 && k < frames) || stop) {
       const std::vector<SampleTable> state = engine.save_state();  // collective
-      if (options.write)
-        write_checkpoint(options.checkpoint, scene, engine, state, written, k, summary.initial);
+      if (out) write_checkpoint(options.checkpoint, scene, engine, state, *out, energy, k, summary.initial);
     }
     if (stop) {
       summary.stopped = true;
@@ -202,9 +193,8 @@ RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& optio
   summary.final = in_scene_units(engine.energies(), scene);
   summary.diagnostics = engine.diagnostics();
   if (!writer) return summary;
-  for (Frame& f : written.frames) writer->add_frame(std::move(f));
   writer->set_energy_columns(kEnergyColumns);
-  for (const auto& row : written.energy) writer->add_energy_row(row);
+  for (const auto& row : energy) writer->add_energy_row(row);
 
   RunMetadata meta;
   meta.text["grainlab_version"] = GRAINLAB_VERSION;

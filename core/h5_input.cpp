@@ -97,6 +97,50 @@ std::string string_attribute(hid_t obj, const char* name) {
 
 }  // namespace
 
+namespace {
+
+double double_attribute(hid_t obj, const char* name, const std::string& path, const std::string& where) {
+  Handle a{H5Aopen(obj, name, H5P_DEFAULT), H5Aclose};
+  double v = 0;
+  if (a.id < 0 || H5Aread(a.id, H5T_NATIVE_DOUBLE, &v) < 0)
+    corrupt(path, fmt::format("{} has no readable {} attribute", where, name));
+  return v;
+}
+
+// One frame group, its columns checked against its positions.
+Frame read_frame(hid_t file, const std::string& g, const std::string& path) {
+  Handle group{H5Gopen2(file, g.c_str(), H5P_DEFAULT), H5Gclose};
+  if (group.id < 0) corrupt(path, g + " is missing");
+  Frame f;
+  f.time = double_attribute(group.id, "time", path, g);
+  const Dataset position = read_all(group.id, "position", path);
+  const hsize_t n = position.dims[0];
+  auto column = [&](const char* name, hsize_t width) {
+    Dataset d = read_all(group.id, name, path);
+    if (d.dims[0] != n || (d.dims.size() == 2 ? d.dims[1] : 1) != width)
+      corrupt(path, fmt::format("{}/{} does not fit its {} bodies", g, name, n));
+    return std::move(d.data);
+  };
+  auto whole = [](const std::vector<double>& v, auto type) {
+    return std::vector<decltype(type)>(v.begin(), v.end());
+  };
+  if (position.dims.size() != 2 || position.dims[1] != 3) corrupt(path, g + "/position is not N x 3");
+  f.position = position.data;
+  f.id = whole(column("id", 1), std::int64_t{});
+  f.velocity = column("velocity", 3);
+  f.orientation = column("orientation", 4);
+  f.angular_velocity = column("angular_velocity", 3);
+  f.radius = column("radius", 1);
+  f.shape = whole(column("shape", 1), std::int32_t{});
+  if (H5Lexists(group.id, "angle", H5P_DEFAULT) > 0) {
+    f.angle = column("angle", 1);
+    f.spin = column("spin", 1);
+  }
+  return f;
+}
+
+}  // namespace
+
 RunFileSummary read_run_file(const std::string& path) {
   Handle f = open_checked(path);
   RunFileSummary s;
@@ -109,14 +153,8 @@ RunFileSummary read_run_file(const std::string& path) {
   s.frames = times.dims[0];
   if (s.frames > 0) s.first_time = times.data.front(), s.last_time = times.data.back();
   for (std::size_t k = 0; k < s.frames; ++k) {
-    const std::string g = fmt::format("/frames/{:06d}", k);
-    Handle group{H5Gopen2(f.id, g.c_str(), H5P_DEFAULT), H5Gclose};
-    if (group.id < 0) corrupt(path, fmt::format("frame {} of {} is missing ({})", k, s.frames, g));
-    const hsize_t n = read_all(group.id, "position", path).dims[0];
-    if (k == 0) s.bodies = n;
-    for (const char* name : {"velocity", "radius", "angular_velocity", "orientation"})
-      if (read_all(group.id, name, path).dims[0] != n)
-        corrupt(path, fmt::format("{}/{} has a different number of bodies than its positions", g, name));
+    const Frame frame = read_frame(f.id, fmt::format("/frames/{:06d}", k), path);
+    if (k == 0) s.bodies = frame.id.size();
   }
   Handle energy{H5Gopen2(f.id, "/energy", H5P_DEFAULT), H5Gclose};
   if (energy.id < 0) corrupt(path, "has no /energy group");
@@ -124,6 +162,12 @@ RunFileSummary read_run_file(const std::string& path) {
   if (diagnostics.id < 0) corrupt(path, "has no /diagnostics group");
   read_attributes(diagnostics.id, s, true);
   return s;
+}
+
+void read_frames(const std::string& path, const std::string& group, std::size_t count,
+                 const std::function<void(const Frame&)>& take) {
+  Handle f = open_checked(path);
+  for (std::size_t k = 0; k < count; ++k) take(read_frame(f.id, fmt::format("{}/{:06d}", group, k), path));
 }
 
 TableFile read_sample_tables(const std::string& path,

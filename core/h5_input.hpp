@@ -1,6 +1,7 @@
 #pragma once
 // Reading back a run file (grainlab run's HDF5) with every part checked, so a truncated or corrupt file
 // is reported as such instead of half-read.
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -19,6 +20,12 @@ struct RunFileSummary {
 // Opens `path` and reads every frame's datasets and the energy table, checking their shapes against
 // each other. Throws InputError (key "file") naming what is missing, unreadable or inconsistent.
 RunFileSummary read_run_file(const std::string& path);
+
+// Reads frames `group`/000000 ... `group`/(count - 1) of `path`, laid out as RunWriter writes them, one
+// at a time (each checked: shapes, checksums) and hands each to `take`. Throws InputError (key "file")
+// naming what is missing or damaged.
+void read_frames(const std::string& path, const std::string& group, std::size_t count,
+                 const std::function<void(const Frame&)>& take);
 
 // A file of named tables written by write_sample_tables (checkpoints, results.h5).
 struct TableFile {

@@ -74,44 +74,68 @@ std::string frame_group(std::size_t k) {
 
 }  // namespace
 
-RunWriter::RunWriter(std::string path, bool overwrite) : path_(std::move(path)) {
+RunWriter::RunWriter(std::string path, bool overwrite) : path_(std::move(path)), tmp_(temp_name(path_)) {
   if (!overwrite && fs::exists(path_))
     throw std::runtime_error(fmt::format("{} exists; pass --force to overwrite it", path_));
-}
-
-RunWriter::~RunWriter() = default;
-
-void RunWriter::write_h5(const std::string& tmp) const {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   // HDF5 1.10 file format: a dataset held in one chunk needs no chunk index, so checksummed small
   // datasets cost little more than plain ones (readable by HDF5 1.10 and later: ParaView, h5py).
   hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
   H5Pset_libver_bounds(fapl, H5F_LIBVER_V110, H5F_LIBVER_V110);
-  hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  file_ = H5Fcreate(tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
   H5Pclose(fapl);
-  if (f < 0) throw std::runtime_error("cannot create " + tmp);
+  if (file_ < 0) throw std::runtime_error("cannot create " + tmp_);
+  H5Gclose(H5Gcreate2(file_, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+}
+
+RunWriter::~RunWriter() {
+  if (file_ >= 0) H5Fclose(file_);
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove(tmp_, ec);
+  }
+}
+
+void RunWriter::add_frame(const Frame& fr) {
+  const hsize_t n = fr.id.size();
+  hid_t g = H5Gcreate2(file_, frame_group(index_.size()).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (g < 0) throw std::runtime_error("HDF5: failed to create " + frame_group(index_.size()));
+  attr_double(g, "time", fr.time);
+  dataset(g, "id", fr.id, n);
+  dataset(g, "position", fr.position, n, 3);
+  dataset(g, "velocity", fr.velocity, n, 3);
+  if (!fr.angle.empty()) dataset(g, "angle", fr.angle, n);
+  if (!fr.spin.empty()) dataset(g, "spin", fr.spin, n);
+  dataset(g, "orientation", fr.orientation, n, 4);
+  dataset(g, "angular_velocity", fr.angular_velocity, n, 3);
+  dataset(g, "radius", fr.radius, n);
+  dataset(g, "shape", fr.shape, n);
+  H5Gclose(g);
+  // Flushed, so the data leaves memory now and a reader of the temporary file sees whole frames.
+  check(H5Fflush(file_, H5F_SCOPE_LOCAL), "flush a frame");
+  index_.push_back({fr.time, static_cast<std::size_t>(n), !fr.angle.empty()});
+}
+
+void RunWriter::copy_frames(std::int64_t dest, const std::string& group) {
+  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  hid_t g = H5Gcreate2(dest, group.c_str(), lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  H5Pclose(lcpl);
+  if (g < 0) throw std::runtime_error("HDF5: failed to create " + group);
+  H5Gclose(g);
+  for (std::size_t k = 0; k < index_.size(); ++k)
+    check(H5Ocopy(file_, frame_group(k).c_str(), dest, fmt::format("{}/{:06d}", group, k).c_str(),
+                  H5P_DEFAULT, H5P_DEFAULT),
+          "copy a frame");
+}
+
+void RunWriter::finish_h5() {
+  hid_t f = file_;
   for (const auto& [k, v] : meta_.text) attr_string(f, k, v);
   for (const auto& [k, v] : meta_.numbers) attr_double(f, k, v);
-
-  hid_t frames = H5Gcreate2(f, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   std::vector<double> times;
-  for (std::size_t k = 0; k < frames_.size(); ++k) {
-    const Frame& fr = frames_[k];
-    const hsize_t n = fr.id.size();
-    hid_t g = H5Gcreate2(f, frame_group(k).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    attr_double(g, "time", fr.time);
-    dataset(g, "id", fr.id, n);
-    dataset(g, "position", fr.position, n, 3);
-    dataset(g, "velocity", fr.velocity, n, 3);
-    if (!fr.angle.empty()) dataset(g, "angle", fr.angle, n);
-    if (!fr.spin.empty()) dataset(g, "spin", fr.spin, n);
-    dataset(g, "orientation", fr.orientation, n, 4);
-    dataset(g, "angular_velocity", fr.angular_velocity, n, 3);
-    dataset(g, "radius", fr.radius, n);
-    dataset(g, "shape", fr.shape, n);
-    H5Gclose(g);
-    times.push_back(fr.time);
-  }
+  for (const WrittenFrame& w : index_) times.push_back(w.time);
+  hid_t frames = H5Gopen2(f, "/frames", H5P_DEFAULT);
   dataset(frames, "time", times, times.size());
   H5Gclose(frames);
 
@@ -150,6 +174,7 @@ void RunWriter::write_h5(const std::string& tmp) const {
   hid_t dg = H5Gcreate2(f, "/diagnostics", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   for (const auto& [k, v] : diagnostics_) attr_double(dg, k, v);
   H5Gclose(dg);
+  file_ = -1;
   check(H5Fclose(f), "close the file");
 }
 
@@ -158,8 +183,8 @@ void RunWriter::write_xdmf(const std::string& tmp) const {
   std::string x =
       "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
       "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (std::size_t k = 0; k < frames_.size(); ++k) {
-    const std::size_t n = frames_[k].id.size();
+  for (std::size_t k = 0; k < index_.size(); ++k) {
+    const std::size_t n = index_[k].bodies;
     const std::string g = frame_group(k);
     auto item = [&](const std::string& name, const char* type, int prec, const std::string& dims) {
       return fmt::format(
@@ -168,7 +193,7 @@ void RunWriter::write_xdmf(const std::string& tmp) const {
           dims, type, prec, h5, g, name);
     };
     x += fmt::format("   <Grid Name=\"frame{}\" GridType=\"Uniform\">\n    <Time Value=\"{:.17g}\"/>\n", k,
-                     frames_[k].time);
+                     index_[k].time);
     x += fmt::format(
         "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", n);
     x += "    <Geometry GeometryType=\"XYZ\">\n" + item("position", "Float", 8, fmt::format("{} 3", n)) +
@@ -181,7 +206,7 @@ void RunWriter::write_xdmf(const std::string& tmp) const {
     const std::string vec = fmt::format("{} 3", n), scalar = std::to_string(n);
     attribute("velocity", "Vector", "Float", vec);
     attribute("angular_velocity", "Vector", "Float", vec);
-    if (!frames_[k].angle.empty()) {  // 2-D only
+    if (index_[k].planar) {  // 2-D only
       attribute("angle", "Scalar", "Float", scalar);
       attribute("spin", "Scalar", "Float", scalar);
     }
@@ -196,18 +221,18 @@ void RunWriter::write_xdmf(const std::string& tmp) const {
 }
 
 std::string RunWriter::commit() {
-  const std::string xmf = fs::path(path_).replace_extension(".xmf").string();
-  const std::string tmp_h5 = temp_name(path_), tmp_xmf = temp_name(xmf);
+  const std::string xmf = fs::path(path_).replace_extension(".xmf").string(), tmp_xmf = temp_name(xmf);
   try {
-    write_h5(tmp_h5);
+    finish_h5();
     write_xdmf(tmp_xmf);
   } catch (...) {
     std::error_code ec;
-    fs::remove(tmp_h5, ec), fs::remove(tmp_xmf, ec);
-    throw;
+    fs::remove(tmp_xmf, ec);
+    throw;  // (the destructor removes the temporary .h5)
   }
-  fs::rename(tmp_h5, path_);
+  fs::rename(tmp_, path_);
   fs::rename(tmp_xmf, xmf);
+  committed_ = true;
   return xmf;
 }
 
@@ -240,15 +265,21 @@ void write_table(hid_t f, const SampleTable& t) {
 }  // namespace
 
 void write_sample_tables(const std::string& path, const std::vector<SampleTable>& tables,
-                         const std::map<std::string, std::string>& metadata) {
+                         const std::map<std::string, std::string>& metadata,
+                         const std::function<void(std::int64_t)>& extra) {
   const std::string tmp = temp_name(path);
+  hid_t f = -1;
   try {
-    hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     if (f < 0) throw std::runtime_error("cannot create " + path);
     for (const auto& [k, v] : metadata) attr_string(f, k, v);
     for (const SampleTable& t : tables) write_table(f, t);
-    check(H5Fclose(f), "close the samples file");
+    if (extra) extra(f);
+    const hid_t closing = f;
+    f = -1;
+    check(H5Fclose(closing), "close the samples file");
   } catch (...) {
+    if (f >= 0) H5Fclose(f);
     std::error_code ec;
     fs::remove(tmp, ec);
     throw;

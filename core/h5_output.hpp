@@ -4,6 +4,7 @@
 // temporary name and renamed into place when complete, so no half-written file is ever left.
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -59,6 +60,9 @@ struct ContactEventTable {
   std::vector<std::int32_t> open;  // 1: still touching when the run ended
 };
 
+// Frames are streamed: each is written and flushed when added, so memory does not grow with the run (100
+// frames of 100,000 spheres would hold over a gigabyte). The file lives under a temporary name until
+// commit(); destroyed uncommitted, the writer removes it (no half-written output).
 class RunWriter {
  public:
   // Fails (std::runtime_error) if `path` exists and !overwrite.
@@ -67,7 +71,11 @@ class RunWriter {
   RunWriter(const RunWriter&) = delete;
   RunWriter& operator=(const RunWriter&) = delete;
 
-  void add_frame(Frame f) { frames_.push_back(std::move(f)); }
+  void add_frame(const Frame& f);
+  std::size_t frames() const { return index_.size(); }
+  // Copies the frames written so far into group `group` (created) of the open HDF5 file `dest`, as
+  // /frames/NNNNNN are here: a checkpoint carries them without holding them in memory.
+  void copy_frames(std::int64_t dest, const std::string& group);
   void add_energy_row(const std::vector<double>& row) { energy_.push_back(row); }
   void set_energy_columns(std::vector<std::string> c) { energy_columns_ = std::move(c); }
   // Body-frame vertices of each polygon (x, y) or polyhedron (x, y, z), flattened.
@@ -79,15 +87,23 @@ class RunWriter {
   void set_diagnostics(std::map<std::string, double> d) { diagnostics_ = std::move(d); }
   // Written as /contact_events when set (the scene asked for [output] contacts = true).
   void set_contact_events(ContactEventTable t) { contacts_ = std::move(t); }
-  // Writes the .h5 and .xmf atomically. Returns the .xmf path.
+  // Writes the rest of the .h5 and the .xmf, and renames both into place. Returns the .xmf path.
   std::string commit();
 
  private:
-  void write_h5(const std::string& tmp) const;
+  void finish_h5();
   void write_xdmf(const std::string& tmp) const;
 
-  std::string path_;
-  std::vector<Frame> frames_;
+  // What the XDMF sidecar and /frames/time need of a frame already written.
+  struct WrittenFrame {
+    double time;
+    std::size_t bodies;
+    bool planar;  // has 2-D angle and spin
+  };
+  std::string path_, tmp_;
+  std::int64_t file_ = -1;
+  bool committed_ = false;
+  std::vector<WrittenFrame> index_;
   std::vector<std::vector<double>> energy_;
   std::vector<std::string> energy_columns_;
   std::vector<std::vector<double>> polygons_;
@@ -106,9 +122,11 @@ struct SampleTable {
 };
 
 // Writes the tables to `path` atomically: one 2-D dataset per table with attributes "columns"
-// (comma-separated) and "description", plus string attributes `metadata` on the root.
+// (comma-separated) and "description", plus string attributes `metadata` on the root. `extra`, when
+// given, adds what tables cannot hold to the open file (its HDF5 id) before it is closed.
 void write_sample_tables(const std::string& path, const std::vector<SampleTable>& tables,
-                         const std::map<std::string, std::string>& metadata);
+                         const std::map<std::string, std::string>& metadata,
+                         const std::function<void(std::int64_t)>& extra = {});
 
 // A time series of 2-D grids (a bed's heights, x fastest) streamed to HDF5 as it is taken: each frame is
 // written and flushed when added, so memory does not grow with the run; the file lives under a temporary

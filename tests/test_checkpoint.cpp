@@ -56,6 +56,11 @@ TEST(Checkpoint, DamagedForeignOrMismatchedIsRefused) {
   Outcome o = restart_from(bad);
   EXPECT_EQ(o.status, 2) << o.err;
   EXPECT_NE(o.err.find("state/particles"), std::string::npos) << o.err;
+  // The frames written before the stop travel in the checkpoint, checksummed like the run file's.
+  ASSERT_TRUE(copy_with_damaged_data(ckpt, bad, "/run/frames/000001/velocity"));
+  o = restart_from(bad);
+  EXPECT_EQ(o.status, 2) << o.err;
+  EXPECT_NE(o.err.find("velocity"), std::string::npos) << o.err;
   o = restart_from(ckpt, " --set materials.sand.mu=0.49");
   EXPECT_EQ(o.status, 2) << o.err;
   EXPECT_NE(o.err.find("--set"), std::string::npos) << o.err;
