@@ -5,6 +5,7 @@
 #include "contact_law.hpp"
 #include "engine.hpp"
 #include "world.hpp"
+#include "world3d.hpp"
 
 namespace grainlab {
 
@@ -18,6 +19,12 @@ namespace {
 // engine's own pour, so every engine starts from the same bed).
 template <std::unique_ptr<Engine> (*Make)(const Scene&, std::vector<BodySpec>)>
 std::unique_ptr<Engine> with_expanded_beds(const Scene& scene) {
+  if (scene.dimension == 3 && !scene.assemblies.empty()) {
+    Scene expanded = scene;  // (the engines keep a copy)
+    expanded.bodies3d = dem::expanded_bodies3d(scene);
+    expanded.assemblies.clear();
+    return Make(expanded, std::vector<BodySpec>());
+  }
   return Make(scene, dem::expanded_bodies(scene));
 }
 }  // namespace

@@ -118,7 +118,7 @@ class NativeEngine final : public NativeEngineBase<dem::World> {
 class NativeEngine3d final : public NativeEngineBase<dem::World3d> {
  public:
   explicit NativeEngine3d(const Scene& scene)
-      : NativeEngineBase(scene), shape_index_(polyhedron_indices(scene.bodies3d)) {}
+      : NativeEngineBase(scene), shape_index_(polyhedron_indices(world_.scene().bodies3d)) {}
 
   Frame frame() const override {
     Frame f;

@@ -14,7 +14,8 @@ command -v lmp >/dev/null || { echo "lmp not found: apt-get install lammps" >&2;
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+# shellcheck source=lammps_table.sh
+source bench/lammps_table.sh
 
 echo "| discs | variant | LAMMPS particle-steps/s | grainlab particle-steps/s | ratio | LAMMPS MB | grainlab B/particle | mean height LAMMPS / grainlab (cm) | KE LAMMPS / grainlab (erg) |"
 echo "|---|---|---|---|---|---|---|---|---|"
@@ -29,17 +30,8 @@ for size in "100 50" "250 200"; do
         -log none -screen "$tmp/lmp.$r" >/dev/null
       "$GRAINLAB" bench bed --nx "$NX" --ny "$NY" --settle $NSETTLE --steps $NRUN --repeats 1 \
         --spacing $A --first-row $Y0 --json "$tmp/g.json" >/dev/null 2>&1
-      /usr/bin/python3 -c "import json;print(json.load(open('$tmp/g.json'))['particle_steps_per_second'])" >> "$tmp/g.rates"
+      record_grainlab_rate
     done
-    lmp_rate=$(for r in $(seq "$REPEATS"); do
-      awk '/^Loop time/ {t=$4; n=$9; a=$12} END {printf "%.6g\n", a*n/t}' "$tmp/lmp.$r"; done | median)
-    g_rate=$(median < "$tmp/g.rates")
-    lmp_mem=$(awk '/memory allocation/ {m=$(NF-1)} END {print m}' "$tmp/lmp.1")
-    lmp_h=$(awk '/^RESULT/ {print $5}' "$tmp/lmp.1")
-    lmp_ke=$(awk '/^RESULT/ {print $7}' "$tmp/lmp.1")
-    read -r g_bytes g_h g_ke < <(/usr/bin/python3 -c "import json;d=json.load(open('$tmp/g.json'));print(d['bytes_per_particle'],d['mean_height'],d['kinetic_energy'])")
-    ratio=$(awk -v a="$g_rate" -v b="$lmp_rate" 'BEGIN {printf "%.2f", a/b}')
-    printf "| %d | %s | %.3g | %.3g | **%s** | %s | %.0f | %s / %.6f | %s / %.6g |\n" $((NX*NY)) "$variant" "$lmp_rate" \
-      "$g_rate" "$ratio" "$lmp_mem" "$g_bytes" "$lmp_h" "$g_h" "$lmp_ke" "$g_ke"
+    table_row $((NX*NY)) "$variant"
   done
 done

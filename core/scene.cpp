@@ -178,6 +178,7 @@ class SceneReader {
       a.radius.b *= L;  // maximum or standard deviation
       a.density *= a.spheres ? M / (L * L * L) : M / (L * L);
       a.velocity = a.velocity * V;
+      a.origin3 *= L, a.velocity3 *= V, a.depth *= L;
     }
     // The fluid: densities are 3-D (mass / length^3) whatever the dimension.
     s_.fluid.density *= M / (L * L * L);
@@ -551,53 +552,74 @@ class SceneReader {
     }
   }
 
+  // Generated beds: a lattice or a pour, of discs (2-D) or spheres (3-D: nz layers, a box depth along
+  // y, density per volume).
   void read_assemblies(const TomlReader& top) {
     const toml::array* list = top.array_of_tables("assemblies");
     if (!list) return;
-    if (s_.dimension == 3) top.fail("assemblies", "generated assemblies are 2-D only so far");
+    const bool three_d = s_.dimension == 3;
     for (size_t i = 0; i < list->size(); ++i) {
       TomlReader r(*(*list)[i].as_table(), fmt::format("assemblies[{}]", i), s_.path);
       AssemblySpec a;
       a.where = r.where_table();
       const std::string type = r.string("type");
       a.radius = read_size(r);
-      if (r.has("density") == r.has("sphere_density"))
-        r.fail("density",
-               "give exactly one of density (mass per area: discs) and sphere_density (mass per "
-               "volume: each disc has the mass of the sphere of its radius)");
-      if (r.has("sphere_density")) {
-        a.density = r.number("sphere_density", Range::positive());
-        a.spheres = true;
+      read_assembly_density(r, a, three_d);
+      if (three_d) {
+        a.origin3 = vec3(r.numbers("origin", 3));
+        if (r.has("velocity")) a.velocity3 = vec3(r.numbers("velocity", 3));
       } else {
-        a.density = r.number("density", Range::positive());
+        a.velocity = r.vec2_or("velocity", {0, 0});
+        a.origin = r.vec2("origin");
       }
-      a.velocity = r.vec2_or("velocity", {0, 0});
-      a.origin = r.vec2("origin");
       a.material = material_of(r);
+      const double widest = 2 * max_radius(a.radius);
       if (type == "lattice") {
         a.kind = AssemblySpec::Kind::Lattice;
         a.nx = static_cast<int>(r.integer("nx", 1, 10'000'000));
         a.ny = static_cast<int>(r.integer("ny", 1, 10'000'000));
-        if (double(a.nx) * a.ny > kMaxGenerated)
-          r.fail("ny", fmt::format("nx x ny = {:.3g} discs; at most {:.0e} can be generated",
-                                   double(a.nx) * a.ny, kMaxGenerated));
+        a.nz = three_d ? static_cast<int>(r.integer("nz", 1, 10'000'000)) : 1;
+        if (const double n = double(a.nx) * a.ny * a.nz; n > kMaxGenerated)
+          r.fail(three_d ? "nz" : "ny", fmt::format("{} = {:.3g} {}; at most {:.0e} can be generated",
+                                                    three_d ? "nx x ny x nz" : "nx x ny", n,
+                                                    three_d ? "spheres" : "discs", kMaxGenerated));
         a.spacing = r.number("spacing", Range::positive());
-        if (a.spacing < 2 * max_radius(a.radius))
+        if (a.spacing < widest)
           r.fail("spacing",
                  fmt::format("{} is less than the largest diameter {}: the lattice would start overlapped",
-                             a.spacing, 2 * max_radius(a.radius)));
+                             a.spacing, widest));
       } else if (type == "poured") {
         a.kind = AssemblySpec::Kind::Poured;
         a.count = static_cast<int>(r.integer("count", 1, 10'000'000));
         a.width = r.number("width", Range::positive());
+        if (three_d) a.depth = r.number("depth", Range::positive());
         a.settle_time = r.number_or("settle_time", 1.0, Range::positive());
-        if (a.width < 2 * max_radius(a.radius)) r.fail("width", "narrower than one grain");
+        if (a.width < widest) r.fail("width", "narrower than one grain");
+        if (three_d && a.depth < widest) r.fail("depth", "narrower than one grain");
       } else {
         r.fail("type", "must be \"lattice\" or \"poured\", found \"" + type + "\"");
       }
       r.finish();
       s_.assemblies.push_back(a);
     }
+  }
+
+  // 2-D: density per area (discs) or sphere_density (each disc has its sphere's mass); 3-D: spheres,
+  // density per volume.
+  void read_assembly_density(const TomlReader& r, AssemblySpec& a, bool three_d) {
+    if (three_d) {
+      if (r.has("sphere_density"))
+        r.fail("sphere_density", "3-D assemblies are spheres already: give density (mass per volume)");
+      a.density = r.number("density", Range::positive());
+      a.spheres = true;
+      return;
+    }
+    if (r.has("density") == r.has("sphere_density"))
+      r.fail("density",
+             "give exactly one of density (mass per area: discs) and sphere_density (mass per "
+             "volume: each disc has the mass of the sphere of its radius)");
+    a.spheres = r.has("sphere_density");
+    a.density = r.number(a.spheres ? "sphere_density" : "density", Range::positive());
   }
 
   static double max_radius(const SizeDistribution& d) {

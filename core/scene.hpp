@@ -167,6 +167,11 @@ struct AssemblySpec {
   double density = 0;    // 2-D density, mass per area; with `spheres`, mass per volume
   bool spheres = false;  // each disc has the mass and moment of inertia of the sphere of its radius
   Vec2 velocity{};
+  // 3-D scenes (spheres; density is mass per volume): layers, the first centre or the pouring box's
+  // lowest corner, the box's extent along y, and the velocity given to every sphere.
+  int nz = 0;
+  Vec3 origin3 = Vec3::Zero(), velocity3 = Vec3::Zero();
+  double depth = 0;
   int material = 0;
   SourceLocation where;
 };

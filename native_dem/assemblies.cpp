@@ -5,34 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rng.hpp"
+#include "assembly_common.hpp"
 #include "world.hpp"
 
 namespace grainlab::dem {
 
 namespace {
-
-double draw_radius(const SizeDistribution& d, Rng& rng) {
-  switch (d.kind) {
-    case SizeDistribution::Kind::Fixed:
-      return d.a;
-    case SizeDistribution::Kind::Uniform:
-      return rng.uniform(d.a, d.b);
-    case SizeDistribution::Kind::Normal: {
-      double z;
-      do z = rng.normal();
-      while (std::abs(z) > 3);
-      return d.a + d.b * z;
-    }
-  }
-  return d.a;
-}
-
-double largest_radius(const SizeDistribution& d) {
-  return d.kind == SizeDistribution::Kind::Fixed     ? d.a
-         : d.kind == SizeDistribution::Kind::Uniform ? d.b
-                                                     : d.a + 3 * d.b;
-}
 
 BodySpec disc(const AssemblySpec& a, std::int64_t id, Vec2 pos, double r) {
   BodySpec b;
@@ -53,13 +31,8 @@ BodySpec disc(const AssemblySpec& a, std::int64_t id, Vec2 pos, double r) {
 std::vector<BodySpec> pour(const Scene& scene, const AssemblySpec& a, std::int64_t first_id, Rng& rng) {
   const double rmax = largest_radius(a.radius), pitch = 2.2 * rmax;
   const int cols = std::max(1, static_cast<int>(std::floor(a.width / pitch)));
-  Scene settle = scene;
-  settle.bodies.clear();
-  settle.assemblies.clear();
-  settle.effects.set(Effect::gravity);
-  settle.effects.set(Effect::normal_contact);
-  double kmax = 0, mmin = 1e300;
-  for (const Material& m : scene.materials) kmax = std::max(kmax, m.k_n);
+  Scene settle = settling_scene(scene);
+  double mmin = 1e300;
   for (int k = 0; k < a.count; ++k) {
     const double r = draw_radius(a.radius, rng);
     const Vec2 pos{a.origin.x + pitch * (0.5 + k % cols) + rng.uniform(-0.05, 0.05) * rmax,
@@ -68,9 +41,7 @@ std::vector<BodySpec> pour(const Scene& scene, const AssemblySpec& a, std::int64
     settle.bodies.back().velocity = {};
     mmin = std::min(mmin, settle.bodies.back().mass);
   }
-  // Verlet at 1/30 of the stiffest, lightest contact's period is stable for the linear law.
-  settle.accuracy.integrator = Integrator::VelocityVerlet;
-  settle.accuracy.dt = M_PI * std::sqrt(0.5 * mmin / kmax) / 30;
+  settle.accuracy.dt = settling_dt(scene, mmin);
   World w(settle);
   w.advance_to(a.settle_time);
   std::vector<BodySpec> out = settle.bodies;
@@ -115,7 +86,7 @@ void World::expand_assemblies() {
   for (std::int64_t id : p_.id) next_id = std::max(next_id, id + 1);
   for (std::size_t k = 0; k < scene_.assemblies.size(); ++k) {
     const AssemblySpec& a = scene_.assemblies[k];
-    Rng rng(scene_.seed, 1000003 * (k + 1));  // one stream per assembly, independent of the body count
+    Rng rng = assembly_rng(scene_, k);
     if (a.kind == AssemblySpec::Kind::Lattice) {
       for (int row = 0; row < a.ny; ++row)
         for (int col = 0; col < a.nx; ++col)

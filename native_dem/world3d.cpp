@@ -36,6 +36,10 @@ World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
   if (effects_.has(Effect::wind_drag))
     throw InputError({scene.path, 0}, "effects",
                      "the native engine models \"wind_drag\" in 2-D only so far (docs/saltation.md)");
+  if (!scene_.assemblies.empty()) {  // generated beds become bodies (hulls point into scene_)
+    scene_.bodies3d = expanded_bodies3d(scene);
+    scene_.assemblies.clear();
+  }
   n_mat_ = std::max<int>(1, static_cast<int>(scene_.materials.size()));
   laws_ = contact_law_table(scene_);
   for (const Body3Spec& s : scene_.bodies3d) {

@@ -36,6 +36,10 @@ struct Body3 {
 // A contact's shear-spring state, keyed by (body id A, body id B or -1 - plane index, feature).
 using ContactKey3 = std::tuple<std::int64_t, std::int64_t, int>;
 
+// The scene's 3-D bodies followed by its generated assemblies (lattices; pours settled on this engine),
+// at their initial state: what World3d and the other 3-D engines build the scene from.
+std::vector<Body3Spec> expanded_bodies3d(const Scene& scene);
+
 class World3d {
  public:
   explicit World3d(const Scene& scene);
