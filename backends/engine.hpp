@@ -51,9 +51,9 @@ class Engine {
   virtual std::vector<std::vector<double>> polygon_shapes() const = 0;  // flat x,y per polygon
   virtual std::string integrator() const = 0;
 
-  // Checkpoints (the native 2-D engine): the whole state as tables, and back. save_state is collective
-  // in a distributed engine (rank 0 gets the tables); restore_state is given the whole state on every
-  // rank and throws std::runtime_error if it does not fit the scene.
+  // Checkpoints (the native engine: 2-D discs, 3-D under Verlet): the whole state as tables, and back.
+  // save_state is collective in a distributed engine (rank 0 gets the tables); restore_state is given the
+  // whole state on every rank and throws std::runtime_error if it does not fit the scene.
   virtual bool checkpointable() const { return false; }
   virtual std::vector<SampleTable> save_state() const { return {}; }
   virtual std::map<std::string, std::vector<std::string>> state_columns() const { return {}; }

@@ -145,6 +145,15 @@ class NativeEngine3d final : public NativeEngineBase<dem::World3d> {
     return polyhedron_vertices(world_.scene().bodies3d);
   }
 
+  bool checkpointable() const override { return world_.checkpointable(); }
+  std::vector<SampleTable> save_state() const override { return world_.save_state("state3d/"); }
+  std::map<std::string, std::vector<std::string>> state_columns() const override {
+    return dem::World3d::state_columns("state3d/");
+  }
+  void restore_state(const std::map<std::string, SampleTable>& tables) override {
+    world_.restore_state(tables, "state3d/");
+  }
+
  private:
   std::vector<std::int32_t> shape_index_;
 };

@@ -142,7 +142,8 @@ int restore_checkpoint(const std::string& path, const Scene& scene, Engine& engi
 RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& options) {
   if ((options.checkpoint_every > 0 || !options.restart.empty()) && !engine.checkpointable())
     throw InputError({"--checkpoint-every", 0}, engine.name(),
-                     "checkpoints are written by the native 2-D engine for disc scenes only so far");
+                     "checkpoints are written by the native engine for 2-D disc scenes and for 3-D scenes "
+                     "under integrator \"verlet\" only so far");
   if ((options.checkpoint_every > 0 || !options.restart.empty()) && scene.output.contacts)
     throw InputError({"--checkpoint-every", 0}, "contacts",
                      "a run recording contact events ([output] contacts) cannot be checkpointed yet");

@@ -239,7 +239,7 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--quiet,-q", run.quiet, "no progress bar or summary");
   run_cmd
       ->add_option("--checkpoint-every", run.checkpoint_every,
-                   "write a checkpoint after every N-th frame (native 2-D engine)")
+                   "write a checkpoint after every N-th frame (native engine: 2-D discs, 3-D under Verlet)")
       ->check(CLI::NonNegativeNumber);
   run_cmd->add_option("--checkpoint", run.checkpoint, "checkpoint file (default: OUT with .checkpoint.h5)");
   run_cmd->add_option("--restart", run.restart, "continue from this checkpoint file")

@@ -33,6 +33,8 @@ class SphereCells {
   const std::size_t* begin(std::size_t i) const { return list_.data() + offset_[i]; }
   const std::size_t* end(std::size_t i) const { return list_.data() + offset_[i + 1]; }
   std::size_t builds() const { return builds_; }
+  // Where the centres were at the last build.
+  const std::vector<Vec3>& build_positions() const { return built_at_; }
 
  private:
   std::size_t cell_index(long x, long y, long z) const;

@@ -217,4 +217,15 @@ std::map<std::string, std::vector<std::string>> state_table_columns(const std::s
 // Throws std::runtime_error if the tables are inconsistent.
 WorldState state_from_tables(const std::map<std::string, SampleTable>& tables, const std::string& prefix);
 
+// The clock of either engine (time, steps and step diagnostics) as one table row, and back.
+struct SavedClock {
+  double t = 0, dt = 0, dt_prev = 0;
+  bool have_prev = false;
+  Diagnostics diagnostics;
+};
+extern const std::vector<std::string> kClockColumns;
+SampleTable clock_table(const std::string& name, const SavedClock& c);
+// Throws std::runtime_error unless the table has one row.
+SavedClock clock_from_table(const SampleTable& t);
+
 }  // namespace grainlab::dem

@@ -155,15 +155,18 @@ void World3d::compute_forces(double h) {
 
 // ---------------------------------------------------------------- integration
 
+void World3d::decide_mode() {
+  if (mode_ != Mode::undecided) return;
+  mode_ = sphere_kernel_eligible() ? Mode::spheres : Mode::general;
+  if (mode_ == Mode::general && (scene_.periodic_x || scene_.periodic_y))
+    throw InputError(
+        {scene_.path, 0}, scene_.periodic_x ? "periodic_x" : "periodic_y",
+        "periodic 3-D boxes run on the sphere kernel: at least 32 spheres, integrator \"verlet\", "
+        "and no contact events");
+}
+
 void World3d::advance_to(double t_end) {
-  if (mode_ == Mode::undecided) {
-    mode_ = sphere_kernel_eligible() ? Mode::spheres : Mode::general;
-    if (mode_ == Mode::general && (scene_.periodic_x || scene_.periodic_y))
-      throw InputError(
-          {scene_.path, 0}, scene_.periodic_x ? "periodic_x" : "periodic_y",
-          "periodic 3-D boxes run on the sphere kernel: at least 32 spheres, integrator \"verlet\", "
-          "and no contact events");
-  }
+  decide_mode();
   if (mode_ == Mode::spheres) load_spheres();
   advance_steps(t_, dt_, t_end, scene_.accuracy.integrator == Integrator::VelocityVerlet, diag_,
                 [this] { step(); });

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "contact_law.hpp"
+#include "h5_output.hpp"
 #include "narrow_phase3d.hpp"
 #include "scene.hpp"
 #include "sphere_cells.hpp"
@@ -61,7 +62,18 @@ class World3d {
   void use_sphere_kernel(bool on) { sphere_kernel_allowed_ = on; }
   bool on_sphere_kernel() const { return mode_ == Mode::spheres; }
 
+  // Checkpoints (velocity Verlet): the whole state as tables under `prefix` (bodies, springs, clock),
+  // and back. A restored world continues bit for bit: the sphere kernel's lists are rebuilt at the saved
+  // build positions, so its rebuilds, periodic wrapping and spring slots come back as they were.
+  bool checkpointable() const { return scene_.accuracy.integrator == Integrator::VelocityVerlet; }
+  std::vector<SampleTable> save_state(const std::string& prefix) const;
+  static std::map<std::string, std::vector<std::string>> state_columns(const std::string& prefix);
+  // Throws std::runtime_error if the tables do not fit this scene.
+  void restore_state(const std::map<std::string, SampleTable>& tables, const std::string& prefix);
+
  private:
+  // Sphere kernel or general path, once, before the first step (or at a restore).
+  void decide_mode();
   void step();
   void step_verlet();
   void step_predictor_corrector();

@@ -129,6 +129,8 @@ const std::vector<std::string> kParticleColumns = {
     "vy_prev",     "spin_prev", "fx",    "fy",       "torque",  "mass",   "inv_mass", "inertia",
     "inv_inertia", "radius",    "shape", "material", "x_build", "y_build"};
 const std::vector<std::string> kHistoryColumns = {"a", "b", "extension"};
+}  // namespace
+
 const std::vector<std::string> kClockColumns = {"t",
                                                 "dt",
                                                 "dt_prev",
@@ -142,6 +144,32 @@ const std::vector<std::string> kClockColumns = {"t",
                                                 "dt_last",
                                                 "dt_min_used",
                                                 "dt_max_used"};
+
+SampleTable clock_table(const std::string& name, const SavedClock& c) {
+  const Diagnostics& d = c.diagnostics;
+  return {name,
+          "time, step and step diagnostics",
+          kClockColumns,
+          {{c.t, c.dt, c.dt_prev, c.have_prev ? 1.0 : 0.0, double(d.steps), double(d.rejected_steps),
+            double(d.force_evaluations), double(d.neighbor_rebuilds), double(d.contacts),
+            double(d.max_contacts), d.dt_last, d.dt_min_used, d.dt_max_used}}};
+}
+
+SavedClock clock_from_table(const SampleTable& ct) {
+  if (ct.rows.size() != 1) throw std::runtime_error("the saved clock table must have one row");
+  const std::vector<double>& c = ct.rows[0];
+  SavedClock s;
+  s.t = c[0], s.dt = c[1], s.dt_prev = c[2], s.have_prev = c[3] != 0;
+  Diagnostics& d = s.diagnostics;
+  d.steps = static_cast<std::uint64_t>(c[4]), d.rejected_steps = static_cast<std::uint64_t>(c[5]);
+  d.force_evaluations = static_cast<std::uint64_t>(c[6]),
+  d.neighbor_rebuilds = static_cast<std::uint64_t>(c[7]);
+  d.contacts = static_cast<std::size_t>(c[8]), d.max_contacts = static_cast<std::size_t>(c[9]);
+  d.dt_last = c[10], d.dt_min_used = c[11], d.dt_max_used = c[12];
+  return s;
+}
+
+namespace {
 
 // The per-particle arrays in kParticleColumns order (after the id), as member pointers.
 const std::vector<std::vector<double> Particles::*>& particle_fields() {
@@ -174,13 +202,7 @@ std::vector<SampleTable> state_tables(const WorldState& s, const std::string& pr
   SampleTable history{
       prefix + "history", "committed shear springs by pair ids (b < 0: wall -1 - b)", kHistoryColumns, {}};
   for (const World::SavedShear& h : s.history) history.rows.push_back({double(h.a), double(h.b), h.xi});
-  const Diagnostics& d = s.diagnostics;
-  SampleTable clock{prefix + "clock",
-                    "time, step and step diagnostics",
-                    kClockColumns,
-                    {{s.t, s.dt, s.dt_prev, s.have_prev ? 1.0 : 0.0, double(d.steps),
-                      double(d.rejected_steps), double(d.force_evaluations), double(d.neighbor_rebuilds),
-                      double(d.contacts), double(d.max_contacts), d.dt_last, d.dt_min_used, d.dt_max_used}}};
+  const SampleTable clock = clock_table(prefix + "clock", {s.t, s.dt, s.dt_prev, s.have_prev, s.diagnostics});
   SampleTable wind{
       prefix + "wind", "the wind of effect wind_drag (native_dem/wind.cpp: WindField::save)", {"value"}, {}};
   for (double v : s.wind) wind.rows.push_back({v});
@@ -208,16 +230,8 @@ WorldState state_from_tables(const std::map<std::string, SampleTable>& tables, c
     const auto a = static_cast<std::int64_t>(row[0]), b = static_cast<std::int64_t>(row[1]);
     s.history.push_back({World::shear_key(a, b), a, b, row[2]});
   }
-  const SampleTable& ct = tables.at(prefix + "clock");
-  if (ct.rows.size() != 1) throw std::runtime_error("the saved clock table must have one row");
-  const std::vector<double>& c = ct.rows[0];
-  s.t = c[0], s.dt = c[1], s.dt_prev = c[2], s.have_prev = c[3] != 0;
-  Diagnostics& d = s.diagnostics;
-  d.steps = static_cast<std::uint64_t>(c[4]), d.rejected_steps = static_cast<std::uint64_t>(c[5]);
-  d.force_evaluations = static_cast<std::uint64_t>(c[6]),
-  d.neighbor_rebuilds = static_cast<std::uint64_t>(c[7]);
-  d.contacts = static_cast<std::size_t>(c[8]), d.max_contacts = static_cast<std::size_t>(c[9]);
-  d.dt_last = c[10], d.dt_min_used = c[11], d.dt_max_used = c[12];
+  const SavedClock c = clock_from_table(tables.at(prefix + "clock"));
+  s.t = c.t, s.dt = c.dt, s.dt_prev = c.dt_prev, s.have_prev = c.have_prev, s.diagnostics = c.diagnostics;
   if (tables.count(prefix + "wind"))
     for (const std::vector<double>& row : tables.at(prefix + "wind").rows) s.wind.push_back(row.at(0));
   return s;

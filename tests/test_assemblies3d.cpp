@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "input_error.hpp"
+#include "sand_spheres3d.hpp"
 #include "scene.hpp"
 #include "world3d.hpp"
 
@@ -14,24 +15,13 @@ namespace {
 
 // A box of five planes (floor and four sides) 12 cm square, k_n high enough that overlaps stay below
 // 1e-4 of a radius under a bed's weight.
-constexpr const char* kBox = R"toml(
+const std::string kBox = std::string(R"toml(
 [scene]
 dimension = 3
 duration = 0.001
 seed = 11
-effects = ["gravity", "normal_contact", "friction", "rotation"]
-[accuracy]
-integrator = "verlet"
-dt = 2e-6
-[materials.sand]
-k_n = 6e9
-k_s = 6e9
-mu = 0.5
-restitution = 0.3
-[[walls]]
-type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
+)toml") + kSandSpheres3dOnAFloor +
+                         R"toml(
 [[walls]]
 type = "plane"
 point = [0.0, 0.0, 0.0]

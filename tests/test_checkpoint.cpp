@@ -2,7 +2,10 @@
 // ran straight through; a damaged, foreign or mismatched checkpoint is refused with exit status 2.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "cli_helpers.hpp"
+#include "sand_spheres3d.hpp"
 
 namespace {
 
@@ -41,6 +44,69 @@ TEST(Checkpoint, StopAndRestartWritesTheSameFile) {
       grainlab("run " + kSmallBed + " --set materials.sand.mu=0.49 --out " + other.string(), d.path).status,
       0);
   EXPECT_FALSE(same_datasets(straight, other, d.path));
+}
+
+// A sheared sphere bed in a box periodic in x and y (the sphere kernel: lists rebuilt and spheres
+// wrapped through the sides during the run) and a die on a floor under Verlet (the general path).
+const std::string kShearedBed3d = std::string(R"toml(
+[scene]
+dimension = 3
+duration = 0.006
+seed = 5
+periodic_x = [0.0, 12.0]
+periodic_y = [0.0, 12.0]
+)toml") + kSandSpheres3dOnAFloor + R"toml(
+[[assemblies]]
+type = "poured"
+count = 150
+width = 12.0
+depth = 12.0
+origin = [0.0, 0.0, 0.0]
+density = 2.65
+settle_time = 0.1
+velocity = [1000.0, 300.0, 0.0]
+[assemblies.radius_distribution]
+kind = "uniform"
+min = 0.8
+max = 1.0
+[output]
+frames = 6
+)toml";
+
+TEST(Checkpoint, ThreeDimensionalScenesContinueBitForBit) {
+  Dir d;
+  { std::ofstream(d.path / "sheared.toml") << kShearedBed3d; }
+  const std::string die = std::string(GRAINLAB_SOURCE_DIR) +
+                          "/scenes/loaded_die_3d.toml --set accuracy.integrator=\"verlet\" "
+                          "--set accuracy.dt=1e-5 --set scene.duration=0.2 --set output.frames=5";
+  for (const std::string& scene : {(d.path / "sheared.toml").string(), die}) {
+    const fs::path straight = d.path / "straight.h5", resumed = d.path / "resumed.h5";
+    const fs::path ckpt = d.path / "resumed.checkpoint.h5";
+    ASSERT_EQ(grainlab("run " + scene + " --quiet --force --out " + straight.string(), d.path).status, 0);
+    const Outcome stop = grainlab(
+        "run " + scene + " --quiet --force --out " + resumed.string() + " --stop-after-frame 3", d.path);
+    ASSERT_EQ(stop.status, 0) << stop.err;
+    const Outcome go = grainlab(
+        "run " + scene + " --quiet --force --out " + resumed.string() + " --restart " + ckpt.string(),
+        d.path);
+    ASSERT_EQ(go.status, 0) << go.err;
+    EXPECT_TRUE(same_datasets(straight, resumed, d.path)) << scene << ": the restarted run differs";
+    fs::remove(resumed);
+  }
+  // The comparison can fail: the sheared bed a little faster is another run.
+  const fs::path a = d.path / "a.h5", b = d.path / "b.h5";
+  const std::string bed = "run " + (d.path / "sheared.toml").string() + " --quiet --force --out ";
+  ASSERT_EQ(grainlab(bed + a.string(), d.path).status, 0);
+  ASSERT_EQ(grainlab(bed + b.string() + " --set assemblies.0.velocity=[1000.0,300.001,0.0]", d.path).status,
+            0);
+  EXPECT_FALSE(same_datasets(a, b, d.path));
+  // The predictor-corrector's 3-D state is not saved yet: refused up front, by name.
+  const Outcome pc = grainlab("run " + std::string(GRAINLAB_SOURCE_DIR) +
+                                  "/scenes/loaded_die_3d.toml --quiet --checkpoint-every 1 --out " +
+                                  (d.path / "pc.h5").string(),
+                              d.path);
+  EXPECT_EQ(pc.status, 2);
+  EXPECT_NE(pc.err.find("verlet"), std::string::npos) << pc.err;
 }
 
 TEST(Checkpoint, DamagedForeignOrMismatchedIsRefused) {
