@@ -8,6 +8,7 @@
 
 #include "impact_bed.hpp"
 #include "impacts.hpp"
+#include "impacts3d.hpp"
 #include "input_error.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
@@ -82,8 +83,90 @@ std::vector<Bed> beds_for(const ImpactCommands& a, const ImpactCase& c, bool spe
   return beds;
 }
 
+// Every quantity's mean, interval and spread beside the thesis's value (Tables 3.2-3.9), as a table on
+// stdout or into `j` (the thesis's pair under `thesis_key`).
+void print_quantities(const std::map<std::string, MeanInterval>& q,
+                      const std::map<std::string, std::pair<double, double>>& thesis,
+                      const std::string& mean_label, const std::string& thesis_label) {
+  fmt::print("{:<16} {:>10} {:>20} {:>10} {:>20}\n", "quantity", mean_label, "95 % interval", "sd",
+             thesis_label);
+  for (const auto& [k, m] : q) {
+    const std::string th =
+        thesis.count(k) ? fmt::format("{:.3g} ({:.2g})", thesis.at(k).first, thesis.at(k).second) : "-";
+    fmt::print("{:<16} {:>10.4g} {:>20} {:>10.3g} {:>20}\n", k, m.mean,
+               fmt::format("[{:.4g}, {:.4g}]", m.lo, m.hi), m.sd, th);
+  }
+}
+
+void add_quantities(nlohmann::json& j, const std::map<std::string, MeanInterval>& q,
+                    const std::map<std::string, std::pair<double, double>>& thesis,
+                    const std::string& thesis_key) {
+  for (const auto& [k, m] : q) {
+    j[k] = stat_json(m);
+    if (thesis.count(k)) j[k][thesis_key] = {thesis.at(k).first, thesis.at(k).second};
+  }
+}
+
+// `grainlab impact --dimension 3`: the case with spheres, beside the thesis's 2-D values.
+int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
+  if (!a.bed_files.empty())
+    throw InputError({"--bed", 0}, a.bed_files[0], "bed files are 2-D; 3-D beds are poured here");
+  if (a.engine != "native")
+    throw InputError({"--engine", 0}, a.engine, "3-D impacts run on the native engine only so far");
+  if (c.bed != "loose")
+    throw InputError({"--case", 0}, c.name, "3-D beds are loose (poured with friction) only so far");
+  const bool speak = !a.quiet && !a.impact_json && parallel::rank() == 0;
+  Bed3dSpec spec;
+  spec.count = a.spheres;
+  spec.seed = a.bed_seed;
+  if (speak)
+    fmt::print(stderr, "grainlab impact: pouring {} spheres into a {} x {} cm box...\n", spec.count,
+               spec.width, spec.depth);
+  const Bed3d bed = build_bed3d(spec);
+  if (speak)
+    fmt::print(stderr,
+               "grainlab impact: bed top {:.2f} cm, packing {:.3f} ({:.1f} s); CASE {} (v_i {} cm/s, alpha_i "
+               "{} deg, mu {}, r_i {} cm), {} impacts\n",
+               bed.top, bed.packing_fraction, bed.build_seconds, c.name, c.speed, c.alpha_deg, c.mu, c.radius,
+               a.runs);
+  ImpactOptions o;
+  o.steps_per_contact = a.steps_per_contact;
+  ProgressBar bar(speak, "impacts");
+  const auto results = run_impact3d_ensemble(bed, c, a.seed, a.runs, o, [&](std::size_t d, std::size_t t) {
+    bar.update(static_cast<double>(d), static_cast<double>(t));
+  });
+  bar.finish();
+  if (parallel::rank() != 0) return 0;
+  const Impact3dSummary s = summarize_impacts3d(results);
+  const auto thesis = thesis_impact_values(c.name);
+  if (a.impact_json) {
+    nlohmann::json j{{"case", c.name},
+                     {"dimension", 3},
+                     {"engine", "native"},
+                     {"runs", a.runs},
+                     {"seed", a.seed},
+                     {"spheres", spec.count},
+                     {"bed_top", bed.top},
+                     {"packing_fraction", bed.packing_fraction},
+                     {"rebounds", s.rebounds},
+                     {"ejecta", s.ejecta},
+                     {"median_wall_seconds", s.median_wall_seconds},
+                     {"mean_steps", s.mean_steps}};
+    add_quantities(j, s.q, thesis, "thesis_2d");
+    fmt::print("{}\n", j.dump(2));
+    return 0;
+  }
+  fmt::print(
+      "CASE {} with spheres: {} impacts, {} rebounded, {} ejecta; median {:.2f} s per impact ({:.0f} "
+      "steps)\n",
+      c.name, s.impacts, s.rebounds, s.ejecta, s.median_wall_seconds, s.mean_steps);
+  print_quantities(s.q, thesis, "3-D mean", "thesis 2-D (spread)");
+  return 0;
+}
+
 int impact_command(const ImpactCommands& a) {
   const ImpactCase& c = impact_case(a.case_name);
+  if (a.dimension == 3) return impact3d_command(a, c);
   if (a.runs < 1) throw InputError({"--runs", 0}, "0", "must be at least 1");
   if (!a.record.empty() && !a.force && fs::exists(a.record))
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
@@ -132,23 +215,13 @@ int impact_command(const ImpactCommands& a) {
                      {"median_wall_seconds", s.median_wall_seconds},
                      {"mean_steps", s.mean_steps},
                      {"ejecta_dropped", e.ejecta_dropped}};
-    for (const auto& [k, m] : s.q) {
-      j[k] = stat_json(m);
-      if (thesis.count(k)) j[k]["thesis"] = {thesis.at(k).first, thesis.at(k).second};
-    }
+    add_quantities(j, s.q, thesis, "thesis");
     fmt::print("{}\n", j.dump(2));
     return 0;
   }
   fmt::print("CASE {}: {} impacts, {} rebounded, {} ejecta; median {:.2f} s per impact ({:.0f} steps)\n",
              c.name, s.impacts, s.rebounds, s.ejecta, s.median_wall_seconds, s.mean_steps);
-  fmt::print("{:<16} {:>10} {:>20} {:>10} {:>16}\n", "quantity", "mean", "95 % interval", "sd",
-             "thesis (spread)");
-  for (const auto& [k, m] : s.q) {
-    const std::string th =
-        thesis.count(k) ? fmt::format("{:.3g} ({:.2g})", thesis.at(k).first, thesis.at(k).second) : "-";
-    fmt::print("{:<16} {:>10.4g} {:>20} {:>10.3g} {:>16}\n", k, m.mean,
-               fmt::format("[{:.4g}, {:.4g}]", m.lo, m.hi), m.sd, th);
-  }
+  print_quantities(s.q, thesis, "mean", "thesis (spread)");
   return 0;
 }
 
@@ -321,6 +394,13 @@ void ImpactCommands::add(CLI::App& app) {
   impact_cmd->add_option("--record", record, "also write impact 0 as a run file (ParaView)");
   impact_cmd->add_flag("--force", force, "overwrite the --record file");
   impact_cmd->add_flag("--json", impact_json, "print one JSON object with every quantity");
+  impact_cmd->add_option("--dimension", dimension, "2 (discs, the thesis) or 3 (spheres, a poured bed)")
+      ->default_val(2)
+      ->check(CLI::IsMember({2, 3}));
+  impact_cmd->add_option("--spheres", spheres, "--dimension 3: spheres poured into the 67.3 x 20 cm box")
+      ->default_val(2000)
+      ->check(CLI::Range(100, 1000000));
+  impact_cmd->add_option("--bed-seed", bed_seed, "--dimension 3: seed of the pour")->default_val(1);
   impact_cmd->add_flag("--quiet,-q", quiet, "no progress");
 
   splash_cmd = app.add_subcommand("splash",

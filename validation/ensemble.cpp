@@ -1,5 +1,6 @@
 #include "ensemble.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -72,6 +73,16 @@ double family_z(std::size_t m) {
 double throws_for_half_width(double p, double h) {
   const double z = 1.959963984540054;
   return std::ceil(z * z * p * (1 - p) / (h * h));
+}
+
+RunCost run_cost(std::vector<double> wall_seconds, const std::vector<double>& steps) {
+  RunCost c;
+  for (double s : steps) c.mean_steps += s / static_cast<double>(steps.size());
+  if (!wall_seconds.empty()) {
+    std::sort(wall_seconds.begin(), wall_seconds.end());
+    c.median_wall_seconds = wall_seconds[wall_seconds.size() / 2];
+  }
+  return c;
 }
 
 }  // namespace grainlab::validation

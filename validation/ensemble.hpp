@@ -24,6 +24,12 @@ struct MeanInterval {
 };
 MeanInterval mean_interval(const std::vector<double>& values);
 
+// Median wall time and mean step count of an ensemble's runs (0 for none).
+struct RunCost {
+  double median_wall_seconds = 0, mean_steps = 0;
+};
+RunCost run_cost(std::vector<double> wall_seconds, const std::vector<double>& steps);
+
 // A proportion k / n with its 95 % Wilson score interval.
 struct Proportion {
   std::size_t k = 0, n = 0;

@@ -433,7 +433,7 @@ MeanInterval effective_mass_difference(const std::vector<ImpactResult>& a, const
 ImpactSummary summarize_impacts(const std::vector<ImpactResult>& results, double restitution) {
   std::map<std::string, std::vector<double>> v;
   ImpactSummary s;
-  std::vector<double> wall;
+  std::vector<double> wall, steps;
   for (const ImpactResult& r : results) {
     const ImpactMeasures m = measure_impact(r, restitution);
     const std::pair<const char*, double> per_impact[] = {
@@ -462,15 +462,12 @@ ImpactSummary summarize_impacts(const std::vector<ImpactResult>& results, double
     for (const auto& [t, x] : pex) v["ej_pex_" + t].push_back(x);
     for (const auto& [t, x] : rep) v["reptation_" + t].push_back(x);
     s.rebounds += r.rebounded;
-    s.mean_steps += r.steps;
+    steps.push_back(r.steps);
     wall.push_back(r.wall_seconds);
   }
   s.impacts = results.size();
-  if (!results.empty()) s.mean_steps /= static_cast<double>(results.size());
-  if (!wall.empty()) {
-    std::sort(wall.begin(), wall.end());
-    s.median_wall_seconds = wall[wall.size() / 2];
-  }
+  const RunCost cost = run_cost(wall, steps);
+  s.median_wall_seconds = cost.median_wall_seconds, s.mean_steps = cost.mean_steps;
   for (const auto& [k, x] : v) s.q[k] = mean_interval(x);
   s.q["m_beff_per_impact"] = s.q["m_beff"];
   s.q["m_beff"] = effective_mass_of_means(results, restitution);

@@ -1,0 +1,317 @@
+// Ch. III's impacts with spheres: the bed, one impact on the native 3-D engine, and their measures.
+#include "impacts3d.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "engine.hpp"
+#include "rng.hpp"
+#include "world3d.hpp"
+
+namespace grainlab::validation {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double sphere_mass(double density, double r) {
+  return density * 4.0 / 3.0 * M_PI * r * r * r;
+}
+
+// The pour: the spheres dropped into an open box of five planes with the thesis's material.
+std::string bed3d_text(const Bed3dSpec& s) {
+  const double m = sphere_mass(s.density, s.radius);
+  return fmt::format(R"toml(
+[scene]
+name = "3-D impact bed ({} spheres)"
+dimension = 3
+duration = 0.07
+seed = {}
+effects = ["gravity", "normal_contact", "friction", "rotation"]
+[accuracy]
+integrator = "verlet"
+dt = {}
+[materials.sand]
+k_n = {}
+k_s = {}
+mu = {}
+restitution = {}
+[[walls]]
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+[[walls]]
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [1.0, 0.0, 0.0]
+[[walls]]
+type = "plane"
+point = [{}, 0.0, 0.0]
+normal = [-1.0, 0.0, 0.0]
+[[walls]]
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+[[walls]]
+type = "plane"
+point = [0.0, {}, 0.0]
+normal = [0.0, -1.0, 0.0]
+[[assemblies]]
+type = "poured"
+count = {}
+width = {}
+depth = {}
+origin = [0.0, 0.0, 0.0]
+density = {}
+radius = {}
+settle_time = {}
+)toml",
+                     s.count, s.seed, contact_time(s.k_n, m, m) / 30, s.k_n, s.k_n, s.mu, s.restitution,
+                     s.width, s.depth, s.count, s.width, s.depth, s.density, s.radius, s.settle_time);
+}
+
+// The exposed height of each 2 r x 2 r column in the middle 80 % of the box, and its 90th percentile.
+double bed_top(const std::vector<Body3Spec>& b, const Bed3dSpec& s) {
+  const double cell = 2 * s.radius;
+  std::map<std::pair<long, long>, double> column;
+  for (const Body3Spec& g : b) {
+    const double x = g.position.x(), y = g.position.y();
+    if (x < 0.1 * s.width || x > 0.9 * s.width || y < 0.1 * s.depth || y > 0.9 * s.depth) continue;
+    double& h = column[{static_cast<long>(x / cell), static_cast<long>(y / cell)}];
+    h = std::max(h, g.position.z() + g.radius);
+  }
+  std::vector<double> h;
+  for (const auto& [k, z] : column) h.push_back(z);
+  if (h.empty()) throw std::runtime_error("3-D impact bed: no spheres in the middle of the box");
+  std::sort(h.begin(), h.end());
+  return h[static_cast<std::size_t>(0.9 * static_cast<double>(h.size() - 1))];
+}
+
+// Solid fraction on a 20^3 grid of points in the box [lo, hi].
+double solid_fraction(const std::vector<Body3Spec>& b, const Vec3& lo, const Vec3& hi) {
+  if ((hi - lo).minCoeff() <= 0) return kNaN;
+  const int n = 20;
+  int inside = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const Vec3 p = lo + (hi - lo).cwiseProduct(Vec3(i + 0.5, j + 0.5, k + 0.5) / n);
+        inside += std::any_of(b.begin(), b.end(), [&](const Body3Spec& s) {
+          return (p - s.position).squaredNorm() < s.radius * s.radius;
+        });
+      }
+  return double(inside) / (n * n * n);
+}
+
+struct Aim3 {
+  Vec3 release, normal;  // normal: from the target's centre to the contact point
+  std::size_t target = 0;
+};
+
+// Where a sphere of radius `ri` moving along d = (cos a, 0, -sin a) through (x, y, top) first touches the
+// bed (a ray cast of the inflated spheres from above); it is released `gap` before that.
+Aim3 aim_at(const Bed3d& bed, double x, double y, double alpha, double ri, double gap) {
+  const Vec3 d(std::cos(alpha), 0, -std::sin(alpha));
+  const double lift = ri + 4 * bed.spec.radius;
+  const Vec3 start(x - lift * d.x() / -d.z(), y, bed.top + lift);
+  double best = std::numeric_limits<double>::infinity();
+  Aim3 aim;
+  const auto& b = bed.scene.bodies3d;
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    const Vec3 o = start - b[k].position;
+    const double reach = ri + b[k].radius, p = o.dot(d), disc = p * p - (o.squaredNorm() - reach * reach);
+    if (disc < 0) continue;
+    const double s = -p - std::sqrt(disc);
+    if (s > 0 && s < best) best = s, aim.target = k, aim.normal = (o + s * d) / reach;
+  }
+  if (!std::isfinite(best)) throw std::runtime_error("3-D impact: the incident path misses the bed");
+  aim.release = start + (best - gap) * d;
+  return aim;
+}
+
+Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, const ImpactOptions& o) {
+  Scene s = bed.scene;
+  s.name = fmt::format("3-D impact CASE {}", c.name);
+  s.duration = o.duration;
+  s.materials.at(0).mu = c.mu;
+  if (c.mu == 0) s.effects.set(Effect::friction, false);
+  Body3Spec in;
+  for (const Body3Spec& b : s.bodies3d) in.id = std::max(in.id, b.id + 1);
+  in.radius = c.radius;
+  in.mass = sphere_mass(bed.spec.density, c.radius);
+  in.inertia = Mat3::Identity() * (0.4 * in.mass * c.radius * c.radius);
+  in.position = aim.release;
+  in.velocity = Vec3(c.speed * std::cos(c.alpha_deg * kDeg), 0, -c.speed * std::sin(c.alpha_deg * kDeg));
+  s.bodies3d.push_back(in);
+  const double mb = sphere_mass(bed.spec.density, bed.spec.radius);
+  const double tc = std::min(contact_time(bed.spec.k_n, mb, mb), contact_time(bed.spec.k_n, mb, in.mass));
+  s.accuracy.integrator = Integrator::VelocityVerlet;
+  s.accuracy.dt = tc / o.steps_per_contact;
+  return s;
+}
+
+}  // namespace
+
+Bed3d build_bed3d(const Bed3dSpec& spec) {
+  const auto start = std::chrono::steady_clock::now();
+  Bed3d bed;
+  bed.spec = spec;
+  bed.scene = parse_scene(bed3d_text(spec), "3-D impact bed");
+  bed.scene.bodies3d = dem::expanded_bodies3d(bed.scene);
+  bed.scene.assemblies.clear();
+  bed.top = bed_top(bed.scene.bodies3d, spec);
+  const double d = 2 * spec.radius;
+  bed.packing_fraction = solid_fraction(bed.scene.bodies3d, Vec3(2 * d, 2 * d, 2 * d),
+                                        Vec3(spec.width - 2 * d, spec.depth - 2 * d, bed.top - 2 * d));
+  bed.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return bed;
+}
+
+Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
+                            const ImpactOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  Rng rng(seed, run);
+  const Bed3dSpec& s = bed.spec;
+  const double x = 0.5 * s.width + (rng.uniform() - 0.5) * o.window * s.width;
+  const double y = 0.5 * s.depth + (rng.uniform() - 0.5) * o.window * s.depth;
+  const Aim3 aim = aim_at(bed, x, y, c.alpha_deg * kDeg, c.radius, 0.01 * c.radius);
+  const Scene scene = impact3d_scene(bed, c, aim, o);
+  const std::vector<Body3Spec>& b = bed.scene.bodies3d;
+  Impact3dResult r;
+  const Vec3 hit = b[aim.target].position + b[aim.target].radius * aim.normal;
+  r.x_impact = hit.x(), r.y_impact = hit.y(), r.z_impact = hit.z();
+  r.incident_speed = c.speed, r.alpha_deg = c.alpha_deg;
+  r.incident_mass = scene.bodies3d.back().mass, r.bed_mass = b[aim.target].mass;
+  r.g = -scene.gravity3d.z();
+
+  auto engine = make_engine("native", scene);
+  const std::size_t n = b.size();
+  const double z_eject = bed.top + 2 * s.radius;
+  std::vector<char> gone(n, 0);
+  double z_left = aim.release.z();
+  for (double t = 0; t < o.duration;) {
+    t = std::min(o.duration, t + o.check_interval);
+    engine->advance_to(t);
+    const Frame f = engine->frame();  // by id: the bed's spheres, then the incident one
+    for (std::size_t i = 0; i < n; ++i) {
+      const double z = f.position[3 * i + 2], vz = f.velocity[3 * i + 2];
+      if (gone[i] || z <= z_eject || vz <= 0) continue;
+      gone[i] = 1;
+      const Vec3 from = b[i].position - hit;
+      r.ejecta.push_back(
+          {f.id[i], from.x(), from.y(), from.z(), f.velocity[3 * i], f.velocity[3 * i + 1], vz, t});
+    }
+    if (r.rebounded) continue;
+    const Vec3 p(f.position[3 * n], f.position[3 * n + 1], f.position[3 * n + 2]);
+    for (std::size_t i = 0; i < n; ++i)
+      if ((p - Vec3(f.position[3 * i], f.position[3 * i + 1], f.position[3 * i + 2])).squaredNorm() <
+          std::pow(c.radius + f.radius[i], 2)) {
+        z_left = p.z();
+        break;
+      }
+    const double vz = f.velocity[3 * n + 2];
+    if (p.z() > z_eject && vz > 0) {
+      r.rebounded = true;
+      r.vx = f.velocity[3 * n], r.vy = f.velocity[3 * n + 1];
+      r.vz = std::sqrt(vz * vz + 2 * r.g * std::max(0.0, p.z() - z_left));
+    }
+  }
+  const auto d = engine->diagnostics();
+  if (d.count("steps")) r.steps = d.at("steps");
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+Impact3dSummary summarize_impacts3d(const std::vector<Impact3dResult>& results) {
+  std::map<std::string, std::vector<double>> v;
+  Impact3dSummary s;
+  std::vector<double> wall, steps;
+  for (const Impact3dResult& r : results) {
+    const double a = r.alpha_deg * kDeg, speed = r.incident_speed;
+    const double vx_in = speed * std::cos(a), vz_in = speed * std::sin(a);
+    auto rebound = [&](double x) { return r.rebounded ? x : kNaN; };
+    v["rebounded"].push_back(r.rebounded ? 1 : 0);
+    v["eps_ix"].push_back(rebound(r.vx / vx_in));
+    v["eps_iy"].push_back(rebound(r.vz / vz_in));
+    v["eps_iz"].push_back(rebound(r.vy / speed));
+    v["eps_i"].push_back(rebound(std::sqrt(r.vx * r.vx + r.vy * r.vy + r.vz * r.vz) / speed));
+    v["theta_i"].push_back(rebound(std::atan2(std::hypot(r.vx, r.vy), r.vz) / kDeg));
+    double reptation = 0, energy = 0;
+    for (const Ejectum3d& e : r.ejecta) {
+      const double azimuth = std::atan2(e.vy, e.vx);
+      v["ej_speed"].push_back(std::sqrt(e.vx * e.vx + e.vy * e.vy + e.vz * e.vz));
+      v["ej_vy"].push_back(e.vz);
+      v["ej_angle"].push_back(std::atan2(e.vx, e.vz) / kDeg);
+      v["ej_tilt"].push_back(std::atan2(std::hypot(e.vx, e.vy), e.vz) / kDeg);
+      v["ej_azimuth"].push_back(azimuth / kDeg);
+      v["ej_sideways"].push_back(std::abs(std::sin(azimuth)));
+      v["ej_backward"].push_back(e.vx < 0 ? 1 : 0);
+      v["origin_r"].push_back(std::hypot(e.x0, e.y0));
+      reptation += 2 * e.vx * e.vz / r.g;
+      energy += 0.5 * r.bed_mass * (e.vx * e.vx + e.vy * e.vy + e.vz * e.vz);
+      ++s.ejecta;
+    }
+    v["ejected"].push_back(static_cast<double>(r.ejecta.size()));
+    v["reptation"].push_back(reptation);
+    v["ej_energy"].push_back(energy / (0.5 * r.incident_mass * speed * speed));
+    s.rebounds += r.rebounded;
+    steps.push_back(r.steps);
+    wall.push_back(r.wall_seconds);
+  }
+  s.impacts = results.size();
+  const RunCost cost = run_cost(wall, steps);
+  s.median_wall_seconds = cost.median_wall_seconds, s.mean_steps = cost.mean_steps;
+  for (const auto& [k, x] : v) s.q[k] = mean_interval(x);
+  return s;
+}
+
+namespace {
+// One impact as a fixed-width row (MPI gathering): 14 numbers, then 8 per ejectum.
+constexpr std::size_t kHead3 = 14, kPer3 = 8;
+
+std::vector<double> pack(const Impact3dResult& r) {
+  std::vector<double> row{
+      r.x_impact, r.y_impact,       r.z_impact,  r.rebounded ? 1.0 : 0.0, r.vx,       r.vy,
+      r.vz,       r.incident_speed, r.alpha_deg, r.incident_mass,         r.bed_mass, r.g,
+      r.steps,    r.wall_seconds};
+  row.resize(kHead3 + kMaxEjecta * kPer3, kNaN);
+  for (std::size_t k = 0; k < std::min(r.ejecta.size(), kMaxEjecta); ++k) {
+    const Ejectum3d& e = r.ejecta[k];
+    const double q[kPer3] = {double(e.id), e.x0, e.y0, e.z0, e.vx, e.vy, e.vz, e.time};
+    std::copy(q, q + kPer3, row.begin() + static_cast<long>(kHead3 + k * kPer3));
+  }
+  return row;
+}
+
+Impact3dResult unpack(const std::vector<double>& w) {
+  Impact3dResult r;
+  r.x_impact = w[0], r.y_impact = w[1], r.z_impact = w[2], r.rebounded = w[3] != 0;
+  r.vx = w[4], r.vy = w[5], r.vz = w[6], r.incident_speed = w[7], r.alpha_deg = w[8];
+  r.incident_mass = w[9], r.bed_mass = w[10], r.g = w[11], r.steps = w[12], r.wall_seconds = w[13];
+  for (std::size_t k = 0; k < kMaxEjecta; ++k) {
+    const double* q = w.data() + kHead3 + k * kPer3;
+    if (std::isnan(q[0])) break;
+    r.ejecta.push_back({static_cast<std::int64_t>(q[0]), q[1], q[2], q[3], q[4], q[5], q[6], q[7]});
+  }
+  return r;
+}
+}  // namespace
+
+std::vector<Impact3dResult> run_impact3d_ensemble(
+    const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t runs, const ImpactOptions& o,
+    const std::function<void(std::size_t, std::size_t)>& progress) {
+  const auto rows = run_ensemble(
+      runs, kHead3 + kMaxEjecta * kPer3,
+      [&](std::size_t i) { return pack(run_impact3d(bed, c, seed, i, o)); }, progress);
+  std::vector<Impact3dResult> out;
+  for (const auto& row : rows) out.push_back(unpack(row));
+  return out;
+}
+
+}  // namespace grainlab::validation

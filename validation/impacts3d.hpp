@@ -1,0 +1,81 @@
+#pragma once
+// Ch. III's impacts with spheres (issue #15): the thesis's own question of how 3-D differs from 2-D. A
+// bed of spheres poured into an open box of planes, an incident sphere fired along +x at alpha_i below
+// the horizontal at a random point of the bed's middle, followed for 0.07 s; the rebound and every
+// ejected sphere recorded as in 2-D (impacts.hpp), with their sideways (y) velocities kept.
+//
+// The spheres have the thesis discs' mass (density 1.5 g/cm^3: m = 2 pi g for r = 1 cm, as 2.0 g/cm^2
+// discs), so contact times and pair restitution are the 2-D ones and only the dimension differs.
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "ensemble.hpp"
+#include "impacts.hpp"
+#include "scene.hpp"
+
+namespace grainlab::validation {
+
+struct Bed3dSpec {
+  std::uint64_t seed = 1;
+  int count = 2000;                    // spheres
+  double width = 67.3, depth = 20;     // the box along x (as the thesis's) and y
+  double radius = 1.0, density = 1.5;  // g/cm^3: the 2-D discs' mass
+  double k_n = 6e9, restitution = 0.85, mu = 0.5;
+  double settle_time = 0.5;  // s of pouring and settling
+};
+
+struct Bed3d {
+  Bed3dSpec spec;
+  Scene scene;  // every sphere listed as a body, at rest; the planes; the thesis's material
+  // "Top of the bed": the 90th percentile of the exposed height (the highest sphere top in each
+  // 2 r_b x 2 r_b column) over the middle 80 % of the box in x and y. (2-D takes the highest exposed point
+  // of a line of ~30 grains; the maximum over a 3-D area of ~300 columns would be an outlier.)
+  double top = 0;
+  double packing_fraction = 0;  // in the interior (2 diameters from walls, floor and top)
+  double build_seconds = 0;
+};
+
+// Pours and settles a bed (seconds to a minute of computing).
+Bed3d build_bed3d(const Bed3dSpec& spec);
+
+struct Ejectum3d {
+  std::int64_t id = -1;
+  double x0 = 0, y0 = 0, z0 = 0;  // where it sat, relative to the impact point (cm)
+  double vx = 0, vy = 0, vz = 0;  // when its centre crossed top + 2 r_b (cm/s)
+  double time = 0;
+};
+
+struct Impact3dResult {
+  double x_impact = 0, y_impact = 0, z_impact = 0;
+  bool rebounded = false;
+  double vx = 0, vy = 0, vz = 0;  // incident grain where it left the bed (vz carried back to there)
+  double incident_speed = 0, alpha_deg = 0, incident_mass = 0, bed_mass = 0, g = 981;
+  std::vector<Ejectum3d> ejecta;
+  double steps = 0, wall_seconds = 0;
+};
+
+// Impact number `run` of case `c` on `bed` (native 3-D engine): the point is drawn from Rng(seed, run).
+Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
+                            const ImpactOptions& o = {});
+
+// Means with intervals over impacts, under the 2-D summary's names where the quantity is the same
+// (eps_ix, eps_iy (vertical), eps_i, theta_i, ejected, reptation, ej_speed, ej_vy (vertical), ej_angle
+// (from the vertical)) and 3-D ones: eps_iz (the rebound's sideways velocity / v_i), ej_azimuth (degrees
+// from +x, -180..180), ej_sideways (|sin| of the azimuth: 0 along the incident plane, 1 across it),
+// ej_backward (1 if thrown upwind), ej_energy (ejected kinetic energy / incident, at crossing).
+struct Impact3dSummary {
+  std::map<std::string, MeanInterval> q;
+  std::size_t impacts = 0, rebounds = 0, ejecta = 0;
+  double median_wall_seconds = 0, mean_steps = 0;
+};
+Impact3dSummary summarize_impacts3d(const std::vector<Impact3dResult>& r);
+
+// `runs` impacts of case `c`, dealt out over the MPI ranks (the same on any rank count).
+std::vector<Impact3dResult> run_impact3d_ensemble(
+    const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t runs, const ImpactOptions& o,
+    const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+}  // namespace grainlab::validation
