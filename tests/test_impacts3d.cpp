@@ -37,8 +37,8 @@ TEST(Impacts3d, SpheresStruckAsCaseAGiveBackNoMoreEnergyThanTheyGet) {
     EXPECT_EQ(one.vx, r.vx);
     EXPECT_NEAR(r.incident_mass, 2 * M_PI, 1e-12);  // the thesis disc's mass
     const Impact3dSummary s = summarize_impacts3d({r});
-    // Kinetic energy out (rebound where it left the bed; ejecta as they crossed top + 2 r_b) over in.
-    // The incident grain falls about 1 cm after release, which releases 2e-4 of its energy.
+    // Kinetic energy out (rebound and ejecta where they left the bed) over in. The incident grain falls
+    // about 1 cm after release, which releases 2e-4 of its energy.
     const double out = (r.rebounded ? std::pow(s.q.at("eps_i").mean, 2) : 0) + s.q.at("ej_energy").mean;
     EXPECT_LT(out, 1.0 + 2e-4) << "impact " << k;
     EXPECT_GT(out, 0.0);

@@ -204,8 +204,9 @@ Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t
       if (gone[i] || z <= z_eject || vz <= 0) continue;
       gone[i] = 1;
       const Vec3 from = b[i].position - hit;
-      r.ejecta.push_back(
-          {f.id[i], from.x(), from.y(), from.z(), f.velocity[3 * i], f.velocity[3 * i + 1], vz, t});
+      const double vz_launch = std::sqrt(vz * vz + 2 * r.g * std::max(0.0, z - b[i].position.z()));
+      r.ejecta.push_back({f.id[i], from.x(), from.y(), from.z(), f.velocity[3 * i], f.velocity[3 * i + 1], vz,
+                          vz_launch, t});
     }
     if (r.rebounded) continue;
     const Vec3 p(f.position[3 * n], f.position[3 * n + 1], f.position[3 * n + 2]);
@@ -254,7 +255,7 @@ Impact3dSummary summarize_impacts3d(const std::vector<Impact3dResult>& results) 
       v["ej_backward"].push_back(e.vx < 0 ? 1 : 0);
       v["origin_r"].push_back(std::hypot(e.x0, e.y0));
       reptation += 2 * e.vx * e.vz / r.g;
-      energy += 0.5 * r.bed_mass * (e.vx * e.vx + e.vy * e.vy + e.vz * e.vz);
+      energy += 0.5 * r.bed_mass * (e.vx * e.vx + e.vy * e.vy + e.vz_launch * e.vz_launch);
       ++s.ejecta;
     }
     v["ejected"].push_back(static_cast<double>(r.ejecta.size()));
@@ -272,8 +273,8 @@ Impact3dSummary summarize_impacts3d(const std::vector<Impact3dResult>& results) 
 }
 
 namespace {
-// One impact as a fixed-width row (MPI gathering): 14 numbers, then 8 per ejectum.
-constexpr std::size_t kHead3 = 14, kPer3 = 8;
+// One impact as a fixed-width row (MPI gathering): 14 numbers, then 9 per ejectum.
+constexpr std::size_t kHead3 = 14, kPer3 = 9;
 
 std::vector<double> pack(const Impact3dResult& r) {
   std::vector<double> row{
@@ -283,7 +284,7 @@ std::vector<double> pack(const Impact3dResult& r) {
   row.resize(kHead3 + kMaxEjecta * kPer3, kNaN);
   for (std::size_t k = 0; k < std::min(r.ejecta.size(), kMaxEjecta); ++k) {
     const Ejectum3d& e = r.ejecta[k];
-    const double q[kPer3] = {double(e.id), e.x0, e.y0, e.z0, e.vx, e.vy, e.vz, e.time};
+    const double q[kPer3] = {double(e.id), e.x0, e.y0, e.z0, e.vx, e.vy, e.vz, e.vz_launch, e.time};
     std::copy(q, q + kPer3, row.begin() + static_cast<long>(kHead3 + k * kPer3));
   }
   return row;
@@ -297,7 +298,7 @@ Impact3dResult unpack(const std::vector<double>& w) {
   for (std::size_t k = 0; k < kMaxEjecta; ++k) {
     const double* q = w.data() + kHead3 + k * kPer3;
     if (std::isnan(q[0])) break;
-    r.ejecta.push_back({static_cast<std::int64_t>(q[0]), q[1], q[2], q[3], q[4], q[5], q[6], q[7]});
+    r.ejecta.push_back({static_cast<std::int64_t>(q[0]), q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8]});
   }
   return r;
 }

@@ -45,6 +45,7 @@ struct Ejectum3d {
   std::int64_t id = -1;
   double x0 = 0, y0 = 0, z0 = 0;  // where it sat, relative to the impact point (cm)
   double vx = 0, vy = 0, vz = 0;  // when its centre crossed top + 2 r_b (cm/s)
+  double vz_launch = 0;           // vz carried back ballistically to its original centre height
   double time = 0;
 };
 
@@ -65,7 +66,7 @@ Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t
 // (eps_ix, eps_iy (vertical), eps_i, theta_i, ejected, reptation, ej_speed, ej_vy (vertical), ej_angle
 // (from the vertical)) and 3-D ones: eps_iz (the rebound's sideways velocity / v_i), ej_azimuth (degrees
 // from +x, -180..180), ej_sideways (|sin| of the azimuth: 0 along the incident plane, 1 across it),
-// ej_backward (1 if thrown upwind), ej_energy (ejected kinetic energy / incident, at crossing).
+// ej_backward (1 if thrown upwind), ej_energy (ejected kinetic energy at launch / incident, as in 2-D).
 struct Impact3dSummary {
   std::map<std::string, MeanInterval> q;
   std::size_t impacts = 0, rebounds = 0, ejecta = 0;
