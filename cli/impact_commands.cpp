@@ -136,6 +136,11 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
     bar.update(static_cast<double>(d), static_cast<double>(t));
   });
   bar.finish();
+  if (!a.record.empty() && parallel::rank() == 0) {
+    ImpactOptions ro = o;
+    ro.record = a.record, ro.overwrite = a.force;
+    run_impact3d(bed, c, a.seed, 0, ro);
+  }
   if (parallel::rank() != 0) return 0;
   const Impact3dSummary s = summarize_impacts3d(results);
   const auto thesis = thesis_impact_values(c.name);
@@ -166,10 +171,10 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
 
 int impact_command(const ImpactCommands& a) {
   const ImpactCase& c = impact_case(a.case_name);
-  if (a.dimension == 3) return impact3d_command(a, c);
   if (a.runs < 1) throw InputError({"--runs", 0}, "0", "must be at least 1");
   if (!a.record.empty() && !a.force && fs::exists(a.record))
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
+  if (a.dimension == 3) return impact3d_command(a, c);
   const bool speak = !a.quiet && !a.impact_json && parallel::rank() == 0;
   const std::vector<Bed> beds = beds_for(a, c, speak);
   ImpactOptions o;

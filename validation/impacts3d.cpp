@@ -226,6 +226,15 @@ Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t
   const auto d = engine->diagnostics();
   if (d.count("steps")) r.steps = d.at("steps");
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!o.record.empty()) {  // the same impact again, written as a run file (1 ms frames) for ParaView
+    Scene shown = scene;
+    shown.output.frames = static_cast<int>(std::round(o.duration / 1e-3));
+    auto again = make_engine("native", shown);
+    RunOptions ro;
+    ro.out = o.record;
+    ro.overwrite = o.overwrite;
+    run_scene(shown, *again, ro);
+  }
   return r;
 }
 
