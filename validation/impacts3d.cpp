@@ -261,6 +261,7 @@ Impact3dSummary summarize_impacts3d(const std::vector<Impact3dResult>& results) 
       v["ej_tilt"].push_back(std::atan2(std::hypot(e.vx, e.vy), e.vz) / kDeg);
       v["ej_azimuth"].push_back(azimuth / kDeg);
       v["ej_sideways"].push_back(std::abs(std::sin(azimuth)));
+      v["ej_sin_azimuth"].push_back(std::sin(azimuth));
       v["ej_backward"].push_back(e.vx < 0 ? 1 : 0);
       v["origin_r"].push_back(std::hypot(e.x0, e.y0));
       reptation += 2 * e.vx * e.vz / r.g;

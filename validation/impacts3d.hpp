@@ -66,6 +66,7 @@ Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t
 // (eps_ix, eps_iy (vertical), eps_i, theta_i, ejected, reptation, ej_speed, ej_vy (vertical), ej_angle
 // (from the vertical)) and 3-D ones: eps_iz (the rebound's sideways velocity / v_i), ej_azimuth (degrees
 // from +x, -180..180), ej_sideways (|sin| of the azimuth: 0 along the incident plane, 1 across it),
+// ej_sin_azimuth (signed: +y or -y),
 // ej_backward (1 if thrown upwind), ej_energy (ejected kinetic energy at launch / incident, as in 2-D).
 struct Impact3dSummary {
   std::map<std::string, MeanInterval> q;

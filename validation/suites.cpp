@@ -34,6 +34,10 @@ const std::vector<Suite>& suites() {
        "statements as "
        "checks, the rebound model (Appendix III.1), and the impulse engines that can hold the bed",
        run_impacts_suite},
+      {"impacts-3d",
+       "Ch. III's impacts with spheres beside discs (issue #15): energy and the symmetry across the incident "
+       "plane checked, rebound and ejecta set beside 2-D and the thesis",
+       run_impacts_3d_suite},
       {"saltation",
        "the thesis's Ch. IV saltation models: the conveyor belt (Tables 4.1-4.2), the wind-driven model's "
        "identities, Tables 4.4 and 4.5, CASE 1's text numbers and the flux law",

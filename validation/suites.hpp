@@ -33,6 +33,7 @@ void run_block_incline_suite(Report& r, const SuiteOptions& o);
 void run_pair_impact_suite(Report& r, const SuiteOptions& o);
 void run_stability_suite(Report& r, const SuiteOptions& o);
 void run_impacts_suite(Report& r, const SuiteOptions& o);  // the 3-D part of the suite
+void run_impacts_3d_suite(Report& r, const SuiteOptions& o);
 void run_saltation_suite(Report& r, const SuiteOptions& o);
 void run_ripples_suite(Report& r, const SuiteOptions& o);
 void run_dem_saltation_suite(Report& r, const SuiteOptions& o);
