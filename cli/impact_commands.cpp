@@ -83,6 +83,16 @@ std::vector<Bed> beds_for(const ImpactCommands& a, const ImpactCase& c, bool spe
   return beds;
 }
 
+// Says how far the bed moved alone (when speaking) and stops unless it held (check_bed_held).
+void report_bed_held(const BedHold& h, const std::string& engine, double duration, bool speak) {
+  if (speak)
+    fmt::print(stderr,
+               "grainlab impact: {} holding the bed alone for {} s: largest displacement {:.3g} cm, "
+               "largest speed {:.3g} cm/s, kinetic energy {:.3g} erg\n",
+               engine, duration, h.max_displacement, h.max_speed, h.kinetic_energy);
+  check_bed_held(h, engine);
+}
+
 // Every quantity's mean, interval and spread beside the thesis's value (Tables 3.2-3.9), as a table on
 // stdout or into `j` (the thesis's pair under `thesis_key`).
 void print_quantities(const std::map<std::string, MeanInterval>& q,
@@ -111,8 +121,6 @@ void add_quantities(nlohmann::json& j, const std::map<std::string, MeanInterval>
 int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   if (!a.bed_files.empty())
     throw InputError({"--bed", 0}, a.bed_files[0], "bed files are 2-D; 3-D beds are poured here");
-  if (a.engine != "native")
-    throw InputError({"--engine", 0}, a.engine, "3-D impacts run on the native engine only so far");
   if (c.bed != "loose")
     throw InputError({"--case", 0}, c.name, "3-D beds are loose (poured with friction) only so far");
   const bool speak = !a.quiet && !a.impact_json && parallel::rank() == 0;
@@ -130,7 +138,13 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
                bed.top, bed.packing_fraction, bed.build_seconds, c.name, c.speed, c.alpha_deg, c.mu, c.radius,
                a.runs);
   ImpactOptions o;
+  o.engine = a.engine;
   o.steps_per_contact = a.steps_per_contact;
+  if (a.engine != "native" || a.hold) {
+    // An impulse engine must hold the bed at rest first, or its "ejecta" are the bed falling apart.
+    const BedHold h = hold_bed3d(bed, a.engine, o.duration, o.rigid_dt);
+    report_bed_held(h, a.engine, o.duration, speak);
+  }
   ProgressBar bar(speak, "impacts");
   const auto results = run_impact3d_ensemble(bed, c, a.seed, a.runs, o, [&](std::size_t d, std::size_t t) {
     bar.update(static_cast<double>(d), static_cast<double>(t));
@@ -147,7 +161,7 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   if (a.impact_json) {
     nlohmann::json j{{"case", c.name},
                      {"dimension", 3},
-                     {"engine", "native"},
+                     {"engine", a.engine},
                      {"runs", a.runs},
                      {"seed", a.seed},
                      {"spheres", spec.count},
@@ -183,12 +197,7 @@ int impact_command(const ImpactCommands& a) {
   if (a.engine != "native") {
     // An impulse engine must hold the bed at rest first, or its "ejecta" are the bed falling apart.
     const BedHold h = hold_bed(beds[0], a.engine, o.duration, o.rigid_dt);
-    if (speak)
-      fmt::print(stderr,
-                 "grainlab impact: {} holding the bed alone for {} s: largest displacement {:.3g} cm, "
-                 "largest speed {:.3g} cm/s, kinetic energy {:.3g} erg\n",
-                 a.engine, o.duration, h.max_displacement, h.max_speed, h.kinetic_energy);
-    check_bed_held(h, a.engine);
+    report_bed_held(h, a.engine, o.duration, speak);
   }
   ProgressBar bar(speak, "impacts");
   if (speak)
@@ -406,6 +415,10 @@ void ImpactCommands::add(CLI::App& app) {
       ->default_val(2000)
       ->check(CLI::Range(100, 1000000));
   impact_cmd->add_option("--bed-seed", bed_seed, "--dimension 3: seed of the pour")->default_val(1);
+  impact_cmd->add_flag(
+      "--hold", hold,
+      "--dimension 3: first run the bed alone for 0.07 s and report (and check) how far it moves "
+      "(always done for impulse engines)");
   impact_cmd->add_flag("--quiet,-q", quiet, "no progress");
 
   splash_cmd = app.add_subcommand("splash",

@@ -24,6 +24,7 @@ struct ImpactCommands {
   std::uint64_t seed = 1;
   bool impact_json = false, quiet = false, force = false;
   int dimension = 2, spheres = 2000;  // --dimension 3: spheres in the poured bed
+  bool hold = false;                  // --dimension 3: report how far the bed moves alone
   // grainlab rebound-model
   int model_case = 2;
   double alpha = 15, mass_ratio = -1, sigma = -2, spin = 0, gap = 0, radius_ratio = 1;

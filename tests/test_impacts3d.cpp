@@ -15,7 +15,6 @@ Bed3d small_bed() {
   Bed3dSpec spec;
   spec.count = 360;
   spec.width = 16, spec.depth = 12;
-  spec.settle_time = 0.3;
   return build_bed3d(spec);
 }
 

@@ -197,7 +197,7 @@ void check_bed_held(const BedHold& h, const std::string& engine) {
   if (h.max_speed <= 1.0 && h.max_displacement <= 0.05) return;
   throw InputError(
       {"--engine", 0}, engine,
-      fmt::format("cannot hold the impact bed at rest: alone for 0.07 s its discs move up to {:.3g} "
+      fmt::format("cannot hold the impact bed at rest: alone for 0.07 s its grains move up to {:.3g} "
                   "cm at up to {:.3g} cm/s (allowed 0.05 cm and 1 cm/s), so its "
                   "impacts would measure the bed's own motion",
                   h.max_displacement, h.max_speed));

@@ -24,14 +24,15 @@ double sphere_mass(double density, double r) {
   return density * 4.0 / 3.0 * M_PI * r * r * r;
 }
 
-// The pour: the spheres dropped into an open box of five planes with the thesis's material.
-std::string bed3d_text(const Bed3dSpec& s) {
+// The box of five planes and a material of stiffness k_n and restitution e (the thesis's friction),
+// stepped at 1/30 of a contact; with a pour of the spec's spheres when `pour` is set.
+std::string bed3d_text(const Bed3dSpec& s, double k_n, double e, double duration, bool pour) {
   const double m = sphere_mass(s.density, s.radius);
-  return fmt::format(R"toml(
+  std::string text = fmt::format(R"toml(
 [scene]
 name = "3-D impact bed ({} spheres)"
 dimension = 3
-duration = 0.07
+duration = {}
 seed = {}
 effects = ["gravity", "normal_contact", "friction", "rotation"]
 [accuracy]
@@ -62,18 +63,30 @@ normal = [0.0, 1.0, 0.0]
 type = "plane"
 point = [0.0, {}, 0.0]
 normal = [0.0, -1.0, 0.0]
-[[assemblies]]
-type = "poured"
-count = {}
-width = {}
-depth = {}
-origin = [0.0, 0.0, 0.0]
-density = {}
-radius = {}
-settle_time = {}
 )toml",
-                     s.count, s.seed, contact_time(s.k_n, m, m) / 30, s.k_n, s.k_n, s.mu, s.restitution,
-                     s.width, s.depth, s.count, s.width, s.depth, s.density, s.radius, s.settle_time);
+                                 s.count, duration, s.seed, contact_time(k_n, m, m) / 30, k_n, k_n, s.mu, e,
+                                 s.width, s.depth);
+  if (pour)
+    text += fmt::format(
+        "[[assemblies]]\ntype = \"poured\"\ncount = {}\nwidth = {}\ndepth = {}\norigin = [0.0, 0.0, 0.0]\n"
+        "density = {}\nradius = {}\nsettle_time = {}\n",
+        s.count, s.width, s.depth, s.density, s.radius, duration);
+  return text;
+}
+
+// The bed after `duration` more of `k_n` and `e`, from `bodies` at rest; velocities zeroed.
+std::vector<Body3Spec> settled(const Bed3dSpec& s, std::vector<Body3Spec> bodies, double k_n, double e,
+                               double duration) {
+  Scene scene = parse_scene(bed3d_text(s, k_n, e, duration, false), "3-D impact bed");
+  scene.bodies3d = std::move(bodies);
+  dem::World3d w(scene);
+  w.advance_to(duration);
+  std::vector<Body3Spec> out = scene.bodies3d;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i].position = w.bodies()[i].x, out[i].orientation = w.bodies()[i].q;
+    out[i].velocity = Vec3::Zero(), out[i].spin = Vec3::Zero();
+  }
+  return out;
 }
 
 // The exposed height of each 2 r x 2 r column in the middle 80 % of the box, and its 90th percentile.
@@ -152,7 +165,7 @@ Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, con
   const double mb = sphere_mass(bed.spec.density, bed.spec.radius);
   const double tc = std::min(contact_time(bed.spec.k_n, mb, mb), contact_time(bed.spec.k_n, mb, in.mass));
   s.accuracy.integrator = Integrator::VelocityVerlet;
-  s.accuracy.dt = tc / o.steps_per_contact;
+  s.accuracy.dt = engine_capabilities(o.engine).soft_contacts ? tc / o.steps_per_contact : o.rigid_dt;
   return s;
 }
 
@@ -162,15 +175,53 @@ Bed3d build_bed3d(const Bed3dSpec& spec) {
   const auto start = std::chrono::steady_clock::now();
   Bed3d bed;
   bed.spec = spec;
-  bed.scene = parse_scene(bed3d_text(spec), "3-D impact bed");
-  bed.scene.bodies3d = dem::expanded_bodies3d(bed.scene);
-  bed.scene.assemblies.clear();
+  // As the 2-D beds are made (impact_bed.cpp): poured 100 x softer and less elastic (restitution 0.3),
+  // so it comes to rest in about a second at a tenth of the steps; then stiffened in ten critically damped
+  // steps of 10^0.2, so no grain is thrown; then relaxed with the bed's own material from rest.
+  constexpr double kSoftening = 100, kPourRestitution = 0.3;
+  const double pitch = 2.2 * spec.radius;
+  const double per_layer =
+      std::max(1.0, std::floor(spec.width / pitch)) * std::max(1.0, std::floor(spec.depth / pitch));
+  const double column_top = pitch * std::ceil(spec.count / per_layer) + spec.radius;
+  Scene pour = parse_scene(bed3d_text(spec, spec.k_n / kSoftening, kPourRestitution,
+                                      std::sqrt(2 * column_top / 981.0) + spec.settle_time, true),
+                           "3-D impact bed");
+  std::vector<Body3Spec> bodies = dem::expanded_bodies3d(pour);
+  for (int j = 1; j <= 10; ++j)
+    bodies =
+        settled(spec, std::move(bodies), spec.k_n / kSoftening * std::pow(kSoftening, j / 10.0), 0, 0.005);
+  // Critically damped at the bed's own stiffness until perched grains have found their places, then the
+  // bed's own material from rest, as every impact will start.
+  bodies = settled(spec, std::move(bodies), spec.k_n, 0, 0.1);
+  bodies = settled(spec, std::move(bodies), spec.k_n, spec.restitution, 0.05);
+  bed.scene = parse_scene(bed3d_text(spec, spec.k_n, spec.restitution, 0.07, false), "3-D impact bed");
+  bed.scene.bodies3d = std::move(bodies);
   bed.top = bed_top(bed.scene.bodies3d, spec);
   const double d = 2 * spec.radius;
   bed.packing_fraction = solid_fraction(bed.scene.bodies3d, Vec3(2 * d, 2 * d, 2 * d),
                                         Vec3(spec.width - 2 * d, spec.depth - 2 * d, bed.top - 2 * d));
   bed.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return bed;
+}
+
+BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration, double rigid_dt) {
+  Scene s = bed.scene;
+  s.duration = duration;
+  if (!engine_capabilities(engine).soft_contacts) s.accuracy.dt = rigid_dt;
+  auto e = make_engine(engine, s);
+  e->advance_to(duration);
+  const Frame f = e->frame();  // by id: the scene's order
+  BedHold h;
+  for (std::size_t i = 0; i < f.id.size(); ++i) {
+    const Body3Spec& b = s.bodies3d[i];
+    const Vec3 v(f.velocity[3 * i], f.velocity[3 * i + 1], f.velocity[3 * i + 2]);
+    const Vec3 w(f.angular_velocity[3 * i], f.angular_velocity[3 * i + 1], f.angular_velocity[3 * i + 2]);
+    const Vec3 x(f.position[3 * i], f.position[3 * i + 1], f.position[3 * i + 2]);
+    h.max_displacement = std::max(h.max_displacement, (x - b.position).norm());
+    h.max_speed = std::max(h.max_speed, v.norm());
+    h.kinetic_energy += 0.5 * b.mass * v.squaredNorm() + 0.5 * w.dot(b.inertia * w);
+  }
+  return h;
 }
 
 Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
@@ -190,7 +241,7 @@ Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t
   r.incident_mass = scene.bodies3d.back().mass, r.bed_mass = b[aim.target].mass;
   r.g = -scene.gravity3d.z();
 
-  auto engine = make_engine("native", scene);
+  auto engine = make_engine(o.engine, scene);
   const std::size_t n = b.size();
   const double z_eject = bed.top + 2 * s.radius;
   std::vector<char> gone(n, 0);
@@ -229,7 +280,7 @@ Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t
   if (!o.record.empty()) {  // the same impact again, written as a run file (1 ms frames) for ParaView
     Scene shown = scene;
     shown.output.frames = static_cast<int>(std::round(o.duration / 1e-3));
-    auto again = make_engine("native", shown);
+    auto again = make_engine(o.engine, shown);
     RunOptions ro;
     ro.out = o.record;
     ro.overwrite = o.overwrite;

@@ -24,7 +24,7 @@ struct Bed3dSpec {
   double width = 67.3, depth = 20;     // the box along x (as the thesis's) and y
   double radius = 1.0, density = 1.5;  // g/cm^3: the 2-D discs' mass
   double k_n = 6e9, restitution = 0.85, mu = 0.5;
-  double settle_time = 0.5;  // s of pouring and settling
+  double settle_time = 1.0;  // s of settling after the last sphere has fallen
 };
 
 struct Bed3d {
@@ -58,7 +58,11 @@ struct Impact3dResult {
   double steps = 0, wall_seconds = 0;
 };
 
-// Impact number `run` of case `c` on `bed` (native 3-D engine): the point is drawn from Rng(seed, run).
+// The bed alone for `duration` on `engine` (impulse engines at `rigid_dt`): how far it moves.
+BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration, double rigid_dt);
+
+// Impact number `run` of case `c` on `bed` on o.engine (an impulse engine steps at o.rigid_dt): the point is
+// drawn from Rng(seed, run).
 Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
                             const ImpactOptions& o = {});
 
