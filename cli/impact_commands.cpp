@@ -133,10 +133,11 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   const Bed3d bed = build_bed3d(spec);
   if (speak)
     fmt::print(stderr,
-               "grainlab impact: bed top {:.2f} cm, packing {:.3f} ({:.1f} s); CASE {} (v_i {} cm/s, alpha_i "
+               "grainlab impact: bed top {:.2f} cm, packing {:.3f}, {} loose spheres taken away ({:.1f} s); "
+               "CASE {} (v_i {} cm/s, alpha_i "
                "{} deg, mu {}, r_i {} cm), {} impacts\n",
-               bed.top, bed.packing_fraction, bed.build_seconds, c.name, c.speed, c.alpha_deg, c.mu, c.radius,
-               a.runs);
+               bed.top, bed.packing_fraction, bed.removed, bed.build_seconds, c.name, c.speed, c.alpha_deg,
+               c.mu, c.radius, a.runs);
   ImpactOptions o;
   o.engine = a.engine;
   o.steps_per_contact = a.steps_per_contact;
@@ -167,6 +168,7 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
                      {"spheres", spec.count},
                      {"bed_top", bed.top},
                      {"packing_fraction", bed.packing_fraction},
+                     {"spheres_removed", bed.removed},
                      {"rebounds", s.rebounds},
                      {"ejecta", s.ejecta},
                      {"median_wall_seconds", s.median_wall_seconds},

@@ -36,6 +36,7 @@ struct Bed3d {
   double top = 0;
   double packing_fraction = 0;  // in the interior (2 diameters from walls, floor and top)
   double build_seconds = 0;
+  std::size_t removed = 0;  // spheres that would not come to rest on the surface, taken away
 };
 
 // Pours and settles a bed (seconds to a minute of computing).

@@ -69,11 +69,12 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
   std::string md = fmt::format(
       "## Impacts with spheres beside discs\n\n"
       "Each case of Table 3.1 on a bed of {} spheres (r_b = 1 cm, density 1.5 g/cm^3: the thesis disc's "
-      "mass) poured into a {} x {} cm box of planes (top {:.2f} cm, solid fraction {:.3f}), and on "
+      "mass) poured into a {} x {} cm box of planes (top {:.2f} cm, solid fraction {:.3f}, {} loose spheres "
+      "taken away), and on "
       "grainlab's 2-D loose bed of 384 discs; {} impacts each, the same seed. 95 % intervals. "
       "docs/impacts.md "
       "\"Impacts with spheres\" has the definitions and a discussion.\n\n",
-      spec.count, spec.width, spec.depth, bed.top, bed.packing_fraction, runs);
+      spec.count, spec.width, spec.depth, bed.top, bed.packing_fraction, bed.removed, runs);
   md +=
       "The bed alone for 0.07 s on each 3-D engine (it must not move more than 0.05 cm or faster than 1 "
       "cm/s, "
