@@ -163,23 +163,33 @@ ImpactResult run_impact(const Bed& bed, const ImpactCase& c, std::uint64_t seed,
   const auto d = engine->diagnostics();
   if (d.count("steps")) r.steps = d.at("steps");
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!o.record.empty()) {
-    auto again = make_engine(o.engine, scene);
-    RunOptions ro;
-    ro.out = o.record;
-    ro.overwrite = o.overwrite;
-    run_scene(scene, *again, ro);
-  }
+  record_impact(scene, o);
   return r;
 }
 
-BedHold hold_bed(const Bed& bed, const std::string& engine, double duration, double rigid_dt) {
-  Scene s = bed.scene;
+void record_impact(const Scene& scene, const ImpactOptions& o) {
+  if (o.record.empty()) return;
+  Scene shown = scene;
+  shown.output.frames = static_cast<int>(std::round(o.duration / 1e-3));
+  auto again = make_engine(o.engine, shown);
+  RunOptions ro;
+  ro.out = o.record;
+  ro.overwrite = o.overwrite;
+  run_scene(shown, *again, ro);
+}
+
+Frame bed_left_alone(const Scene& bed_scene, const std::string& engine, double duration, double rigid_dt) {
+  Scene s = bed_scene;
   s.duration = duration;
   if (!engine_capabilities(engine).soft_contacts) s.accuracy.dt = rigid_dt;
   auto e = make_engine(engine, s);
   e->advance_to(duration);
-  const Frame f = e->frame();
+  return e->frame();
+}
+
+BedHold hold_bed(const Bed& bed, const std::string& engine, double duration, double rigid_dt) {
+  const Scene& s = bed.scene;
+  const Frame f = bed_left_alone(s, engine, duration, rigid_dt);
   BedHold h;
   for (std::size_t i = 0; i < f.id.size(); ++i) {
     const BodySpec& b = s.bodies[i];

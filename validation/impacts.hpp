@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "ensemble.hpp"
+#include "h5_output.hpp"
 #include "impact_bed.hpp"
 
 namespace grainlab::validation {
@@ -66,6 +67,12 @@ struct ImpactResult {
 // Impact number `run` of case `c` on `bed`: the impact point is drawn from Rng(seed, run).
 ImpactResult run_impact(const Bed& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
                         const ImpactOptions& o = {});
+
+// Shared by the 2-D and 3-D impacts: the impact's scene run again and written to o.record with 1 ms frames
+// (ParaView), when o.record is set; and the final frame of `bed_scene` left alone for `duration` on
+// `engine` (impulse engines at `rigid_dt`).
+void record_impact(const Scene& scene, const ImpactOptions& o);
+Frame bed_left_alone(const Scene& bed_scene, const std::string& engine, double duration, double rigid_dt);
 
 // Quantities of one impact in the thesis's notation (Tables 3.2-3.6), NaN where undefined (no rebound).
 // The per-ejectum quantities (speeds, angles, origins) are pooled over all ejecta by summarize_impacts.

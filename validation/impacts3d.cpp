@@ -220,12 +220,8 @@ Bed3d build_bed3d(const Bed3dSpec& spec) {
 }
 
 BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration, double rigid_dt) {
-  Scene s = bed.scene;
-  s.duration = duration;
-  if (!engine_capabilities(engine).soft_contacts) s.accuracy.dt = rigid_dt;
-  auto e = make_engine(engine, s);
-  e->advance_to(duration);
-  const Frame f = e->frame();  // by id: the scene's order
+  const Scene& s = bed.scene;
+  const Frame f = bed_left_alone(s, engine, duration, rigid_dt);  // by id: the scene's order
   BedHold h;
   for (std::size_t i = 0; i < f.id.size(); ++i) {
     const Body3Spec& b = s.bodies3d[i];
@@ -292,15 +288,7 @@ Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t
   const auto d = engine->diagnostics();
   if (d.count("steps")) r.steps = d.at("steps");
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!o.record.empty()) {  // the same impact again, written as a run file (1 ms frames) for ParaView
-    Scene shown = scene;
-    shown.output.frames = static_cast<int>(std::round(o.duration / 1e-3));
-    auto again = make_engine(o.engine, shown);
-    RunOptions ro;
-    ro.out = o.record;
-    ro.overwrite = o.overwrite;
-    run_scene(shown, *again, ro);
-  }
+  record_impact(scene, o);
   return r;
 }
 
