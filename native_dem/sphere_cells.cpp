@@ -8,6 +8,7 @@ namespace grainlab::dem {
 
 void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double skin) {
   const std::size_t n = x.size();
+  if (n > std::size_t{UINT32_MAX}) throw std::length_error("neighbour lists hold at most 2^32 - 1 bodies");
   ++builds_;
   skin_ = skin, reach_ = 2 * max_radius + skin, built_at_ = x;
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
@@ -74,7 +75,8 @@ void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double sk
           const std::size_t c = cell_index(xs[e], ys[b], zs[a]);
           for (std::size_t k = start_[c]; k < start_[c + 1]; ++k) {
             const std::size_t j = items_[k];
-            if (j > i && separation(x[i], x[j]).squaredNorm() < reach2) list_.push_back(j);
+            if (j > i && separation(x[i], x[j]).squaredNorm() < reach2)
+              list_.push_back(static_cast<Index>(j));
           }
         }
     std::sort(list_.begin() + static_cast<long>(first), list_.end());

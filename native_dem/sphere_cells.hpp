@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "polyhedron.hpp"
@@ -24,14 +25,23 @@ class SphereCells {
       if (period_[k] > 0) d[k] -= period_[k] * std::round(d[k] / period_[k]);
     return d;
   }
+  // The same for a separation already taken (x and y components).
+  void to_nearest_image(double& dx, double& dy) const {
+    if (period_[0] > 0) dx -= period_[0] * std::round(dx / period_[0]);
+    if (period_[1] > 0) dy -= period_[1] * std::round(dy / period_[1]);
+  }
   // Builds the lists for bodies at `centres` whose bounding radii are at most `max_radius`.
   void build(const std::vector<Vec3>& centres, double max_radius, double skin = 0);
   // True if the lists must be rebuilt for these positions (never built, another count, or a body moved
   // more than half the skin).
   bool stale(const std::vector<Vec3>& centres) const;
-  // The indices j > i within reach of i, ascending.
-  const std::size_t* begin(std::size_t i) const { return list_.data() + offset_[i]; }
-  const std::size_t* end(std::size_t i) const { return list_.data() + offset_[i + 1]; }
+  // The indices j > i within reach of i, ascending (32 bits: the lists are walked every step).
+  using Index = std::uint32_t;
+  const Index* begin(std::size_t i) const { return list_.data() + offset_[i]; }
+  const Index* end(std::size_t i) const { return list_.data() + offset_[i + 1]; }
+  // Where i's entries start in the concatenated lists (per-entry data sits at the same positions).
+  std::size_t first(std::size_t i) const { return offset_[i]; }
+  std::size_t entries() const { return list_.size(); }
   std::size_t builds() const { return builds_; }
   // Where the centres were at the last build.
   const std::vector<Vec3>& build_positions() const { return built_at_; }
@@ -42,7 +52,8 @@ class SphereCells {
   Vec3 origin_ = Vec3::Zero();
   long nx_ = 1, ny_ = 1, nz_ = 1;
   std::vector<Vec3> built_at_;
-  std::vector<std::size_t> start_, items_, offset_, list_;
+  std::vector<std::size_t> start_, items_, offset_;
+  std::vector<Index> list_;
   std::vector<std::array<long, 3>> coords_;
   std::size_t builds_ = 0;
   double period_[2] = {0, 0}, period_lo_[2] = {0, 0};

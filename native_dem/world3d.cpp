@@ -140,7 +140,7 @@ void World3d::compute_forces(double h) {
       for (const ContactPoint3& c : scratch_) add_contact(b_[i], &b_[j], c, law, b_[j].id, h);
     };
     if (cells)
-      for (const std::size_t* j = cells_.begin(i); j != cells_.end(i); ++j) pair(*j);
+      for (const SphereCells::Index* j = cells_.begin(i); j != cells_.end(i); ++j) pair(*j);
     else
       for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j);
     for (std::size_t k = 0; k < planes_.size(); ++k) {
@@ -167,17 +167,21 @@ void World3d::decide_mode() {
 
 void World3d::advance_to(double t_end) {
   decide_mode();
-  if (mode_ == Mode::spheres) load_spheres();
+  if (mode_ == Mode::spheres && !bed_loaded_) load_bed();
   advance_steps(t_, dt_, t_end, scene_.accuracy.integrator == Integrator::VelocityVerlet, diag_,
                 [this] { step(); });
-  if (mode_ == Mode::spheres) store_spheres();
+  if (mode_ == Mode::spheres) store_bed();
 }
 
 void World3d::step() {
   const double before = t_;
-  if (mode_ == Mode::spheres)
-    sphere_step();
-  else if (scene_.accuracy.integrator == Integrator::VelocityVerlet)
+  if (mode_ == Mode::spheres) {
+    const std::uint64_t before_evaluations = bed_.force_evaluations();
+    bed_.step(diag_.force_evaluations == 0);
+    t_ += dt_;
+    diag_.force_evaluations += bed_.force_evaluations() - before_evaluations;
+    contacts_now_ = bed_.contacts();
+  } else if (scene_.accuracy.integrator == Integrator::VelocityVerlet)
     step_verlet();
   else
     step_predictor_corrector();
@@ -301,7 +305,8 @@ Energies World3d::energies() const {
   }
   if (!effects_.has(Effect::normal_contact)) return e;
   if (mode_ == Mode::spheres) {  // the kernel's own pairs (through periodic sides) and springs
-    e.elastic += sphere_elastic_energy();
+    if (bed_loaded_)
+      for (double u : bed_.elastic_shares()) e.elastic += u;
     return e;
   }
   std::vector<Placed3> placed = placed_;
@@ -326,7 +331,7 @@ Energies World3d::energies() const {
       spring(b_[i].material, b_[j].material);
     };
     if (cells)
-      for (const std::size_t* j = near.begin(i); j != near.end(i); ++j) pair(*j);
+      for (const SphereCells::Index* j = near.begin(i); j != near.end(i); ++j) pair(*j);
     else
       for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j);
     for (std::size_t k = 0; k < planes_.size(); ++k) {

@@ -14,6 +14,7 @@
 #include "h5_output.hpp"
 #include "narrow_phase3d.hpp"
 #include "scene.hpp"
+#include "sphere_bed.hpp"
 #include "sphere_cells.hpp"
 #include "world_types.hpp"
 
@@ -88,28 +89,16 @@ class World3d {
                    double h);
   Vec3 angular_acceleration(const Body3& b) const;
   void commit_history() { history_.swap(trial_); }
-  // The sphere kernel (world3d_spheres.cpp).
+  // The sphere kernel (sphere_bed.*): loaded at the first advance, mirrored into b_ after each.
   bool sphere_kernel_eligible() const;
-  void load_spheres();
-  void store_spheres();
-  void sphere_step();
-  void sphere_forces(double h);
-  void rebuild_sphere_lists();
-  // ra, rb: the contact point from i's and j's centres.
-  void sphere_contact(std::size_t i, std::size_t j, bool plane, const Vec3& n, const Vec3& ra, const Vec3& rb,
-                      double depth, const ContactLaw& law, Vec3& xi, double h);
-  double sphere_elastic_energy() const;  // normal and shear springs of the kernel's contacts
+  void load_bed();
+  void store_bed();
+  SphereBedSetup bed_setup() const;
   enum class Mode { undecided, general, spheres };
   Mode mode_ = Mode::undecided;
-  bool sphere_kernel_allowed_ = true;
-  struct Spheres {
-    std::vector<Vec3> x, v, w, f, tq;
-    std::vector<Quat> q;
-    std::vector<double> m, inv_m, inv_i, r;
-    std::vector<int> mat;
-    std::vector<Vec3> pair_xi, plane_xi;  // springs: one per neighbour-list entry, one per body and plane
-    std::vector<std::size_t> plane_start, plane_of;  // per sphere, the planes it may touch (at rebuilds)
-  } sp_;
+  bool sphere_kernel_allowed_ = true, bed_loaded_ = false;
+  SphereBed bed_;
+  std::vector<std::size_t> bed_body_;  // the body index of each of the bed's slots
 
   Scene scene_;
   Effects effects_;

@@ -20,9 +20,6 @@ const std::vector<std::string> kBodyColumns = {"id", "x",  "y",  "z",  "vx",    
 // b < 0: plane -1 - b. feature: the general path's contact feature (0 on the sphere kernel).
 const std::vector<std::string> kSpringColumns = {"a", "b", "feature", "xi_x", "xi_y", "xi_z", "k_s"};
 
-bool holds(const Vec3& xi) {
-  return xi.x() != 0 || xi.y() != 0 || xi.z() != 0;
-}
 }  // namespace
 
 std::map<std::string, std::vector<std::string>> World3d::state_columns(const std::string& prefix) {
@@ -32,30 +29,31 @@ std::map<std::string, std::vector<std::string>> World3d::state_columns(const std
 }
 
 std::vector<SampleTable> World3d::save_state(const std::string& prefix) const {
-  const bool kernel = mode_ == Mode::spheres && cells_.builds() > 0;
+  const bool kernel = mode_ == Mode::spheres && bed_loaded_ && bed_.list_builds() > 0;
+  std::vector<Vec3> built(b_.size());
+  for (std::size_t i = 0; i < b_.size(); ++i) built[i] = b_[i].x;
+  if (kernel)
+    for (std::size_t k = 0; k < bed_body_.size(); ++k) built[bed_body_[k]] = bed_.build_positions()[k];
   SampleTable bodies{prefix + "bodies", "every body's state in the scene's order", kBodyColumns, {}};
   for (std::size_t i = 0; i < b_.size(); ++i) {
     const Body3& b = b_[i];
-    const Vec3 built = kernel ? cells_.build_positions()[i] : b.x;
-    bodies.rows.push_back({double(b.id), b.x.x(),  b.x.y(),   b.x.z(),   b.v.x(),  b.v.y(),
-                           b.v.z(),      b.q.w(),  b.q.x(),   b.q.y(),   b.q.z(),  b.w.x(),
-                           b.w.y(),      b.w.z(),  b.f.x(),   b.f.y(),   b.f.z(),  b.tq.x(),
-                           b.tq.y(),     b.tq.z(), built.x(), built.y(), built.z()});
+    bodies.rows.push_back({double(b.id), b.x.x(),  b.x.y(),      b.x.z(),      b.v.x(),     b.v.y(),
+                           b.v.z(),      b.q.w(),  b.q.x(),      b.q.y(),      b.q.z(),     b.w.x(),
+                           b.w.y(),      b.w.z(),  b.f.x(),      b.f.y(),      b.f.z(),     b.tq.x(),
+                           b.tq.y(),     b.tq.z(), built[i].x(), built[i].y(), built[i].z()});
   }
   SampleTable springs{prefix + "springs", "shear springs held (b < 0: plane -1 - b)", kSpringColumns, {}};
   auto add = [&](double a, double b, double feature, const Vec3& xi, double k_s) {
     springs.rows.push_back({a, b, feature, xi.x(), xi.y(), xi.z(), k_s});
   };
   if (mode_ == Mode::spheres) {
-    const std::size_t n = sp_.x.size(), np = planes_.size();
-    for (std::size_t i = 0; i < n && cells_.builds() > 0; ++i) {
-      for (const std::size_t* j = cells_.begin(i); j != cells_.end(i); ++j)
-        if (const Vec3& xi = sp_.pair_xi[static_cast<std::size_t>(j - cells_.begin(0))]; holds(xi))
-          add(double(b_[i].id), double(b_[*j].id), 0, xi, laws_[sp_.mat[i] * n_mat_ + sp_.mat[*j]].k_s);
-      for (std::size_t k = 0; k < np; ++k)
-        if (const Vec3& xi = sp_.plane_xi[i * np + k]; holds(xi))
-          add(double(b_[i].id), -1.0 - double(k), 0, xi, laws_[sp_.mat[i] * n_mat_ + plane_material_[k]].k_s);
-    }
+    std::unordered_map<std::int64_t, int> material;
+    for (const Body3& b : b_) material[b.id] = b.material;
+    if (bed_loaded_)
+      for (const SphereSpring& s : bed_.springs()) {
+        const int other = s.b < 0 ? plane_material_[static_cast<std::size_t>(-1 - s.b)] : material.at(s.b);
+        add(double(s.a), double(s.b), 0, s.xi, laws_[material.at(s.a) * n_mat_ + other].k_s);
+      }
   } else {
     for (const auto& [key, spring] : history_)
       add(double(std::get<0>(key)), double(std::get<1>(key)), std::get<2>(key), spring.xi, spring.k_s);
@@ -98,29 +96,17 @@ void World3d::restore_state(const std::map<std::string, SampleTable>& tables, co
   }
   // The kernel: lists built where they were (a fresh build: no springs to carry), then the springs put
   // back into their pairs' slots.
-  load_spheres();
-  sp_.pair_xi.clear();
-  std::fill(sp_.plane_xi.begin(), sp_.plane_xi.end(), Vec3::Zero());
-  sp_.x = built;
-  rebuild_sphere_lists();
-  for (std::size_t i = 0; i < b_.size(); ++i) sp_.x[i] = b_[i].x;
-  const std::size_t np = planes_.size();
+  load_bed();
+  std::vector<Vec3> built_by_slot(b_.size());
+  for (std::size_t k = 0; k < bed_body_.size(); ++k) built_by_slot[k] = built[bed_body_[k]];
+  std::vector<SphereSpring> held;
   for (const std::vector<double>& r : springs) {
-    const std::size_t i = body_of(r[0]);
-    const Vec3 xi(r[3], r[4], r[5]);
-    if (r[1] < 0) {
-      const auto k = static_cast<std::size_t>(-1 - static_cast<std::int64_t>(r[1]));
-      if (k >= np) throw std::runtime_error(fmt::format("a saved spring holds plane {} of {}", k, np));
-      sp_.plane_xi[i * np + k] = xi;
-      continue;
-    }
-    const std::size_t j = body_of(r[1]);
-    const std::size_t* at = std::lower_bound(cells_.begin(i), cells_.end(i), j);
-    if (at == cells_.end(i) || *at != j)
-      throw std::runtime_error(
-          fmt::format("a saved spring joins bodies {} and {}, not listed as neighbours", r[0], r[1]));
-    sp_.pair_xi[static_cast<std::size_t>(at - cells_.begin(0))] = xi;
+    body_of(r[0]);
+    if (r[1] >= 0) body_of(r[1]);
+    held.push_back(
+        {static_cast<std::int64_t>(r[0]), static_cast<std::int64_t>(r[1]), Vec3(r[3], r[4], r[5])});
   }
+  bed_.restore(built_by_slot, held);
 }
 
 }  // namespace grainlab::dem

@@ -1,0 +1,546 @@
+#include "sphere_bed.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "world3d_detail.hpp"
+
+namespace grainlab::dem {
+
+namespace {
+// A spring that holds something (a pair or plane that touched at the last evaluation).
+bool holds(const Vec3& xi) {
+  return xi.x() != 0 || xi.y() != 0 || xi.z() != 0;
+}
+// Apart: the spring goes. Reading first, since most entries apart have nothing to clear.
+void forget(Vec3& xi) {
+  if (holds(xi)) xi.setZero();
+}
+// Plain triples for the hot loops. Eigen's 3-vectors there get spilled as 16 + 8 bytes and reloaded as
+// 8 + 16, which defeats store forwarding; these stay scalars. Each operation keeps Eigen's order (its
+// dot and squared norm add (a0 b0 + a1 b1) + a2 b2), so the results are the same bits.
+struct D3 {
+  double x, y, z;
+};
+inline D3 get(const Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
+inline void put(Vec3& v, const D3& a) {
+  v.x() = a.x, v.y() = a.y, v.z() = a.z;
+}
+inline D3 operator+(const D3& a, const D3& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline D3 operator-(const D3& a, const D3& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline D3 operator*(double s, const D3& a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+inline D3 operator*(const D3& a, double s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+inline D3 operator/(const D3& a, double s) {
+  return {a.x / s, a.y / s, a.z / s};
+}
+inline D3 operator-(const D3& a) {
+  return {-a.x, -a.y, -a.z};
+}
+inline double dot(const D3& a, const D3& b) {
+  return (a.x * b.x + a.y * b.y) + a.z * b.z;
+}
+inline D3 cross(const D3& a, const D3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline bool nonzero(const D3& a) {
+  return a.x != 0 || a.y != 0 || a.z != 0;
+}
+
+// detail3d::shear_force on triples, operation for operation.
+inline D3 shear_force(const ContactLaw& law, D3& xi, const D3& n, const D3& vt, double h, double meff,
+                      double fn) {
+  if (const double len2 = dot(xi, xi); len2 > 0) {
+    xi = xi - n * dot(n, xi);
+    if (const double now2 = dot(xi, xi); now2 > 0) xi = xi * std::sqrt(len2 / now2);
+  }
+  xi = xi + h * vt;
+  D3 fs = (-law.k_s) * xi - law.shear.coefficient(meff) * vt;
+  const double cap = law.mu * std::max(fn, 0.0);
+  if (const double f2 = dot(fs, fs); f2 > cap * cap) {
+    fs = fs * (cap / std::sqrt(f2));
+    xi = (-fs) / law.k_s;
+  }
+  return fs;
+}
+
+bool spring_order(const SphereSpring& p, const SphereSpring& q) {
+  if (p.a != q.a) return p.a < q.a;
+  if ((p.b < 0) != (q.b < 0)) return p.b >= 0;  // a sphere's pairs, then its planes
+  return p.b >= 0 ? p.b < q.b : p.b > q.b;      // planes by index: -1, -2, ...
+}
+}  // namespace
+
+void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>& spheres,
+                     double max_radius) {
+  s_ = setup;
+  max_radius_ = max_radius, skin_ = 0.2 * max_radius;
+  std::vector<std::size_t> order(spheres.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return spheres[a].id < spheres[b].id; });
+  const std::size_t n = spheres.size();
+  id_.resize(n);
+  for (auto* a : {&x_, &v_, &w_, &f_, &tq_}) a->resize(n);
+  q_.resize(n), m_.resize(n), inv_m_.resize(n), inv_i_.resize(n), r_.resize(n), mat_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const SphereState& s = spheres[order[k]];
+    id_[k] = s.id, x_[k] = s.x, v_[k] = s.v, w_[k] = s.w, f_[k] = s.f, tq_[k] = s.tq, q_[k] = s.q;
+    m_[k] = s.m, inv_m_[k] = 1 / s.m, inv_i_[k] = s.inv_i, r_[k] = s.r, mat_[k] = s.material;
+  }
+  plane_xi_.assign(n * s_.planes.size(), Vec3::Zero());
+  pair_xi_.clear(), touching_.clear();
+  cells_ = SphereCells();
+  if (s_.periodic_x) cells_.set_period(0, s_.periodic_x->first, s_.periodic_x->second);
+  if (s_.periodic_y) cells_.set_period(1, s_.periodic_y->first, s_.periodic_y->second);
+  pending_kick_ = false, moved_ = true, prediction_ = Prediction::unknown;
+}
+
+std::vector<SphereState> SphereBed::states() const {
+  std::vector<SphereState> out(x_.size());
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    SphereState& s = out[k];
+    s.id = id_[k], s.x = x_[k], s.v = v_[k], s.w = w_[k], s.f = f_[k], s.tq = tq_[k], s.q = q_[k];
+    s.m = m_[k], s.inv_i = inv_i_[k], s.r = r_[k], s.material = mat_[k];
+  }
+  return out;
+}
+
+std::size_t SphereBed::slot_of(std::int64_t id) const {
+  const auto it = std::lower_bound(id_.begin(), id_.end(), id);
+  if (it == id_.end() || *it != id) throw std::runtime_error(fmt::format("body {} is not in the bed", id));
+  return static_cast<std::size_t>(it - id_.begin());
+}
+
+// ---------------------------------------------------------------- stepping
+
+// The work of one step on one sphere, specialised on the effects in play: drift (the pending half kick,
+// this step's half kick and drift, the forces reset to gravity) and row (its listed pairs, in the
+// orientation of its lower id, then its planes; then where the next drift will take it).
+template <bool Friction, bool Rotation, bool Periodic>
+struct SphereBed::Kernel {
+  SphereBed& bed;
+  Vec3* __restrict x, * __restrict v, * __restrict w, * __restrict f, * __restrict tq;
+  Quat* __restrict q;
+  const double* __restrict m, * __restrict inv_m, * __restrict inv_i, * __restrict r;
+  const std::int32_t* __restrict mat;
+  const SphereCells::Index* __restrict list;
+  Vec3* __restrict pair_xi;
+  std::uint8_t* __restrict touching;
+  const Vec3* __restrict x0;  // where the lists were built (nullptr: not built)
+  const ContactLaw* laws;
+  int nm;
+  double dt, h, hs;  // step, half step, the shear springs' increment (0 at the very first evaluation)
+  D3 g;
+  std::size_t contacts = 0;
+  double moved = 0;  // the largest squared displacement from the build positions (after drift or predicted)
+
+  Kernel(SphereBed& b, double shear_step)
+      : bed(b),
+        x(b.x_.data()),
+        v(b.v_.data()),
+        w(b.w_.data()),
+        f(b.f_.data()),
+        tq(b.tq_.data()),
+        q(b.q_.data()),
+        m(b.m_.data()),
+        inv_m(b.inv_m_.data()),
+        inv_i(b.inv_i_.data()),
+        r(b.r_.data()),
+        mat(b.mat_.data()),
+        list(b.cells_.entries() ? b.cells_.begin(0) : nullptr),
+        pair_xi(b.pair_xi_.data()),
+        touching(b.touching_.data()),
+        x0(b.cells_.builds() && b.cells_.build_positions().size() == b.x_.size()
+               ? b.cells_.build_positions().data()
+               : nullptr),
+        laws(b.s_.laws.data()),
+        nm(b.s_.n_mat),
+        dt(b.s_.dt),
+        h(b.s_.dt / 2),
+        hs(shear_step),
+        g(get(b.s_.gravity)) {}
+
+  // An isotropic body's angular momentum I w + h tq turned back into w is w + h tq / I.
+  // (Each unit copies what it uses into locals: a store through one of the arrays could otherwise, as far
+  // as the compiler knows, change the members, which it would then reload after every store.)
+  template <bool Complete>
+  [[gnu::always_inline]] void drift(std::size_t i) const {
+    Vec3* __restrict x = this->x, * __restrict v = this->v, * __restrict w = this->w, * __restrict f = this->f, * __restrict tq = this->tq;
+    const double h = this->h, dt = this->dt;
+    const D3 a = (h * inv_m[i]) * get(f[i]);
+    D3 vi = get(v[i]);
+    if constexpr (Complete) vi = vi + a;
+    vi = vi + a;
+    const D3 xi = get(x[i]) + dt * vi;
+    put(v[i], vi), put(x[i], xi);
+    if constexpr (Rotation) {
+      const D3 b = (h * inv_i[i]) * get(tq[i]);
+      D3 wi = get(w[i]);
+      if constexpr (Complete) wi = wi + b;
+      wi = wi + b;
+      put(w[i], wi);
+      if (nonzero(wi)) q[i] = detail3d::turned(q[i], w[i], dt);
+      tq[i].setZero();
+    }
+    put(f[i], m[i] * g);
+  }
+  [[gnu::always_inline]] void note_moved(std::size_t i) {
+    const D3 by = get(x[i]) - get(x0[i]);
+    moved = std::max(moved, dot(by, by));
+  }
+  // Where the next drift will take sphere i, now that its force is final (later rows add only to later
+  // slots): the same operations drift will do, so the same bits.
+  [[gnu::always_inline]] void predict(std::size_t i) {
+    const D3 a = (h * inv_m[i]) * get(f[i]);
+    const D3 by = (get(x[i]) + dt * ((get(v[i]) + a) + a)) - get(x0[i]);
+    moved = std::max(moved, dot(by, by));
+  }
+
+  [[gnu::always_inline]] void row(std::size_t i) {
+    const Vec3* __restrict x = this->x, * __restrict v = this->v, * __restrict w = this->w;
+    Vec3* __restrict f = this->f, * __restrict tq = this->tq, * __restrict pair_xi = this->pair_xi;
+    const double* __restrict m = this->m, * __restrict r = this->r;
+    const std::int32_t* __restrict mat = this->mat;
+    const SphereCells::Index* __restrict list = this->list;
+    std::uint8_t* __restrict touching = this->touching;
+    const double hs = this->hs;
+    std::size_t contacts = 0;
+    const D3 pi = get(x[i]);
+    const double ri = r[i], mi = m[i];
+    const ContactLaw* row_laws = laws + mat[i] * nm;
+    // i's velocities and sums, read at its first contact (in a bed in flight, rows touch nothing). Its
+    // sums stay in registers through the row: nothing else adds to it meanwhile.
+    D3 vi{}, wi{}, fi{}, ti{};
+    bool opened = false;
+    auto open = [&] {
+      if (opened) return;
+      opened = true;
+      vi = get(v[i]), fi = get(f[i]);
+      if constexpr (Rotation) wi = get(w[i]), ti = get(tq[i]);
+    };
+    for (std::size_t k = bed.cells_.first(i), end = bed.cells_.first(i + 1); k < end; ++k) {
+      const std::size_t j = list[k];
+      D3 d = pi - get(x[j]);
+      if constexpr (Periodic) bed.cells_.to_nearest_image(d.x, d.y);
+      const double reach = ri + r[j], r2 = dot(d, d);
+      if (r2 >= reach * reach || r2 == 0) {  // apart (as sphere_sphere: depth <= 0 or coincident)
+        if (touching[k]) {
+          touching[k] = 0;
+          if (Friction) pair_xi[k].setZero();
+        }
+        continue;
+      }
+      open();
+      const double dist = std::sqrt(r2), depth = reach - dist;
+      const D3 nrm = d / dist;
+      // The contact point lies r_i - depth / 2 from i's centre, against the normal (which points j to i).
+      const D3 ra = -nrm * (ri - depth / 2), rb = ra + d;
+      D3 vrel;
+      if constexpr (Rotation)
+        vrel = (vi + cross(wi, ra)) - (get(v[j]) + cross(get(w[j]), rb));
+      else
+        vrel = vi - get(v[j]);
+      const double vn = dot(nrm, vrel);
+      const double mj = m[j], meff = mi * mj / (mi + mj);
+      const ContactLaw& law = row_laws[mat[j]];
+      const double fn = normal_force(law, depth, vn, law.normal.coefficient(meff));
+      D3 F = fn * nrm;
+      if constexpr (Friction) {
+        D3 xi = get(pair_xi[k]);
+        F = F + shear_force(law, xi, nrm, vrel - vn * nrm, hs, meff, fn);
+        put(pair_xi[k], xi);
+      }
+      fi = fi + F;
+      put(f[j], get(f[j]) - F);
+      if constexpr (Rotation) {
+        ti = ti + cross(ra, F);
+        put(tq[j], get(tq[j]) - cross(rb, F));
+      }
+      touching[k] = 1;
+      ++contacts;
+    }
+    const std::size_t np = bed.s_.planes.size();
+    for (std::size_t c = bed.plane_start_[i]; c < bed.plane_start_[i + 1]; ++c) {
+      const std::size_t k = bed.plane_of_[c];
+      const Plane3& p = bed.s_.planes[k];
+      const D3 pn = get(p.normal);
+      const double depth = ri - dot(pn, pi - get(p.point));
+      Vec3& spring = bed.plane_xi_[i * np + k];
+      if (depth <= 0) {
+        forget(spring);
+        continue;
+      }
+      open();
+      const D3 ra = -pn * (ri - depth / 2);
+      const D3 vrel = Rotation ? vi + cross(wi, ra) : vi;
+      const double vn = dot(pn, vrel);
+      const ContactLaw& law = row_laws[bed.s_.plane_material[k]];
+      const double fn = normal_force(law, depth, vn, law.normal.coefficient(mi));
+      D3 F = fn * pn;
+      if constexpr (Friction) {
+        D3 xi = get(spring);
+        F = F + shear_force(law, xi, pn, vrel - vn * pn, hs, mi, fn);
+        put(spring, xi);
+      }
+      fi = fi + F;
+      if constexpr (Rotation) ti = ti + cross(ra, F);
+      ++contacts;
+    }
+    if (opened) {
+      put(f[i], fi);
+      if constexpr (Rotation) put(tq[i], ti);
+    }
+    this->contacts += contacts;
+    if (x0) predict(i);
+  }
+};
+
+// Calls fn with a Kernel specialised on this bed's effects.
+template <class Fn>
+void SphereBed::with_kernel(double shear_step, Fn&& fn) {
+  const bool periodic = s_.periodic_x || s_.periodic_y;
+  auto run = [&](auto friction, auto rotation, auto periodic_sides) {
+    Kernel<decltype(friction)::value, decltype(rotation)::value, decltype(periodic_sides)::value> k(
+        *this, shear_step);
+    fn(k);
+  };
+  using T = std::true_type;
+  using F = std::false_type;
+  auto by_periodic = [&](auto friction, auto rotation) {
+    periodic ? run(friction, rotation, T{}) : run(friction, rotation, F{});
+  };
+  if (s_.friction)
+    s_.rotation ? by_periodic(T{}, T{}) : by_periodic(T{}, F{});
+  else
+    s_.rotation ? by_periodic(F{}, T{}) : by_periodic(F{}, F{});
+}
+
+void SphereBed::step(bool first) {
+  if (first) {
+    const Vec3 g = s_.gravity;
+    for (std::size_t i = 0; i < x_.size(); ++i) f_[i] = m_[i] * g, tq_[i].setZero();
+    forces(0);
+  }
+  const bool complete = pending_kick_;
+  with_kernel(s_.dt, [&](auto& k) {
+    if (s_.contacts && prediction_ == Prediction::stays) {
+      pipelined(k, complete);
+    } else {
+      complete ? drift_all<true>(k) : drift_all<false>(k);
+      forces_with(k);
+    }
+  });
+  ++evaluations_;
+  pending_kick_ = true;
+}
+
+// One sweep: sphere t drifts, then the row of sphere t - L, L one more than the largest slot distance
+// of a listed pair. Every partner of a row has drifted (and had its force reset) before the row reads or
+// adds to it, and no row adds to a sphere before its drift: the same operations as drifting all and then
+// running all rows, so the same bits, with each sphere's data still in cache when its row comes.
+template <class K>
+void SphereBed::pipelined(K& kernel, bool complete) {
+  K k = kernel;  // a local copy the compiler can keep in registers
+  const std::size_t n = x_.size(), lag = lag_ + 1;
+  for (std::size_t t = 0; t < n + lag; ++t) {
+    if (t < n) complete ? k.template drift<true>(t) : k.template drift<false>(t);
+    if (t >= lag) k.row(t - lag);
+  }
+  contacts_ = k.contacts;
+  prediction_ = k.moved > limit2() ? Prediction::moves : Prediction::stays;
+}
+
+template <bool Complete, class K>
+void SphereBed::drift_all(K& kernel) {
+  K k = kernel;  // a local copy the compiler can keep in registers
+  const std::size_t n = x_.size();
+  if (k.x0) {
+    for (std::size_t i = 0; i < n; ++i) k.template drift<Complete>(i), k.note_moved(i);
+    moved_ = k.moved > limit2();
+  } else {
+    for (std::size_t i = 0; i < n; ++i) k.template drift<Complete>(i);
+    moved_ = true;
+  }
+}
+
+// The rows, after a rebuild if some sphere has moved half the skin since the last one.
+template <class K>
+void SphereBed::forces_with(K& k) {
+  contacts_ = 0;
+  if (!s_.contacts || x_.empty()) {
+    prediction_ = Prediction::unknown;
+    return;
+  }
+  if (moved_) {
+    rebuild();
+    with_kernel(k.hs, [&](auto& fresh) { rows(fresh); });  // the lists' arrays have moved
+  } else {
+    rows(k);
+  }
+}
+
+template <class K>
+void SphereBed::rows(K& kernel) {
+  K k = kernel;  // a local copy the compiler can keep in registers
+  for (std::size_t i = 0; i < x_.size(); ++i) k.row(i);
+  contacts_ = k.contacts;
+  prediction_ = k.x0 && k.moved <= limit2() ? Prediction::stays : Prediction::moves;
+}
+
+void SphereBed::forces(double h) {
+  ++evaluations_;
+  with_kernel(h, [&](auto& k) { forces_with(k); });
+}
+
+void SphereBed::finish() {
+  if (!pending_kick_) return;
+  const double h = s_.dt / 2;
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    put(v_[i], get(v_[i]) + (h * inv_m_[i]) * get(f_[i]));
+    if (s_.rotation) put(w_[i], get(w_[i]) + (h * inv_i_[i]) * get(tq_[i]));
+  }
+  pending_kick_ = false;
+}
+
+// ---------------------------------------------------------------- lists
+
+// Spheres that crossed a periodic side come back in on the other (only at rebuilds, so a list's
+// displacements stay continuous between builds).
+void SphereBed::wrap_periodic() {
+  for (const auto& [axis, period] : {std::make_pair(0, s_.periodic_x), std::make_pair(1, s_.periodic_y)})
+    if (period)
+      for (Vec3& p : x_) {
+        const double L = period->second - period->first;
+        p[axis] -= L * std::floor((p[axis] - period->first) / L);
+      }
+}
+
+// New neighbour lists; the springs held move to their pairs' new entries.
+void SphereBed::rebuild() {
+  wrap_periodic();
+  std::vector<SphereSpring> held;
+  for (std::size_t i = 0; i < x_.size() && cells_.builds() > 0; ++i)
+    for (std::size_t k = cells_.first(i); k < cells_.first(i + 1); ++k)
+      if (holds(pair_xi_[k])) held.push_back({id_[i], id_[*(cells_.begin(0) + k)], pair_xi_[k]});
+  cells_.build(x_, max_radius_, skin_);
+  // The planes each sphere can reach before the next rebuild (it moves less than half the skin): most
+  // of a bed's spheres touch none of them, and then test none.
+  plane_start_.assign(1, 0), plane_of_.clear();
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    for (std::size_t k = 0; k < s_.planes.size(); ++k)
+      if (s_.planes[k].normal.dot(x_[i] - s_.planes[k].point) < r_[i] + skin_)
+        plane_of_.push_back(static_cast<std::uint32_t>(k));
+    plane_start_.push_back(static_cast<std::uint32_t>(plane_of_.size()));
+  }
+  place_springs(std::move(held));
+  lag_ = 0;
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    if (cells_.end(i) != cells_.begin(i)) lag_ = std::max<std::size_t>(lag_, *(cells_.end(i) - 1) - i);
+  moved_ = false;
+}
+
+// Puts pair springs (sorted by ids, as the slots are) into the fresh lists by one merge per sphere. A
+// held pair missing from the new lists (none is: a pair in contact is within their reach) is passed over.
+void SphereBed::place_springs(std::vector<SphereSpring> held) {
+  pair_xi_.assign(cells_.entries(), Vec3::Zero());
+  touching_.assign(cells_.entries(), 0);
+  auto it = held.begin();
+  const SphereCells::Index* list = cells_.begin(0);
+  for (std::size_t i = 0; i < x_.size() && it != held.end(); ++i)
+    for (std::size_t k = cells_.first(i); k < cells_.first(i + 1); ++k) {
+      const std::int64_t a = id_[i], b = id_[list[k]];
+      while (it != held.end() && (it->a < a || (it->a == a && it->b < b))) ++it;
+      if (it != held.end() && it->a == a && it->b == b) pair_xi_[k] = it->xi, touching_[k] = 1, ++it;
+    }
+}
+
+// ---------------------------------------------------------------- state
+
+std::vector<double> SphereBed::elastic_shares() const {
+  std::vector<double> share(x_.size(), 0.0);
+  if (x_.empty() || cells_.builds() == 0) return share;  // (no force evaluation yet: no contacts known)
+  const std::size_t np = s_.planes.size();
+  const SphereCells::Index* list = cells_.begin(0);
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    for (std::size_t k = cells_.first(i); k < cells_.first(i + 1); ++k) {
+      const std::size_t j = list[k];
+      const ContactLaw& law = s_.laws[mat_[i] * s_.n_mat + mat_[j]];
+      const double depth = r_[i] + r_[j] - cells_.separation(x_[i], x_[j]).norm();
+      double u = 0;
+      if (depth > 0) u += 0.5 * law.k_n * depth * depth;
+      if (s_.friction) u += 0.5 * law.k_s * pair_xi_[k].squaredNorm();
+      share[i] += 0.5 * u;
+      share[j] += 0.5 * u;
+    }
+    for (std::size_t k = 0; k < np; ++k) {
+      const ContactLaw& law = s_.laws[mat_[i] * s_.n_mat + s_.plane_material[k]];
+      const double depth = r_[i] - s_.planes[k].normal.dot(x_[i] - s_.planes[k].point);
+      if (depth > 0) share[i] += 0.5 * law.k_n * depth * depth;
+      if (s_.friction) share[i] += 0.5 * law.k_s * plane_xi_[i * np + k].squaredNorm();
+    }
+  }
+  return share;
+}
+
+std::vector<SphereSpring> SphereBed::springs() const {
+  std::vector<SphereSpring> out;
+  const std::size_t np = s_.planes.size();
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    for (std::size_t k = cells_.builds() ? cells_.first(i) : 0; cells_.builds() && k < cells_.first(i + 1);
+         ++k)
+      if (holds(pair_xi_[k])) out.push_back({id_[i], id_[*(cells_.begin(0) + k)], pair_xi_[k]});
+    for (std::size_t k = 0; k < np; ++k)
+      if (holds(plane_xi_[i * np + k]))
+        out.push_back({id_[i], -1 - static_cast<std::int64_t>(k), plane_xi_[i * np + k]});
+  }
+  std::sort(out.begin(), out.end(), spring_order);
+  return out;
+}
+
+void SphereBed::restore(const std::vector<Vec3>& built_at, const std::vector<SphereSpring>& springs) {
+  if (built_at.size() != x_.size())
+    throw std::runtime_error(fmt::format("{} build positions for {} spheres", built_at.size(), x_.size()));
+  const std::vector<Vec3> now = x_;
+  x_ = built_at;
+  cells_ = SphereCells();
+  if (s_.periodic_x) cells_.set_period(0, s_.periodic_x->first, s_.periodic_x->second);
+  if (s_.periodic_y) cells_.set_period(1, s_.periodic_y->first, s_.periodic_y->second);
+  rebuild();  // a fresh build: no springs to carry
+  x_ = now;
+  std::fill(plane_xi_.begin(), plane_xi_.end(), Vec3::Zero());
+  const std::size_t np = s_.planes.size();
+  std::vector<SphereSpring> pairs;
+  for (const SphereSpring& s : springs) {
+    const std::size_t i = slot_of(s.a);
+    if (s.b < 0) {
+      const auto k = static_cast<std::size_t>(-1 - s.b);
+      if (k >= np) throw std::runtime_error(fmt::format("a saved spring holds plane {} of {}", k, np));
+      plane_xi_[i * np + k] = s.xi;
+      continue;
+    }
+    const std::size_t j = slot_of(s.b);
+    const SphereCells::Index* at = std::lower_bound(cells_.begin(i), cells_.end(i), j);
+    if (at == cells_.end(i) || *at != j)
+      throw std::runtime_error(
+          fmt::format("a saved spring joins bodies {} and {}, not listed as neighbours", s.a, s.b));
+    const auto k = static_cast<std::size_t>(at - cells_.begin(0));
+    pair_xi_[k] = s.xi, touching_[k] = 1;
+  }
+  pending_kick_ = false, moved_ = false, prediction_ = Prediction::unknown;
+}
+
+}  // namespace grainlab::dem

@@ -1,0 +1,128 @@
+#pragma once
+// The 3-D engine's sphere kernel: a bed of spheres under velocity Verlet with the physics of the general
+// path (world3d.cpp: step_verlet, compute_forces, add_contact), written for speed.
+//
+// - The hot fields live in arrays of their own, in slots sorted by body id. Every sphere adds its forces
+//   in one canonical order (gravity, partners by ascending id, then planes), so a bed split over MPI ranks
+//   (owned spheres plus ghost copies of the neighbours', also sorted by id) sums the same terms in the same
+//   order as one process, and writes the same bits.
+// - Each shear spring sits beside its neighbour-list entry (a flag per entry says whether the pair
+//   touched at the last evaluation, so a pair apart costs no spring traffic) or in its sphere's plane slot.
+//   A spring at zero is the same as no spring.
+// - A step makes two passes over the spheres instead of five: the second half kick of one step runs in
+//   the same pass as the first half kick and drift of the next (the same operations on the same values,
+//   so the same bits), together with the force reset and the list-staleness test; then the force loop.
+//   The pending half kick is completed by finish() before anyone looks at the state.
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "contact_law.hpp"
+#include "narrow_phase3d.hpp"
+#include "sphere_cells.hpp"
+#include "world_types.hpp"
+
+namespace grainlab::dem {
+
+// What a sphere bed needs of its scene.
+struct SphereBedSetup {
+  std::vector<Plane3> planes;
+  std::vector<int> plane_material;
+  std::vector<ContactLaw> laws;  // [a * n_mat + b]
+  int n_mat = 1;
+  bool contacts = true, friction = true, rotation = true;
+  Vec3 gravity = Vec3::Zero();
+  double dt = 0;
+  std::optional<std::pair<double, double>> periodic_x, periodic_y;
+};
+
+// One sphere's state as the bed takes it in and gives it back.
+struct SphereState {
+  std::int64_t id = 0;
+  Vec3 x = Vec3::Zero(), v = Vec3::Zero(), w = Vec3::Zero(), f = Vec3::Zero(), tq = Vec3::Zero();
+  Quat q = Quat::Identity();
+  double m = 0, inv_i = 0, r = 0;  // inv_i: the isotropic inverse moment of inertia (0: no rotation)
+  int material = 0;
+};
+
+// A shear spring by body ids: b >= 0 another sphere (a < b), b < 0 plane -1 - b.
+struct SphereSpring {
+  std::int64_t a = 0, b = 0;
+  Vec3 xi = Vec3::Zero();
+};
+
+class SphereBed {
+ public:
+  // The spheres to step, in any order. `max_radius`: the largest radius of the whole bed (every rank's
+  // share): it sets the skin, so every rank rebuilds its lists on the same steps.
+  void load(const SphereBedSetup& setup, const std::vector<SphereState>& spheres, double max_radius);
+  // One Verlet step. `first`: nothing has been evaluated yet, so the forces at the start come first.
+  void step(bool first);
+  // Completes the last step's second half kick (a no-op if none is pending).
+  void finish();
+  // The spheres' states, in slot (id) order; only after finish().
+  std::vector<SphereState> states() const;
+  std::size_t size() const { return x_.size(); }
+  // Force evaluations so far, and the contacts of the last one.
+  std::uint64_t force_evaluations() const { return evaluations_; }
+  std::size_t contacts() const { return contacts_; }
+  std::uint64_t list_builds() const { return cells_.builds(); }
+
+  // The elastic energy (normal and shear springs of pairs and planes) per sphere, half of each pair to
+  // each partner, in slot order: the caller sums the shares in id order.
+  std::vector<double> elastic_shares() const;
+  // Springs held, and where the lists were built (per slot), for checkpoints.
+  std::vector<SphereSpring> springs() const;
+  const std::vector<Vec3>& build_positions() const { return cells_.build_positions(); }
+  // Continues a saved run: lists built at the saved build positions (so rebuilds and periodic wrapping
+  // come on the same steps), then the springs put back. Throws std::runtime_error for a spring between
+  // spheres that are not listed as neighbours there.
+  void restore(const std::vector<Vec3>& built_at, const std::vector<SphereSpring>& springs);
+
+ private:
+  template <bool Friction, bool Rotation, bool Periodic>
+  struct Kernel;
+  template <class Fn>
+  void with_kernel(double shear_step, Fn&& fn);
+  template <class K>
+  void pipelined(K& k, bool complete);
+  template <bool Complete, class K>
+  void drift_all(K& k);
+  template <class K>
+  void forces_with(K& k);
+  template <class K>
+  void rows(K& k);
+  void forces(double h);
+  void rebuild();
+  void wrap_periodic();
+  void place_springs(std::vector<SphereSpring> held);
+  std::size_t slot_of(std::int64_t id) const;
+  double limit2() const { return 0.25 * skin_ * skin_; }
+
+  SphereBedSetup s_;
+  double skin_ = 0, max_radius_ = 0;
+  // Per slot (sorted by id).
+  std::vector<std::int64_t> id_;
+  std::vector<Vec3> x_, v_, w_, f_, tq_;
+  std::vector<Quat> q_;
+  std::vector<double> m_, inv_m_, inv_i_, r_;
+  std::vector<std::int32_t> mat_;
+  // Per list entry: the spring, and whether the pair touched at the last evaluation.
+  std::vector<Vec3> pair_xi_;
+  std::vector<std::uint8_t> touching_;
+  // Per slot and plane: the spring; per slot, the planes it may reach before the next rebuild.
+  std::vector<Vec3> plane_xi_;
+  std::vector<std::uint32_t> plane_start_, plane_of_;
+  SphereCells cells_;
+  bool pending_kick_ = false, moved_ = true;
+  // Whether the next drift takes some sphere half a skin from the build positions, as predicted by the
+  // last force evaluation (unknown: no prediction, drift all and look).
+  enum class Prediction { unknown, stays, moves };
+  Prediction prediction_ = Prediction::unknown;
+  std::size_t lag_ = 0;  // the largest j - i of a listed pair
+  std::uint64_t evaluations_ = 0;
+  std::size_t contacts_ = 0;
+};
+
+}  // namespace grainlab::dem
