@@ -117,12 +117,19 @@ class NativeEngine final : public NativeEngineBase<dem::World> {
 // The native engine on a 3-D scene.
 class NativeEngine3d final : public NativeEngineBase<dem::World3d> {
  public:
-  explicit NativeEngine3d(const Scene& scene)
-      : NativeEngineBase(scene), shape_index_(polyhedron_indices(world_.scene().bodies3d)) {}
+  explicit NativeEngine3d(const Scene& scene, dem::Decomposition d = {})
+      : NativeEngineBase(scene, d), shape_index_(polyhedron_indices(world_.scene().bodies3d)) {}
 
+  // A distributed world's bodies are gathered to rank 0 after every advance; the others return an empty
+  // frame.
   Frame frame() const override {
     Frame f;
     f.time = world_.time();
+    if (world_.distributed() && parallel::rank() != 0) return f;
+    return frame_of_all(f);
+  }
+
+  Frame frame_of_all(Frame& f) const {
     const auto& bodies = world_.bodies();
     std::vector<std::size_t> order(bodies.size());
     std::iota(order.begin(), order.end(), 0);
@@ -137,9 +144,11 @@ class NativeEngine3d final : public NativeEngineBase<dem::World3d> {
 
   EnergyReport energies() const override { return to_report(world_.energies()); }
 
+  // Collective in a distributed world (the contact count is summed over the ranks).
   std::map<std::string, double> diagnostics() const override {
     return to_map(world_.diagnostics(), world_.count_contacts(), world_.bodies().size());
   }
+  int ranks() const override { return world_.distributed() ? parallel::size() : 1; }
 
   std::vector<std::vector<double>> polygon_shapes() const override {
     return polyhedron_vertices(world_.scene().bodies3d);
@@ -163,7 +172,14 @@ class NativeEngine3d final : public NativeEngineBase<dem::World3d> {
 std::string why_not_distributed(const std::string& engine, const Scene& scene) {
   if (!engine_capabilities(engine).distributed)
     return fmt::format("the {} engine runs on one process", engine);
-  if (scene.dimension != 2) return "3-D scenes run on one process so far";
+  if (scene.dimension == 3) {
+    if (scene.accuracy.integrator != Integrator::VelocityVerlet)
+      return "3-D scenes run over MPI ranks under integrator \"verlet\" only";
+    for (const Body3Spec& b : scene.bodies3d)
+      if (b.shape != Body3Spec::Shape::Sphere) return "3-D scenes with polyhedra run on one process so far";
+    if (scene.output.contacts) return "contact events ([output] contacts) are recorded on one process so far";
+    return {};
+  }
   for (const BodySpec& b : scene.bodies)
     if (b.shape == BodySpec::Shape::Polygon) return "scenes with polygons run on one process so far";
   if (scene.output.contacts) return "contact events ([output] contacts) are recorded on one process so far";
@@ -172,6 +188,8 @@ std::string why_not_distributed(const std::string& engine, const Scene& scene) {
 
 std::unique_ptr<Engine> make_distributed_native_engine(const Scene& scene, std::uint64_t balance_every,
                                                        int ranks_y) {
+  if (scene.dimension == 3)
+    return std::make_unique<NativeEngine3d>(scene, dem::Decomposition{true, balance_every, ranks_y});
   return std::make_unique<NativeEngine>(scene, dem::Decomposition{true, balance_every, ranks_y});
 }
 

@@ -14,6 +14,18 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Every file grainlab writes uses the HDF5 1.10 format: a dataset held in one chunk needs no chunk index,
+// so checksummed small datasets cost little more than plain ones, and attributes beyond 64 kB (the text
+// of a scene with thousands of bodies) are stored densely instead of failing. Readable by HDF5 1.10 and
+// later (ParaView, h5py).
+hid_t create_file(const std::string& path) {
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_libver_bounds(fapl, H5F_LIBVER_V110, H5F_LIBVER_V110);
+  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  H5Pclose(fapl);
+  return f;
+}
+
 std::string temp_name(const std::string& path) {
   return fmt::format("{}.tmp-{}", path, ::getpid());
 }
@@ -78,12 +90,7 @@ RunWriter::RunWriter(std::string path, bool overwrite) : path_(std::move(path)),
   if (!overwrite && fs::exists(path_))
     throw std::runtime_error(fmt::format("{} exists; pass --force to overwrite it", path_));
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  // HDF5 1.10 file format: a dataset held in one chunk needs no chunk index, so checksummed small
-  // datasets cost little more than plain ones (readable by HDF5 1.10 and later: ParaView, h5py).
-  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  H5Pset_libver_bounds(fapl, H5F_LIBVER_V110, H5F_LIBVER_V110);
-  file_ = H5Fcreate(tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-  H5Pclose(fapl);
+  file_ = create_file(tmp_);
   if (file_ < 0) throw std::runtime_error("cannot create " + tmp_);
   H5Gclose(H5Gcreate2(file_, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
 }
@@ -270,7 +277,7 @@ void write_sample_tables(const std::string& path, const std::vector<SampleTable>
   const std::string tmp = temp_name(path);
   hid_t f = -1;
   try {
-    f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    f = create_file(tmp);
     if (f < 0) throw std::runtime_error("cannot create " + path);
     for (const auto& [k, v] : metadata) attr_string(f, k, v);
     for (const SampleTable& t : tables) write_table(f, t);
@@ -305,7 +312,7 @@ GridSeriesWriter::GridSeriesWriter(std::string path, bool overwrite, std::size_t
                                    double dx, std::string field)
     : path_(std::move(path)), tmp_(temp_name(path_)), field_(std::move(field)), nx_(nx), ny_(ny), dx_(dx) {
   if (!overwrite && fs::exists(path_)) throw std::runtime_error(path_ + " exists");
-  file_ = H5Fcreate(tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  file_ = create_file(tmp_);
   if (file_ < 0) throw std::runtime_error("cannot create " + path_);
   hid_t g = H5Gcreate2(file_, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   H5Gclose(g);

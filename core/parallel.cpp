@@ -123,6 +123,7 @@ std::vector<std::vector<double>> all_to_all(const std::vector<std::vector<double
 
 void exchange(const std::vector<int>& to, const std::vector<std::vector<double>>& send,
               const std::vector<int>& from, std::vector<std::vector<double>>& recv) {
+  if (to.empty() && from.empty()) return;  // (also: one process, MPI never started)
   std::vector<MPI_Request> req;
   req.reserve(to.size() + from.size());
   for (std::size_t k = 0; k < from.size(); ++k) {

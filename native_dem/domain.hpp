@@ -8,6 +8,14 @@
 
 namespace grainlab::dem {
 
+struct Decomposition {
+  bool distributed = false;
+  // Move the region boundaries to even out the load every this many steps (0: never).
+  std::uint64_t balance_every = 0;
+  // Rows of the grid of ranks (cuts along y); the ranks must divide into them. 1: slabs along x.
+  int ranks_y = 1;
+};
+
 struct Domain {
   int rank = 0, size = 1;
   int px = 1, py = 1;     // rank q is column q % px, row q / px

@@ -63,8 +63,11 @@ inline bool nonzero(const D3& a) {
 // detail3d::shear_force on triples, operation for operation.
 inline D3 shear_force(const ContactLaw& law, D3& xi, const D3& n, const D3& vt, double h, double meff,
                       double fn) {
-  if (const double len2 = dot(xi, xi); len2 > 0) {
-    xi = xi - n * dot(n, xi);
+  // A spring already in the tangent plane (along == 0) would come back from the turn unchanged, to the bit
+  // (the rescale is by sqrt(1)): the turn is skipped. In a resting bed most springs are.
+  if (const double along = dot(n, xi); along != 0) {
+    const double len2 = dot(xi, xi);
+    xi = xi - n * along;
     if (const double now2 = dot(xi, xi); now2 > 0) xi = xi * std::sqrt(len2 / now2);
   }
   xi = xi + h * vt;
@@ -77,12 +80,13 @@ inline D3 shear_force(const ContactLaw& law, D3& xi, const D3& n, const D3& vt, 
   return fs;
 }
 
+}  // namespace
+
 bool spring_order(const SphereSpring& p, const SphereSpring& q) {
   if (p.a != q.a) return p.a < q.a;
   if ((p.b < 0) != (q.b < 0)) return p.b >= 0;  // a sphere's pairs, then its planes
   return p.b >= 0 ? p.b < q.b : p.b > q.b;      // planes by index: -1, -2, ...
 }
-}  // namespace
 
 void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>& spheres,
                      double max_radius) {
@@ -110,9 +114,10 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
 }
 
 std::vector<SphereState> SphereBed::states() const {
-  std::vector<SphereState> out(x_.size());
-  for (std::size_t k = 0; k < out.size(); ++k) {
-    SphereState& s = out[k];
+  std::vector<SphereState> out;
+  for (std::size_t k = 0; k < x_.size(); ++k) {
+    if (ghost(k)) continue;
+    SphereState& s = out.emplace_back();
     s.id = id_[k], s.x = x_[k], s.v = v_[k], s.w = w_[k], s.f = f_[k], s.tq = tq_[k], s.q = q_[k];
     s.m = m_[k], s.inv_i = inv_i_[k], s.r = r_[k], s.material = mat_[k];
   }
@@ -141,6 +146,7 @@ struct SphereBed::Kernel {
   Vec3* __restrict pair_xi;
   std::uint8_t* __restrict touching;
   const Vec3* __restrict x0;  // where the lists were built (nullptr: not built)
+  const std::uint8_t* ghost;  // per slot, distributed beds only (nullptr: every slot is this rank's)
   const ContactLaw* laws;
   int nm;
   double dt, h, hs;  // step, half step, the shear springs' increment (0 at the very first evaluation)
@@ -167,6 +173,7 @@ struct SphereBed::Kernel {
         x0(b.cells_.builds() && b.cells_.build_positions().size() == b.x_.size()
                ? b.cells_.build_positions().data()
                : nullptr),
+        ghost(b.ghost_.empty() ? nullptr : b.ghost_.data()),
         laws(b.s_.laws.data()),
         nm(b.s_.n_mat),
         dt(b.s_.dt),
@@ -210,6 +217,8 @@ struct SphereBed::Kernel {
     moved = std::max(moved, dot(by, by));
   }
 
+  // A ghost's row (GhostRow) computes only its pairs with this rank's spheres, and has no planes.
+  template <bool GhostRow>
   [[gnu::always_inline]] void row(std::size_t i) {
     const Vec3* __restrict x = this->x, * __restrict v = this->v, * __restrict w = this->w;
     Vec3* __restrict f = this->f, * __restrict tq = this->tq, * __restrict pair_xi = this->pair_xi;
@@ -234,6 +243,8 @@ struct SphereBed::Kernel {
     };
     for (std::size_t k = bed.cells_.first(i), end = bed.cells_.first(i + 1); k < end; ++k) {
       const std::size_t j = list[k];
+      if constexpr (GhostRow)
+        if (ghost[j]) continue;  // neither sphere is this rank's: their owners compute the pair
       D3 d = pi - get(x[j]);
       if constexpr (Periodic) bed.cells_.to_nearest_image(d.x, d.y);
       const double reach = ri + r[j], r2 = dot(d, d);
@@ -271,7 +282,7 @@ struct SphereBed::Kernel {
         put(tq[j], get(tq[j]) - cross(rb, F));
       }
       touching[k] = 1;
-      ++contacts;
+      if (!GhostRow) ++contacts;  // (a pair with a ghost is counted by the rank of its lower id)
     }
     const std::size_t np = bed.s_.planes.size();
     for (std::size_t c = bed.plane_start_[i]; c < bed.plane_start_[i + 1]; ++c) {
@@ -305,7 +316,7 @@ struct SphereBed::Kernel {
       if constexpr (Rotation) put(tq[i], ti);
     }
     this->contacts += contacts;
-    if (x0) predict(i);
+    if (!GhostRow && x0) predict(i);
   }
 };
 
@@ -336,8 +347,9 @@ void SphereBed::step(bool first) {
     forces(0);
   }
   const bool complete = pending_kick_;
+  ++steps_;
   with_kernel(s_.dt, [&](auto& k) {
-    if (s_.contacts && prediction_ == Prediction::stays) {
+    if (s_.contacts && prediction_ == Prediction::stays && sweep_allowed_) {
       pipelined(k, complete);
     } else {
       complete ? drift_all<true>(k) : drift_all<false>(k);
@@ -352,29 +364,46 @@ void SphereBed::step(bool first) {
 // of a listed pair. Every partner of a row has drifted (and had its force reset) before the row reads or
 // adds to it, and no row adds to a sphere before its drift: the same operations as drifting all and then
 // running all rows, so the same bits, with each sphere's data still in cache when its row comes.
+//
+// Distributed, the spheres other ranks hold as ghosts drift first and are sent; the sweep then skips them
+// and the ghosts (whose rows compute only their pairs with this rank's spheres).
 template <class K>
 void SphereBed::pipelined(K& kernel, bool complete) {
   K k = kernel;  // a local copy the compiler can keep in registers
   const std::size_t n = x_.size(), lag = lag_ + 1;
+  const std::uint8_t* skip = nullptr;
+  if (domain_) {
+    for (const auto& slots : send_slots_)
+      for (std::uint32_t i : slots) complete ? k.template drift<true>(i) : k.template drift<false>(i);
+    update_ghosts();
+    skip = not_swept_.data();
+  }
   for (std::size_t t = 0; t < n + lag; ++t) {
-    if (t < n) complete ? k.template drift<true>(t) : k.template drift<false>(t);
-    if (t >= lag) k.row(t - lag);
+    if (t < n && !(skip && skip[t])) complete ? k.template drift<true>(t) : k.template drift<false>(t);
+    if (t < lag) continue;
+    const std::size_t i = t - lag;
+    k.ghost&& k.ghost[i] ? k.template row<true>(i) : k.template row<false>(i);
   }
   contacts_ = k.contacts;
-  prediction_ = k.moved > limit2() ? Prediction::moves : Prediction::stays;
+  prediction_ = any_rank(k.moved > limit2()) ? Prediction::moves : Prediction::stays;
 }
 
 template <bool Complete, class K>
 void SphereBed::drift_all(K& kernel) {
   K k = kernel;  // a local copy the compiler can keep in registers
   const std::size_t n = x_.size();
-  if (k.x0) {
+  if (k.ghost) {  // a ghost moves with its owner's data, sent each step
+    for (std::size_t i = 0; i < n; ++i)
+      if (!k.ghost[i]) {
+        k.template drift<Complete>(i);
+        if (k.x0) k.note_moved(i);
+      }
+  } else if (k.x0) {
     for (std::size_t i = 0; i < n; ++i) k.template drift<Complete>(i), k.note_moved(i);
-    moved_ = k.moved > limit2();
   } else {
     for (std::size_t i = 0; i < n; ++i) k.template drift<Complete>(i);
-    moved_ = true;
   }
+  moved_ = any_rank(!k.x0 || k.moved > limit2());
 }
 
 // The rows, after a rebuild if some sphere has moved half the skin since the last one.
@@ -389,6 +418,7 @@ void SphereBed::forces_with(K& k) {
     rebuild();
     with_kernel(k.hs, [&](auto& fresh) { rows(fresh); });  // the lists' arrays have moved
   } else {
+    if (domain_) update_ghosts();
     rows(k);
   }
 }
@@ -396,9 +426,14 @@ void SphereBed::forces_with(K& k) {
 template <class K>
 void SphereBed::rows(K& kernel) {
   K k = kernel;  // a local copy the compiler can keep in registers
-  for (std::size_t i = 0; i < x_.size(); ++i) k.row(i);
+  if (k.ghost) {
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      k.ghost[i] ? k.template row<true>(i) : k.template row<false>(i);
+  } else {
+    for (std::size_t i = 0; i < x_.size(); ++i) k.template row<false>(i);
+  }
   contacts_ = k.contacts;
-  prediction_ = k.x0 && k.moved <= limit2() ? Prediction::stays : Prediction::moves;
+  prediction_ = any_rank(!k.x0 || k.moved > limit2()) ? Prediction::moves : Prediction::stays;
 }
 
 void SphereBed::forces(double h) {
@@ -432,16 +467,14 @@ void SphereBed::wrap_periodic() {
 // New neighbour lists; the springs held move to their pairs' new entries.
 void SphereBed::rebuild() {
   wrap_periodic();
-  std::vector<SphereSpring> held;
-  for (std::size_t i = 0; i < x_.size() && cells_.builds() > 0; ++i)
-    for (std::size_t k = cells_.first(i); k < cells_.first(i + 1); ++k)
-      if (holds(pair_xi_[k])) held.push_back({id_[i], id_[*(cells_.begin(0) + k)], pair_xi_[k]});
+  std::vector<SphereSpring> held = held_springs();
+  if (domain_) exchange_spheres(held);
   cells_.build(x_, max_radius_, skin_);
   // The planes each sphere can reach before the next rebuild (it moves less than half the skin): most
-  // of a bed's spheres touch none of them, and then test none.
+  // of a bed's spheres touch none of them, and then test none. A ghost's planes are its owner's business.
   plane_start_.assign(1, 0), plane_of_.clear();
   for (std::size_t i = 0; i < x_.size(); ++i) {
-    for (std::size_t k = 0; k < s_.planes.size(); ++k)
+    for (std::size_t k = 0; k < s_.planes.size() && !ghost(i); ++k)
       if (s_.planes[k].normal.dot(x_[i] - s_.planes[k].point) < r_[i] + skin_)
         plane_of_.push_back(static_cast<std::uint32_t>(k));
     plane_start_.push_back(static_cast<std::uint32_t>(plane_of_.size()));
@@ -456,6 +489,19 @@ void SphereBed::rebuild() {
 // Puts pair springs (sorted by ids, as the slots are) into the fresh lists by one merge per sphere. A
 // held pair missing from the new lists (none is: a pair in contact is within their reach) is passed over.
 void SphereBed::place_springs(std::vector<SphereSpring> held) {
+  std::sort(held.begin(), held.end(), spring_order);
+  held.erase(
+      std::unique(held.begin(), held.end(),
+                  [](const SphereSpring& p, const SphereSpring& q) { return p.a == q.a && p.b == q.b; }),
+      held.end());
+  const std::size_t np = s_.planes.size();
+  plane_xi_.assign(x_.size() * np, Vec3::Zero());
+  for (const SphereSpring& sp : held)
+    if (sp.b < 0) {
+      const auto it = std::lower_bound(id_.begin(), id_.end(), sp.a);
+      if (it != id_.end() && *it == sp.a)
+        plane_xi_[static_cast<std::size_t>(it - id_.begin()) * np - 1 - sp.b] = sp.xi;
+    }
   pair_xi_.assign(cells_.entries(), Vec3::Zero());
   touching_.assign(cells_.entries(), 0);
   auto it = held.begin();
@@ -463,7 +509,7 @@ void SphereBed::place_springs(std::vector<SphereSpring> held) {
   for (std::size_t i = 0; i < x_.size() && it != held.end(); ++i)
     for (std::size_t k = cells_.first(i); k < cells_.first(i + 1); ++k) {
       const std::int64_t a = id_[i], b = id_[list[k]];
-      while (it != held.end() && (it->a < a || (it->a == a && it->b < b))) ++it;
+      while (it != held.end() && (it->a < a || (it->a == a && (it->b < 0 || it->b < b)))) ++it;
       if (it != held.end() && it->a == a && it->b == b) pair_xi_[k] = it->xi, touching_[k] = 1, ++it;
     }
 }
@@ -496,50 +542,67 @@ std::vector<double> SphereBed::elastic_shares() const {
   return share;
 }
 
-std::vector<SphereSpring> SphereBed::springs() const {
+// Every spring this rank holds by ids: pairs it computes (not two ghosts) and its spheres' planes.
+std::vector<SphereSpring> SphereBed::held_springs() const {
   std::vector<SphereSpring> out;
   const std::size_t np = s_.planes.size();
+  const SphereCells::Index* list = cells_.entries() ? cells_.begin(0) : nullptr;
   for (std::size_t i = 0; i < x_.size(); ++i) {
     for (std::size_t k = cells_.builds() ? cells_.first(i) : 0; cells_.builds() && k < cells_.first(i + 1);
          ++k)
-      if (holds(pair_xi_[k])) out.push_back({id_[i], id_[*(cells_.begin(0) + k)], pair_xi_[k]});
-    for (std::size_t k = 0; k < np; ++k)
+      if (holds(pair_xi_[k]) && !(ghost(i) && ghost(list[k])))
+        out.push_back({id_[i], id_[list[k]], pair_xi_[k]});
+    for (std::size_t k = 0; k < np && !ghost(i); ++k)
       if (holds(plane_xi_[i * np + k]))
         out.push_back({id_[i], -1 - static_cast<std::int64_t>(k), plane_xi_[i * np + k]});
   }
+  return out;
+}
+
+std::vector<SphereSpring> SphereBed::springs() const {
+  std::vector<SphereSpring> out = held_springs();
   std::sort(out.begin(), out.end(), spring_order);
   return out;
 }
 
-void SphereBed::restore(const std::vector<Vec3>& built_at, const std::vector<SphereSpring>& springs) {
+void SphereBed::restore(const std::vector<Vec3>& built_at, const std::vector<SphereSpring>& springs,
+                        const Decomposition& decomposition) {
   if (built_at.size() != x_.size())
     throw std::runtime_error(fmt::format("{} build positions for {} spheres", built_at.size(), x_.size()));
+  const std::vector<std::int64_t> all_ids = id_;
   const std::vector<Vec3> now = x_;
   x_ = built_at;
   cells_ = SphereCells();
   if (s_.periodic_x) cells_.set_period(0, s_.periodic_x->first, s_.periodic_x->second);
   if (s_.periodic_y) cells_.set_period(1, s_.periodic_y->first, s_.periodic_y->second);
-  rebuild();  // a fresh build: no springs to carry
-  x_ = now;
-  std::fill(plane_xi_.begin(), plane_xi_.end(), Vec3::Zero());
+  plane_xi_.assign(x_.size() * s_.planes.size(), Vec3::Zero());
+  if (decomposition.distributed) distribute(decomposition);  // regions cut at the build positions
+  rebuild();                                                 // a fresh build: no springs to carry
+  for (std::size_t k = 0; k < x_.size(); ++k)
+    x_[k] = now[static_cast<std::size_t>(std::lower_bound(all_ids.begin(), all_ids.end(), id_[k]) -
+                                         all_ids.begin())];
+  // The springs this rank holds: its spheres' planes, and pairs with one of its spheres (which must be
+  // listed: they were when the state was saved).
+  std::vector<SphereSpring> mine;
+  auto here = [&](std::int64_t id) {
+    const auto it = std::lower_bound(id_.begin(), id_.end(), id);
+    return it != id_.end() && *it == id && !ghost(static_cast<std::size_t>(it - id_.begin()));
+  };
   const std::size_t np = s_.planes.size();
-  std::vector<SphereSpring> pairs;
-  for (const SphereSpring& s : springs) {
-    const std::size_t i = slot_of(s.a);
-    if (s.b < 0) {
-      const auto k = static_cast<std::size_t>(-1 - s.b);
-      if (k >= np) throw std::runtime_error(fmt::format("a saved spring holds plane {} of {}", k, np));
-      plane_xi_[i * np + k] = s.xi;
-      continue;
+  for (const SphereSpring& sp : springs) {
+    if (sp.b < 0 && static_cast<std::size_t>(-1 - sp.b) >= np)
+      throw std::runtime_error(fmt::format("a saved spring holds plane {} of {}", -1 - sp.b, np));
+    if (!here(sp.a) && !(sp.b >= 0 && here(sp.b))) continue;
+    if (sp.b >= 0) {
+      const std::size_t i = slot_of(sp.a), j = slot_of(sp.b);
+      const SphereCells::Index* at = std::lower_bound(cells_.begin(i), cells_.end(i), j);
+      if (at == cells_.end(i) || *at != j)
+        throw std::runtime_error(
+            fmt::format("a saved spring joins bodies {} and {}, not listed as neighbours", sp.a, sp.b));
     }
-    const std::size_t j = slot_of(s.b);
-    const SphereCells::Index* at = std::lower_bound(cells_.begin(i), cells_.end(i), j);
-    if (at == cells_.end(i) || *at != j)
-      throw std::runtime_error(
-          fmt::format("a saved spring joins bodies {} and {}, not listed as neighbours", s.a, s.b));
-    const auto k = static_cast<std::size_t>(at - cells_.begin(0));
-    pair_xi_[k] = s.xi, touching_[k] = 1;
+    mine.push_back(sp);
   }
+  place_springs(std::move(mine));
   pending_kick_ = false, moved_ = false, prediction_ = Prediction::unknown;
 }
 

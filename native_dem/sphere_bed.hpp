@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "contact_law.hpp"
+#include "domain.hpp"
 #include "narrow_phase3d.hpp"
 #include "sphere_cells.hpp"
 #include "world_types.hpp"
@@ -52,6 +53,9 @@ struct SphereSpring {
   Vec3 xi = Vec3::Zero();
 };
 
+// The order springs are kept and saved in: by a, then a's pairs by b, then its planes by index.
+bool spring_order(const SphereSpring& p, const SphereSpring& q);
+
 class SphereBed {
  public:
   // The spheres to step, in any order. `max_radius`: the largest radius of the whole bed (every rank's
@@ -59,11 +63,22 @@ class SphereBed {
   void load(const SphereBedSetup& setup, const std::vector<SphereState>& spheres, double max_radius);
   // One Verlet step. `first`: nothing has been evaluated yet, so the forces at the start come first.
   void step(bool first);
+  // Tests: false makes every step take two passes (drift all, then all rows), as after a list rebuild.
+  void allow_sweep(bool on) { sweep_allowed_ = on; }
   // Completes the last step's second half kick (a no-op if none is pending).
   void finish();
-  // The spheres' states, in slot (id) order; only after finish().
+  // Spreads the bed over the MPI ranks (sphere_bed_parallel.cpp). Every rank loaded the same spheres;
+  // each keeps the slab (or grid cell, decomposition.ranks_y > 1) holding an equal share, and from the
+  // first force evaluation on holds ghost copies of the other ranks' spheres near it. Each pair with a
+  // ghost is computed by both ranks in the orientation of its lower id, each sphere sums its forces in
+  // id order, and all ranks rebuild on the same steps: the results are those of one process, bit for bit.
+  void distribute(const Decomposition& decomposition);
+  bool distributed() const { return domain_.has_value(); }
+  // The spheres' states, in slot (id) order, this rank's own only; only after finish().
   std::vector<SphereState> states() const;
   std::size_t size() const { return x_.size(); }
+  bool ghost(std::size_t slot) const { return !ghost_.empty() && ghost_[slot]; }
+  std::int64_t id(std::size_t slot) const { return id_[slot]; }
   // Force evaluations so far, and the contacts of the last one.
   std::uint64_t force_evaluations() const { return evaluations_; }
   std::size_t contacts() const { return contacts_; }
@@ -72,13 +87,17 @@ class SphereBed {
   // The elastic energy (normal and shear springs of pairs and planes) per sphere, half of each pair to
   // each partner, in slot order: the caller sums the shares in id order.
   std::vector<double> elastic_shares() const;
-  // Springs held, and where the lists were built (per slot), for checkpoints.
+  // Springs held by this rank's spheres (pairs with a ghost included), sorted, and where the lists were
+  // built (per slot), for checkpoints.
   std::vector<SphereSpring> springs() const;
   const std::vector<Vec3>& build_positions() const { return cells_.build_positions(); }
   // Continues a saved run: lists built at the saved build positions (so rebuilds and periodic wrapping
   // come on the same steps), then the springs put back. Throws std::runtime_error for a spring between
   // spheres that are not listed as neighbours there.
-  void restore(const std::vector<Vec3>& built_at, const std::vector<SphereSpring>& springs);
+  // `built_at` and `springs` cover the whole bed, as loaded; a decomposition spreads it over the ranks
+  // by the build positions.
+  void restore(const std::vector<Vec3>& built_at, const std::vector<SphereSpring>& springs,
+               const Decomposition& decomposition = {});
 
  private:
   template <bool Friction, bool Rotation, bool Periodic>
@@ -96,7 +115,15 @@ class SphereBed {
   void forces(double h);
   void rebuild();
   void wrap_periodic();
+  std::vector<SphereSpring> held_springs() const;
   void place_springs(std::vector<SphereSpring> held);
+  // Distributed (sphere_bed_parallel.cpp): at a rebuild, ghosts dropped, the regions re-cut when due,
+  // spheres that left their region sent to their new owner with their springs, ghosts received, all
+  // slots sorted by id again; and every step, the ghosts' positions and velocities from their owners.
+  void exchange_spheres(std::vector<SphereSpring>& held);
+  void update_ghosts();
+  void sort_slots();
+  bool any_rank(bool mine) const;
   std::size_t slot_of(std::int64_t id) const;
   double limit2() const { return 0.25 * skin_ * skin_; }
 
@@ -115,12 +142,22 @@ class SphereBed {
   std::vector<Vec3> plane_xi_;
   std::vector<std::uint32_t> plane_start_, plane_of_;
   SphereCells cells_;
-  bool pending_kick_ = false, moved_ = true;
+  bool pending_kick_ = false, moved_ = true, sweep_allowed_ = true;
   // Whether the next drift takes some sphere half a skin from the build positions, as predicted by the
   // last force evaluation (unknown: no prediction, drift all and look).
   enum class Prediction { unknown, stays, moves };
   Prediction prediction_ = Prediction::unknown;
   std::size_t lag_ = 0;  // the largest j - i of a listed pair
+  std::uint64_t steps_ = 0;
+  // Distributed: the regions, which slots are ghosts, and the per-step ghost plan (this rank's slots
+  // sent to rank to_[k]; slots filled from rank from_[k], in the order sent).
+  std::optional<Domain> domain_;
+  Decomposition decomposition_;
+  std::vector<std::uint8_t> ghost_;
+  std::vector<std::uint8_t> not_swept_;  // ghosts, and spheres sent as ghosts (drifted before the sweep)
+  std::vector<int> to_, from_;
+  std::vector<std::vector<std::uint32_t>> send_slots_, recv_slots_;
+  std::vector<std::vector<double>> send_buf_, recv_buf_;
   std::uint64_t evaluations_ = 0;
   std::size_t contacts_ = 0;
 };

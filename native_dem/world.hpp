@@ -26,13 +26,6 @@ struct ContactGeometry;
 // ranks split the plane into a grid of regions (slabs along x by default), each owns the particles in
 // its region and keeps copies (ghosts) of its neighbours' particles within reach; results are bitwise
 // those of the serial run.
-struct Decomposition {
-  bool distributed = false;
-  // Move the region boundaries to even out the load every this many steps (0: never).
-  std::uint64_t balance_every = 0;
-  // Rows of the grid of ranks (cuts along y); the ranks must divide into them. 1: slabs along x.
-  int ranks_y = 1;
-};
 
 // The scene's bodies with its generated assemblies expanded (a poured bed is settled on this engine),
 // at their initial state: what another engine needs to build the same scene.

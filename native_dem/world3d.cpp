@@ -1,8 +1,11 @@
 #include "world3d.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
+#include "parallel.hpp"
 #include "stepping.hpp"
 #include "world3d_detail.hpp"
 
@@ -32,7 +35,8 @@ Vec3 Body3::angular_momentum() const {
   return R * inertia * R.transpose() * w;
 }
 
-World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
+World3d::World3d(const Scene& scene, Decomposition decomposition)
+    : scene_(scene), effects_(scene.effects), decomposition_(decomposition) {
   if (effects_.has(Effect::wind_drag))
     throw InputError({scene.path, 0}, "effects",
                      "the native engine models \"wind_drag\" in 2-D only so far (docs/saltation.md)");
@@ -68,6 +72,23 @@ World3d::World3d(const Scene& scene) : scene_(scene), effects_(scene.effects) {
     plane_material_.push_back(p.material);
   }
   dt_ = scene_.accuracy.dt;
+  if (decomposition_.distributed) check_decomposition();
+}
+
+// Before anything is written: whether this scene can be spread over the ranks as asked.
+void World3d::check_decomposition() const {
+  const int ranks = parallel::size(), rows = decomposition_.ranks_y;
+  if (rows < 1 || ranks % rows != 0)
+    throw InputError({"--ranks-y", 0}, std::to_string(rows),
+                     fmt::format("{} ranks cannot form a grid with {} rows", ranks, rows));
+  if (rows > 1 && scene_.periodic_y)
+    throw InputError({"--ranks-y", 0}, std::to_string(rows),
+                     "a 3-D scene periodic in y is split into slabs along x only: leave --ranks-y at 1");
+  if (scene_.accuracy.integrator != Integrator::VelocityVerlet ||
+      std::any_of(b_.begin(), b_.end(), [](const Body3& b) { return b.hull || !b.isotropic; }))
+    throw InputError({scene_.path, 0}, "dimension",
+                     "3-D scenes run over MPI ranks as beds of spheres under integrator \"verlet\" "
+                     "(docs/parallel.md)");
 }
 
 Vec3 World3d::angular_acceleration(const Body3& b) const {
@@ -158,6 +179,10 @@ void World3d::compute_forces(double h) {
 void World3d::decide_mode() {
   if (mode_ != Mode::undecided) return;
   mode_ = sphere_kernel_eligible() ? Mode::spheres : Mode::general;
+  if (mode_ == Mode::general && decomposition_.distributed)
+    throw InputError({scene_.path, 0}, "dimension",
+                     "3-D scenes run over MPI ranks as beds of spheres under integrator \"verlet\" without "
+                     "contact events (docs/parallel.md)");
   if (mode_ == Mode::general && (scene_.periodic_x || scene_.periodic_y))
     throw InputError(
         {scene_.path, 0}, scene_.periodic_x ? "periodic_x" : "periodic_y",
@@ -298,17 +323,13 @@ void World3d::step_predictor_corrector() {
 Energies World3d::energies() const {
   Energies e;
   const Vec3 g = effective_gravity(scene_);
+  if (mode_ == Mode::spheres && bed_loaded_) return bed_energies(g);
   for (const Body3& b : b_) {
     e.kinetic_translational += 0.5 * b.m * b.v.squaredNorm();
     if (effects_.has(Effect::rotation)) e.kinetic_rotational += 0.5 * b.w.dot(b.angular_momentum());
     e.potential_gravity -= b.m * g.dot(b.x);
   }
   if (!effects_.has(Effect::normal_contact)) return e;
-  if (mode_ == Mode::spheres) {  // the kernel's own pairs (through periodic sides) and springs
-    if (bed_loaded_)
-      for (double u : bed_.elastic_shares()) e.elastic += u;
-    return e;
-  }
   std::vector<Placed3> placed = placed_;
   for (std::size_t i = 0; i < b_.size(); ++i) {
     placed[i].x = b_[i].x;

@@ -44,14 +44,19 @@ std::vector<Body3Spec> expanded_bodies3d(const Scene& scene);
 
 class World3d {
  public:
-  explicit World3d(const Scene& scene);
+  // A decomposition spreads a bed of spheres over the MPI ranks (sphere_bed_parallel.cpp): then bodies()
+  // is current on rank 0 for all bodies (gathered after each advance) and on the others for their own,
+  // and energies(), save_state() and contact counts are collective.
+  explicit World3d(const Scene& scene, Decomposition decomposition = {});
+  bool distributed() const { return decomposition_.distributed; }
   void advance_to(double t_end);
   double time() const { return t_; }
   const std::vector<Body3>& bodies() const { return b_; }
   const Scene& scene() const { return scene_; }
   const Diagnostics& diagnostics() const { return diag_; }
   Energies energies() const;
-  std::size_t count_contacts() const { return last_contacts_; }
+  // Contacts at the last evaluation (on every rank of a distributed world: collective).
+  std::size_t count_contacts() const;
   // Per-step normal impulse on each touching pair (body ids; -1 - k for plane k): what contact events
   // are built from.
   const std::map<std::pair<std::int64_t, std::int64_t>, double>& step_impulses() const { return impulses_; }
@@ -62,6 +67,8 @@ class World3d {
   // neighbour lists instead of in a map. false (before the first advance): the general path, for tests.
   void use_sphere_kernel(bool on) { sphere_kernel_allowed_ = on; }
   bool on_sphere_kernel() const { return mode_ == Mode::spheres; }
+  // Tests: false makes the sphere kernel take two passes every step instead of one sweep.
+  void allow_sweep(bool on) { bed_.allow_sweep(on); }
 
   // Checkpoints (velocity Verlet): the whole state as tables under `prefix` (bodies, springs, clock),
   // and back. A restored world continues bit for bit: the sphere kernel's lists are rebuilt at the saved
@@ -75,6 +82,7 @@ class World3d {
  private:
   // Sphere kernel or general path, once, before the first step (or at a restore).
   void decide_mode();
+  void check_decomposition() const;
   void step();
   void step_verlet();
   void step_predictor_corrector();
@@ -91,17 +99,23 @@ class World3d {
   void commit_history() { history_.swap(trial_); }
   // The sphere kernel (sphere_bed.*): loaded at the first advance, mirrored into b_ after each.
   bool sphere_kernel_eligible() const;
-  void load_bed();
+  void load_bed(bool spread = true);  // spread: over the ranks, when distributed
   void store_bed();
   SphereBedSetup bed_setup() const;
+  Energies bed_energies(const Vec3& g) const;
+  std::size_t body_of_id(std::int64_t id) const;
+  // Rank 0 gets every sphere's build position (by body index) and every spring held, sorted.
+  void gather_bed_state(std::vector<Vec3>& built, std::vector<SphereSpring>& springs) const;
   enum class Mode { undecided, general, spheres };
   Mode mode_ = Mode::undecided;
   bool sphere_kernel_allowed_ = true, bed_loaded_ = false;
   SphereBed bed_;
-  std::vector<std::size_t> bed_body_;  // the body index of each of the bed's slots
+  std::vector<std::size_t> bed_body_;  // the body index of each of this rank's spheres, in the bed's order
+  std::vector<std::pair<std::int64_t, std::size_t>> by_id_;  // (id, body index), sorted
 
   Scene scene_;
   Effects effects_;
+  Decomposition decomposition_;
   std::vector<Body3> b_;
   std::vector<Placed3> placed_;
   std::vector<Plane3> planes_;

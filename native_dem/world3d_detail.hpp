@@ -31,8 +31,11 @@ inline Vec3 effective_gravity(const Scene& s) {
 // anchor slides: the spring then holds exactly the friction limit).
 inline Vec3 shear_force(const ContactLaw& law, Vec3& xi, const Vec3& n, const Vec3& vt, double h, double meff,
                         double fn) {
-  if (const double len2 = xi.squaredNorm(); len2 > 0) {  // (one square root, not three: hot in beds)
-    xi -= n * n.dot(xi);
+  // (One square root, not three: hot in beds. A spring already in the tangent plane would come back
+  // unchanged to the bit, so it is not turned.)
+  if (const double along = n.dot(xi); along != 0) {
+    const double len2 = xi.squaredNorm();
+    xi -= n * along;
     if (const double now2 = xi.squaredNorm(); now2 > 0) xi *= std::sqrt(len2 / now2);
   }
   xi += h * vt;

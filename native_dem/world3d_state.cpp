@@ -32,8 +32,8 @@ std::vector<SampleTable> World3d::save_state(const std::string& prefix) const {
   const bool kernel = mode_ == Mode::spheres && bed_loaded_ && bed_.list_builds() > 0;
   std::vector<Vec3> built(b_.size());
   for (std::size_t i = 0; i < b_.size(); ++i) built[i] = b_[i].x;
-  if (kernel)
-    for (std::size_t k = 0; k < bed_body_.size(); ++k) built[bed_body_[k]] = bed_.build_positions()[k];
+  std::vector<SphereSpring> bed_springs;
+  if (kernel) gather_bed_state(built, bed_springs);  // collective when distributed
   SampleTable bodies{prefix + "bodies", "every body's state in the scene's order", kBodyColumns, {}};
   for (std::size_t i = 0; i < b_.size(); ++i) {
     const Body3& b = b_[i];
@@ -50,7 +50,7 @@ std::vector<SampleTable> World3d::save_state(const std::string& prefix) const {
     std::unordered_map<std::int64_t, int> material;
     for (const Body3& b : b_) material[b.id] = b.material;
     if (bed_loaded_)
-      for (const SphereSpring& s : bed_.springs()) {
+      for (const SphereSpring& s : bed_springs) {
         const int other = s.b < 0 ? plane_material_[static_cast<std::size_t>(-1 - s.b)] : material.at(s.b);
         add(double(s.a), double(s.b), 0, s.xi, laws_[material.at(s.a) * n_mat_ + other].k_s);
       }
@@ -96,7 +96,7 @@ void World3d::restore_state(const std::map<std::string, SampleTable>& tables, co
   }
   // The kernel: lists built where they were (a fresh build: no springs to carry), then the springs put
   // back into their pairs' slots.
-  load_bed();
+  load_bed(false);
   std::vector<Vec3> built_by_slot(b_.size());
   for (std::size_t k = 0; k < bed_body_.size(); ++k) built_by_slot[k] = built[bed_body_[k]];
   std::vector<SphereSpring> held;
@@ -106,7 +106,8 @@ void World3d::restore_state(const std::map<std::string, SampleTable>& tables, co
     held.push_back(
         {static_cast<std::int64_t>(r[0]), static_cast<std::int64_t>(r[1]), Vec3(r[3], r[4], r[5])});
   }
-  bed_.restore(built_by_slot, held);
+  bed_.restore(built_by_slot, held, decomposition_);
+  store_bed();  // which bodies are this rank's, and rank 0's view of all
 }
 
 }  // namespace grainlab::dem

@@ -1,0 +1,272 @@
+// A sphere bed spread over MPI ranks: the initial split into regions, and at each neighbour-list rebuild
+// the re-cut that evens out the load, migration of spheres (with their springs) between ranks, ghost
+// copies of the neighbours' spheres, then every step the ghosts' positions and velocities. docs/parallel.md.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "parallel.hpp"
+#include "sphere_bed.hpp"
+
+namespace grainlab::dem {
+
+namespace {
+// A sphere's whole state (migration), and what a ghost needs (id, x, v, w, m, r, material, inverse
+// moment of inertia). Ids and materials are exact in a double.
+constexpr std::size_t kWhole = 24, kGhost = 14, kUpdate = 9, kSpring = 5;
+
+double wrapped(double x, const std::optional<std::pair<double, double>>& period) {
+  if (!period) return x;
+  const double L = period->second - period->first;
+  return x - L * std::floor((x - period->first) / L);
+}
+}  // namespace
+
+bool SphereBed::any_rank(bool mine) const {
+  return domain_ ? parallel::any_all(mine) : mine;
+}
+
+void SphereBed::distribute(const Decomposition& decomposition) {
+  decomposition_ = decomposition;
+  Domain d;
+  d.rank = parallel::rank();
+  d.size = parallel::size();
+  d.periodic = s_.periodic_x.has_value();
+  if (d.periodic) d.xmin = s_.periodic_x->first, d.period = s_.periodic_x->second - s_.periodic_x->first;
+  d.halo = 2 * max_radius_ + skin_;
+  d.py = decomposition.ranks_y;
+  if (d.py < 1 || d.size % d.py != 0)
+    throw std::runtime_error(fmt::format("{} ranks cannot form a grid with {} rows", d.size, d.py));
+  if (d.py > 1 && s_.periodic_y)
+    throw std::runtime_error("a bed periodic in y is split into slabs along x only (ranks_y = 1)");
+  d.px = d.size / d.py;
+  std::vector<double> points;
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    points.insert(points.end(),
+                  {wrapped(x_[i].x(), s_.periodic_x), x_[i].y(), 1.0, static_cast<double>(id_[i])});
+  d.cut_evenly(points);
+  d.next_balance_step = decomposition.balance_every;
+  std::vector<std::uint32_t> keep;
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    if (d.owner(wrapped(x_[i].x(), s_.periodic_x), x_[i].y()) == d.rank)
+      keep.push_back(static_cast<std::uint32_t>(i));
+  const std::size_t np = s_.planes.size();
+  std::vector<Vec3> planes(keep.size() * np);
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    for (std::size_t p = 0; p < np; ++p) planes[k * np + p] = plane_xi_[keep[k] * np + p];
+  auto pick = [&](auto& a) {
+    std::remove_reference_t<decltype(a)> out;
+    out.reserve(keep.size());
+    for (std::uint32_t i : keep) out.push_back(a[i]);
+    a = std::move(out);
+  };
+  pick(id_), pick(x_), pick(v_), pick(w_), pick(f_), pick(tq_), pick(q_), pick(m_), pick(inv_m_),
+      pick(inv_i_), pick(r_), pick(mat_);
+  plane_xi_ = std::move(planes);
+  ghost_.assign(x_.size(), 0);
+  pair_xi_.clear(), touching_.clear();
+  cells_ = SphereCells();
+  if (s_.periodic_x) cells_.set_period(0, s_.periodic_x->first, s_.periodic_x->second);
+  if (s_.periodic_y) cells_.set_period(1, s_.periodic_y->first, s_.periodic_y->second);
+  moved_ = true, prediction_ = Prediction::unknown;
+  domain_ = std::move(d);
+}
+
+// All slots in id order again (owned spheres and ghosts interleaved): the order every sum follows.
+void SphereBed::sort_slots() {
+  std::vector<std::uint32_t> order(x_.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return id_[a] < id_[b]; });
+  auto permute = [&](auto& a) {
+    std::remove_reference_t<decltype(a)> out;
+    out.reserve(order.size());
+    for (std::uint32_t i : order) out.push_back(a[i]);
+    a = std::move(out);
+  };
+  permute(id_), permute(x_), permute(v_), permute(w_), permute(f_), permute(tq_), permute(q_), permute(m_),
+      permute(inv_m_), permute(inv_i_), permute(r_), permute(mat_), permute(ghost_);
+}
+
+void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
+  Domain& d = *domain_;
+  // Ghosts go: they come again, fresh, below.
+  {
+    std::vector<std::uint32_t> own;
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      if (!ghost_[i]) own.push_back(static_cast<std::uint32_t>(i));
+    std::vector<double> load;  // for a re-cut: (x, y, 1 + listed pairs, id) per sphere of this rank
+    const bool recut = decomposition_.balance_every > 0 && steps_ >= d.next_balance_step;
+    if (recut)
+      for (std::uint32_t i : own) {
+        const double pairs =
+            cells_.builds() && cells_.entries() ? double(cells_.end(i) - cells_.begin(i)) : 0.0;
+        load.insert(load.end(), {x_[i].x(), x_[i].y(), 1.0 + pairs, static_cast<double>(id_[i])});
+      }
+    if (recut) {
+      d.cut_evenly(parallel::gather_all(load));
+      d.next_balance_step = steps_ + decomposition_.balance_every;
+    }
+    auto pick = [&](auto& a) {
+      std::remove_reference_t<decltype(a)> out;
+      out.reserve(own.size());
+      for (std::uint32_t i : own) out.push_back(a[i]);
+      a = std::move(out);
+    };
+    pick(id_), pick(x_), pick(v_), pick(w_), pick(f_), pick(tq_), pick(q_), pick(m_), pick(inv_m_),
+        pick(inv_i_), pick(r_), pick(mat_);
+    ghost_.assign(x_.size(), 0);
+  }
+  // Spheres whose centre left the region go to their new owner with every spring they are part of.
+  std::vector<std::vector<double>> send(d.size);
+  std::vector<int> owner(x_.size());
+  std::vector<std::uint32_t> stay;
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    owner[i] = d.owner(x_[i].x(), x_[i].y());
+    if (owner[i] == d.rank) {
+      stay.push_back(static_cast<std::uint32_t>(i));
+      continue;
+    }
+    std::vector<double>& out = send[owner[i]];
+    out.insert(out.end(), {static_cast<double>(id_[i]),
+                           x_[i].x(),
+                           x_[i].y(),
+                           x_[i].z(),
+                           v_[i].x(),
+                           v_[i].y(),
+                           v_[i].z(),
+                           w_[i].x(),
+                           w_[i].y(),
+                           w_[i].z(),
+                           f_[i].x(),
+                           f_[i].y(),
+                           f_[i].z(),
+                           tq_[i].x(),
+                           tq_[i].y(),
+                           tq_[i].z(),
+                           q_[i].w(),
+                           q_[i].x(),
+                           q_[i].y(),
+                           q_[i].z(),
+                           m_[i],
+                           inv_i_[i],
+                           r_[i],
+                           static_cast<double>(mat_[i])});
+  }
+  std::vector<std::vector<double>> springs(d.size);
+  for (const SphereSpring& sp : held)
+    for (std::int64_t id : {sp.a, sp.b}) {
+      if (id < 0) continue;
+      const auto it = std::lower_bound(id_.begin(), id_.end(), id);
+      if (it == id_.end() || *it != id) continue;
+      const int q = owner[static_cast<std::size_t>(it - id_.begin())];
+      if (q != d.rank)
+        springs[q].insert(springs[q].end(), {double(sp.a), double(sp.b), sp.xi.x(), sp.xi.y(), sp.xi.z()});
+    }
+  for (int q = 0; q < d.size; ++q) {
+    std::vector<double> msg{static_cast<double>(send[q].size() / kWhole)};
+    msg.insert(msg.end(), send[q].begin(), send[q].end());
+    msg.insert(msg.end(), springs[q].begin(), springs[q].end());
+    send[q] = std::move(msg);
+  }
+  const std::vector<std::vector<double>> arrived = parallel::all_to_all(send);
+  {
+    auto pick = [&](auto& a) {
+      std::remove_reference_t<decltype(a)> out;
+      out.reserve(stay.size());
+      for (std::uint32_t i : stay) out.push_back(a[i]);
+      a = std::move(out);
+    };
+    pick(id_), pick(x_), pick(v_), pick(w_), pick(f_), pick(tq_), pick(q_), pick(m_), pick(inv_m_),
+        pick(inv_i_), pick(r_), pick(mat_);
+  }
+  for (int q = 0; q < d.size; ++q) {
+    if (q == d.rank || arrived[q].empty()) continue;
+    const auto count = static_cast<std::size_t>(arrived[q][0]);
+    const double* in = arrived[q].data() + 1;
+    for (std::size_t k = 0; k < count; ++k, in += kWhole) {
+      id_.push_back(static_cast<std::int64_t>(in[0]));
+      x_.emplace_back(in[1], in[2], in[3]), v_.emplace_back(in[4], in[5], in[6]),
+          w_.emplace_back(in[7], in[8], in[9]);
+      f_.emplace_back(in[10], in[11], in[12]), tq_.emplace_back(in[13], in[14], in[15]);
+      q_.emplace_back(in[16], in[17], in[18], in[19]);
+      m_.push_back(in[20]), inv_m_.push_back(1 / in[20]), inv_i_.push_back(in[21]), r_.push_back(in[22]);
+      mat_.push_back(static_cast<std::int32_t>(in[23]));
+    }
+    for (const double* end = arrived[q].data() + arrived[q].size(); in + kSpring <= end; in += kSpring)
+      held.push_back(
+          {static_cast<std::int64_t>(in[0]), static_cast<std::int64_t>(in[1]), Vec3(in[2], in[3], in[4])});
+  }
+  ghost_.assign(x_.size(), 0);
+  // Copies of this rank's spheres within the halo of another region go to that rank.
+  std::vector<std::vector<std::int64_t>> sent_ids(d.size);
+  std::vector<std::vector<double>> ghosts(d.size);
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    const double x = x_[i].x(), y = x_[i].y();
+    if (d.distance_to_own_edge(x, y) > d.halo) continue;
+    for (int q = 0; q < d.size; ++q)
+      if (q != d.rank && d.distance_to_region(x, y, q) < d.halo) {
+        sent_ids[q].push_back(id_[i]);
+        ghosts[q].insert(ghosts[q].end(), {static_cast<double>(id_[i]), x, y, x_[i].z(), v_[i].x(), v_[i].y(),
+                                           v_[i].z(), w_[i].x(), w_[i].y(), w_[i].z(), m_[i], r_[i],
+                                           static_cast<double>(mat_[i]), inv_i_[i]});
+      }
+  }
+  const std::vector<std::vector<double>> received = parallel::all_to_all(ghosts);
+  std::vector<std::vector<std::int64_t>> received_ids(d.size);
+  for (int q = 0; q < d.size; ++q)
+    for (std::size_t k = 0; k + kGhost <= received[q].size(); k += kGhost) {
+      const double* in = received[q].data() + k;
+      received_ids[q].push_back(static_cast<std::int64_t>(in[0]));
+      id_.push_back(static_cast<std::int64_t>(in[0]));
+      x_.emplace_back(in[1], in[2], in[3]), v_.emplace_back(in[4], in[5], in[6]),
+          w_.emplace_back(in[7], in[8], in[9]);
+      f_.emplace_back(Vec3::Zero()), tq_.emplace_back(Vec3::Zero()), q_.emplace_back(Quat::Identity());
+      m_.push_back(in[10]), inv_m_.push_back(1 / in[10]), r_.push_back(in[11]);
+      mat_.push_back(static_cast<std::int32_t>(in[12])), inv_i_.push_back(in[13]);
+      ghost_.push_back(1);
+    }
+  sort_slots();
+  // The plan for the per-step updates, by slot.
+  to_.clear(), from_.clear(), send_slots_.clear(), recv_slots_.clear();
+  for (int q = 0; q < d.size; ++q) {
+    if (!sent_ids[q].empty()) {
+      to_.push_back(q);
+      auto& slots = send_slots_.emplace_back();
+      for (std::int64_t id : sent_ids[q]) slots.push_back(static_cast<std::uint32_t>(slot_of(id)));
+    }
+    if (!received_ids[q].empty()) {
+      from_.push_back(q);
+      auto& slots = recv_slots_.emplace_back();
+      for (std::int64_t id : received_ids[q]) slots.push_back(static_cast<std::uint32_t>(slot_of(id)));
+    }
+  }
+  not_swept_ = ghost_;
+  for (const auto& slots : send_slots_)
+    for (std::uint32_t i : slots) not_swept_[i] = 1;
+  send_buf_.assign(to_.size(), {});
+  recv_buf_.assign(from_.size(), {});
+  for (std::size_t k = 0; k < from_.size(); ++k) recv_buf_[k].resize(kUpdate * recv_slots_[k].size());
+}
+
+void SphereBed::update_ghosts() {
+  for (std::size_t k = 0; k < to_.size(); ++k) {
+    std::vector<double>& b = send_buf_[k];
+    b.clear();
+    for (std::uint32_t i : send_slots_[k])
+      b.insert(b.end(), {x_[i].x(), x_[i].y(), x_[i].z(), v_[i].x(), v_[i].y(), v_[i].z(), w_[i].x(),
+                         w_[i].y(), w_[i].z()});
+  }
+  parallel::exchange(to_, send_buf_, from_, recv_buf_);
+  for (std::size_t k = 0; k < from_.size(); ++k) {
+    const double* in = recv_buf_[k].data();
+    for (std::uint32_t i : recv_slots_[k]) {
+      x_[i] = {in[0], in[1], in[2]}, v_[i] = {in[3], in[4], in[5]}, w_[i] = {in[6], in[7], in[8]};
+      in += kUpdate;
+    }
+  }
+}
+
+}  // namespace grainlab::dem
