@@ -6,9 +6,14 @@
 #include <cmath>
 #include <vector>
 
+#include "polyhedron.hpp"
 #include "scene.hpp"
 
 namespace grainlab::dem {
+
+inline double dot(const Vec3& a, const Vec3& b) {
+  return a.dot(b);  // (a0 b0 + a1 b1) + a2 b2
+}
 
 // Damping expressed so that the force coefficient is c(m_eff) = coef + rate m_eff + rest sqrt(m_eff)
 // (g/s): the three ways a scene may give it (rate, coefficient, restitution) without a branch.
@@ -46,18 +51,51 @@ inline double normal_force(const ContactLaw& L, double depth, double vn, double 
   return L.clip_attractive ? std::max(f, 0.0) : f;
 }
 
-// Shear force along s. `xi` holds the committed spring extension on entry and the new one on exit:
-// xi += h vs (the thesis's -k_s dt v_s increment), and when the total exceeds mu f_n the spring's
-// anchor slides so that the spring force equals the cap ("the spring force remains mu f_n").
-inline double shear_force(const ContactLaw& L, double fn, double vs, double c_s, double h, double& xi) {
-  xi += h * vs;
-  double f = -L.k_s * xi - c_s * vs;
+// The cap on a shear force: a component keeps its sign, a vector its direction.
+inline bool beyond_cap(double f, double cap) {
+  return std::abs(f) > cap;
+}
+inline double to_cap(double f, double cap) {
+  return std::copysign(cap, f);
+}
+template <class V>
+bool beyond_cap(const V& f, double cap) {
+  return dot(f, f) > cap * cap;
+}
+template <class V>
+V to_cap(const V& f, double cap) {
+  return f * (cap / std::sqrt(dot(f, f)));
+}
+
+// The shear spring of eq. 2.3, written once for both dimensions. T is the tangential quantity: a double
+// in 2-D (the tangent is one direction, s = n rotated by -90 deg, so the spring turns with the contact by
+// construction), a 3-vector in the tangent plane in 3-D (Vec3 or the sphere kernel's plain triple). `xi`
+// holds the committed spring extension on entry and the new one on exit: xi += h v_t (the thesis's
+// -k_s dt v_s increment), and when the total force exceeds mu f_n the spring's anchor slides so that the
+// spring force equals the cap ("the spring force remains mu f_n").
+template <class T>
+T shear_force(const ContactLaw& L, double fn, const T& vt, double c_s, double h, T& xi) {
+  xi = xi + h * vt;
+  T f = -L.k_s * xi - c_s * vt;
   const double cap = L.mu * std::max(fn, 0.0);
-  if (std::abs(f) > cap) {
-    f = std::copysign(cap, f);
+  if (beyond_cap(f, cap)) {
+    f = to_cap(f, cap);
     xi = -f / L.k_s;
   }
   return f;
+}
+
+// 3-D: the contact has turned since the spring was stored, so the spring is laid back into the tangent
+// plane keeping its length (a projection alone would shorten it and leak stored force). A spring already
+// in the plane would come back unchanged to the bit (the rescale is by sqrt(1)), so it is not turned: in a
+// resting bed most springs are. (One square root, not three: hot in beds.)
+template <class V>
+void lay_into_tangent_plane(V& xi, const V& n) {
+  if (const double along = dot(n, xi); along != 0) {
+    const double len2 = dot(xi, xi);
+    xi = xi - n * along;
+    if (const double now2 = dot(xi, xi); now2 > 0) xi = xi * std::sqrt(len2 / now2);
+  }
 }
 
 }  // namespace grainlab::dem

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "stepping.hpp"
 #include "world3d_detail.hpp"
 
 namespace grainlab::dem {
@@ -60,24 +61,11 @@ inline bool nonzero(const D3& a) {
   return a.x != 0 || a.y != 0 || a.z != 0;
 }
 
-// detail3d::shear_force on triples, operation for operation.
-inline D3 shear_force(const ContactLaw& law, D3& xi, const D3& n, const D3& vt, double h, double meff,
-                      double fn) {
-  // A spring already in the tangent plane (along == 0) would come back from the turn unchanged, to the bit
-  // (the rescale is by sqrt(1)): the turn is skipped. In a resting bed most springs are.
-  if (const double along = dot(n, xi); along != 0) {
-    const double len2 = dot(xi, xi);
-    xi = xi - n * along;
-    if (const double now2 = dot(xi, xi); now2 > 0) xi = xi * std::sqrt(len2 / now2);
-  }
-  xi = xi + h * vt;
-  D3 fs = (-law.k_s) * xi - law.shear.coefficient(meff) * vt;
-  const double cap = law.mu * std::max(fn, 0.0);
-  if (const double f2 = dot(fs, fs); f2 > cap * cap) {
-    fs = fs * (cap / std::sqrt(f2));
-    xi = (-fs) / law.k_s;
-  }
-  return fs;
+// detail3d::shear_force on triples: the same shared law (contact_law.hpp), operation for operation.
+inline D3 shear_force_3d(const ContactLaw& law, D3& xi, const D3& n, const D3& vt, double h, double meff,
+                         double fn) {
+  lay_into_tangent_plane(xi, n);
+  return shear_force(law, fn, vt, law.shear.coefficient(meff), h, xi);
 }
 
 }  // namespace
@@ -188,17 +176,17 @@ struct SphereBed::Kernel {
   [[gnu::always_inline]] void drift(std::size_t i) const {
     Vec3* __restrict x = this->x, * __restrict v = this->v, * __restrict w = this->w, * __restrict f = this->f, * __restrict tq = this->tq;
     const double h = this->h, dt = this->dt;
-    const D3 a = (h * inv_m[i]) * get(f[i]);
+    const D3 fi = get(f[i]);
     D3 vi = get(v[i]);
-    if constexpr (Complete) vi = vi + a;
-    vi = vi + a;
-    const D3 xi = get(x[i]) + dt * vi;
+    if constexpr (Complete) vi = half_kicked(vi, fi, inv_m[i], h);
+    vi = half_kicked(vi, fi, inv_m[i], h);
+    const D3 xi = drifted(get(x[i]), vi, dt);
     put(v[i], vi), put(x[i], xi);
     if constexpr (Rotation) {
-      const D3 b = (h * inv_i[i]) * get(tq[i]);
+      const D3 ti = get(tq[i]);
       D3 wi = get(w[i]);
-      if constexpr (Complete) wi = wi + b;
-      wi = wi + b;
+      if constexpr (Complete) wi = half_kicked(wi, ti, inv_i[i], h);
+      wi = half_kicked(wi, ti, inv_i[i], h);
       put(w[i], wi);
       if (nonzero(wi)) q[i] = detail3d::turned(q[i], w[i], dt);
       tq[i].setZero();
@@ -212,8 +200,9 @@ struct SphereBed::Kernel {
   // Where the next drift will take sphere i, now that its force is final (later rows add only to later
   // slots): the same operations drift will do, so the same bits.
   [[gnu::always_inline]] void predict(std::size_t i) {
-    const D3 a = (h * inv_m[i]) * get(f[i]);
-    const D3 by = (get(x[i]) + dt * ((get(v[i]) + a) + a)) - get(x0[i]);
+    const D3 fi = get(f[i]);
+    const D3 v_next = half_kicked(half_kicked(get(v[i]), fi, inv_m[i], h), fi, inv_m[i], h);
+    const D3 by = drifted(get(x[i]), v_next, dt) - get(x0[i]);
     moved = std::max(moved, dot(by, by));
   }
 
@@ -272,7 +261,7 @@ struct SphereBed::Kernel {
       D3 F = fn * nrm;
       if constexpr (Friction) {
         D3 xi = get(pair_xi[k]);
-        F = F + shear_force(law, xi, nrm, vrel - vn * nrm, hs, meff, fn);
+        F = F + shear_force_3d(law, xi, nrm, vrel - vn * nrm, hs, meff, fn);
         put(pair_xi[k], xi);
       }
       fi = fi + F;
@@ -304,7 +293,7 @@ struct SphereBed::Kernel {
       D3 F = fn * pn;
       if constexpr (Friction) {
         D3 xi = get(spring);
-        F = F + shear_force(law, xi, pn, vrel - vn * pn, hs, mi, fn);
+        F = F + shear_force_3d(law, xi, pn, vrel - vn * pn, hs, mi, fn);
         put(spring, xi);
       }
       fi = fi + F;
@@ -445,8 +434,8 @@ void SphereBed::finish() {
   if (!pending_kick_) return;
   const double h = s_.dt / 2;
   for (std::size_t i = 0; i < x_.size(); ++i) {
-    put(v_[i], get(v_[i]) + (h * inv_m_[i]) * get(f_[i]));
-    if (s_.rotation) put(w_[i], get(w_[i]) + (h * inv_i_[i]) * get(tq_[i]));
+    put(v_[i], half_kicked(get(v_[i]), get(f_[i]), inv_m_[i], h));
+    if (s_.rotation) put(w_[i], half_kicked(get(w_[i]), get(tq_[i]), inv_i_[i], h));
   }
   pending_kick_ = false;
 }

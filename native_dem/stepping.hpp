@@ -1,16 +1,55 @@
 #pragma once
-// Time stepping shared by the 2-D and 3-D native worlds: advancing to a time with fixed or adaptive
-// steps, the thesis's step-size control for the predictor-corrector, and the step diagnostics.
+// Time stepping shared by the 2-D and 3-D native worlds: the integrators' arithmetic, advancing to a time
+// with fixed or adaptive steps, the thesis's step-size control for the predictor-corrector, and the step
+// diagnostics.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "scene.hpp"
 #include "world_types.hpp"
 
 namespace grainlab::dem {
+
+// The integrators' arithmetic, written once for both dimensions. V is one component (the 2-D engine keeps
+// x, y and the spin in arrays of their own) or a 3-vector (Vec3, or the sphere kernel's plain triple); the
+// operations and their order are the same either way, so a fix lands in both.
+
+// Velocity Verlet: a half kick by the force (or torque) f on the inverse mass (or moment) inv, and a drift.
+template <class V>
+V half_kicked(const V& v, const V& f, double inv, double h) {
+  return v + h * f * inv;
+}
+template <class V>
+V drifted(const V& x, const V& v, double dt) {
+  return x + dt * v;
+}
+
+// The thesis's first-order predictor-corrector (eq. 2.4): the velocity predicted from the one at the start
+// of the previous step (or of this one) and the acceleration at this step's start over `back`, the
+// position by the trapezoid rule, and the velocity corrected with the acceleration at the step's end.
+template <class V>
+V predicted(const V& v_back, const V& a0, double back) {
+  return v_back + back * a0;
+}
+template <class V>
+V trapezoid(const V& x0, const V& v0, const V& v1, double dt) {
+  return x0 + dt * (v0 + v1) / 2;
+}
+template <class V>
+V corrected(const V& v0, const V& a0, const V& a1, double dt) {
+  return v0 + dt * (a0 + a1) / 2;
+}
+// One component's step error: how far the prediction missed, relative to the corrected velocity (or to
+// its change over the step) plus a floor below which ratios are not trusted.
+inline double step_error(double corrected_v, double predicted_v, double v0, bool relative_to_change,
+                         double floor) {
+  const double scale = relative_to_change ? std::abs(corrected_v - v0) : std::abs(corrected_v);
+  return std::abs(corrected_v - predicted_v) / (scale + floor);
+}
 
 // Calls step() until time t reaches t_end. Fixed steps (Verlet) stop at the last step not beyond t_end
 // (within a thousandth of a step); adaptive steps land exactly on t_end, and a short landing step does

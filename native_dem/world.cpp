@@ -127,11 +127,11 @@ void World::step_verlet() {
   const bool listed = x_build_.size() == n;
   double max_d2 = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double vxi = vx[i] + h * fx[i] * im[i], vyi = vy[i] + h * fy[i] * im[i];
+    const double vxi = half_kicked(vx[i], fx[i], im[i], h), vyi = half_kicked(vy[i], fy[i], im[i], h);
     vx[i] = vxi;
     vy[i] = vyi;
-    x[i] += dt * vxi;
-    y[i] += dt * vyi;
+    x[i] = drifted(x[i], vxi, dt);
+    y[i] = drifted(y[i], vyi, dt);
     fx[i] = m[i] * gx;
     fy[i] = m[i] * gy;
     if (listed) {
@@ -143,8 +143,8 @@ void World::step_verlet() {
     double *w = p_.w.data(), *th = p_.th.data(), *tq = p_.tq.data();
     const double* iI = p_.inv_inertia.data();
     for (std::size_t i = 0; i < n; ++i) {
-      w[i] += h * tq[i] * iI[i];
-      th[i] += dt * w[i];
+      w[i] = half_kicked(w[i], tq[i], iI[i], h);
+      th[i] = drifted(th[i], w[i], dt);
       tq[i] = 0;
     }
   }
@@ -156,11 +156,11 @@ void World::step_verlet() {
   // A rebuild re-sorts (and reallocates) the particle arrays, and migration changes how many this
   // rank owns: no pointer or count from above survives it.
   for (std::size_t i = 0; i < n_own_; ++i) {
-    p_.vx[i] += h * p_.fx[i] * p_.inv_m[i];
-    p_.vy[i] += h * p_.fy[i] * p_.inv_m[i];
+    p_.vx[i] = half_kicked(p_.vx[i], p_.fx[i], p_.inv_m[i], h);
+    p_.vy[i] = half_kicked(p_.vy[i], p_.fy[i], p_.inv_m[i], h);
   }
   if (effects_.has(Effect::rotation))
-    for (std::size_t i = 0; i < n_own_; ++i) p_.w[i] += h * p_.tq[i] * p_.inv_inertia[i];
+    for (std::size_t i = 0; i < n_own_; ++i) p_.w[i] = half_kicked(p_.w[i], p_.tq[i], p_.inv_inertia[i], h);
 }
 
 // The thesis's first-order predictor-corrector (eq. 2.4) with its step control: reject and halve
@@ -195,8 +195,8 @@ void World::step_predictor_corrector() {
                        const std::vector<double>& a0, const std::vector<double>& x0, std::vector<double>& v,
                        std::vector<double>& x) {
       for (std::size_t i = 0; i < n; ++i) {
-        v[i] = (have_prev_ ? vprev[i] : v0[i]) + back * a0[i];
-        x[i] = x0[i] + dt * (v0[i] + v[i]) / 2;
+        v[i] = predicted(have_prev_ ? vprev[i] : v0[i], a0[i], back);
+        x[i] = trapezoid(x0[i], v0[i], v[i], dt);
       }
     };
     predict(p_.vx_prev, vx0_, ax0_, x0_, p_.vx, p_.x);
@@ -211,11 +211,10 @@ void World::step_predictor_corrector() {
                        const std::vector<double>& x0, std::vector<double>& v, std::vector<double>& x,
                        bool spin) {
       for (std::size_t i = 0; i < n; ++i) {
-        const double vc = v0[i] + dt * (a0[i] + f[i] * inv[i]) / 2;
-        const double scale = relative_to_change ? std::abs(vc - v0[i]) : std::abs(vc);
-        err = std::max(err, std::abs(vc - v[i]) / (scale + (spin ? floor / p_.r[i] : floor)));
+        const double vc = corrected(v0[i], a0[i], f[i] * inv[i], dt);
+        err = std::max(err, step_error(vc, v[i], v0[i], relative_to_change, spin ? floor / p_.r[i] : floor));
         v[i] = vc;
-        x[i] = x0[i] + dt * (v0[i] + vc) / 2;
+        x[i] = trapezoid(x0[i], v0[i], vc, dt);
       }
     };
     correct(vx0_, ax0_, p_.fx, p_.inv_m, x0_, p_.vx, p_.x, false);

@@ -231,8 +231,8 @@ void World3d::step_verlet() {
     commit_history();
   }
   for (Body3& b : b_) {
-    b.v += h * b.inv_m * b.f;
-    b.x += dt * b.v;
+    b.v = half_kicked(b.v, b.f, b.inv_m, h);
+    b.x = drifted(b.x, b.v, dt);
     if (!effects_.has(Effect::rotation)) continue;
     const Vec3 L = b.angular_momentum() + h * b.tq;
     b.w = b.world_inv_inertia() * L;
@@ -249,7 +249,7 @@ void World3d::step_verlet() {
   compute_forces(dt);
   commit_history();
   for (Body3& b : b_) {
-    b.v += h * b.inv_m * b.f;
+    b.v = half_kicked(b.v, b.f, b.inv_m, h);
     if (effects_.has(Effect::rotation)) b.w = b.world_inv_inertia() * (b.angular_momentum() + h * b.tq);
   }
 }
@@ -277,28 +277,25 @@ void World3d::step_predictor_corrector() {
     for (std::size_t i = 0; i < n; ++i) {
       Body3& b = b_[i];
       const Body3& s = start_[i];
-      b.v = (have_prev_ ? v_prev_[i] : s.v) + back * a0_[i];
-      b.x = s.x + dt * (s.v + b.v) / 2;
+      b.v = predicted(have_prev_ ? v_prev_[i] : s.v, a0_[i], back);
+      b.x = trapezoid(s.x, s.v, b.v, dt);
       if (effects_.has(Effect::rotation)) {
-        b.w = (have_prev_ ? w_prev_[i] : s.w) + back * al0_[i];
+        b.w = predicted(have_prev_ ? w_prev_[i] : s.w, al0_[i], back);
         b.q = turned(s.q, (s.w + b.w) / 2, dt);
       }
     }
     compute_forces(dt);
     double err = 0;
     auto correct = [&](const Vec3& v0, const Vec3& a0, const Vec3& a1, Vec3& v, double fl) {
-      const Vec3 vc = v0 + dt * (a0 + a1) / 2;
-      for (int k = 0; k < 3; ++k) {
-        const double scale = relative_to_change ? std::abs(vc[k] - v0[k]) : std::abs(vc[k]);
-        err = std::max(err, std::abs(vc[k] - v[k]) / (scale + fl));
-      }
+      const Vec3 vc = corrected(v0, a0, a1, dt);
+      for (int k = 0; k < 3; ++k) err = std::max(err, step_error(vc[k], v[k], v0[k], relative_to_change, fl));
       v = vc;
     };
     for (std::size_t i = 0; i < n; ++i) {
       Body3& b = b_[i];
       const Body3& s = start_[i];
       correct(s.v, a0_[i], b.f * b.inv_m, b.v, floor);
-      b.x = s.x + dt * (s.v + b.v) / 2;
+      b.x = trapezoid(s.x, s.v, b.v, dt);
       if (effects_.has(Effect::rotation)) {
         correct(s.w, al0_[i], angular_acceleration(b), b.w, floor / b.radius);
         b.q = turned(s.q, (s.w + b.w) / 2, dt);

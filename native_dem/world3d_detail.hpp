@@ -25,27 +25,12 @@ inline Vec3 effective_gravity(const Scene& s) {
 }
 
 // The shear force of a contact with normal n, tangential velocity vt and normal force fn, from the spring
-// xi stored at the last step (zero: a new contact), which is updated in place. The contact has turned
-// since the spring was stored: the spring is laid back into the tangent plane keeping its length (a
-// projection alone would shorten it and leak stored force), extended by h vt, and capped at mu fn (the
-// anchor slides: the spring then holds exactly the friction limit).
+// xi stored at the last step (zero: a new contact), which is updated in place: laid back into the tangent
+// plane, then the law shared with 2-D (contact_law.hpp).
 inline Vec3 shear_force(const ContactLaw& law, Vec3& xi, const Vec3& n, const Vec3& vt, double h, double meff,
                         double fn) {
-  // (One square root, not three: hot in beds. A spring already in the tangent plane would come back
-  // unchanged to the bit, so it is not turned.)
-  if (const double along = n.dot(xi); along != 0) {
-    const double len2 = xi.squaredNorm();
-    xi -= n * along;
-    if (const double now2 = xi.squaredNorm(); now2 > 0) xi *= std::sqrt(len2 / now2);
-  }
-  xi += h * vt;
-  Vec3 fs = -law.k_s * xi - law.shear.coefficient(meff) * vt;
-  const double cap = law.mu * std::max(fn, 0.0);
-  if (const double f2 = fs.squaredNorm(); f2 > cap * cap) {
-    fs *= cap / std::sqrt(f2);
-    xi = -fs / law.k_s;
-  }
-  return fs;
+  lay_into_tangent_plane(xi, n);
+  return dem::shear_force(law, fn, vt, law.shear.coefficient(meff), h, xi);
 }
 
 }  // namespace grainlab::dem::detail3d
