@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 
@@ -21,44 +23,57 @@ bool holds(const Vec3& xi) {
 void forget(Vec3& xi) {
   if (holds(xi)) xi.setZero();
 }
-// Plain triples for the hot loops. Eigen's 3-vectors there get spilled as 16 + 8 bytes and reloaded as
-// 8 + 16, which defeats store forwarding; these stay scalars. Each operation keeps Eigen's order (its
-// dot and squared norm add (a0 b0 + a1 b1) + a2 b2), so the results are the same bits.
+// Triples for the hot loops: x and y as one SSE2 pair, z alone, loaded and stored as 16 + 8 bytes
+// everywhere (Eigen's 3-vectors got spilled as 16 + 8 and reloaded as 8 + 16 in places, which defeats
+// store forwarding). Each lane is plain IEEE arithmetic in Eigen's order (its dot and squared norm add
+// (a0 b0 + a1 b1) + a2 b2), so the results are the bits scalar code gives.
+typedef double Pair __attribute__((vector_size(16)));
 struct D3 {
-  double x, y, z;
+  Pair xy;
+  double z;
+  D3() = default;
+  D3(double x, double y, double z_) : xy{x, y}, z(z_) {}
+  D3(Pair p, double z_) : xy(p), z(z_) {}
+  double x() const { return xy[0]; }
+  double y() const { return xy[1]; }
 };
 inline D3 get(const Vec3& v) {
-  return {v.x(), v.y(), v.z()};
+  Pair p;
+  std::memcpy(&p, v.data(), sizeof p);
+  return {p, v.z()};
 }
 inline void put(Vec3& v, const D3& a) {
-  v.x() = a.x, v.y() = a.y, v.z() = a.z;
+  std::memcpy(v.data(), &a.xy, sizeof a.xy);
+  v.z() = a.z;
 }
 inline D3 operator+(const D3& a, const D3& b) {
-  return {a.x + b.x, a.y + b.y, a.z + b.z};
+  return {a.xy + b.xy, a.z + b.z};
 }
 inline D3 operator-(const D3& a, const D3& b) {
-  return {a.x - b.x, a.y - b.y, a.z - b.z};
+  return {a.xy - b.xy, a.z - b.z};
 }
 inline D3 operator*(double s, const D3& a) {
-  return {s * a.x, s * a.y, s * a.z};
+  return {s * a.xy, s * a.z};
 }
 inline D3 operator*(const D3& a, double s) {
-  return {a.x * s, a.y * s, a.z * s};
+  return {a.xy * s, a.z * s};
 }
 inline D3 operator/(const D3& a, double s) {
-  return {a.x / s, a.y / s, a.z / s};
+  return {a.xy / s, a.z / s};
 }
 inline D3 operator-(const D3& a) {
-  return {-a.x, -a.y, -a.z};
+  return {-a.xy, -a.z};
 }
 inline double dot(const D3& a, const D3& b) {
-  return (a.x * b.x + a.y * b.y) + a.z * b.z;
+  const Pair p = a.xy * b.xy;
+  return (p[0] + p[1]) + a.z * b.z;
 }
-inline D3 cross(const D3& a, const D3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+inline D3 cross(const D3& a, const D3& b) {  // (a.y b.z - a.z b.y, a.z b.x - a.x b.z, a.x b.y - a.y b.x)
+  const Pair a1{a.xy[1], a.z}, b1{b.z, b.xy[0]}, a2{a.z, a.xy[0]}, b2{b.xy[1], b.z};
+  return {a1 * b1 - a2 * b2, a.xy[0] * b.xy[1] - a.xy[1] * b.xy[0]};
 }
 inline bool nonzero(const D3& a) {
-  return a.x != 0 || a.y != 0 || a.z != 0;
+  return (a.xy[0] != 0) | (a.xy[1] != 0) | (a.z != 0);  // (no short cut: three compares and no branches)
 }
 
 // detail3d::shear_force on triples: the same shared law (contact_law.hpp), operation for operation.
@@ -133,8 +148,12 @@ struct SphereBed::Kernel {
   const SphereCells::Index* __restrict list;
   Vec3* __restrict pair_xi;
   std::uint8_t* __restrict touching;
-  const Vec3* __restrict x0;  // where the lists were built (nullptr: not built)
-  const std::uint8_t* ghost;  // per slot, distributed beds only (nullptr: every slot is this rank's)
+  const Vec3* __restrict x0;   // where the lists were built (nullptr: not built)
+  const std::uint8_t* ghost;   // per slot, distributed beds only (nullptr: every slot is this rank's)
+  const std::size_t* offsets;  // where each slot's list entries start
+  const std::uint32_t *plane_start, *plane_of;
+  Vec3* plane_xi;
+  std::size_t np;
   const ContactLaw* laws;
   int nm;
   double dt, h, hs;  // step, half step, the shear springs' increment (0 at the very first evaluation)
@@ -162,6 +181,11 @@ struct SphereBed::Kernel {
                ? b.cells_.build_positions().data()
                : nullptr),
         ghost(b.ghost_.empty() ? nullptr : b.ghost_.data()),
+        offsets(b.cells_.builds() ? b.cells_.offsets() : nullptr),
+        plane_start(b.plane_start_.data()),
+        plane_of(b.plane_of_.data()),
+        plane_xi(b.plane_xi_.data()),
+        np(b.s_.planes.size()),
         laws(b.s_.laws.data()),
         nm(b.s_.n_mat),
         dt(b.s_.dt),
@@ -215,36 +239,62 @@ struct SphereBed::Kernel {
     const std::int32_t* __restrict mat = this->mat;
     const SphereCells::Index* __restrict list = this->list;
     std::uint8_t* __restrict touching = this->touching;
+    const std::size_t* __restrict offsets = this->offsets;
+    const std::uint32_t* __restrict plane_start = this->plane_start, * __restrict plane_of = this->plane_of;
+    Vec3* __restrict plane_xi = this->plane_xi;
+    const std::size_t np = this->np;
     const double hs = this->hs;
     std::size_t contacts = 0;
     const D3 pi = get(x[i]);
     const double ri = r[i], mi = m[i];
     const ContactLaw* row_laws = laws + mat[i] * nm;
-    // i's velocities and sums, read at its first contact (in a bed in flight, rows touch nothing). Its
-    // sums stay in registers through the row: nothing else adds to it meanwhile.
-    D3 vi{}, wi{}, fi{}, ti{};
-    bool opened = false;
-    auto open = [&] {
-      if (opened) return;
-      opened = true;
-      vi = get(v[i]), fi = get(f[i]);
-      if constexpr (Rotation) wi = get(w[i]), ti = get(tq[i]);
+    // Entries apart cost a distance test (in a bed in flight, rows touch nothing). At the row's first
+    // contact i's velocities and sums are read; they stay in registers through the rest of the row:
+    // nothing else adds to i meanwhile.
+    D3 d{0, 0, 0};
+    double reach = 0, r2 = 0;
+    auto apart = [&](std::size_t k, std::size_t j) {
+      d = pi - get(x[j]);
+      if constexpr (Periodic) {
+        double dx = d.x(), dy = d.y();
+        bed.cells_.to_nearest_image(dx, dy);
+        d.xy = Pair{dx, dy};
+      }
+      reach = ri + r[j], r2 = dot(d, d);
+      if (r2 < reach * reach && r2 != 0) return false;  // (as sphere_sphere: depth > 0, not coincident)
+      if (touching[k]) {
+        touching[k] = 0;
+        if (Friction) pair_xi[k].setZero();
+      }
+      return true;
     };
-    for (std::size_t k = bed.cells_.first(i), end = bed.cells_.first(i + 1); k < end; ++k) {
+    double depth_p = 0;
+    auto plane_apart = [&](std::size_t c) {
+      const Plane3& p = bed.s_.planes[plane_of[c]];
+      depth_p = ri - dot(get(p.normal), pi - get(p.point));
+      if (depth_p > 0) return false;
+      forget(plane_xi[i * np + plane_of[c]]);
+      return true;
+    };
+    std::size_t k = offsets[i], c = plane_start[i];
+    const std::size_t end = offsets[i + 1], c_end = plane_start[i + 1];
+    for (; k < end; ++k)
+      if (!(GhostRow && ghost[list[k]]) && !apart(k, list[k])) break;
+    const bool planes_scanned = k == end;  // then c is at the first plane in contact, depth_p its depth
+    if (planes_scanned)
+      for (; c < c_end; ++c)
+        if (!plane_apart(c)) break;
+    if (k == end && c == c_end) {
+      if (!GhostRow && x0) predict(i);
+      return;
+    }
+    const D3 vi = get(v[i]), wi = Rotation ? get(w[i]) : D3{0, 0, 0};
+    D3 fi = get(f[i]), ti = Rotation ? get(tq[i]) : D3{0, 0, 0};
+    for (bool first = true; k < end; ++k, first = false) {
       const std::size_t j = list[k];
       if constexpr (GhostRow)
-        if (ghost[j]) continue;  // neither sphere is this rank's: their owners compute the pair
-      D3 d = pi - get(x[j]);
-      if constexpr (Periodic) bed.cells_.to_nearest_image(d.x, d.y);
-      const double reach = ri + r[j], r2 = dot(d, d);
-      if (r2 >= reach * reach || r2 == 0) {  // apart (as sphere_sphere: depth <= 0 or coincident)
-        if (touching[k]) {
-          touching[k] = 0;
-          if (Friction) pair_xi[k].setZero();
-        }
-        continue;
-      }
-      open();
+        if (ghost[j]) continue;             // neither sphere is this rank's: their owners compute the pair
+      if (!first && apart(k, j)) continue;  // (the first was tested by the scan)
       const double dist = std::sqrt(r2), depth = reach - dist;
       const D3 nrm = d / dist;
       // The contact point lies r_i - depth / 2 from i's centre, against the normal (which points j to i).
@@ -273,22 +323,18 @@ struct SphereBed::Kernel {
       touching[k] = 1;
       if (!GhostRow) ++contacts;  // (a pair with a ghost is counted by the rank of its lower id)
     }
-    const std::size_t np = bed.s_.planes.size();
-    for (std::size_t c = bed.plane_start_[i]; c < bed.plane_start_[i + 1]; ++c) {
-      const std::size_t k = bed.plane_of_[c];
-      const Plane3& p = bed.s_.planes[k];
+    for (bool first = planes_scanned; c < c_end; ++c, first = false) {
+      if (!first && plane_apart(c)) continue;  // (the first was tested by the scan)
+      const std::size_t kp = plane_of[c];
+      const Plane3& p = bed.s_.planes[kp];
       const D3 pn = get(p.normal);
-      const double depth = ri - dot(pn, pi - get(p.point));
-      Vec3& spring = bed.plane_xi_[i * np + k];
-      if (depth <= 0) {
-        forget(spring);
-        continue;
-      }
-      open();
+      const double depth = depth_p;
+      Vec3& spring = plane_xi[i * np + kp];
       const D3 ra = -pn * (ri - depth / 2);
-      const D3 vrel = Rotation ? vi + cross(wi, ra) : vi;
+      D3 vrel = vi;
+      if constexpr (Rotation) vrel = vi + cross(wi, ra);
       const double vn = dot(pn, vrel);
-      const ContactLaw& law = row_laws[bed.s_.plane_material[k]];
+      const ContactLaw& law = row_laws[bed.s_.plane_material[kp]];
       const double fn = normal_force(law, depth, vn, law.normal.coefficient(mi));
       D3 F = fn * pn;
       if constexpr (Friction) {
@@ -300,10 +346,8 @@ struct SphereBed::Kernel {
       if constexpr (Rotation) ti = ti + cross(ra, F);
       ++contacts;
     }
-    if (opened) {
-      put(f[i], fi);
-      if constexpr (Rotation) put(tq[i], ti);
-    }
+    put(f[i], fi);
+    if constexpr (Rotation) put(tq[i], ti);
     this->contacts += contacts;
     if (!GhostRow && x0) predict(i);
   }
@@ -359,7 +403,7 @@ void SphereBed::step(bool first) {
 template <class K>
 void SphereBed::pipelined(K& kernel, bool complete) {
   K k = kernel;  // a local copy the compiler can keep in registers
-  const std::size_t n = x_.size(), lag = lag_ + 1;
+  const std::size_t lag = lag_ + 1;
   const std::uint8_t* skip = nullptr;
   if (domain_) {
     for (const auto& slots : send_slots_)
@@ -367,14 +411,37 @@ void SphereBed::pipelined(K& kernel, bool complete) {
     update_ghosts();
     skip = not_swept_.data();
   }
-  for (std::size_t t = 0; t < n + lag; ++t) {
-    if (t < n && !(skip && skip[t])) complete ? k.template drift<true>(t) : k.template drift<false>(t);
-    if (t < lag) continue;
-    const std::size_t i = t - lag;
-    k.ghost&& k.ghost[i] ? k.template row<true>(i) : k.template row<false>(i);
-  }
+  if (skip)
+    complete ? sweep<true, true>(k, skip, lag) : sweep<false, true>(k, skip, lag);
+  else
+    complete ? sweep<true, false>(k, skip, lag) : sweep<false, false>(k, skip, lag);
   contacts_ = k.contacts;
   prediction_ = any_rank(k.moved > limit2()) ? Prediction::moves : Prediction::stays;
+}
+
+// Drift sphere t, then the row of sphere t - lag, for every t; Distributed: `skip` marks the slots that
+// are ghosts or drifted already.
+template <bool Complete, bool Distributed, class K>
+void SphereBed::sweep(K& kernel, const std::uint8_t* skip, std::size_t lag) {
+  K k = kernel;  // a local copy the compiler can keep in registers (no lambdas: all of it inlined)
+  const std::size_t n = x_.size(), head = std::min(lag, n);
+  for (std::size_t t = 0; t < head; ++t)
+    if (!Distributed || !skip[t]) k.template drift<Complete>(t);
+  for (std::size_t t = head; t < n; ++t) {
+    if (!Distributed || !skip[t]) k.template drift<Complete>(t);
+    const std::size_t i = t - lag;
+    if (Distributed && k.ghost[i])
+      k.template row<true>(i);
+    else
+      k.template row<false>(i);
+  }
+  for (std::size_t i = n - std::min(n, lag); i < n; ++i) {
+    if (Distributed && k.ghost[i])
+      k.template row<true>(i);
+    else
+      k.template row<false>(i);
+  }
+  kernel.contacts = k.contacts, kernel.moved = k.moved;
 }
 
 template <bool Complete, class K>

@@ -108,6 +108,8 @@ class SphereBed {
   void pipelined(K& k, bool complete);
   template <bool Complete, class K>
   void drift_all(K& k);
+  template <bool Complete, bool Distributed, class K>
+  void sweep(K& k, const std::uint8_t* skip, std::size_t lag);
   template <class K>
   void forces_with(K& k);
   template <class K>

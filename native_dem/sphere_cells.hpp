@@ -42,6 +42,7 @@ class SphereCells {
   // Where i's entries start in the concatenated lists (per-entry data sits at the same positions).
   std::size_t first(std::size_t i) const { return offset_[i]; }
   std::size_t entries() const { return list_.size(); }
+  const std::size_t* offsets() const { return offset_.data(); }  // first(i) for every i, and the end
   std::size_t builds() const { return builds_; }
   // Where the centres were at the last build.
   const std::vector<Vec3>& build_positions() const { return built_at_; }
