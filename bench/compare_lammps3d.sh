@@ -6,6 +6,7 @@
 # SIZES are NXxNYxNZ (default 20x20x6 50x50x4 100x100x10: 2,400, 10,000 and 100,000 spheres). Each size runs
 # as specified (0 settling steps: the timed window is free fall into first contact) and settled (SETTLE
 # untimed steps first, default 50,000: a resting bed where contacts dominate). STEPS timed steps (2,000).
+# VARIANTS="specified" (or "settled") runs only those.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 REPEATS=${1:-3}
@@ -14,6 +15,7 @@ SIZES=${*:-20x20x6 50x50x4 100x100x10}
 GRAINLAB=${GRAINLAB:-build/release/grainlab}
 SETTLE=${SETTLE:-50000}
 STEPS=${STEPS:-2000}
+VARIANTS=${VARIANTS:-specified settled}
 command -v lmp >/dev/null || { echo "lmp not found: apt-get install lammps" >&2; exit 2; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -25,7 +27,7 @@ echo "| spheres | variant | LAMMPS particle-steps/s | grainlab particle-steps/s 
 echo "|---|---|---|---|---|---|---|---|---|"
 for size in $SIZES; do
   IFS=x read -r NX NY NZ <<<"$size"
-  for variant in specified settled; do
+  for variant in $VARIANTS; do
     if [ "$variant" = settled ]; then S=$SETTLE; else S=0; fi
     # Interleaved, one LAMMPS run then one grainlab run, so both see the same machine load.
     : > "$tmp/g.rates"
