@@ -230,6 +230,8 @@ struct SphereBed::Kernel {
     moved = std::max(moved, dot(by, by));
   }
 
+  // A ghost's row, kept out of the sweep's loop (few rows are ghosts'; inlined, it would crowd out the rest).
+  [[gnu::noinline]] void ghost_row(std::size_t i) { row<true>(i); }
   // A ghost's row (GhostRow) computes only its pairs with this rank's spheres, and has no planes.
   template <bool GhostRow>
   [[gnu::always_inline]] void row(std::size_t i) {
@@ -253,7 +255,7 @@ struct SphereBed::Kernel {
     // nothing else adds to i meanwhile.
     D3 d{0, 0, 0};
     double reach = 0, r2 = 0;
-    auto apart = [&](std::size_t k, std::size_t j) {
+    auto apart = [&](std::size_t k, std::size_t j) __attribute__((always_inline)) {
       d = pi - get(x[j]);
       if constexpr (Periodic) {
         double dx = d.x(), dy = d.y();
@@ -269,7 +271,7 @@ struct SphereBed::Kernel {
       return true;
     };
     double depth_p = 0;
-    auto plane_apart = [&](std::size_t c) {
+    auto plane_apart = [&](std::size_t c) __attribute__((always_inline)) {
       const Plane3& p = bed.s_.planes[plane_of[c]];
       depth_p = ri - dot(get(p.normal), pi - get(p.point));
       if (depth_p > 0) return false;
@@ -431,13 +433,13 @@ void SphereBed::sweep(K& kernel, const std::uint8_t* skip, std::size_t lag) {
     if (!Distributed || !skip[t]) k.template drift<Complete>(t);
     const std::size_t i = t - lag;
     if (Distributed && k.ghost[i])
-      k.template row<true>(i);
+      k.ghost_row(i);
     else
       k.template row<false>(i);
   }
   for (std::size_t i = n - std::min(n, lag); i < n; ++i) {
     if (Distributed && k.ghost[i])
-      k.template row<true>(i);
+      k.ghost_row(i);
     else
       k.template row<false>(i);
   }
@@ -483,8 +485,7 @@ template <class K>
 void SphereBed::rows(K& kernel) {
   K k = kernel;  // a local copy the compiler can keep in registers
   if (k.ghost) {
-    for (std::size_t i = 0; i < x_.size(); ++i)
-      k.ghost[i] ? k.template row<true>(i) : k.template row<false>(i);
+    for (std::size_t i = 0; i < x_.size(); ++i) k.ghost[i] ? k.ghost_row(i) : k.template row<false>(i);
   } else {
     for (std::size_t i = 0; i < x_.size(); ++i) k.template row<false>(i);
   }
