@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "cell_grid.hpp"
 #include "domain.hpp"
 #include "narrow_phase.hpp"
 #include "world.hpp"
@@ -27,68 +28,18 @@ const World::SavedShear* find_saved(const std::vector<World::SavedShear>& saved,
   return nullptr;
 }
 
-// A uniform cell grid over a set of points (wrapping in x when periodic), bucketed by counting sort.
-struct CellGrid {
-  double xlo = 0, ylo = 0, cw = 1, ch = 1;
-  int ncx = 1, ncy = 1;
-  bool periodic = false;
-  std::vector<std::uint32_t> start, members;
-
-  int cell_x(double x) const { return std::clamp(static_cast<int>((x - xlo) / cw), 0, ncx - 1); }
-  int cell_y(double y) const { return std::clamp(static_cast<int>((y - ylo) / ch), 0, ncy - 1); }
-  int cell_of(double x, double y) const { return cell_y(y) * ncx + cell_x(x); }
-
-  // reach: the largest interaction range (cell edge); period > 0: periodic in x from xmin.
-  CellGrid(const std::vector<double>& x, const std::vector<double>& y, std::size_t n, double reach,
-           double xmin, double period) {
-    double xl = 1e300, xh = -1e300, yl = 1e300, yh = -1e300;
-    for (std::size_t i = 0; i < n; ++i) {
-      xl = std::min(xl, x[i]), xh = std::max(xh, x[i]);
-      yl = std::min(yl, y[i]), yh = std::max(yh, y[i]);
-    }
-    periodic = period > 0;
-    if (periodic) xl = xmin, xh = xmin + period;
-    double cell = reach;
-    // Keep the grid no larger than a few cells per particle (a grain far from the bed must not blow it up).
-    auto count_cells = [&](double c) {
-      return (std::floor((xh - xl) / c) + 1) * (std::floor((yh - yl) / c) + 1);
-    };
-    while (n > 0 && count_cells(cell) > 4.0 * n + 64) cell *= 1.5;
-    ncx = n ? static_cast<int>(std::floor((xh - xl) / cell)) + 1 : 1;
-    ncy = n ? static_cast<int>(std::floor((yh - yl) / cell)) + 1 : 1;
-    if (periodic) ncx = std::max(1, static_cast<int>(std::floor(period / cell)));
-    xlo = xl, ylo = yl, ch = cell;
-    cw = periodic ? period / ncx : cell;
-    const std::size_t ncell = static_cast<std::size_t>(ncx) * ncy;
-    start.assign(ncell + 1, 0);
-    std::vector<std::uint32_t> cell_of_i(n);
-    for (std::size_t i = 0; i < n; ++i) ++start[(cell_of_i[i] = cell_of(x[i], y[i])) + 1];
-    for (std::size_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
-    members.assign(n, 0);
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) members[fill[cell_of_i[i]]++] = static_cast<std::uint32_t>(i);
-  }
-
-  // The distinct cells around (x, y), wrapped when periodic.
-  int stencil(double x, double y, int* out) const {
-    const int cx = cell_x(x), cy = cell_y(y);
-    int ns = 0;
-    for (int oy = -1; oy <= 1; ++oy) {
-      const int yy = cy + oy;
-      if (yy < 0 || yy >= ncy) continue;
-      for (int ox = -1; ox <= 1; ++ox) {
-        int xx = cx + ox;
-        if (periodic)
-          xx = (xx + ncx) % ncx;
-        else if (xx < 0 || xx >= ncx)
-          continue;
-        const int c = yy * ncx + xx;
-        if (std::find(out, out + ns, c) == out + ns) out[ns++] = c;  // narrow periodic grids
-      }
-    }
-    return ns;
-  }
-};
+// The shared grid (cell_grid.hpp) over the first n particles, periodic in x over [xmin, xmin + period)
+// when period > 0.
+CellGrid<2> disc_grid(const std::vector<double>& x, const std::vector<double>& y, std::size_t n, double reach,
+                      double xmin, double period) {
+  CellGrid<2> grid;
+  grid.build(n,
+             [&](std::size_t i) {
+               return std::array<double, 2>{x[i], y[i]};
+             },
+             reach, {period, 0.0}, {xmin, 0.0});
+  return grid;
+}
 }  // namespace
 
 bool World::needs_rebuild(double lookahead) const {
@@ -158,8 +109,8 @@ void World::sort_owned_by_cell() {
   for (std::size_t i = 0; i < n_own_; ++i) rmax = std::max(rmax, p_.r[i]);
   if (period_ > 0 && period_ < 2 * (2 * rmax + skin_))
     throw std::runtime_error("periodic_x period is shorter than two interaction ranges; make it wider");
-  const CellGrid grid(p_.x, p_.y, n_own_, 2 * rmax + skin_, xmin_, period_);
-  order_ = grid.members;
+  const CellGrid<2> grid = disc_grid(p_.x, p_.y, n_own_, 2 * rmax + skin_, xmin_, period_);
+  order_ = grid.members();
   p_.permute(order_);
 }
 
@@ -169,7 +120,8 @@ void World::build_pair_lists() {
   const std::size_t n = p_.size();
   double rmax = 0;
   for (std::size_t i = 0; i < n; ++i) rmax = std::max(rmax, p_.r[i]);
-  const CellGrid grid(p_.x, p_.y, n, 2 * rmax + skin_ + extra_reach_, xmin_, period_);
+  const CellGrid<2> grid = disc_grid(p_.x, p_.y, n, 2 * rmax + skin_ + extra_reach_, xmin_, period_);
+  const std::vector<std::uint32_t>&start = grid.start(), &members = grid.members();
   struct Found {
     std::uint32_t a, b;
     double shift;
@@ -177,14 +129,14 @@ void World::build_pair_lists() {
   std::vector<Found> found;
   general_pairs_.clear();
   polygon_particles_.clear();
-  int stencil[9];
+  std::size_t stencil[9];
   for (std::size_t i = 0; i < n; ++i) {
     const bool disc_i = p_.shape[i] < 0, ghost_i = i >= n_own_;
     if (!disc_i && !ghost_i) polygon_particles_.push_back(static_cast<std::uint32_t>(i));
-    const int ns = grid.stencil(p_.x[i], p_.y[i], stencil);
+    const int ns = grid.stencil(grid.coords({p_.x[i], p_.y[i]}), stencil);
     for (int s = 0; s < ns; ++s)
-      for (std::uint32_t m = grid.start[stencil[s]]; m < grid.start[stencil[s] + 1]; ++m) {
-        const std::uint32_t j = grid.members[m];
+      for (std::uint32_t m = start[stencil[s]]; m < start[stencil[s] + 1]; ++m) {
+        const std::uint32_t j = members[m];
         if (j <= i || (ghost_i && j >= n_own_)) continue;
         // Orient by id: the same pair gives the same bits on every rank.
         const bool swap = p_.id[j] < p_.id[i];

@@ -1,14 +1,16 @@
 #pragma once
 // The 3-D engine's broad phase: a Verlet list. Bounding spheres are binned in a grid of cells one largest
-// diameter plus a skin wide; each body keeps the later bodies (in index order) within that reach, sorted.
-// A force loop over them visits the overlapping pairs in exactly the all-pairs order (the same sums, bit
-// for bit) in O(N). The lists stay valid until some body has moved half the skin since they were built.
+// diameter plus a skin wide (cell_grid.hpp, shared with 2-D); each body keeps the later bodies (in index
+// order) within that reach, sorted. A force loop over them visits the overlapping pairs in exactly the
+// all-pairs order (the same sums, bit for bit) in O(N). The lists stay valid until some body has moved half
+// the skin since they were built.
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "cell_grid.hpp"
 #include "polyhedron.hpp"
 
 namespace grainlab::dem {
@@ -48,17 +50,13 @@ class SphereCells {
   const std::vector<Vec3>& build_positions() const { return built_at_; }
 
  private:
-  std::size_t cell_index(long x, long y, long z) const;
-  double size_ = 1, skin_ = 0, reach_ = 0;
-  Vec3 origin_ = Vec3::Zero();
-  long nx_ = 1, ny_ = 1, nz_ = 1;
+  CellGrid<3> grid_;
+  double skin_ = 0, reach_ = 0;
   std::vector<Vec3> built_at_;
-  std::vector<std::size_t> start_, items_, offset_;
+  std::vector<std::size_t> offset_;
   std::vector<Index> list_;
-  std::vector<std::array<long, 3>> coords_;
   std::size_t builds_ = 0;
   double period_[2] = {0, 0}, period_lo_[2] = {0, 0};
-  Vec3 cell_ = Vec3::Ones();  // cell size along each axis
 };
 
 }  // namespace grainlab::dem
