@@ -15,13 +15,14 @@ std::uint64_t mix64(std::uint64_t z) {
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
   return z ^ (z >> 31);
 }
+}  // namespace
+
 // History key of a general (polygon or polygon-wall) contact, from stable ids: survives reordering
 // and migration between ranks.
-std::uint64_t history_key(std::int64_t a, std::int64_t b, int sub) {
+std::uint64_t World::general_key(std::int64_t a, std::int64_t b, int sub) {
   return mix64(static_cast<std::uint64_t>(a)) ^ mix64(static_cast<std::uint64_t>(b) * 31 + 7) ^
          mix64(static_cast<std::uint64_t>(sub) + 0x1234567ull);
 }
-}  // namespace
 
 class ForceKernels {
  public:
@@ -201,7 +202,7 @@ class ForceKernels {
       double* trial = nullptr;
       const double* committed = nullptr;
       if constexpr (Friction) {
-        const std::uint64_t key = history_key(P.id[i], other_id, sub);
+        const std::uint64_t key = World::general_key(P.id[i], other_id, sub);
         auto it = W.general_xi_.find(key);
         committed = it == W.general_xi_.end() ? nullptr : &it->second;
         trial = &W.general_xi_new_[key];

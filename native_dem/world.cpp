@@ -98,9 +98,7 @@ double World::step() {
 
 void World::finish_step_impulses(double taken) {
   if (!after_step_) return;
-  impulses_.clear();
-  for (const auto& [pair, fn] : pair_force_start_) impulses_[pair] = fn * taken / 2;
-  for (const auto& [pair, fn] : pair_force_) impulses_[pair] += fn * taken / 2;
+  trapezoid_impulses(pair_force_start_, pair_force_, taken, impulses_);
   after_step_(t_, taken);
 }
 
@@ -297,7 +295,7 @@ Energies World::energies() const {
 
 // Every contact that involves a polygon (body pairs and vertex-wall contacts), at the current state.
 void World::visit_polygon_contacts(
-    const std::function<void(const ContactLaw&, const ContactGeometry&)>& visit) const {
+    const std::function<void(const ContactLaw&, const ContactGeometry&, std::uint64_t)>& visit) const {
   std::vector<Vec2> sa, sb;
   auto pose = [&](std::uint32_t i) {
     return BodyPose{
@@ -307,24 +305,32 @@ void World::visit_polygon_contacts(
     BodyPose a = pose(gp.i);
     a.centre.x += gp.shift;
     ContactGeometry c;
-    if (body_body_contact(a, pose(gp.j), c, sa, sb)) visit(laws_[p_.mat[gp.i] * n_mat_ + p_.mat[gp.j]], c);
+    if (body_body_contact(a, pose(gp.j), c, sa, sb))
+      visit(laws_[p_.mat[gp.i] * n_mat_ + p_.mat[gp.j]], c, general_key(p_.id[gp.i], p_.id[gp.j], 0));
   }
   for (std::uint32_t i : polygon_particles_)
-    for (const Wall& wall : walls_) {
+    for (std::size_t w = 0; w < walls_.size(); ++w) {
+      const Wall& wall = walls_[w];
       const BodyPose b = pose(i);
       for (std::size_t v = 0; v < b.vertices->size(); ++v) {
         ContactGeometry c;
-        if (vertex_wall_contact(b, v, wall, c)) visit(laws_[p_.mat[i] * n_mat_ + wall.spec.material], c);
+        if (vertex_wall_contact(b, v, wall, c))
+          visit(laws_[p_.mat[i] * n_mat_ + wall.spec.material], c,
+                general_key(p_.id[i], -1 - static_cast<std::int64_t>(w), static_cast<int>(v)));
       }
     }
 }
 
-// Normal-spring energy of the polygon contacts. Their shear springs are not counted: the history map
-// does not keep the pair's k_s.
+// Spring energy of the polygon contacts: the normal spring, and the committed shear spring of each
+// contact, found by its history key (as the disc and wall contacts count theirs).
 double World::polygon_elastic_energy() const {
   double u = 0;
-  visit_polygon_contacts(
-      [&](const ContactLaw& L, const ContactGeometry& c) { u += 0.5 * L.k_n * c.depth * c.depth; });
+  visit_polygon_contacts([&](const ContactLaw& L, const ContactGeometry& c, std::uint64_t key) {
+    u += 0.5 * L.k_n * c.depth * c.depth;
+    if (!effects_.has(Effect::friction)) return;
+    if (const auto it = general_xi_.find(key); it != general_xi_.end())
+      u += 0.5 * L.k_s * it->second * it->second;
+  });
   return u;
 }
 
@@ -343,7 +349,7 @@ std::size_t World::count_contacts() const {
       ContactGeometry c;
       count += disc_wall_contact({p_.x[i], p_.y[i]}, p_.r[i], walls_[w], c);
     }
-  visit_polygon_contacts([&](const ContactLaw&, const ContactGeometry&) { ++count; });
+  visit_polygon_contacts([&](const ContactLaw&, const ContactGeometry&, std::uint64_t) { ++count; });
   if (!domain_) return count;
   std::vector<std::uint64_t> total{count};
   parallel::sum_all(total);

@@ -45,6 +45,9 @@ class World {
     bool operator<(const SavedShear& o) const { return key < o.key; }
   };
   static std::uint64_t shear_key(std::int64_t a, std::int64_t b);
+  // The shear-history key of a contact with a polygon: the ids of its bodies (a wall as -1 - index) and
+  // which vertex or sub-contact it is; survives reordering and migration between ranks.
+  static std::uint64_t general_key(std::int64_t a, std::int64_t b, int sub);
   explicit World(const Scene& scene, Decomposition decomposition = {});
 
   // Advances to time `t_end` (not beyond). Throws std::runtime_error if the step underflows.
@@ -92,7 +95,7 @@ class World {
   std::size_t memory_bytes() const;
   // Per-step normal impulse on each touching pair (particle ids; -1 - k for wall k): what contact events
   // are built from. Filled only while an after-step hook is set.
-  const std::map<std::pair<std::int64_t, std::int64_t>, double>& step_impulses() const { return impulses_; }
+  const PairForces& step_impulses() const { return impulses_; }
   // Called after every accepted step with (time, step length); empty: nothing is called and the force
   // kernels record nothing (no cost to a run that does not track contacts).
   void set_after_step(std::function<void(double, double)> f) { after_step_ = std::move(f); }
@@ -126,8 +129,9 @@ class World {
   void wrap_periodic();
   double polygon_elastic_energy() const;
   void finish_step_impulses(double taken);
+  // Every contact with a polygon at the current state, with its law and its shear-history key.
   void visit_polygon_contacts(
-      const std::function<void(const ContactLaw&, const ContactGeometry&)>& visit) const;
+      const std::function<void(const ContactLaw&, const ContactGeometry&, std::uint64_t)>& visit) const;
 
   Scene scene_;
   Effects effects_;
@@ -181,7 +185,7 @@ class World {
   std::vector<WallList> wall_lists_;
   std::vector<GeneralPair> general_pairs_;        // pairs with a polygon
   std::vector<std::uint32_t> polygon_particles_;  // polygons (all checked against walls)
-  std::unordered_map<std::uint64_t, double> general_xi_, general_xi_new_;  // keyed by ids and sub-contact
+  std::unordered_map<std::uint64_t, double> general_xi_, general_xi_new_;  // keyed by general_key
   std::vector<double> x_build_, y_build_;
   // Predictor-corrector scratch.
   std::vector<double> x0_, y0_, th0_, vx0_, vy0_, w0_, ax0_, ay0_, al0_;
@@ -189,7 +193,6 @@ class World {
   std::vector<Vec2> outline_a_, outline_b_;
   // Contact events: the normal force per pair at the latest evaluation and at the step's start; both
   // integrators apply the trapezoid of the two, so the step's impulse is dt (F_start + F_end) / 2.
-  using PairForces = std::map<std::pair<std::int64_t, std::int64_t>, double>;
   PairForces pair_force_, pair_force_start_, impulses_;
   std::function<void(double, double)> after_step_;
 };

@@ -215,9 +215,7 @@ void World3d::step() {
   last_contacts_ = contacts_now_;
   if (!after_step_) return;
   // Trapezoid rule over the step: the force at its start is the one that ended the previous step.
-  impulses_.clear();
-  for (const auto& [pair, fn] : step_force_) impulses_[pair] = fn * taken / 2;
-  for (const auto& [pair, fn] : end_force_) impulses_[pair] += fn * taken / 2;
+  trapezoid_impulses(end_force_, step_force_, taken, impulses_);  // (end_force_: the last step's end)
   end_force_ = step_force_;
   after_step_(t_, taken);
 }

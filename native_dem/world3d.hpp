@@ -59,7 +59,7 @@ class World3d {
   std::size_t count_contacts() const;
   // Per-step normal impulse on each touching pair (body ids; -1 - k for plane k): what contact events
   // are built from.
-  const std::map<std::pair<std::int64_t, std::int64_t>, double>& step_impulses() const { return impulses_; }
+  const PairForces& step_impulses() const { return impulses_; }
   // Called after every accepted step with (time, step length); empty: nothing is called.
   void set_after_step(std::function<void(double, double)> f) { after_step_ = std::move(f); }
   // Beds of spheres (at least kCellsFrom of them, velocity Verlet, no after-step callback) run on the
@@ -130,7 +130,7 @@ class World3d {
   std::vector<ContactPoint3> scratch_;
   SphereCells cells_;
   std::vector<Vec3> centres_;  // bin_bodies' scratch, kept so no step allocates
-  std::map<std::pair<std::int64_t, std::int64_t>, double> impulses_, step_force_, end_force_;
+  PairForces impulses_, step_force_, end_force_;
   double t_ = 0, dt_ = 0, dt_prev_ = 0;
   bool have_prev_ = false;
   std::vector<Body3> start_;  // state at the start of a predictor-corrector step
