@@ -22,6 +22,7 @@
 #include "progress.hpp"
 #include "ripples_commands.hpp"
 #include "saltation_commands.hpp"
+#include "sand_gun_command.hpp"
 #include "scene.hpp"
 #include "suites.hpp"
 
@@ -386,6 +387,8 @@ int main(int argc, char** argv) {
 
   cli::ImpactCommands impacts;
   impacts.add(app);
+  cli::SandGunCommand sand_gun;
+  sand_gun.add(app);
   cli::SaltationCommands saltation;
   saltation.add(app);
   cli::RipplesCommands ripples;
@@ -415,6 +418,7 @@ int main(int argc, char** argv) {
     if (*hybrid_bench_cmd) return bench::run_hybrid_bench(hybrid_bench);
     if (*bed3d_cmd) return bench::run_bed3d_bench(bed3d);
     if (const int status = impacts.dispatch(); status >= 0) return status;
+    if (const int status = sand_gun.dispatch(); status >= 0) return status;
     if (const int status = saltation.dispatch(); status >= 0) return status;
     if (const int status = ripples.dispatch(); status >= 0) return status;
   } catch (const InputError& e) {

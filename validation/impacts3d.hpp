@@ -23,8 +23,16 @@ struct Bed3dSpec {
   int count = 2000;                    // spheres
   double width = 67.3, depth = 20;     // the box along x (as the thesis's) and y
   double radius = 1.0, density = 1.5;  // g/cm^3: the 2-D discs' mass
+  // A sieved sand: radii uniform in radius -+ radius_spread (0: every sphere of `radius`).
+  double radius_spread = 0;
   double k_n = 6e9, restitution = 0.85, mu = 0.5;
   double settle_time = 1.0;  // s of settling after the last sphere has fallen
+  // The preparation's phases (stiffening, damping, relaxing, the test for loose spheres) last their
+  // thesis-sized durations (0.005, 0.1, 0.05, 0.07 s for 1 cm grains) times this: grains of another size
+  // fall and settle in times that scale as sqrt(r / g), so a sand bed takes sqrt(r / 1 cm) of them.
+  double time_scale = 1;
+  double smallest_radius() const { return radius - radius_spread; }
+  double largest_radius() const { return radius + radius_spread; }
 };
 
 struct Bed3d {
@@ -36,7 +44,9 @@ struct Bed3d {
   double top = 0;
   double packing_fraction = 0;  // in the interior (2 diameters from walls, floor and top)
   double build_seconds = 0;
-  std::size_t removed = 0;  // spheres that would not come to rest on the surface, taken away
+  std::size_t removed = 0;      // spheres that would not come to rest on the surface, taken away
+  std::size_t probes = 0;       // times the bed was left alone to find spheres still moving
+  std::size_t deep_movers = 0;  // spheres below others still moving at the last probe (0: at rest)
 };
 
 // Pours and settles a bed (seconds to a minute of computing).
@@ -44,6 +54,7 @@ Bed3d build_bed3d(const Bed3dSpec& spec);
 
 struct Ejectum3d {
   std::int64_t id = -1;
+  double mass = 0;                // g (a sieved bed's grains differ)
   double x0 = 0, y0 = 0, z0 = 0;  // where it sat, relative to the impact point (cm)
   double vx = 0, vy = 0, vz = 0;  // when its centre crossed top + 2 r_b (cm/s)
   double vz_launch = 0;           // vz carried back ballistically to its original centre height

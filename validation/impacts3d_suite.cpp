@@ -10,6 +10,7 @@
 #include "impact_bed.hpp"
 #include "impacts.hpp"
 #include "impacts3d.hpp"
+#include "sand_gun3d.hpp"
 #include "suites.hpp"
 
 namespace grainlab::validation {
@@ -27,6 +28,66 @@ double energy_out(const Impact3dResult& r) {
   const Impact3dSummary s = summarize_impacts3d({r});
   const double rebound = r.rebounded ? std::pow(s.q.at("eps_i").mean, 2) : 0;
   return rebound + s.q.at("ej_energy").mean;
+}
+
+// The sand-gun experiment (Tables 3.11-3.12) on a sand bed of spheres. Checks: no impact creates energy;
+// the rebound angle, pooled over the rows, agrees with the experiment's within the two 95 % intervals; the
+// exponents of ejecta per event, ejection velocity and reptation per ejectum in v_i (rows at 15-16 deg)
+// are the experiment's within 0.5 and their own interval (as the dem-saltation suite's flux exponent).
+// Quick: an 800-sphere bed (1.0 x 0.5 cm), rows 1 and 6 (650 and 1200 cm/s), 4 impacts each, and only
+// the checks so few impacts can decide (energy, rebound angle, ejecta exponent); full: 20,000 spheres,
+// all nine rows, 10 impacts each (about 3 hours on one core).
+void sand_gun_section(Report& r, const SuiteOptions& o) {
+  const Bed3dSpec spec = sand_gun_bed_spec(o.quick ? 800 : 20000);
+  const std::vector<std::size_t> rows = o.quick ? std::vector<std::size_t>{1, 6} : std::vector<std::size_t>{};
+  const SandGunRun run = run_sand_gun(spec, rows, o.quick ? 4 : 10, 1, o.log, o.progress);
+  // The sand bed must hold still as the thesis-sized one must, its limits scaled to the grain: 2.5 % of a
+  // diameter, and 1 cm/s times sqrt(r / 1 cm) (speeds of a bed settling under gravity scale so).
+  const BedHold h = hold_bed3d(run.bed, "native", sand_gun_options(spec).duration, ImpactOptions{}.rigid_dt);
+  const double d_limit = 0.025 * 2 * spec.radius, v_limit = 1.0 * spec.time_scale;
+  r.expect_below(
+      "impacts-3d/sand-gun/bed-at-rest", "native",
+      std::max(h.max_displacement / d_limit, h.max_speed / v_limit), 1.0,
+      fmt::format("the sand bed alone for {:.4f} s: largest displacement {:.3g} cm (limit {:.3g}), "
+                  "largest speed {:.3g} cm/s (limit {:.3g})",
+                  sand_gun_options(spec).duration, h.max_displacement, d_limit, h.max_speed, v_limit));
+  double most = 0;
+  for (const auto& impacts : run.impacts)
+    for (const Impact3dResult& x : impacts) most = std::max(most, energy_out(x));
+  r.expect_below("impacts-3d/sand-gun/energy", "native", most, 1 + 2e-4,
+                 "largest (rebound + ejecta) kinetic energy over the incident's among the sand-gun impacts");
+  // The experiment's pooled rebound angle: event-weighted mean of its rows, its spread from the rows'
+  // spreads and the scatter of their means.
+  std::vector<double> ours;
+  double n = 0, sum = 0, sum2 = 0;
+  for (std::size_t i = 0; i < run.rows.size(); ++i) {
+    const SandGunRow& row = run.rows[i];
+    const double m = row.measured.at("theta_i"), sd = row.measured_sd.at("theta_i"), k = row.events;
+    n += k, sum += k * m, sum2 += k * (sd * sd + m * m);
+    for (const Impact3dResult& x : run.impacts[i])
+      if (x.rebounded) ours.push_back(std::atan2(x.vx, x.vz) * 180 / M_PI);
+  }
+  const double theirs = sum / n, their_half = 1.959964 * std::sqrt((sum2 / n - theirs * theirs) / n);
+  const MeanInterval mine = mean_interval(ours);
+  r.expect_near("impacts-3d/sand-gun/rebound-angle", "native", mine.mean, theirs,
+                std::hypot(mine.half_width(), their_half),
+                fmt::format("rebound angle from the vertical pooled over the rows: {:.1f} +- {:.1f} deg ({} "
+                            "rebounds) against the experiment's {:.1f} +- {:.1f} ({:.0f} events); tolerance: "
+                            "the two 95 % half-widths in quadrature",
+                            mine.mean, mine.half_width(), mine.n, theirs, their_half, n));
+  std::vector<std::pair<std::string, std::string>> exponents = {{"ejecta", "ejecta per event"}};
+  if (!o.quick)
+    exponents.insert(exponents.end(), {{"ej_vz", "ejection v_z"}, {"reptation", "reptation per ejectum"}});
+  for (const auto& [k, label] : exponents) {
+    const auto [p, q] = sand_gun_exponent(run, k);
+    r.expect_near(fmt::format("impacts-3d/sand-gun/{}-exponent", k), "native", p.exponent, q.exponent,
+                  std::hypot(0.5, p.half_width),
+                  fmt::format("{} ~ v_i^n over the rows at 15-16 deg: n = {:.2f} +- {:.2f} against the "
+                              "experiment's {:.2f}; tolerance 0.5 and the interval in quadrature",
+                              label, p.exponent, p.half_width, q.exponent));
+  }
+  r.markdown.push_back("## The sand-gun experiment with spheres (Tables 3.11-3.12)\n\n" +
+                       sand_gun_markdown(run) + "\n");
 }
 
 }  // namespace
@@ -143,6 +204,7 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
     md += "\n";
   }
   r.markdown.push_back(md);
+  sand_gun_section(r, o);
 }
 
 }  // namespace grainlab::validation

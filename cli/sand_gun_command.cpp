@@ -1,0 +1,109 @@
+#include "sand_gun_command.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "parallel.hpp"
+#include "progress.hpp"
+#include "sand_gun3d.hpp"
+
+namespace grainlab::cli {
+
+namespace {
+
+using namespace grainlab::validation;
+
+nlohmann::json number(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+nlohmann::json run_json(const SandGunCommand& a, const SandGunRun& run) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (std::size_t i = 0; i < run.rows.size(); ++i) {
+    const SandGunRow& row = run.rows[i];
+    nlohmann::json q;
+    for (const auto& [k, m] : run.quantities[i]) {
+      q[k] = {{"mean", number(m.mean)},
+              {"lo", number(m.lo)},
+              {"hi", number(m.hi)},
+              {"sd", number(m.sd)},
+              {"n", m.n}};
+      if (row.measured.count(k)) q[k]["experiment"] = row.measured.at(k);
+    }
+    rows.push_back({{"row", row.index},
+                    {"speed", row.speed},
+                    {"alpha", row.alpha_deg},
+                    {"impacts", run.impacts[i].size()},
+                    {"events_in_experiment", row.events},
+                    {"quantities", q}});
+  }
+  nlohmann::json exponents;
+  if (sand_gun_speed_series(run).size() >= 2)
+    for (const char* k : {"ejecta", "ej_vz", "reptation"}) {
+      const auto [ours, theirs] = sand_gun_exponent(run, k);
+      exponents[k] = {{"exponent", number(ours.exponent)},
+                      {"half_width", number(ours.half_width)},
+                      {"experiment", number(theirs.exponent)}};
+    }
+  const Bed3dSpec& s = run.bed.spec;
+  return {{"spheres", run.bed.scene.bodies3d.size()},
+          {"spheres_removed", run.bed.removed},
+          {"bed_top", run.bed.top},
+          {"packing_fraction", run.bed.packing_fraction},
+          {"bed_seconds", run.bed.build_seconds},
+          {"k_n", s.k_n},
+          {"seed", a.seed},
+          {"bed_seed", a.bed_seed},
+          {"runs", a.runs},
+          {"rows", rows},
+          {"exponents", exponents}};
+}
+
+}  // namespace
+
+void SandGunCommand::add(CLI::App& app) {
+  cmd = app.add_subcommand(
+      "sand-gun", "the thesis's sand-gun experiment (Tables 3.11-3.12) with spheres of a sieved sand");
+  cmd->add_option("--spheres", spheres, "spheres in the sand bed (20,000: 5.0 x 2.5 cm, 8 grains deep)")
+      ->default_val(20000)
+      ->check(CLI::Range(500, 1000000));
+  cmd->add_option("--rows", rows, "the tables' rows to shoot, 1-9 (default: all)")->check(CLI::Range(1, 9));
+  cmd->add_option("--runs", runs, "impacts per row (spread over MPI ranks)")
+      ->default_val(20)
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--seed", seed, "seed: impact i draws its point from (seed, i)")->default_val(1);
+  cmd->add_option("--bed-seed", bed_seed, "seed of the pour")->default_val(1);
+  cmd->add_option("--stiffness", stiffness, "k_n as a multiple of the default 2e7 dyn/cm")
+      ->default_val(1)
+      ->check(CLI::Range(0.01, 100.0));
+  cmd->add_flag("--json", json, "print one JSON object (rows, quantities with intervals, exponents)");
+  cmd->add_flag("--quiet,-q", quiet, "no progress");
+}
+
+int SandGunCommand::dispatch() const {
+  if (!cmd || !*cmd) return -1;
+  const bool speak = !quiet && !json && parallel::rank() == 0;
+  Bed3dSpec spec = sand_gun_bed_spec(spheres, stiffness);
+  spec.seed = bed_seed;
+  ProgressBar bar(speak, "impacts");
+  const SandGunRun run = run_sand_gun(
+      spec, rows, runs, seed,
+      [&](const std::string& line) {
+        if (!speak) return;
+        bar.finish();
+        fmt::print(stderr, "grainlab {}\n", line);
+      },
+      [&](std::size_t d, std::size_t t) { bar.update(static_cast<double>(d), static_cast<double>(t)); });
+  bar.finish();
+  if (parallel::rank() != 0) return 0;
+  if (json) {
+    fmt::print("{}\n", run_json(*this, run).dump(2));
+    return 0;
+  }
+  fmt::print("{}", sand_gun_markdown(run));
+  return 0;
+}
+
+}  // namespace grainlab::cli
