@@ -294,6 +294,7 @@ int splash_command(const ImpactCommands& a) {
     if (a.splash_runs > 0) o.runs = a.splash_runs;
     if (a.splash_beds > 0) o.beds = a.splash_beds;
     o.seed = a.splash_seed, o.engine = a.splash_engine;
+    o.dimension = a.splash_dimension, o.spheres = a.splash_spheres;
     if (!a.splash_speeds.empty()) o.speeds_cm_s = a.splash_speeds;
     if (!a.splash_angles.empty()) o.angles_deg = a.splash_angles;
     for (double v : o.speeds_cm_s)
@@ -444,6 +445,15 @@ void ImpactCommands::add(CLI::App& app) {
   splash_cmd
       ->add_option("--stop-after-cells", splash_stop_after, "stop unfinished after N cells (then --restart)")
       ->check(CLI::NonNegativeNumber);
+  splash_cmd
+      ->add_option("--dimension", splash_dimension, "2 (discs, the thesis's beds) or 3 (poured spheres)")
+      ->default_val(2)
+      ->check(CLI::IsMember({2, 3}));
+  splash_cmd
+      ->add_option("--spheres", splash_spheres,
+                   "--dimension 3: spheres per bed (2,000 fill the 67.3 x 20 cm box; others scale its area)")
+      ->default_val(2000)
+      ->check(CLI::Range(100, 1000000));
   splash_cmd->add_flag("--sand-gun", sand_gun,
                        "write the thesis's sand-gun measurements (Tables 3.11, 3.12) instead");
   splash_cmd->add_flag("--force", splash_force, "overwrite an existing file");

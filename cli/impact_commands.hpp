@@ -39,6 +39,7 @@ struct ImpactCommands {
   std::string splash_engine = "native", splash_checkpoint, splash_restart;
   std::size_t splash_stop_after = 0;
   std::vector<double> splash_speeds, splash_angles;
+  int splash_dimension = 2, splash_spheres = 2000;
 
   CLI::App *bed_cmd = nullptr, *impact_cmd = nullptr, *rebound_cmd = nullptr, *splash_cmd = nullptr;
   void add(CLI::App& app);

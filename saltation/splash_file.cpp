@@ -24,6 +24,7 @@ using Handle = H5Handle;
 
 const char* kReboundColumns = "impact,rebounded,vx,vy,spin";
 const char* kEjectaColumns = "impact,vx,vy,vx_launch,vy_launch,x0,y0,type";
+const char* kLateralColumns = "v_lateral,lateral0";
 
 // ---- writing ----
 
@@ -73,7 +74,7 @@ std::vector<double> flatten(const std::vector<std::array<double, N>>& rows) {
   return out;
 }
 
-void write_cell(hid_t cells, std::size_t k, const SplashCell& c) {
+void write_cell(hid_t cells, std::size_t k, const SplashCell& c, int dimension) {
   Handle g{H5Gcreate2(cells, fmt::format("{:04d}", k).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
            H5Gclose};
   check(g.id, "cell group");
@@ -82,6 +83,10 @@ void write_cell(hid_t cells, std::size_t k, const SplashCell& c) {
   put_number(g.id, "impacts", static_cast<double>(c.impacts));
   put_table(g.id, "rebound", flatten(c.rebound), c.rebound.size(), 5, kReboundColumns);
   put_table(g.id, "ejecta", flatten(c.ejecta), c.ejecta.size(), 8, kEjectaColumns);
+  if (dimension == 3) {
+    put_table(g.id, "rebound_lateral", c.rebound_lateral, c.rebound_lateral.size(), 0, "v_lateral");
+    put_table(g.id, "ejecta_lateral", flatten(c.ejecta_lateral), c.ejecta_lateral.size(), 2, kLateralColumns);
+  }
   std::vector<double> m;
   std::string names;
   for (const auto& [name, v] : c.moments) {
@@ -159,7 +164,7 @@ std::vector<std::array<double, N>> unflatten(const std::vector<double>& flat) {
   return out;
 }
 
-SplashCell read_cell(hid_t cells, const std::string& name, const std::string& path) {
+SplashCell read_cell(hid_t cells, const std::string& name, const std::string& path, int dimension) {
   const std::string where = "/cells/" + name;
   Handle g{H5Gopen2(cells, name.c_str(), H5P_DEFAULT), H5Gclose};
   if (g.id < 0) bad(path, where + " cannot be opened");
@@ -179,6 +184,16 @@ SplashCell read_cell(hid_t cells, const std::string& name, const std::string& pa
   for (const EjectumRow& e : c.ejecta)
     if (e[0] < 0 || e[0] >= static_cast<double>(std::max<std::size_t>(c.impacts, 1)))
       bad(path, fmt::format("{}/ejecta names impact {}, outside 0..{}", where, e[0], c.impacts));
+  if (dimension == 3) {
+    // Every rebound and ejectum row has its lateral numbers, row for row.
+    c.rebound_lateral = get_table(g.id, "rebound_lateral", 0, path, where, rows);
+    if (rows != c.rebound.size())
+      bad(path,
+          fmt::format("{}/rebound_lateral has {} rows but rebound has {}", where, rows, c.rebound.size()));
+    c.ejecta_lateral = unflatten<2>(get_table(g.id, "ejecta_lateral", 2, path, where, rows));
+    if (rows != c.ejecta.size())
+      bad(path, fmt::format("{}/ejecta_lateral has {} rows but ejecta has {}", where, rows, c.ejecta.size()));
+  }
   const std::vector<double> m = get_table(g.id, "moments", 4, path, where, rows);
   Handle d{H5Dopen2(g.id, "moments", H5P_DEFAULT), H5Dclose};
   const std::string names = get_string(d.id, "names");
@@ -252,6 +267,7 @@ void write_splash_file(const std::string& path, const SplashFile& f, bool overwr
     put_number(file.id, "grain_diameter_cm", f.grain_diameter_cm);
     put_number(file.id, "gravity_cm_s2", f.gravity_cm_s2);
     put_number(file.id, "grain_density", f.grain_density);
+    put_number(file.id, "dimension", f.dimension);
     put_number(file.id, "velocity_scale_cm_s", f.velocity_scale());
     {
       Handle grid{H5Gcreate2(file.id, "grid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
@@ -259,7 +275,7 @@ void write_splash_file(const std::string& path, const SplashFile& f, bool overwr
       put_table(grid.id, "angle", f.angles_deg, f.angles_deg.size(), 0, "");
     }
     Handle cells{H5Gcreate2(file.id, "cells", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
-    for (std::size_t k = 0; k < f.cells.size(); ++k) write_cell(cells.id, k, f.cells[k]);
+    for (std::size_t k = 0; k < f.cells.size(); ++k) write_cell(cells.id, k, f.cells[k], f.dimension);
   } catch (...) {
     fs::remove(tmp);
     throw;
@@ -288,6 +304,12 @@ SplashFile read_splash_file(const std::string& path, bool allow_partial) {
   f.grain_diameter_cm = get_number(file.id, "grain_diameter_cm", path, "/");
   f.gravity_cm_s2 = get_number(file.id, "gravity_cm_s2", path, "/");
   f.grain_density = get_number(file.id, "grain_density", path, "/");
+  // Files written before 3-D splash existed carry no dimension: they are 2-D.
+  if (H5Aexists(file.id, "dimension") > 0) {
+    const double dim = get_number(file.id, "dimension", path, "/");
+    if (dim != 2 && dim != 3) bad(path, fmt::format("dimension {} must be 2 or 3", dim));
+    f.dimension = static_cast<int>(dim);
+  }
   if (!(f.grain_diameter_cm > 0 && f.gravity_cm_s2 > 0))
     bad(path, "grain_diameter_cm and gravity_cm_s2 must be positive");
   if (H5Lexists(file.id, "grid", H5P_DEFAULT) <= 0) bad(path, "/grid is missing");
@@ -299,7 +321,7 @@ SplashFile read_splash_file(const std::string& path, bool allow_partial) {
   Handle cells{H5Gopen2(file.id, "cells", H5P_DEFAULT), H5Gclose};
   std::vector<std::string> names;
   H5Literate(cells.id, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_name, &names);
-  for (const std::string& name : names) f.cells.push_back(read_cell(cells.id, name, path));
+  for (const std::string& name : names) f.cells.push_back(read_cell(cells.id, name, path, f.dimension));
   const bool partial = f.text.count("complete") && f.text.at("complete") == "false";
   if (partial && !allow_partial)
     bad(path,

@@ -33,12 +33,18 @@ struct SplashCell {
   std::size_t impacts = 0;
   std::vector<ReboundRow> rebound;  // empty in a measured file with moments only
   std::vector<EjectumRow> ejecta;
+  // 3-D files only (empty in 2-D), where x is downstream and y vertical as in 2-D and the third axis is
+  // across the incident plane: each rebound row's velocity across it, and each ejectum's velocity across
+  // it and where it sat across it (d).
+  std::vector<double> rebound_lateral;
+  std::vector<std::array<double, 2>> ejecta_lateral;
   std::map<std::string, SplashMoment> moments;
 };
 
 struct SplashFile {
   std::map<std::string, std::string> text;  // schema, kind ("simulated"/"measured"), source, engine, ...
   double grain_diameter_cm = 0, gravity_cm_s2 = 981, grain_density = 0;
+  int dimension = 2;                       // 3: impacts on spheres, with the lateral columns of SplashCell
   std::vector<double> speeds, angles_deg;  // the grid; cells are row-major: [speed index][angle index]
   std::vector<SplashCell> cells;
 

@@ -36,7 +36,38 @@ SplashFile tiny() {
   return f;
 }
 
+// The same grid measured on spheres: every rebound and ejectum row has its lateral numbers.
+SplashFile tiny3d() {
+  SplashFile f = tiny();
+  f.dimension = 3;
+  for (SplashCell& c : f.cells) {
+    c.rebound_lateral = {0.3, 0};
+    c.ejecta_lateral = {{-0.7, 1.5}};
+  }
+  return f;
+}
+
 }  // namespace
+
+TEST(SplashFile, LateralColumnsOfA3dFileSurviveTheRoundTrip) {
+  Dir d;
+  const std::string path = (d.path / "s3.h5").string();
+  write_splash_file(path, tiny3d(), false);
+  const SplashFile g = read_splash_file(path);
+  EXPECT_EQ(g.dimension, 3);
+  ASSERT_EQ(g.cells.size(), 4u);
+  EXPECT_EQ(g.cell(1, 0).rebound_lateral, (std::vector<double>{0.3, 0}));
+  ASSERT_EQ(g.cell(1, 1).ejecta_lateral.size(), 1u);
+  EXPECT_EQ(g.cell(1, 1).ejecta_lateral[0][0], -0.7);
+  EXPECT_EQ(g.cell(1, 1).ejecta_lateral[0][1], 1.5);
+  EXPECT_EQ(g.cell(1, 1).ejecta, tiny().cells[3].ejecta);  // the 2-D columns as they were
+  // A 2-D file says so, and carries no lateral rows.
+  const std::string flat = (d.path / "s2.h5").string();
+  write_splash_file(flat, tiny(), false);
+  const SplashFile h = read_splash_file(flat);
+  EXPECT_EQ(h.dimension, 2);
+  EXPECT_TRUE(h.cell(0, 0).rebound_lateral.empty());
+}
 
 TEST(SplashFile, RoundTripKeepsEverything) {
   Dir d;
@@ -138,29 +169,60 @@ TEST(SplashFileFuzz, ForeignTruncatedAndDamagedFilesAreRefusedByName) {
   expect_refused(d.path / "run.h5", "schema");
 }
 
+TEST(SplashFileFuzz, Damaged3dFilesAreRefusedByName) {
+  Dir d;
+  const fs::path good = d.path / "good3.h5";
+  write_splash_file(good.string(), tiny3d(), false);
+  const fs::path bad = d.path / "bad3.h5";
+  ASSERT_TRUE(copy_with_damaged_data(good, bad, "/cells/0002/ejecta_lateral"));
+  expect_refused(bad, "ejecta_lateral");
+  // A lateral dataset taken away, or one of the wrong length.
+  const fs::path gone = d.path / "gone3.h5";
+  fs::copy_file(good, gone);
+  {
+    hid_t f = H5Fopen(gone.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Ldelete(f, "/cells/0001/rebound_lateral", H5P_DEFAULT);
+    H5Fclose(f);
+  }
+  expect_refused(gone, "rebound_lateral is missing");
+  SplashFile shorter = tiny3d();
+  shorter.cells[3].rebound_lateral = {0.1};
+  const fs::path rows = d.path / "rows3.h5";
+  write_splash_file(rows.string(), shorter, false);
+  expect_refused(rows, "rebound_lateral has 1 rows but rebound has 2");
+  // A dimension other than 2 or 3.
+  SplashFile four = tiny3d();
+  four.dimension = 4;
+  const fs::path dim = d.path / "dim4.h5";
+  write_splash_file(dim.string(), four, false);
+  expect_refused(dim, "dimension 4");
+}
+
 TEST(SplashFileFuzz, RandomByteFlipsNeverCrash) {
   // Seeded corruption anywhere in the file: each mutant is read cleanly or refused with InputError.
   Dir d;
-  const fs::path good = d.path / "good.h5";
-  write_splash_file(good.string(), tiny(), false);
-  std::ifstream in(good, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
   std::mt19937_64 rng(2026);
-  int refused = 0;
-  for (int k = 0; k < 200; ++k) {
-    std::string s = bytes;
-    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e)
-      s[rng() % s.size()] ^= static_cast<char>(1 + rng() % 255);
-    const fs::path m = d.path / "m.h5";
-    std::ofstream(m, std::ios::binary) << s;
-    try {
-      const SplashFile f = read_splash_file(m.string());
-      EXPECT_FALSE(f.cells.empty());
-    } catch (const InputError&) {
-      ++refused;
+  for (const SplashFile& file : {tiny(), tiny3d()}) {
+    const fs::path good = d.path / "good.h5";
+    write_splash_file(good.string(), file, true);
+    std::ifstream in(good, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    int refused = 0;
+    for (int k = 0; k < 200; ++k) {
+      std::string s = bytes;
+      for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e)
+        s[rng() % s.size()] ^= static_cast<char>(1 + rng() % 255);
+      const fs::path m = d.path / "m.h5";
+      std::ofstream(m, std::ios::binary) << s;
+      try {
+        const SplashFile f = read_splash_file(m.string());
+        EXPECT_FALSE(f.cells.empty());
+      } catch (const InputError&) {
+        ++refused;
+      }
     }
+    EXPECT_GT(refused, 0);
   }
-  EXPECT_GT(refused, 0);
 }
 
 TEST(SplashFile, CommandWritesAReadableFileAndTheSandGun) {

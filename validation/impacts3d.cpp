@@ -414,14 +414,20 @@ Impact3dResult unpack(const std::vector<double>& w) {
 }  // namespace
 
 std::vector<Impact3dResult> run_impact3d_ensemble(
-    const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t runs, const ImpactOptions& o,
-    const std::function<void(std::size_t, std::size_t)>& progress) {
+    const std::vector<Bed3d>& beds, const ImpactCase& c, std::uint64_t seed, std::size_t runs,
+    const ImpactOptions& o, const std::function<void(std::size_t, std::size_t)>& progress) {
   const auto rows = run_ensemble(
       runs, kHead3 + kMaxEjecta * kPer3,
-      [&](std::size_t i) { return pack(run_impact3d(bed, c, seed, i, o)); }, progress);
+      [&](std::size_t i) { return pack(run_impact3d(beds[i % beds.size()], c, seed, i, o)); }, progress);
   std::vector<Impact3dResult> out;
   for (const auto& row : rows) out.push_back(unpack(row));
   return out;
+}
+
+std::vector<Impact3dResult> run_impact3d_ensemble(
+    const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t runs, const ImpactOptions& o,
+    const std::function<void(std::size_t, std::size_t)>& progress) {
+  return run_impact3d_ensemble(std::vector<Bed3d>{bed}, c, seed, runs, o, progress);
 }
 
 }  // namespace grainlab::validation

@@ -91,7 +91,11 @@ struct Impact3dSummary {
 };
 Impact3dSummary summarize_impacts3d(const std::vector<Impact3dResult>& r);
 
-// `runs` impacts of case `c`, dealt out over the MPI ranks (the same on any rank count).
+// `runs` impacts of case `c`, dealt out over the MPI ranks (the same on any rank count); impact i on bed
+// i mod the number of beds.
+std::vector<Impact3dResult> run_impact3d_ensemble(
+    const std::vector<Bed3d>& beds, const ImpactCase& c, std::uint64_t seed, std::size_t runs,
+    const ImpactOptions& o, const std::function<void(std::size_t, std::size_t)>& progress = {});
 std::vector<Impact3dResult> run_impact3d_ensemble(
     const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t runs, const ImpactOptions& o,
     const std::function<void(std::size_t, std::size_t)>& progress = {});

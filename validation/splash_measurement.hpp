@@ -16,6 +16,8 @@ struct SplashOptions {
   std::size_t runs = 100;  // impacts per cell
   std::size_t beds = 3;    // independent loose beds (impact i uses bed i mod beds)
   std::uint64_t seed = 1;
+  int dimension = 2;   // 3: impacts with spheres on poured beds (impacts3d.hpp), lateral columns kept
+  int spheres = 2000;  // 3-D: spheres per bed
   std::vector<double> speeds_cm_s = {300, 1000, 2000, 4000, 8100};
   std::vector<double> angles_deg = {5, 15, 25, 45, 70};
   std::function<void(const std::string&)> log;
