@@ -34,13 +34,13 @@ double energy_out(const Impact3dResult& r) {
 // the rebound angle, pooled over the rows, agrees with the experiment's within the two 95 % intervals; the
 // exponents of ejecta per event, ejection velocity and reptation per ejectum in v_i (rows at 15-16 deg)
 // are the experiment's within 0.5 and their own interval (as the dem-saltation suite's flux exponent).
-// Quick: an 800-sphere bed (1.0 x 0.5 cm), rows 1 and 6 (650 and 1200 cm/s), 4 impacts each, and only
-// the checks so few impacts can decide (energy, rebound angle, ejecta exponent); full: 20,000 spheres,
-// all nine rows, 10 impacts each (about 3 hours on one core).
+// Full suite only: 20,000 spheres, all nine rows, 10 impacts each (hours on one core). A bed small enough
+// for the quick suite is too small for the rebound: on 500 spheres (0.79 x 0.40 cm, walls five grains from
+// the impacts) rebounds left at 23 +- 19 deg from the vertical, on 5,000 at 54. ctest exercises the sand
+// bed at rest and the command instead.
 void sand_gun_section(Report& r, const SuiteOptions& o) {
-  const Bed3dSpec spec = sand_gun_bed_spec(o.quick ? 800 : 20000);
-  const std::vector<std::size_t> rows = o.quick ? std::vector<std::size_t>{1, 6} : std::vector<std::size_t>{};
-  const SandGunRun run = run_sand_gun(spec, rows, o.quick ? 4 : 10, 1, o.log, o.progress);
+  const Bed3dSpec spec = sand_gun_bed_spec(20000);
+  const SandGunRun run = run_sand_gun(spec, {}, 10, 1, o.log, o.progress);
   // The sand bed must hold still as the thesis-sized one must, its limits scaled to the grain: 2.5 % of a
   // diameter, and 1 cm/s times sqrt(r / 1 cm) (speeds of a bed settling under gravity scale so).
   const BedHold h = hold_bed3d(run.bed, "native", sand_gun_options(spec).duration, ImpactOptions{}.rigid_dt);
@@ -75,10 +75,8 @@ void sand_gun_section(Report& r, const SuiteOptions& o) {
                             "rebounds) against the experiment's {:.1f} +- {:.1f} ({:.0f} events); tolerance: "
                             "the two 95 % half-widths in quadrature",
                             mine.mean, mine.half_width(), mine.n, theirs, their_half, n));
-  std::vector<std::pair<std::string, std::string>> exponents = {{"ejecta", "ejecta per event"}};
-  if (!o.quick)
-    exponents.insert(exponents.end(), {{"ej_vz", "ejection v_z"}, {"reptation", "reptation per ejectum"}});
-  for (const auto& [k, label] : exponents) {
+  for (const auto& [k, label] : {std::pair{"ejecta", "ejecta per event"}, std::pair{"ej_vz", "ejection v_z"},
+                                 std::pair{"reptation", "reptation per ejectum"}}) {
     const auto [p, q] = sand_gun_exponent(run, k);
     r.expect_near(fmt::format("impacts-3d/sand-gun/{}-exponent", k), "native", p.exponent, q.exponent,
                   std::hypot(0.5, p.half_width),
@@ -204,7 +202,12 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
     md += "\n";
   }
   r.markdown.push_back(md);
-  sand_gun_section(r, o);
+  if (o.quick)
+    r.markdown.push_back(
+        "## The sand-gun experiment with spheres\n\nRuns in the full suite only (20,000 sand spheres); "
+        "`grainlab sand-gun` runs it on its own. docs/impacts.md has a 5,000-sphere run.\n");
+  else
+    sand_gun_section(r, o);
 }
 
 }  // namespace grainlab::validation
