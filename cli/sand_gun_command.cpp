@@ -66,7 +66,8 @@ nlohmann::json run_json(const SandGunCommand& a, const SandGunRun& run) {
 void SandGunCommand::add(CLI::App& app) {
   cmd = app.add_subcommand(
       "sand-gun", "the thesis's sand-gun experiment (Tables 3.11-3.12) with spheres of a sieved sand");
-  cmd->add_option("--spheres", spheres, "spheres in the sand bed (20,000: 5.0 x 2.5 cm, 8 grains deep)")
+  cmd->add_option("--spheres", spheres,
+                  "spheres in the sand bed (20,000: 5.0 x 2.5 cm, about 10 grains deep)")
       ->default_val(20000)
       ->check(CLI::Range(500, 1000000));
   cmd->add_option("--rows", rows, "the tables' rows to shoot, 1-9 (default: all)")->check(CLI::Range(1, 9));

@@ -33,7 +33,7 @@ struct SandGunRow {
 const std::vector<SandGunRow>& sand_gun_rows();
 
 // The sand bed: `count` spheres in a width x depth box (x along the shot). A 20,000-sphere bed is
-// 5.0 x 2.5 cm and about 8 diameters deep.
+// 5.0 x 2.5 cm and about 10 diameters deep.
 Bed3dSpec sand_gun_bed_spec(int count, double stiffness_factor = 1);
 
 // The row as an impact case (the incident grain the sieve's mean size) and the options that follow the
