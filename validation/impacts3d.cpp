@@ -8,8 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <unordered_map>
 
+#include "cell_grid.hpp"
 #include "engine.hpp"
 #include "rng.hpp"
 #include "world3d.hpp"
@@ -126,31 +126,29 @@ double solid_fraction(const std::vector<Body3Spec>& b, const Vec3& lo, const Vec
 }
 
 // Per sphere: whether another rests on it (touches it with its centre higher by more than 30 % of the two
-// radii: it sits on top, not beside). Neighbours are found through a grid of cells one largest diameter wide.
+// radii: it sits on top, not beside). Neighbours through the engines' grid of cells, one largest diameter
+// (and a margin) wide.
 std::vector<char> carries_a_sphere(const std::vector<Body3Spec>& b) {
   double r_max = 0;
   for (const Body3Spec& s : b) r_max = std::max(r_max, s.radius);
-  const double cell = 2.02 * r_max;
-  auto key = [&](const Vec3& x, int dx, int dy, int dz) {
-    const auto c = [&](double v, int d) { return static_cast<std::int64_t>(std::floor(v / cell)) + d; };
-    return (c(x.x(), dx) * 73856093) ^ (c(x.y(), dy) * 19349663) ^ (c(x.z(), dz) * 83492791);
+  auto point = [&](std::size_t i) {
+    return std::array<double, 3>{b[i].position.x(), b[i].position.y(), b[i].position.z()};
   };
-  std::unordered_multimap<std::int64_t, std::size_t> cells;
-  for (std::size_t i = 0; i < b.size(); ++i) cells.emplace(key(b[i].position, 0, 0, 0), i);
+  dem::CellGrid<3> grid;
+  grid.build(b.size(), point, 2.02 * r_max);
   std::vector<char> carrying(b.size(), 0);
-  for (std::size_t i = 0; i < b.size(); ++i)
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = 0; dz <= 1; ++dz) {
-          const auto [from, to] = cells.equal_range(key(b[i].position, dx, dy, dz));
-          for (auto it = from; it != to; ++it) {
-            const Body3Spec& o = b[it->second];
-            const double reach = b[i].radius + o.radius;
-            if ((o.position - b[i].position).norm() < 1.01 * reach &&
-                o.position.z() - b[i].position.z() > 0.3 * reach)
-              carrying[i] = 1;
-          }
-        }
+  std::size_t around[27];
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const int ns = grid.stencil(grid.coords(point(i)), around);
+    for (int k = 0; k < ns && !carrying[i]; ++k)
+      for (std::uint32_t m = grid.start()[around[k]]; m < grid.start()[around[k] + 1]; ++m) {
+        const Body3Spec& o = b[grid.members()[m]];
+        const double reach = b[i].radius + o.radius;
+        if ((o.position - b[i].position).norm() < 1.01 * reach &&
+            o.position.z() - b[i].position.z() > 0.3 * reach)
+          carrying[i] = 1;
+      }
+  }
   return carrying;
 }
 
@@ -381,7 +379,7 @@ Impact3dSummary summarize_impacts3d(const std::vector<Impact3dResult>& results) 
 }
 
 namespace {
-// One impact as a fixed-width row (MPI gathering): 14 numbers, then 9 per ejectum.
+// One impact as a fixed-width row (MPI gathering): 14 numbers, then 10 per ejectum.
 constexpr std::size_t kHead3 = 14, kPer3 = 10;
 
 std::vector<double> pack(const Impact3dResult& r) {
@@ -413,21 +411,31 @@ Impact3dResult unpack(const std::vector<double>& w) {
 }
 }  // namespace
 
-std::vector<Impact3dResult> run_impact3d_ensemble(
-    const std::vector<Bed3d>& beds, const ImpactCase& c, std::uint64_t seed, std::size_t runs,
-    const ImpactOptions& o, const std::function<void(std::size_t, std::size_t)>& progress) {
+namespace {
+std::vector<Impact3dResult> impact3d_rows(const std::function<const Bed3d&(std::size_t)>& bed_of,
+                                          const ImpactCase& c, std::uint64_t seed, std::size_t runs,
+                                          const ImpactOptions& o,
+                                          const std::function<void(std::size_t, std::size_t)>& progress) {
   const auto rows = run_ensemble(
       runs, kHead3 + kMaxEjecta * kPer3,
-      [&](std::size_t i) { return pack(run_impact3d(beds[i % beds.size()], c, seed, i, o)); }, progress);
+      [&](std::size_t i) { return pack(run_impact3d(bed_of(i), c, seed, i, o)); }, progress);
   std::vector<Impact3dResult> out;
   for (const auto& row : rows) out.push_back(unpack(row));
   return out;
+}
+}  // namespace
+
+std::vector<Impact3dResult> run_impact3d_ensemble(
+    const std::vector<Bed3d>& beds, const ImpactCase& c, std::uint64_t seed, std::size_t runs,
+    const ImpactOptions& o, const std::function<void(std::size_t, std::size_t)>& progress) {
+  return impact3d_rows([&](std::size_t i) -> const Bed3d& { return beds[i % beds.size()]; }, c, seed, runs, o,
+                       progress);
 }
 
 std::vector<Impact3dResult> run_impact3d_ensemble(
     const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t runs, const ImpactOptions& o,
     const std::function<void(std::size_t, std::size_t)>& progress) {
-  return run_impact3d_ensemble(std::vector<Bed3d>{bed}, c, seed, runs, o, progress);
+  return impact3d_rows([&](std::size_t) -> const Bed3d& { return bed; }, c, seed, runs, o, progress);
 }
 
 }  // namespace grainlab::validation

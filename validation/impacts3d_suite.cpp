@@ -58,17 +58,16 @@ void sand_gun_section(Report& r, const SuiteOptions& o) {
                  "largest (rebound + ejecta) kinetic energy over the incident's among the sand-gun impacts");
   // The experiment's pooled rebound angle: event-weighted mean of its rows, its spread from the rows'
   // spreads and the scatter of their means.
-  std::vector<double> ours;
   double n = 0, sum = 0, sum2 = 0;
+  std::vector<Impact3dResult> all;
   for (std::size_t i = 0; i < run.rows.size(); ++i) {
     const SandGunRow& row = run.rows[i];
     const double m = row.measured.at("theta_i"), sd = row.measured_sd.at("theta_i"), k = row.events;
     n += k, sum += k * m, sum2 += k * (sd * sd + m * m);
-    for (const Impact3dResult& x : run.impacts[i])
-      if (x.rebounded) ours.push_back(std::atan2(x.vx, x.vz) * 180 / M_PI);
+    all.insert(all.end(), run.impacts[i].begin(), run.impacts[i].end());
   }
   const double theirs = sum / n, their_half = 1.959964 * std::sqrt((sum2 / n - theirs * theirs) / n);
-  const MeanInterval mine = mean_interval(ours);
+  const MeanInterval mine = sand_gun_quantities(all).at("theta_i");  // every row's rebounds pooled
   r.expect_near("impacts-3d/sand-gun/rebound-angle", "native", mine.mean, theirs,
                 std::hypot(mine.half_width(), their_half),
                 fmt::format("rebound angle from the vertical pooled over the rows: {:.1f} +- {:.1f} deg ({} "

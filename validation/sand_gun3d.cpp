@@ -118,11 +118,8 @@ PowerLaw log_fit(const std::vector<double>& x, const std::vector<double>& y, con
     const double dx = std::log(x[i]) - mx;
     sxx += w[i] * dx * dx, sxy += w[i] * dx * (std::log(y[i]) - my);
   }
-  PowerLaw p;
   if (x.size() < 2 || sxx <= 0) return {kNaN, kNaN};
-  p.exponent = sxy / sxx;
-  if (weighted) p.half_width = 1.959963984540054 / std::sqrt(sxx);
-  return p;
+  return {sxy / sxx, weighted ? 1.959963984540054 / std::sqrt(sxx) : 0.0};
 }
 }  // namespace
 
