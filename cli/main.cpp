@@ -25,6 +25,7 @@
 #include "sand_gun_command.hpp"
 #include "scene.hpp"
 #include "suites.hpp"
+#include "validate_command.hpp"
 
 namespace fs = std::filesystem;
 using namespace grainlab;
@@ -119,50 +120,6 @@ void add_decomposition_options(CLI::App* cmd, std::uint64_t& balance_every, int&
       ->check(CLI::PositiveNumber);
 }
 
-int validate_command(std::vector<std::string> names, const std::string& out, bool quick, bool quiet) {
-  if (names.empty())
-    for (const auto& s : validation::suites()) names.push_back(s.name);
-  std::vector<const validation::Suite*> chosen;
-  for (const std::string& n : names) {
-    const validation::Suite* s = validation::find_suite(n);
-    if (!s) {
-      std::string known;
-      for (const auto& k : validation::suites()) known += (known.empty() ? "" : ", ") + k.name;
-      throw InputError({"--suite", 0}, n, "unknown suite; known suites: " + known);
-    }
-    chosen.push_back(s);
-  }
-  validation::Report report;
-  validation::SuiteOptions opt;
-  opt.quick = quick;
-  opt.out_dir = out;
-  if (parallel::rank() == 0) fs::create_directories(out);
-  // Under mpirun every rank runs the suites (ensembles are dealt out over the ranks); rank 0 speaks and
-  // writes the report.
-  const bool speak = !quiet && parallel::rank() == 0;
-  cli::ProgressBar bar(speak, "runs");
-  if (speak) {
-    opt.log = [&bar](const std::string& line) {
-      bar.finish();
-      fmt::print(stderr, "  {}\n", line);
-    };
-    opt.progress = [&bar](std::size_t done, std::size_t total) { bar.update(double(done), double(total)); };
-  }
-  for (const auto* s : chosen) {
-    if (speak) fmt::print(stderr, "suite {}: {}\n", s->name, s->description);
-    s->run(report, opt);
-  }
-  bar.finish();
-  if (parallel::rank() != 0) return report.passed() ? 0 : 1;
-  validation::write_report(report, out);
-  int failed = 0, limited = 0;
-  for (const auto& c : report.checks)
-    failed += c.counts_as_failure(), limited += !c.passed && !c.counts_as_failure();
-  fmt::print("{}: {} checks, {} failed, {} documented engine limitations; report in {}/report.md\n",
-             report.passed() ? "PASSED" : "FAILED", report.checks.size(), failed, limited, out);
-  return report.passed() ? 0 : 1;
-}
-
 int cost_command(validation::CostOptions o, const std::string& out, bool quiet) {
   const std::vector<validation::CostScene> scenes = validation::cost_scenes(o.quick);
   for (const std::string& n : o.scenes) {
@@ -251,15 +208,8 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   add_decomposition_options(run_cmd, run.balance_every, run.ranks_y);
 
-  std::vector<std::string> suites;
-  std::string report_dir = "report";
-  bool quick = false, vquiet = false;
-  CLI::App* val = app.add_subcommand("validate", "run validation suites; exit 0 only if every check passes");
-  val->add_option("--suite", suites, "suite to run (repeatable; default: all)");
-  val->add_option("--out,-o", report_dir, "report folder (report.md, report.json, plots)")
-      ->default_val("report");
-  val->add_flag("--quick", quick, "shorter versions of long checks (for CI)");
-  val->add_flag("--quiet,-q", vquiet, "no progress lines");
+  cli::ValidateCommand validate;
+  validate.add(app);
 
   validation::CostOptions cost;
   std::string cost_dir = "cost";
@@ -407,7 +357,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*run_cmd) return run_command(run);
-    if (*val) return validate_command(suites, report_dir, quick, vquiet);
+    if (const int status = validate.dispatch(); status >= 0) return status;
     if (*engines_cmd) return engines_command(engines_json);
     if (*cost_cmd) return cost_command(cost, cost_dir, cost_quiet);
     if (*inspect_cmd) return inspect_command(inspect_path);

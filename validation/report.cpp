@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "h5_output.hpp"
 
@@ -16,6 +17,14 @@
 namespace grainlab::validation {
 
 namespace fs = std::filesystem;
+
+void Report::append(Report&& part) {
+  for (auto& c : part.checks) checks.push_back(std::move(c));
+  for (auto& m : part.markdown) markdown.push_back(std::move(m));
+  for (auto& p : part.plots) plots.push_back(std::move(p));
+  for (auto& t : part.samples) samples.push_back(std::move(t));
+  for (auto& t : part.times) times.push_back(std::move(t));
+}
 
 bool Report::passed() const {
   for (const Check& c : checks)
@@ -79,6 +88,10 @@ std::string to_markdown(const Report& r) {
                       c.note);
   md += "\n";
   for (const std::string& s : r.markdown) md += s + "\n";
+  if (!r.times.empty()) {
+    md += "## Time per suite\n\n| suite | wall time (s) |\n|---|---|\n";
+    for (const SuiteTime& t : r.times) md += fmt::format("| {} | {:.1f} |\n", t.suite, t.seconds);
+  }
   return md;
 }
 
@@ -99,7 +112,106 @@ std::string plots_json(const Report& r) {
   return j.dump(1) + "\n";
 }
 
+// Numbers of a report part: exact, and NaN or infinity as strings (JSON has neither).
+nlohmann::json exact(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return v;
+}
+double from_exact(const nlohmann::json& j) {
+  if (j.is_number()) return j.get<double>();
+  const std::string s = j.get<std::string>();
+  if (s == "nan") return NAN;
+  if (s == "inf" || s == "-inf") return s[0] == '-' ? -INFINITY : INFINITY;
+  throw std::runtime_error("not a number: " + s);
+}
+nlohmann::json exact(const std::vector<double>& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (double x : v) a.push_back(exact(x));
+  return a;
+}
+std::vector<double> from_exact_list(const nlohmann::json& j) {
+  std::vector<double> v;
+  for (const auto& x : j) v.push_back(from_exact(x));
+  return v;
+}
+
 }  // namespace
+
+std::string report_part_json(const Report& r) {
+  nlohmann::json j;
+  j["schema"] = "grainlab-report-part/1";
+  for (const Check& c : r.checks)
+    j["checks"].push_back({{"id", c.id},
+                           {"engine", c.engine},
+                           {"value", exact(c.value)},
+                           {"reference", exact(c.reference)},
+                           {"tolerance", exact(c.tolerance)},
+                           {"passed", c.passed},
+                           {"note", c.note},
+                           {"limitation", c.limitation}});
+  j["markdown"] = r.markdown;
+  for (const PlotSpec& p : r.plots) {
+    nlohmann::json series = nlohmann::json::array();
+    for (const auto& s : p.series)
+      series.push_back({{"label", s.label},
+                        {"style", s.style},
+                        {"x", exact(s.x)},
+                        {"y", exact(s.y)},
+                        {"err", exact(s.err)}});
+    j["plots"].push_back({{"file", p.file},
+                          {"title", p.title},
+                          {"xlabel", p.xlabel},
+                          {"ylabel", p.ylabel},
+                          {"logx", p.logx},
+                          {"logy", p.logy},
+                          {"series", series}});
+  }
+  for (const SampleTable& t : r.samples) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const auto& row : t.rows) rows.push_back(exact(row));
+    j["samples"].push_back(
+        {{"name", t.name}, {"description", t.description}, {"columns", t.columns}, {"rows", rows}});
+  }
+  for (const SuiteTime& t : r.times) j["times"].push_back({{"suite", t.suite}, {"seconds", t.seconds}});
+  return j.dump() + "\n";
+}
+
+Report read_report_part(const std::string& text) {
+  Report r;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    if (j.value("schema", "") != "grainlab-report-part/1")
+      throw std::runtime_error("not a grainlab-report-part/1 file");
+    const nlohmann::json none = nlohmann::json::array();
+    for (const auto& c : j.value("checks", none)) {
+      Check k;
+      k.id = c.at("id"), k.engine = c.at("engine"), k.note = c.at("note"), k.limitation = c.at("limitation");
+      k.value = from_exact(c.at("value")), k.reference = from_exact(c.at("reference"));
+      k.tolerance = from_exact(c.at("tolerance")), k.passed = c.at("passed");
+      r.checks.push_back(std::move(k));
+    }
+    for (const auto& m : j.value("markdown", none)) r.markdown.push_back(m.get<std::string>());
+    for (const auto& p : j.value("plots", none)) {
+      PlotSpec s;
+      s.file = p.at("file"), s.title = p.at("title"), s.xlabel = p.at("xlabel"), s.ylabel = p.at("ylabel");
+      s.logx = p.at("logx"), s.logy = p.at("logy");
+      for (const auto& q : p.at("series"))
+        s.series.push_back({q.at("label"), q.at("style"), from_exact_list(q.at("x")),
+                            from_exact_list(q.at("y")), from_exact_list(q.at("err"))});
+      r.plots.push_back(std::move(s));
+    }
+    for (const auto& t : j.value("samples", none)) {
+      SampleTable s{t.at("name"), t.at("description"), t.at("columns").get<std::vector<std::string>>(), {}};
+      for (const auto& row : t.at("rows")) s.rows.push_back(from_exact_list(row));
+      r.samples.push_back(std::move(s));
+    }
+    for (const auto& t : j.value("times", none)) r.times.push_back({t.at("suite"), t.at("seconds")});
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("malformed report part: ") + e.what());
+  }
+  return r;
+}
 
 std::string markdown_table_head(const std::vector<std::string>& columns,
                                 const std::vector<std::string>& engines) {

@@ -39,12 +39,21 @@ struct PlotSpec {
   bool logy = false;  // last, so the many {file, ..., logx, series} initialisers stay valid
 };
 
+// How long one suite took (wall clock), for the report's timing table and for scheduling.
+struct SuiteTime {
+  std::string suite;
+  double seconds = 0;
+};
+
 struct Report {
   std::vector<Check> checks;
   std::vector<std::string> markdown;  // sections, in order
   std::vector<PlotSpec> plots;
   std::vector<SampleTable> samples;  // raw per-run samples, written to results.h5 so any plot can be redone
+  std::vector<SuiteTime> times;      // per suite, in the order they were added
   bool passed() const;
+  // Appends everything `part` holds (checks, sections, plots, samples, times) after what is here.
+  void append(Report&& part);
   // Adds a check: passed when |value - reference| <= tolerance (absolute).
   Check& expect_near(std::string id, std::string engine, double value, double reference, double tolerance,
                      std::string note);
@@ -58,6 +67,12 @@ std::string markdown_table_head(const std::vector<std::string>& columns,
 
 // Writes plots.json into `dir` and draws the PNGs from it (tools/plot_report.py, if python3 is there).
 void write_plots(const std::vector<PlotSpec>& plots, const std::string& dir);
+
+// The whole report as JSON (every field, numbers exact), for `validate --jobs`: each suite runs in its own
+// process and hands its part to the parent this way. read_report_part throws std::runtime_error naming
+// what is missing or malformed.
+std::string report_part_json(const Report& r);
+Report read_report_part(const std::string& text);
 
 // Writes report.json, report.md, results.h5 (when there are samples) and the plots into `dir` (created if
 // needed).

@@ -1,0 +1,237 @@
+#include "validate_command.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "h5_output.hpp"
+#include "input_error.hpp"
+#include "parallel.hpp"
+#include "progress.hpp"
+#include "suites.hpp"
+
+extern char** environ;
+
+namespace grainlab::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using validation::Report;
+using validation::Suite;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+std::vector<const Suite*> chosen_suites(std::vector<std::string> names) {
+  if (names.empty())
+    for (const auto& s : validation::suites()) names.push_back(s.name);
+  std::vector<const Suite*> chosen;
+  for (const std::string& n : names) {
+    const Suite* s = validation::find_suite(n);
+    if (!s) {
+      std::string known;
+      for (const auto& k : validation::suites()) known += (known.empty() ? "" : ", ") + k.name;
+      throw InputError({"--suite", 0}, n, "unknown suite; known suites: " + known);
+    }
+    chosen.push_back(s);
+  }
+  return chosen;
+}
+
+std::size_t failures(const Report& r) {
+  return static_cast<std::size_t>(
+      std::count_if(r.checks.begin(), r.checks.end(), [](auto& c) { return c.counts_as_failure(); }));
+}
+
+// The suites one after the other in this process (under mpirun every rank runs them and the ranks share
+// each ensemble; rank 0 speaks).
+Report run_here(const std::vector<const Suite*>& chosen, const std::string& out, bool quick, bool speak) {
+  Report report;
+  validation::SuiteOptions opt;
+  opt.quick = quick;
+  opt.out_dir = out;
+  ProgressBar bar(speak, "runs");
+  if (speak) {
+    opt.log = [&bar](const std::string& line) {
+      bar.finish();
+      fmt::print(stderr, "  {}\n", line);
+    };
+    opt.progress = [&bar](std::size_t done, std::size_t total) { bar.update(double(done), double(total)); };
+  }
+  for (const Suite* s : chosen) {
+    if (speak) fmt::print(stderr, "suite {}: {}\n", s->name, s->description);
+    const auto start = Clock::now();
+    s->run(report, opt);
+    report.times.push_back({s->name, seconds_since(start)});
+  }
+  bar.finish();
+  return report;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string last_lines(const fs::path& p, std::size_t n) {
+  std::vector<std::string> lines;
+  std::istringstream in(read_text(p));
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  std::string tail;
+  for (std::size_t k = lines.size() > n ? lines.size() - n : 0; k < lines.size(); ++k)
+    tail += "    " + lines[k] + "\n";
+  return tail;
+}
+
+struct Child {
+  pid_t pid = 0;
+  std::size_t index = 0;  // into the chosen suites
+  Clock::time_point start;
+};
+
+// Starts `grainlab validate --suite NAME --part FILE` with its output going to `log`.
+pid_t spawn_suite(const Suite& s, const std::string& out, bool quick, const fs::path& part,
+                  const fs::path& log) {
+  const std::string exe = fs::read_symlink("/proc/self/exe").string();
+  std::vector<std::string> args = {exe, "validate", "--suite", s.name, "--out", out, "--part", part.string()};
+  if (quick) args.push_back("--quick");
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = 0;
+  const int err = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (err != 0) throw std::runtime_error(fmt::format("cannot start {}: error {}", exe, err));
+  return pid;
+}
+
+// What a suite whose process died without a report part contributes: one failing check that says so.
+Report lost_suite(const Suite& s, int status, const fs::path& log) {
+  Report r;
+  const std::string how = WIFSIGNALED(status) ? fmt::format("was killed by signal {}", WTERMSIG(status))
+                                              : fmt::format("ended with status {}", WEXITSTATUS(status));
+  r.expect_below(fmt::format("validate/{}/completed", s.name), "native", 1, 0,
+                 fmt::format("the suite's process {} before handing back its results; its output is in {}",
+                             how, log.string()));
+  return r;
+}
+
+// The suites in `jobs` processes at once, longest first; the parts are put together in the chosen order.
+Report run_in_processes(const std::vector<const Suite*>& chosen, const std::string& out, bool quick,
+                        bool speak, std::size_t jobs) {
+  const fs::path parts = fs::path(out) / ".parts", logs = fs::path(out) / "logs";
+  fs::create_directories(parts), fs::create_directories(logs);
+  std::vector<std::size_t> queue(chosen.size());
+  for (std::size_t k = 0; k < queue.size(); ++k) queue[k] = k;
+  std::stable_sort(queue.begin(), queue.end(), [&](std::size_t a, std::size_t b) {
+    return chosen[a]->quick_minutes > chosen[b]->quick_minutes;
+  });
+  if (speak)
+    fmt::print(stderr, "{} suites in {} processes at once; each suite's progress lines go to {}/\n",
+               chosen.size(), jobs, logs.string());
+  std::vector<Report> results(chosen.size());
+  std::map<pid_t, Child> running;
+  std::size_t next = 0, done = 0;
+  ProgressBar bar(speak, "suites");
+  while (done < chosen.size()) {
+    while (running.size() < jobs && next < queue.size()) {
+      const std::size_t k = queue[next++];
+      const Suite& s = *chosen[k];
+      const pid_t pid = spawn_suite(s, out, quick, parts / (s.name + ".json"), logs / (s.name + ".log"));
+      running[pid] = {pid, k, Clock::now()};
+    }
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0) throw std::runtime_error("waiting for a suite's process failed");
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const Child c = it->second;
+    running.erase(it);
+    const Suite& s = *chosen[c.index];
+    const fs::path part = parts / (s.name + ".json"), log = logs / (s.name + ".log");
+    const bool reported = WIFEXITED(status) && WEXITSTATUS(status) <= 1 && fs::exists(part);
+    results[c.index] = reported ? validation::read_report_part(read_text(part)) : lost_suite(s, status, log);
+    fs::remove(part);
+    ++done;
+    if (speak) {
+      bar.finish();
+      fmt::print(stderr, "suite {}: {} checks, {} failed ({:.0f} s)\n", s.name,
+                 results[c.index].checks.size(), failures(results[c.index]), seconds_since(c.start));
+      if (!reported)
+        fmt::print(stderr, "  its process stopped early; the end of its output:\n{}", last_lines(log, 15));
+    }
+    bar.update(double(done), double(chosen.size()));
+  }
+  bar.finish();
+  fs::remove_all(parts);
+  Report report;
+  for (Report& r : results) report.append(std::move(r));
+  return report;
+}
+
+std::size_t job_count(int asked, std::size_t suites) {
+  if (parallel::size() > 1) return 1;  // under mpirun the ranks share each suite instead
+  std::size_t jobs = asked > 0 ? static_cast<std::size_t>(asked) : std::thread::hardware_concurrency();
+  return std::clamp<std::size_t>(jobs, 1, std::max<std::size_t>(suites, 1));
+}
+
+}  // namespace
+
+void ValidateCommand::add(CLI::App& app) {
+  cmd = app.add_subcommand("validate", "run validation suites; exit 0 only if every check passes");
+  cmd->add_option("--suite", suites, "suite to run (repeatable; default: all)");
+  cmd->add_option("--out,-o", out, "report folder (report.md, report.json, plots)")->default_val("report");
+  cmd->add_flag("--quick", quick, "shorter versions of long checks (for CI)");
+  cmd->add_flag("--quiet,-q", quiet, "no progress lines");
+  cmd->add_option("--jobs,-j", jobs,
+                  "suites run at once, each in its own process (0: one per core; under mpirun always 1)")
+      ->default_val(0)
+      ->check(CLI::Range(0, 256));
+  // Internal: how a --jobs parent asks a child for its part of the report.
+  cmd->add_option("--part", part, "")->group("");
+}
+
+int ValidateCommand::dispatch() const {
+  if (!*cmd) return -1;
+  const std::vector<const Suite*> chosen = chosen_suites(suites);
+  if (parallel::rank() == 0) fs::create_directories(out);
+  const bool speak = !quiet && parallel::rank() == 0;
+  if (!part.empty()) {
+    const Report r = run_here(chosen, out, quick, speak);
+    if (parallel::rank() == 0) write_file_atomically(part, validation::report_part_json(r));
+    return r.passed() ? 0 : 1;
+  }
+  const std::size_t processes = job_count(jobs, chosen.size());
+  const Report report = processes > 1 ? run_in_processes(chosen, out, quick, speak, processes)
+                                      : run_here(chosen, out, quick, speak);
+  if (parallel::rank() != 0) return report.passed() ? 0 : 1;
+  validation::write_report(report, out);
+  int failed = 0, limited = 0;
+  for (const auto& c : report.checks)
+    failed += c.counts_as_failure(), limited += !c.passed && !c.counts_as_failure();
+  fmt::print("{}: {} checks, {} failed, {} documented engine limitations; report in {}/report.md\n",
+             report.passed() ? "PASSED" : "FAILED", report.checks.size(), failed, limited, out);
+  return report.passed() ? 0 : 1;
+}
+
+}  // namespace grainlab::cli
