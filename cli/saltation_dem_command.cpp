@@ -42,6 +42,7 @@ nlohmann::json result_json(const validation::DemSaltationOptions& o,
           {"mass_flux_halves", {r.first_half_flux, r.second_half_flux}},
           {"u_star_eff", r.u_star_eff.mean},
           {"airborne", r.airborne.mean},
+          {"transport_velocity", r.transport_velocity},
           {"mean_hop_height", r.hop_height.mean},
           {"mean_hop_length", r.hop_length.mean},
           {"hops", r.hop_height.n},
@@ -185,6 +186,8 @@ int dem_command(const SaltationCommands& a) {
       "  momentum per bed area: wind lost {:.4g}, grains got {:.4g} dyn/cm^2 (lag per interval {:.3g}); "
       "tau_f + tau_g = {:.3f} rho u*^2\n",
       r.wind_momentum_loss, r.grain_momentum_gain, r.coupling_lag, r.stress_partition);
+  fmt::print("  grains above 1 d move downwind at {:.1f} cm/s on average (their flux / their mass)\n",
+             r.transport_velocity);
   fmt::print(
       "  saltation hops (> 5 d) {}: height {:.3f} cm, length {:.2f} cm, impact {:.1f} cm/s at {:.1f} deg\n",
       r.salton_hop_height.n, r.salton_hop_height.mean, r.salton_hop_length.mean, r.salton_impact_speed.mean,

@@ -346,6 +346,10 @@ DemSaltationResult run_dem_saltation(const DemSaltationOptions& o) {
     r.wind.push_back(s.wind_z[k] / n), r.wind_clean.push_back(s.clean_z[k] / n);
     r.grain_stress.push_back(s.tau_z[k] / n);
   }
+  double flux_above = 0, mass_above = 0;
+  for (std::size_t k = 0; k < kProfileBins; ++k)
+    if (r.z[k] > d) flux_above += r.flux_density[k], mass_above += r.concentration[k];
+  r.transport_velocity = mass_above > 0 ? flux_above / mass_above : 0;
   summarize_flights(s.flights, 5 * d, r);
   std::vector<double> is, ia, ls, la;
   for (const Crossing& c : r.impacts)

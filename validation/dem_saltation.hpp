@@ -66,6 +66,10 @@ struct DemSaltationResult {
   MeanInterval impact_speed, impact_angle, liftoff_speed, liftoff_angle;  // cm/s, deg
   // Hops higher than 5 d (saltation proper, not reptation): height, length, impact speed and angle.
   MeanInterval salton_hop_height, salton_hop_length, salton_impact_speed, salton_impact_angle;
+  // The mean downwind velocity of the grains more than one diameter above the bed (their flux over their
+  // mass, from the profiles): "the mean grain velocity" that Creyssels et al. 2009 and Duran et al. 2012
+  // find independent of u* in saltation (cm/s).
+  double transport_velocity = 0;
   // The Ch. IV steady-state model run with the splash this simulation measured (same u*, grains, air).
   struct SteadyModel {
     bool ran = false, converged = false;

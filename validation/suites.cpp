@@ -50,7 +50,7 @@ const std::vector<Suite>& suites() {
        "saltation from first principles: a periodic DEM bed under a wind the grains slow down (effect "
        "wind_drag): momentum balance, flux against u*, impact speeds, stiffness independence, the Ch. IV "
        "model with the DEM's own splash",
-       run_dem_saltation_suite, 3.5},
+       run_dem_saltation_suite, 6.8},
       {"hybrid",
        "the 3-D hybrid ripple model (Huo et al. 2021), so far: drag limits, mid-air collisions, the Lammel "
        "splash's moments, the grain-free wind, flux runs on a flat bed against eq. 31",
