@@ -35,13 +35,15 @@ const std::vector<Capabilities>& engine_catalog() {
   const std::vector<std::string> shapes2d = {"disc", "polygon", "segment", "line", "moving wall"};
   const std::vector<std::string> both = {"disc",        "polygon", "segment",    "line",
                                          "moving wall", "sphere",  "polyhedron", "plane"};
+  std::vector<std::string> native_shapes = both;
+  native_shapes.push_back("moving plane");  // the rigid engines' 3-D planes are static
   const std::vector<std::string> rigid_effects = {"gravity", "normal_contact", "friction", "rotation"};
   static const std::vector<Capabilities> all = {
       {"native",
        "the thesis's soft-contact DEM (eq. 2.3, predictor-corrector or Verlet), double precision; 3-D "
        "spheres and polyhedra with a Verlet list for spheres",
        {2, 3},
-       both,
+       native_shapes,
        known_effect_names(),
        true,
        true,
@@ -151,6 +153,8 @@ void check_engine_supports(const Capabilities& c, const Scene& scene) {
     if (!has(c.shapes, shape)) missing(c, "handle " + shape + " bodies");
   }
   if (!scene.planes.empty() && !has(c.shapes, "plane")) missing(c, "handle plane walls");
+  for (const PlaneSpec& p : scene.planes)
+    if (p.motion.active() && !has(c.shapes, "moving plane")) missing(c, "move planes");
   for (const WallSpec& w : scene.walls) {
     if (!has(c.shapes, w.kind == WallSpec::Kind::Line ? "line" : "segment"))
       missing(c, "handle this wall type");

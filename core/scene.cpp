@@ -91,6 +91,22 @@ void read_material_body(const TomlReader& r, Material& m) {
   m.mu = r.number_or("mu", 0.0, Range::non_negative());
 }
 
+Motion3 read_motion3(const TomlReader& parent) {
+  Motion3 m;
+  const toml::table* t = parent.subtable("motion");
+  if (!t) return m;
+  TomlReader r(*t, parent.dotted("motion"), "");
+  const std::vector<double> a = r.numbers("amplitude", 3);
+  m.amplitude = Vec3(a[0], a[1], a[2]);
+  m.frequency = r.number("frequency", Range::positive());
+  if (r.has("phase")) {
+    const std::vector<double> p = r.numbers("phase", 3);
+    m.phase = Vec3(p[0], p[1], p[2]);
+  }
+  r.finish();
+  return m;
+}
+
 Motion read_motion(const TomlReader& parent) {
   Motion m;
   const toml::table* t = parent.subtable("motion");
@@ -196,7 +212,7 @@ class SceneReader {
       b.spin /= u.time;
     }
     s_.gravity3d *= A;
-    for (PlaneSpec& p : s_.planes) p.point *= L;
+    for (PlaneSpec& p : s_.planes) p.point *= L, p.motion.amplitude *= L, p.motion.frequency /= u.time;
     for (WallSpec& w : s_.walls) {
       len(w.a);
       if (w.kind == WallSpec::Kind::Segment) len(w.b);
@@ -549,7 +565,7 @@ class SceneReader {
       p.normal = vec3(r.numbers("normal", 3));
       if (p.normal.norm() == 0) r.fail("normal", "must be a non-zero vector");
       p.normal.normalize();
-      if (r.has("motion")) r.fail("motion", "moving walls are 2-D only so far");
+      p.motion = read_motion3(r);
       p.material = material_of(r);
       r.finish();
       s_.planes.push_back(p);
@@ -812,12 +828,13 @@ class SceneReader {
       }
       for (size_t k = 0; k < s_.planes.size(); ++k) {
         const PlaneSpec& p = s_.planes[k];
+        const Vec3 point = p.point + p.motion.shift(0);  // where a moving plane starts
         double lowest = 1e300;
         if (B[j].shape == Body3Spec::Shape::Sphere)
-          lowest = p.normal.dot(B[j].position - p.point) - B[j].radius;
+          lowest = p.normal.dot(B[j].position - point) - B[j].radius;
         else
           for (const Vec3& v : B[j].hull.vertices)
-            lowest = std::min(lowest, p.normal.dot(B[j].position + B[j].orientation * v - p.point));
+            lowest = std::min(lowest, p.normal.dot(B[j].position + B[j].orientation * v - point));
         const double allowed = s_.overlap_tolerance * B[j].radius;
         if (-lowest > allowed)
           throw InputError(

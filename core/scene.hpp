@@ -2,6 +2,7 @@
 // The scene model: what a scene file says, checked, and converted to cgs (cm, g, s) whatever units
 // the file was written in (Scene::units says which, for converting results back). Engines build their own
 // state from it; nothing here knows about any engine.
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -131,9 +132,34 @@ struct Body3Spec {
   SourceLocation where;
 };
 
-// An infinite plane wall in 3-D; bodies live on the side the normal points to.
+// Sinusoidal prescribed motion of a 3-D plane, per axis: point(t) = point + amplitude sin(2 pi f t + phase).
+struct Motion3 {
+  Vec3 amplitude = Vec3::Zero();
+  double frequency = 0;
+  Vec3 phase = Vec3::Zero();  // radians, per axis
+  bool active() const { return frequency != 0 && amplitude.squaredNorm() > 0; }
+  // Displacement from rest and velocity at time t (zero for a plane at rest).
+  Vec3 shift(double t) const {
+    if (!active()) return Vec3::Zero();
+    const double om = 2 * M_PI * frequency;
+    return {amplitude.x() * std::sin(om * t + phase.x()), amplitude.y() * std::sin(om * t + phase.y()),
+            amplitude.z() * std::sin(om * t + phase.z())};
+  }
+  Vec3 velocity(double t) const {
+    if (!active()) return Vec3::Zero();
+    const double om = 2 * M_PI * frequency;
+    return {amplitude.x() * om * std::cos(om * t + phase.x()),
+            amplitude.y() * om * std::cos(om * t + phase.y()),
+            amplitude.z() * om * std::cos(om * t + phase.z())};
+  }
+  double reach() const { return amplitude.norm(); }  // how far the plane can move from rest
+};
+
+// An infinite plane wall in 3-D; bodies live on the side the normal points to. A moving plane keeps its
+// normal and translates by `motion` (a vibrated floor, a shaken box).
 struct PlaneSpec {
   Vec3 point = Vec3::Zero(), normal = Vec3::UnitZ();
+  Motion3 motion;
   int material = 0;
   SourceLocation where;
 };

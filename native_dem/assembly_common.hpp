@@ -47,6 +47,10 @@ inline Scene settling_scene(const Scene& scene) {
   settle.effects.set(Effect::gravity);
   settle.effects.set(Effect::normal_contact);
   settle.accuracy.integrator = Integrator::VelocityVerlet;
+  // A 3-D bed settles into the box as the scene starts: a moving plane held where it is at t = 0 (a pour
+  // onto a vibrating floor would never settle).
+  for (PlaneSpec& p : settle.planes)
+    if (p.motion.active()) p.point += p.motion.shift(0), p.motion = Motion3{};
   return settle;
 }
 

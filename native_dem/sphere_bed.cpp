@@ -109,6 +109,11 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
     m_[k] = s.m, inv_m_[k] = 1 / s.m, inv_i_[k] = s.inv_i, r_[k] = s.r, mat_[k] = s.material;
   }
   plane_xi_.assign(n * s_.planes.size(), Vec3::Zero());
+  rest_planes_ = s_.planes;
+  plane_v_.assign(s_.planes.size(), Vec3::Zero());
+  s_.plane_motion.resize(s_.planes.size());
+  planes_move_ = std::any_of(s_.plane_motion.begin(), s_.plane_motion.end(),
+                             [](const Motion3& m) { return m.active(); });
   pair_xi_.clear(), touching_.clear();
   cells_ = SphereCells();
   if (s_.periodic_x) cells_.set_period(0, s_.periodic_x->first, s_.periodic_x->second);
@@ -333,8 +338,8 @@ struct SphereBed::Kernel {
       const double depth = depth_p;
       Vec3& spring = plane_xi[i * np + kp];
       const D3 ra = -pn * (ri - depth / 2);
-      D3 vrel = vi;
-      if constexpr (Rotation) vrel = vi + cross(wi, ra);
+      D3 vrel = vi - get(bed.plane_v_[kp]);  // (a plane at rest: exactly vi)
+      if constexpr (Rotation) vrel = vrel + cross(wi, ra);
       const double vn = dot(pn, vrel);
       const ContactLaw& law = row_laws[bed.s_.plane_material[kp]];
       const double fn = normal_force(law, depth, vn, law.normal.coefficient(mi));
@@ -375,12 +380,27 @@ void SphereBed::with_kernel(double shear_step, Fn&& fn) {
     s_.rotation ? by_periodic(F{}, T{}) : by_periodic(F{}, F{});
 }
 
-void SphereBed::step(bool first) {
+// Moving planes to where they are at time t; the others stay where they are.
+void SphereBed::place_planes(double t) {
+  if (!planes_move_) return;
+  for (std::size_t k = 0; k < s_.planes.size(); ++k) {
+    s_.planes[k].point = rest_planes_[k].point + s_.plane_motion[k].shift(t);
+    plane_v_[k] = s_.plane_motion[k].velocity(t);
+  }
+}
+
+double SphereBed::plane_reach(std::size_t k) const {
+  return k < s_.plane_motion.size() ? s_.plane_motion[k].reach() : 0.0;
+}
+
+void SphereBed::step(bool first, double t) {
   if (first) {
+    place_planes(t);
     const Vec3 g = s_.gravity;
     for (std::size_t i = 0; i < x_.size(); ++i) f_[i] = m_[i] * g, tq_[i].setZero();
     forces(0);
   }
+  place_planes(t + s_.dt);
   const bool complete = pending_kick_;
   ++steps_;
   with_kernel(s_.dt, [&](auto& k) {
@@ -532,7 +552,7 @@ void SphereBed::rebuild() {
   plane_start_.assign(1, 0), plane_of_.clear();
   for (std::size_t i = 0; i < x_.size(); ++i) {
     for (std::size_t k = 0; k < s_.planes.size() && !ghost(i); ++k)
-      if (s_.planes[k].normal.dot(x_[i] - s_.planes[k].point) < r_[i] + skin_)
+      if (rest_planes_[k].normal.dot(x_[i] - rest_planes_[k].point) < r_[i] + skin_ + plane_reach(k))
         plane_of_.push_back(static_cast<std::uint32_t>(k));
     plane_start_.push_back(static_cast<std::uint32_t>(plane_of_.size()));
   }

@@ -28,7 +28,8 @@ namespace grainlab::dem {
 
 // What a sphere bed needs of its scene.
 struct SphereBedSetup {
-  std::vector<Plane3> planes;
+  std::vector<Plane3> planes;         // at rest
+  std::vector<Motion3> plane_motion;  // per plane (none: all at rest)
   std::vector<int> plane_material;
   std::vector<ContactLaw> laws;  // [a * n_mat + b]
   int n_mat = 1;
@@ -62,7 +63,8 @@ class SphereBed {
   // share): it sets the skin, so every rank rebuilds its lists on the same steps.
   void load(const SphereBedSetup& setup, const std::vector<SphereState>& spheres, double max_radius);
   // One Verlet step. `first`: nothing has been evaluated yet, so the forces at the start come first.
-  void step(bool first);
+  // One Verlet step from time t (the time moving planes are placed at; t + dt for the step's forces).
+  void step(bool first, double t);
   // Tests: false makes every step take two passes (drift all, then all rows), as after a list rebuild.
   void allow_sweep(bool on) { sweep_allowed_ = on; }
   // Completes the last step's second half kick (a no-op if none is pending).
@@ -143,6 +145,13 @@ class SphereBed {
   // Per slot and plane: the spring; per slot, the planes it may reach before the next rebuild.
   std::vector<Vec3> plane_xi_;
   std::vector<std::uint32_t> plane_start_, plane_of_;
+  // Planes: s_.planes is where they are now; rest_planes_ where a moving one oscillates about, plane_v_
+  // their velocities now (zero for planes at rest, so the contact arithmetic is the same for both).
+  std::vector<Plane3> rest_planes_;
+  std::vector<Vec3> plane_v_;
+  bool planes_move_ = false;
+  void place_planes(double t);
+  double plane_reach(std::size_t k) const;
   SphereCells cells_;
   bool pending_kick_ = false, moved_ = true, sweep_allowed_ = true;
   // Whether the next drift takes some sphere half a skin from the build positions, as predicted by the

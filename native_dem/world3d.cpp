@@ -68,7 +68,8 @@ World3d::World3d(const Scene& scene, Decomposition decomposition)
     placed_.push_back(p);
   }
   for (const PlaneSpec& p : scene_.planes) {
-    planes_.push_back({p.point, p.normal});
+    planes_.push_back({p.motion.active() ? Vec3(p.point + p.motion.shift(0)) : p.point, p.normal});
+    plane_v_.push_back(p.motion.velocity(0));
     plane_material_.push_back(p.material);
   }
   dt_ = scene_.accuracy.dt;
@@ -105,6 +106,7 @@ void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const Cont
   const Vec3 ra = c.point - a.x, rb = b ? Vec3(c.point - b->x) : Vec3::Zero();
   Vec3 vrel = a.v + a.w.cross(ra);
   if (b) vrel -= b->v + b->w.cross(rb);
+  if (!b) vrel -= plane_v_[static_cast<std::size_t>(-1 - key_b)];  // a moving plane's velocity (or zero)
   const double vn = c.normal.dot(vrel);
   const double meff = b ? a.m * b->m / (a.m + b->m) : a.m;
   const double fn = normal_force(law, c.depth, vn, law.normal.coefficient(meff));
@@ -134,8 +136,18 @@ void World3d::bin_bodies(SphereCells& cells, std::vector<Vec3>& centres, double 
   if (cells.stale(centres)) cells.build(centres, r, skin_fraction * r);
 }
 
-void World3d::compute_forces(double h) {
+void World3d::place_planes(double t) {
+  for (std::size_t k = 0; k < planes_.size(); ++k) {
+    const Motion3& m = scene_.planes[k].motion;
+    if (!m.active()) continue;
+    planes_[k].point = scene_.planes[k].point + m.shift(t);
+    plane_v_[k] = m.velocity(t);
+  }
+}
+
+void World3d::compute_forces(double t, double h) {
   ++diag_.force_evaluations;
+  place_planes(t);
   const Vec3 g = effective_gravity(scene_);
   for (Body3& b : b_) {
     b.f = b.m * g;
@@ -202,7 +214,7 @@ void World3d::step() {
   const double before = t_;
   if (mode_ == Mode::spheres) {
     const std::uint64_t before_evaluations = bed_.force_evaluations();
-    bed_.step(diag_.force_evaluations == 0);
+    bed_.step(diag_.force_evaluations == 0, t_);
     t_ += dt_;
     diag_.force_evaluations += bed_.force_evaluations() - before_evaluations;
     contacts_now_ = bed_.contacts();
@@ -225,7 +237,7 @@ void World3d::step() {
 void World3d::step_verlet() {
   const double dt = dt_, h = dt / 2;
   if (diag_.force_evaluations == 0) {
-    compute_forces(0);
+    compute_forces(t_, 0);
     commit_history();
   }
   for (Body3& b : b_) {
@@ -244,7 +256,7 @@ void World3d::step_verlet() {
     b.w = b.world_inv_inertia() * L;
   }
   t_ += dt;
-  compute_forces(dt);
+  compute_forces(t_, dt);
   commit_history();
   for (Body3& b : b_) {
     b.v = half_kicked(b.v, b.f, b.inv_m, h);
@@ -257,7 +269,7 @@ void World3d::step_verlet() {
 void World3d::step_predictor_corrector() {
   const Accuracy& acc = scene_.accuracy;
   const std::size_t n = b_.size();
-  compute_forces(0);
+  compute_forces(t_, 0);
   start_ = b_;
   a0_.resize(n), al0_.resize(n);
   double vmax = 0;
@@ -282,7 +294,7 @@ void World3d::step_predictor_corrector() {
         b.q = turned(s.q, (s.w + b.w) / 2, dt);
       }
     }
-    compute_forces(dt);
+    compute_forces(t_ + dt, dt);
     double err = 0;
     auto correct = [&](const Vec3& v0, const Vec3& a0, const Vec3& a1, Vec3& v, double fl) {
       const Vec3 vc = corrected(v0, a0, a1, dt);

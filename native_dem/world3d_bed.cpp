@@ -21,7 +21,8 @@ bool World3d::sphere_kernel_eligible() const {
 
 SphereBedSetup World3d::bed_setup() const {
   SphereBedSetup s;
-  s.planes = planes_;
+  for (const PlaneSpec& p : scene_.planes)
+    s.planes.push_back({p.point, p.normal}), s.plane_motion.push_back(p.motion);
   s.plane_material = plane_material_;
   s.laws = laws_;
   s.n_mat = n_mat_;
