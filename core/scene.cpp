@@ -618,6 +618,7 @@ class SceneReader {
       if (three_d) {
         a.origin3 = vec3(r.numbers("origin", 3));
         if (r.has("velocity")) a.velocity3 = vec3(r.numbers("velocity", 3));
+        read_grain_shape(r, a, type);
       } else {
         a.velocity = r.vec2_or("velocity", {0, 0});
         a.origin = r.vec2("origin");
@@ -652,6 +653,20 @@ class SceneReader {
       r.finish();
       s_.assemblies.push_back(a);
     }
+  }
+
+  // 3-D: spheres (default) or irregular polyhedra, poured only.
+  void read_grain_shape(const TomlReader& r, AssemblySpec& a, const std::string& type) {
+    const std::string shape = r.string_or("shape", "sphere");
+    if (shape != "sphere" && shape != "polyhedron")
+      r.fail("shape", "must be \"sphere\" or \"polyhedron\", found \"" + shape + "\"");
+    a.polyhedra = shape == "polyhedron";
+    if (a.polyhedra && type != "poured")
+      r.fail("shape", "polyhedral grains are poured, not laid on a lattice");
+    if (!a.polyhedra && (r.has("irregularity") || r.has("elongation")))
+      r.fail(r.has("irregularity") ? "irregularity" : "elongation", "only for shape = \"polyhedron\"");
+    a.irregularity = r.number_or("irregularity", 0.2, Range::closed(0, 0.4));
+    a.elongation = r.number_or("elongation", 0.2, Range::closed(0, 0.6));
   }
 
   // 2-D: density per area (discs) or sphere_density (each disc has its sphere's mass); 3-D: spheres,

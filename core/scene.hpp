@@ -198,6 +198,11 @@ struct AssemblySpec {
   int nz = 0;
   Vec3 origin3 = Vec3::Zero(), velocity3 = Vec3::Zero();
   double depth = 0;
+  // 3-D poured beds of irregular convex grains instead of spheres: each grain is an icosahedron whose
+  // vertices are moved by up to `irregularity` of the radius, stretched along three random axes by
+  // factors 1 +- up to `elongation`, and scaled to the volume of the sphere of its drawn radius.
+  bool polyhedra = false;
+  double irregularity = 0.2, elongation = 0.2;
   int material = 0;
   SourceLocation where;
 };

@@ -1,6 +1,7 @@
-// Generated 3-D beds: a simple-cubic lattice of spheres, and spheres poured into the scene's planes and
-// left to settle under the scene's own contact law (on this engine's sphere kernel). Radii, jitter and
-// so the settled bed come from the scene's seed, one stream per assembly.
+// Generated 3-D beds: a simple-cubic lattice of spheres, and spheres or irregular convex grains poured
+// into the scene's planes and left to settle under the scene's own contact law (spheres on this engine's
+// sphere kernel, polyhedra on its general path). Radii, shapes, jitter and so the settled bed come from
+// the scene's seed, one stream per assembly.
 #include <algorithm>
 #include <cmath>
 
@@ -25,6 +26,91 @@ Body3Spec sphere(const AssemblySpec& a, std::int64_t id, const Vec3& position, d
   return b;
 }
 
+// The faces of the convex hull of a few points, each counter-clockwise seen from outside, found by
+// testing every triple: a face has every other point strictly on its inner side. Empty when four points
+// are (nearly) coplanar, which the caller redraws.
+std::vector<std::vector<int>> hull_faces(const std::vector<Vec3>& p) {
+  std::vector<std::vector<int>> faces;
+  const int n = static_cast<int>(p.size());
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      for (int k = j + 1; k < n; ++k) {
+        const Vec3 nrm = (p[j] - p[i]).cross(p[k] - p[i]).normalized();
+        int above = 0, below = 0, flat = 0;
+        for (int m = 0; m < n; ++m) {
+          if (m == i || m == j || m == k) continue;
+          const double d = nrm.dot(p[m] - p[i]);
+          (d > 1e-6 ? above : d < -1e-6 ? below : flat)++;
+        }
+        if (flat > 0 && (above == 0 || below == 0)) return {};  // four points on a face's plane
+        if (above == 0) faces.push_back({i, j, k});
+        if (below == 0) faces.push_back({i, k, j});
+      }
+  return faces;
+}
+
+// A uniformly random rotation (Shoemake's method).
+Quat random_rotation(Rng& rng) {
+  const double u1 = rng.uniform(), u2 = 2 * M_PI * rng.uniform(), u3 = 2 * M_PI * rng.uniform();
+  const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
+  return Quat(a * std::sin(u2), a * std::cos(u2), b * std::sin(u3), b * std::cos(u3)).normalized();
+}
+
+// An irregular convex grain with the volume of the sphere of radius r, in its body frame (origin at the
+// centroid): the icosahedron's vertices moved by up to `irregularity` of the radius along and across
+// their directions, the whole stretched along three random axes by 1 +- up to `elongation`.
+Polyhedron irregular_hull(const AssemblySpec& a, double r, Rng& rng) {
+  const double phi = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Vec3> ico;
+  for (const double s : {-1.0, 1.0})
+    for (const double t : {-1.0, 1.0})
+      ico.push_back(Vec3(0, s, t * phi).normalized()), ico.push_back(Vec3(s, t * phi, 0).normalized()),
+          ico.push_back(Vec3(t * phi, 0, s).normalized());
+  for (;;) {
+    const Quat axes = random_rotation(rng);
+    Vec3 stretch;
+    for (int k = 0; k < 3; ++k) stretch[k] = 1 + a.elongation * rng.uniform(-1, 1);
+    const Mat3 shape = axes.toRotationMatrix() * stretch.asDiagonal() * axes.toRotationMatrix().transpose();
+    std::vector<Vec3> p;
+    for (const Vec3& v : ico) {
+      Vec3 wobble;
+      for (int k = 0; k < 3; ++k) wobble[k] = a.irregularity * rng.uniform(-1, 1);
+      p.push_back(shape * ((v + wobble).normalized() * (1 + a.irregularity * rng.uniform(-1, 1))));
+    }
+    const std::vector<std::vector<int>> faces = hull_faces(p);
+    // Points the others enclose are left out (their indices renumbered).
+    std::vector<int> index(p.size(), -1);
+    std::vector<Vec3> used;
+    for (const auto& f : faces)
+      for (int v : f)
+        if (index[v] < 0) index[v] = static_cast<int>(used.size()), used.push_back(p[v]);
+    std::vector<std::vector<int>> renumbered = faces;
+    for (auto& f : renumbered)
+      for (int& v : f) v = index[v];
+    Polyhedron hull;
+    if (faces.empty() || !make_polyhedron(used, renumbered, hull).empty()) continue;
+    const SolidMass m = polyhedron_mass(hull);
+    const double scale = r * std::cbrt(4 * M_PI / 3 / m.volume);
+    for (Vec3& v : used) v = (v - m.centroid) * scale;
+    if (!make_polyhedron(used, renumbered, hull).empty()) continue;
+    return hull;
+  }
+}
+
+Body3Spec irregular_grain(const AssemblySpec& a, std::int64_t id, double r, Rng& rng) {
+  Body3Spec b;
+  b.id = id;
+  b.shape = Body3Spec::Shape::Polyhedron;
+  b.hull = irregular_hull(a, r, rng);
+  const SolidMass m = polyhedron_mass(b.hull);
+  b.mass = a.density * m.volume;
+  b.inertia = m.inertia_per_density * a.density;
+  b.radius = b.hull.bounding_radius();
+  b.material = a.material;
+  b.where = a.where;
+  return b;
+}
+
 std::vector<Body3Spec> lattice(const AssemblySpec& a, std::int64_t first_id, Rng& rng) {
   std::vector<Body3Spec> out;
   out.reserve(static_cast<std::size_t>(a.nx) * a.ny * a.nz);
@@ -36,12 +122,21 @@ std::vector<Body3Spec> lattice(const AssemblySpec& a, std::int64_t first_id, Rng
   return out;
 }
 
-// Drops `a.count` spheres at rest from a loose grid (pitch 1.1 largest diameters, centred in the box,
+// Drops `a.count` grains at rest from a loose grid (pitch 1.1 largest diameters, centred in the box,
 // jittered by 5 % of a radius across) above the box width x depth, and lets them settle for settle_time with
 // the scene's planes, periodic sides and materials (gravity and normal contact always on; friction and
 // rotation as the scene gives them), by velocity Verlet at 1/30 of the stiffest, lightest contact's period.
+// Polyhedra are drawn first (their shapes set the pitch: 1.1 largest bounding diameters).
 std::vector<Body3Spec> pour(const Scene& scene, const AssemblySpec& a, std::int64_t first_id, Rng& rng) {
-  const double rmax = largest_radius(a.radius), pitch = 2.2 * rmax;
+  std::vector<Body3Spec> grains;
+  double rmax = largest_radius(a.radius);
+  if (a.polyhedra) {
+    for (int k = 0; k < a.count; ++k)
+      grains.push_back(irregular_grain(a, first_id + k, draw_radius(a.radius, rng), rng));
+    rmax = 0;
+    for (const Body3Spec& b : grains) rmax = std::max(rmax, b.radius);
+  }
+  const double pitch = 2.2 * rmax;
   const int cols = std::max(1, static_cast<int>(std::floor(a.width / pitch)));
   const int rows = std::max(1, static_cast<int>(std::floor(a.depth / pitch)));
   // The grid centred in the box: dropped off-centre, the bed comes to rest tilted across it (a 20 cm
@@ -51,14 +146,16 @@ std::vector<Body3Spec> pour(const Scene& scene, const AssemblySpec& a, std::int6
   Scene settle = settling_scene(scene);
   double mmin = 1e300;
   for (int k = 0; k < a.count; ++k) {
-    const double r = draw_radius(a.radius, rng);
+    const double r = a.polyhedra ? 0.0 : draw_radius(a.radius, rng);
     const int col = k % cols, row = (k / cols) % rows, layer = k / (cols * rows);
     // (Drawn one statement each: the order of evaluation of function arguments is unspecified.)
     const double jitter_x = rng.uniform(-0.05, 0.05) * rmax;
     const double jitter_y = rng.uniform(-0.05, 0.05) * rmax;
     const Vec3 at = a.origin3 + Vec3(margin_x + pitch * (0.5 + col) + jitter_x,
                                      margin_y + pitch * (0.5 + row) + jitter_y, rmax + pitch * layer);
-    settle.bodies3d.push_back(sphere(a, first_id + k, at, r));
+    settle.bodies3d.push_back(a.polyhedra ? grains[static_cast<std::size_t>(k)]
+                                          : sphere(a, first_id + k, at, r));
+    settle.bodies3d.back().position = at;
     settle.bodies3d.back().velocity = Vec3::Zero();
     mmin = std::min(mmin, settle.bodies3d.back().mass);
   }
