@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -108,8 +109,11 @@ struct Child {
 // Starts `grainlab validate --suite NAME --part FILE` with its output going to `log`.
 pid_t spawn_suite(const Suite& s, const std::string& out, bool quick, const fs::path& part,
                   const fs::path& log) {
-  const std::string exe = fs::read_symlink("/proc/self/exe").string();
-  std::vector<std::string> args = {exe, "validate", "--suite", s.name, "--out", out, "--part", part.string()};
+  // /proc/self/exe runs this very program even when its file has been replaced since it started (a
+  // rebuild during a long validation left "grainlab (deleted)", and no suite could start).
+  const std::string exe = "/proc/self/exe";
+  std::vector<std::string> args = {
+      fs::read_symlink(exe).string(), "validate", "--suite", s.name, "--out", out, "--part", part.string()};
   if (quick) args.push_back("--quick");
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -121,7 +125,7 @@ pid_t spawn_suite(const Suite& s, const std::string& out, bool quick, const fs::
   pid_t pid = 0;
   const int err = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (err != 0) throw std::runtime_error(fmt::format("cannot start {}: error {}", exe, err));
+  if (err != 0) throw std::runtime_error(fmt::format("cannot start {}: {}", args[0], std::strerror(err)));
   return pid;
 }
 
