@@ -25,7 +25,7 @@ struct Capabilities {
   std::string name, description;
   std::vector<int> dimensions;  // 2 and/or 3
   std::vector<std::string>
-      shapes;  // 2-D: disc, polygon, segment, line, moving wall; 3-D: sphere, polyhedron, plane
+      shapes;  // 2-D: disc, polygon, segment, line, moving wall; 3-D: sphere, polyhedron, plane, moving plane
   std::vector<std::string> effects;  // effect names from scene.hpp
   bool periodic = false;
   bool generated_assemblies = false;

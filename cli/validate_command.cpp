@@ -230,9 +230,10 @@ int ValidateCommand::dispatch() const {
                                       : run_here(chosen, out, quick, speak);
   if (parallel::rank() != 0) return report.passed() ? 0 : 1;
   validation::write_report(report, out);
-  int failed = 0, limited = 0;
-  for (const auto& c : report.checks)
-    failed += c.counts_as_failure(), limited += !c.passed && !c.counts_as_failure();
+  const std::size_t failed = failures(report), limited = static_cast<std::size_t>(std::count_if(
+                                                   report.checks.begin(), report.checks.end(), [](auto&c) {
+                                                     return !c.passed && !c.counts_as_failure();
+                                                   }));
   fmt::print("{}: {} checks, {} failed, {} documented engine limitations; report in {}/report.md\n",
              report.passed() ? "PASSED" : "FAILED", report.checks.size(), failed, limited, out);
   return report.passed() ? 0 : 1;

@@ -389,10 +389,6 @@ void SphereBed::place_planes(double t) {
   }
 }
 
-double SphereBed::plane_reach(std::size_t k) const {
-  return k < s_.plane_motion.size() ? s_.plane_motion[k].reach() : 0.0;
-}
-
 void SphereBed::step(bool first, double t) {
   if (first) {
     place_planes(t);
@@ -552,7 +548,8 @@ void SphereBed::rebuild() {
   plane_start_.assign(1, 0), plane_of_.clear();
   for (std::size_t i = 0; i < x_.size(); ++i) {
     for (std::size_t k = 0; k < s_.planes.size() && !ghost(i); ++k)
-      if (rest_planes_[k].normal.dot(x_[i] - rest_planes_[k].point) < r_[i] + skin_ + plane_reach(k))
+      if (rest_planes_[k].normal.dot(x_[i] - rest_planes_[k].point) <
+          r_[i] + skin_ + s_.plane_motion[k].reach())
         plane_of_.push_back(static_cast<std::uint32_t>(k));
     plane_start_.push_back(static_cast<std::uint32_t>(plane_of_.size()));
   }

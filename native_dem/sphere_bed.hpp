@@ -29,7 +29,7 @@ namespace grainlab::dem {
 // What a sphere bed needs of its scene.
 struct SphereBedSetup {
   std::vector<Plane3> planes;         // at rest
-  std::vector<Motion3> plane_motion;  // per plane (none: all at rest)
+  std::vector<Motion3> plane_motion;  // per plane (fewer: the rest are at rest; load() fills them in)
   std::vector<int> plane_material;
   std::vector<ContactLaw> laws;  // [a * n_mat + b]
   int n_mat = 1;
@@ -151,7 +151,6 @@ class SphereBed {
   std::vector<Vec3> plane_v_;
   bool planes_move_ = false;
   void place_planes(double t);
-  double plane_reach(std::size_t k) const;
   SphereCells cells_;
   bool pending_kick_ = false, moved_ = true, sweep_allowed_ = true;
   // Whether the next drift takes some sphere half a skin from the build positions, as predicted by the

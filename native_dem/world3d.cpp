@@ -68,10 +68,11 @@ World3d::World3d(const Scene& scene, Decomposition decomposition)
     placed_.push_back(p);
   }
   for (const PlaneSpec& p : scene_.planes) {
-    planes_.push_back({p.motion.active() ? Vec3(p.point + p.motion.shift(0)) : p.point, p.normal});
-    plane_v_.push_back(p.motion.velocity(0));
+    planes_.push_back({p.point, p.normal});
+    plane_v_.push_back(Vec3::Zero());
     plane_material_.push_back(p.material);
   }
+  place_planes(0);  // moving planes to where they start
   dt_ = scene_.accuracy.dt;
   if (decomposition_.distributed) check_decomposition();
 }
