@@ -24,13 +24,19 @@ LatticeModel::LatticeModel(const LatticeParams& p)
     throw std::invalid_argument("hops and the brink look-ahead must be shorter than the lattice");
   if (p.columns < 16 || p.columns % 2)
     throw std::invalid_argument("the lattice needs an even number >= 16 of columns");
+  if (p.initial_amplitude > 0 && p.roughness > 0)
+    throw std::invalid_argument("a seeded sine and a rough start exclude each other");
   const int base = 2 * (p.depth / 2);
-  h_.resize(static_cast<std::size_t>(p.columns));
-  // A close-packed flat top (the zig-zag of the top row), with random grains in some of its pockets.
-  for (int i = 0; i < p.columns; ++i) h_[static_cast<std::size_t>(i)] = base + (i % 2);
-  Rng start(p.seed, 1);
-  for (int i = 0; i < p.columns; i += 2)
-    if (start.uniform() < p.roughness) h_[static_cast<std::size_t>(i)] += 2;
+  if (p.initial_amplitude > 0) {
+    seed_sine(base);
+  } else {
+    // A close-packed flat top (the zig-zag of the top row), with random grains in some of its pockets.
+    h_.resize(static_cast<std::size_t>(p.columns));
+    for (int i = 0; i < p.columns; ++i) h_[static_cast<std::size_t>(i)] = base + (i % 2);
+    Rng start(p.seed, 1);
+    for (int i = 0; i < p.columns; i += 2)
+      if (start.uniform() < p.roughness) h_[static_cast<std::size_t>(i)] += 2;
+  }
   max_h_ = *std::max_element(h_.begin(), h_.end());
   rise_.assign(static_cast<std::size_t>((p.columns + 2 * kPad) / 64 + 2), 0);
   for (int j = 0; j < p.columns; ++j)
@@ -43,6 +49,94 @@ LatticeModel::LatticeModel(const LatticeParams& p)
     double& top = block_g_[static_cast<std::size_t>(i / kBlock)];
     top = std::max(top, g_[static_cast<std::size_t>(i)]);
   }
+}
+
+// The walk nearest base + 1/2 + A sin(2 pi waves i / columns): each step goes toward the next column's
+// target. It stays within a layer of the target, so on a closed (periodic) target the last column ends
+// one layer from the first, as the walk requires (checked).
+void LatticeModel::seed_sine(int base) {
+  const int n = p_.columns, waves = lattice_seeded_waves(p_);
+  if (2 * p_.initial_amplitude * std::sin(M_PI * waves / n) >= 1)
+    throw std::invalid_argument("the seeded sine is steeper than the lattice's 30 deg repose slope");
+  auto target = [&](int i) { return base + 0.5 + p_.initial_amplitude * std::sin(2 * M_PI * waves * i / n); };
+  h_.assign(static_cast<std::size_t>(n), base);
+  for (int i = 1; i < n; ++i) {
+    const int prev = h_[static_cast<std::size_t>(i - 1)];
+    h_[static_cast<std::size_t>(i)] = prev < target(i) ? prev + 1 : prev - 1;
+  }
+  if (std::abs(h_.back() - h_.front()) != 1) throw std::logic_error("the seeded walk does not close");
+}
+
+int lattice_seeded_waves(const LatticeParams& p) {
+  if (p.initial_wavelength <= 0) return 1;
+  return std::max(1, static_cast<int>(std::lround(p.columns / (2 * p.initial_wavelength))));
+}
+
+std::complex<double> lattice_mode(const std::vector<int>& h, int waves) {
+  const std::size_t n = h.size();
+  std::complex<double> a = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    a += static_cast<double>(h[i]) * std::polar(1.0, -2 * M_PI * waves * static_cast<double>(i) / n);
+  return a * (2.0 / n);
+}
+
+std::complex<double> lattice_linear_rate(double impact_deg, double forward, double backward, double b,
+                                         double wavelength) {
+  const double c = 1 / (2 * std::sqrt(3.0) * std::tan(impact_deg * M_PI / 180)), k = 2 * M_PI / wavelength;
+  const double grow = c * k * ((1 - b) * std::sin(k * forward) - b * std::sin(k * backward));
+  const double speed = c * (1 - (1 - b) * std::cos(k * forward) - b * std::cos(k * backward));
+  return {grow, -k * speed};
+}
+
+namespace {
+double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i] / x.size(), my += y[i] / y.size();
+  double sxy = 0, sxx = 0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    sxy += (x[i] - mx) * (y[i] - my), sxx += (x[i] - mx) * (x[i] - mx);
+  return sxy / sxx;
+}
+}  // namespace
+
+LatticeResponse lattice_linear_response(LatticeParams p, double tau, int frames, int seeds) {
+  if (p.initial_amplitude <= 0 || frames < 2 || seeds < 1 || tau <= 0)
+    throw std::invalid_argument("the linear response needs a seeded sine, frames >= 2, seeds >= 1, tau > 0");
+  const int waves = lattice_seeded_waves(p);
+  std::vector<std::complex<double>> mode(static_cast<std::size_t>(frames) + 1);
+  long forward = 0, backward = 0;
+  const std::uint64_t first = p.seed;
+  for (int s = 0; s < seeds; ++s) {
+    p.seed = first + static_cast<std::uint64_t>(s);
+    LatticeModel m(p);
+    mode[0] += lattice_mode(m.heights(), waves) / double(seeds);
+    long fired = 0;
+    for (int f = 1; f <= frames; ++f) {
+      const long upto = std::lround(tau * f / frames * p.columns / 2);
+      m.fire(upto - fired), fired = upto;
+      mode[static_cast<std::size_t>(f)] += lattice_mode(m.heights(), waves) / double(seeds);
+    }
+    forward += m.forward_hops(), backward += m.backward_hops();
+  }
+  LatticeResponse r;
+  r.wavelength = p.columns / 2.0 / waves;
+  const double k = 2 * M_PI / r.wavelength;
+  std::vector<double> t, log_a, phase;
+  double unwrapped = std::arg(mode[0]);
+  for (int f = 0; f <= frames; ++f) {
+    const std::complex<double> a = mode[static_cast<std::size_t>(f)];
+    if (f > 0)
+      unwrapped += std::remainder(std::arg(a) - std::arg(mode[static_cast<std::size_t>(f - 1)]), 2 * M_PI);
+    t.push_back(tau * f / frames), log_a.push_back(std::log(std::abs(a))), phase.push_back(unwrapped);
+  }
+  r.growth = least_squares_slope(t, log_a);
+  r.speed = -least_squares_slope(t, phase) / k;  // a exp(-i k c tau): a crest moving downstream at c
+  r.backward_share = forward + backward > 0 ? double(backward) / double(forward + backward) : 0;
+  const std::complex<double> s =
+      lattice_linear_rate(p.impact_deg, p.forward, p.backward, r.backward_share, r.wavelength);
+  r.theory_growth = s.real(), r.theory_speed = -s.imag() / k;
+  r.amplitude_start = std::abs(mode.front()), r.amplitude_end = std::abs(mode.back());
+  return r;
 }
 
 int LatticeModel::near(int i) const {

@@ -7,6 +7,7 @@
 // grain (target ejection) or a brink grain found near it (brink ejection) hops a fixed number of lattice
 // spacings forward (upstream-side hit) or backward (downstream-side hit), drops, and rolls on in its
 // direction to the first pocket. A grain whose support is taken away rolls down to the next pocket.
+#include <complex>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -31,6 +32,11 @@ struct LatticeParams {
   // pocket (the thesis's words, the default), or downhill to the nearest one (as a grain rolls).
   bool land_downhill = false;
   double roughness = 0;  // initial surface: share of columns given a random +-1 bump (0: flat)
+  // A seeded start instead of the flat one: a downstream sine of this amplitude (layers) and wavelength
+  // (lattice spacings, rounded so that a whole number of waves fits), drawn as the lattice walk nearest
+  // it. Its growth or decay measures the model's linear response (lattice_linear_rate).
+  double initial_amplitude = 0;
+  double initial_wavelength = 0;
   std::uint64_t seed = 1;
 };
 
@@ -49,6 +55,7 @@ class LatticeModel {
   long backward_hops() const { return backward_; }
 
  private:
+  void seed_sine(int base);
   int hit_column(double start_x, double& side_offset);
   void eject(int column, int direction, int hop_columns);
   void drop(int column, int direction);
@@ -85,6 +92,37 @@ class LatticeModel {
   long impacts_ = 0, forward_ = 0, backward_ = 0;
   double tan_a_, cos_a_;
 };
+
+// The waves a seeded start fits into the domain (at least 1), and the complex amplitude (layers) of that
+// Fourier mode of a surface: h = Re(a exp(2 pi i waves x / length)) + the rest.
+int lattice_seeded_waves(const LatticeParams& p);
+std::complex<double> lattice_mode(const std::vector<int>& h, int waves);
+
+// Linear theory of target ejection on a gentle surface (Anderson's argument, on the lattice). A path at
+// angle a meets a stretch of bed in proportion to its horizontal length plus its rise over tan a, so the
+// impact rate per lattice spacing is 1 + h' / (2 sqrt(3) tan a), h' in layers per spacing (a layer is
+// d / 2, a spacing sqrt(3) d). Each impact takes one grain (one layer of the spacing's mean height) from
+// where it hits to a hop L_f downstream, or, for the share b hit on their downstream side, L_b upstream:
+//   dh/dtau = -I(x) + (1 - b) I(x - L_f) + b I(x + L_b),
+// tau in impacts per surface grain. A mode exp(i k x) grows at Re s = c k [(1 - b) sin k L_f - b sin k L_b]
+// and moves downstream at -Im s / k = c [1 - (1 - b) cos k L_f - b cos k L_b], c = 1 / (2 sqrt(3) tan a).
+// Wavelength and hops in lattice spacings; s per ejection per surface grain.
+std::complex<double> lattice_linear_rate(double impact_deg, double forward, double backward,
+                                         double backward_share, double wavelength);
+
+// The measured linear response of a seeded start: `seeds` runs (seeds p.seed, p.seed + 1, ...) of p, each
+// with `frames` looks over `tau` impacts per surface grain. The seeded mode's complex amplitude, averaged
+// over the runs (the shot noise averages out of it), is fitted with a exp(s tau) by least squares on
+// ln |a| (growth) and on its unwrapped phase (speed). The share of hits on the downstream side is counted,
+// and the theory above evaluated with it.
+struct LatticeResponse {
+  double wavelength = 0;         // lattice spacings, as fitted to the domain
+  double growth = 0, speed = 0;  // per ejection per surface grain; lattice spacings per ejection per grain
+  double theory_growth = 0, theory_speed = 0;
+  double backward_share = 0;
+  double amplitude_start = 0, amplitude_end = 0;  // |a|, layers
+};
+LatticeResponse lattice_linear_response(LatticeParams p, double tau, int frames, int seeds);
 
 // The surface in grain diameters, one value per lattice spacing (sqrt(3) d apart): the mean of its two
 // columns' layer indices (a layer is d / 2), which removes the lattice's zig-zag.

@@ -1,5 +1,6 @@
 #include "ripple_config.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -75,6 +76,9 @@ LatticeRun parse_lattice_config(const std::string& text, const std::string& path
   p.hits_per_point = static_cast<int>(r.integer_or("hits_per_point", p.hits_per_point, 1, 1000));
   p.depth = static_cast<int>(r.integer_or("depth", p.depth, 2, 1000000));
   p.roughness = r.number_or("roughness", p.roughness, Range{0, 1, false});
+  p.land_downhill = r.boolean_or("land_downhill", p.land_downhill);
+  p.initial_amplitude = r.number_or("initial_amplitude", p.initial_amplitude, Range::non_negative());
+  p.initial_wavelength = r.number_or("initial_wavelength", p.initial_wavelength, Range::non_negative());
   p.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1, 0, INT64_MAX));
   run.ejections_per_grain = r.number_or("ejections_per_grain", run.ejections_per_grain, Range::positive());
   run.splash = r.string_or("splash", "");
@@ -87,6 +91,12 @@ LatticeRun parse_lattice_config(const std::string& text, const std::string& path
     r.fail("forward", "hops must be shorter than the domain");
   if (2L * p.brink_lookahead + 4 >= p.columns)
     r.fail("brink_lookahead", "must be shorter than half the domain");
+  if (p.initial_amplitude > 0 && p.roughness > 0)
+    r.fail("initial_amplitude", "a seeded sine needs the flat start (roughness = 0)");
+  if (p.initial_amplitude > 0 && p.initial_wavelength <= 0)
+    r.fail("initial_wavelength", "a seeded sine needs its wavelength (lattice spacings)");
+  if (2 * p.initial_amplitude * std::sin(M_PI * lattice_seeded_waves(p) / p.columns) >= 1)
+    r.fail("initial_amplitude", "the seeded sine would be steeper than the lattice's 30 deg slope");
   run.text = text;
   return run;
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 
 #include "lattice_model.hpp"
 #include "ripple_config.hpp"
@@ -80,11 +81,49 @@ TEST(LatticeModel, SameSeedSameSurface) {
   EXPECT_EQ(a.heights(), b.heights());
 }
 
+// A seeded sine is a valid lattice walk whose mode has the asked amplitude (to the walk's rounding), and
+// nothing else of size: the rest of the surface is the zig-zag.
+TEST(LatticeModel, SeededSineIsTheNearestWalk) {
+  LatticeParams p = params(0.0, 0.0);
+  p.initial_amplitude = 3, p.initial_wavelength = 100;  // 2000 columns: 10 waves
+  LatticeModel m(p);
+  const auto& h = m.heights();
+  for (std::size_t i = 0; i < h.size(); ++i) ASSERT_EQ(std::abs(h[i] - h[(i + 1) % h.size()]), 1) << i;
+  EXPECT_EQ(lattice_seeded_waves(p), 10);
+  const std::complex<double> a = lattice_mode(h, 10);
+  EXPECT_NEAR(std::abs(a), 3, 0.1);
+  EXPECT_NEAR(std::arg(a), -M_PI / 2, 0.05);  // a sine: h = 3 sin(k x) = Re(-3 i exp(i k x))
+  EXPECT_LT(std::abs(lattice_mode(h, 20)), 0.1);
+  p.initial_amplitude = 40;  // steeper than 30 deg: not a walk
+  EXPECT_THROW(LatticeModel{p}, std::invalid_argument);
+}
+
+// The finite-hop theory: Re s = c k [(1 - b) sin k L_f - b sin k L_b], zero where the forward hop is a
+// whole wavelength (and b = 0), negative past half a wavelength; and a seeded long wave does grow at it.
+TEST(LatticeModel, LinearResponseFollowsTheFiniteHopTheory) {
+  EXPECT_NEAR(lattice_linear_rate(15, 15, 5, 0, 15).real(), 0, 1e-12);
+  EXPECT_LT(lattice_linear_rate(15, 15, 5, 0, 20).real(), 0);
+  const double c = 1 / (2 * std::sqrt(3.0) * std::tan(15 * M_PI / 180)), k = 2 * M_PI / 100;
+  EXPECT_NEAR(lattice_linear_rate(15, 15, 5, 0, 100).real(), c * k * std::sin(15 * k), 1e-12);
+  EXPECT_NEAR(lattice_linear_rate(15, 15, 5, 0, 100).imag(), -k * c * (1 - std::cos(15 * k)), 1e-12);
+  LatticeParams p = params(0.0, 0.0);
+  p.initial_amplitude = 2, p.initial_wavelength = 100;
+  const LatticeResponse r = lattice_linear_response(p, 4, 8, 6);
+  EXPECT_NEAR(r.growth, r.theory_growth, 0.15 * r.theory_growth);  // 6 seeds: wider than the suite's 20
+  EXPECT_GT(r.speed, 0);                                           // downstream
+}
+
 TEST(LatticeConfig, RejectsBadValuesWithFileAndKey) {
   EXPECT_THROW(parse_lattice_config("[lattice]\ncolumns = 101\n", "x.toml"), std::exception);
   EXPECT_THROW(parse_lattice_config("[lattice]\nbrink_probability = 1.5\n", "x.toml"), std::exception);
   EXPECT_THROW(parse_lattice_config("[lattice]\nunknown = 1\n", "x.toml"), std::exception);
   EXPECT_THROW(parse_lattice_config("[bins]\n", "x.toml"), std::exception);
+  EXPECT_THROW(parse_lattice_config("[lattice]\ninitial_amplitude = 2\n", "x.toml"), std::exception);
+  EXPECT_THROW(parse_lattice_config(
+                   "[lattice]\ninitial_amplitude = 2\ninitial_wavelength = 50\nroughness = 0.1\n", "x.toml"),
+               std::exception);
+  EXPECT_THROW(parse_lattice_config("[lattice]\ninitial_amplitude = 40\ninitial_wavelength = 20\n", "x.toml"),
+               std::exception);
   const LatticeRun r = parse_lattice_config("[lattice]\nforward = 4\nbackward = 0\n", "x.toml");
   EXPECT_EQ(r.params.forward, 4);
   EXPECT_EQ(r.params.backward, 0);

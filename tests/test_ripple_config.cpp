@@ -115,6 +115,16 @@ TEST(RippleConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {
         EXPECT_LT(2 * std::max(r.params.forward, r.params.backward), r.params.columns);
       },
       2027);
+  // The seeded start: whatever the reader lets through, the model can build (the sine's steepness, its
+  // wavelength and the rough start are the reader's to refuse).
+  fuzz_shipped_config(
+      "lattice_seeded_sine.toml", parse_lattice_config,
+      [](const LatticeRun& r) {
+        if (r.params.columns <= 100000) {
+          EXPECT_NO_THROW(LatticeModel{r.params});
+        }
+      },
+      2030);
   fuzz_shipped_config(
       "worms.toml", parse_worm_ring_config,
       [](const WormRingRun& r) {
