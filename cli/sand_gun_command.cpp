@@ -79,6 +79,9 @@ void SandGunCommand::add(CLI::App& app) {
   cmd->add_option("--stiffness", stiffness, "k_n as a multiple of the default 2e7 dyn/cm")
       ->default_val(1)
       ->check(CLI::Range(0.01, 100.0));
+  cmd->add_option("--checkpoint", checkpoint,
+                  "keep the bed and each finished impact in this HDF5 file; run again with it to continue "
+                  "(more --runs or other --rows may be asked for)");
   cmd->add_flag("--json", json, "print one JSON object (rows, quantities with intervals, exponents)");
   cmd->add_flag("--quiet,-q", quiet, "no progress");
 }
@@ -96,7 +99,8 @@ int SandGunCommand::dispatch() const {
         bar.finish();
         fmt::print(stderr, "grainlab {}\n", line);
       },
-      [&](std::size_t d, std::size_t t) { bar.update(static_cast<double>(d), static_cast<double>(t)); });
+      [&](std::size_t d, std::size_t t) { bar.update(static_cast<double>(d), static_cast<double>(t)); },
+      checkpoint);
   bar.finish();
   if (parallel::rank() != 0) return 0;
   if (json) {

@@ -14,6 +14,7 @@ struct SandGunCommand {
   std::size_t runs = 20;
   std::uint64_t seed = 1, bed_seed = 1;
   double stiffness = 1;
+  std::string checkpoint;
   bool json = false, quiet = false;
 
   CLI::App* cmd = nullptr;

@@ -2,24 +2,53 @@
 // cannot carry away more energy than the incident grain brought, and the ensemble (gathered as rows over
 // MPI ranks) returns the same impacts as running them one by one.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
 
 #include "impacts3d.hpp"
+#include "input_error.hpp"
+#include "sand_gun3d.hpp"
 
 namespace grainlab::validation {
 
 namespace {
 
-Bed3d small_bed() {
-  Bed3dSpec spec;
-  spec.count = 360;
-  spec.width = 16, spec.depth = 12;
-  return build_bed3d(spec);
+// Built once for the tests below (about 5 s).
+const Bed3d& small_bed() {
+  static const Bed3d bed = [] {
+    Bed3dSpec spec;
+    spec.count = 360;
+    spec.width = 16, spec.depth = 12;
+    return build_bed3d(spec);
+  }();
+  return bed;
+}
+
+struct TempFile {
+  std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("grainlab-ck-" + std::to_string(::getpid()) + ".h5");
+  ~TempFile() { std::filesystem::remove(path); }
+};
+
+void expect_same_impact(const Impact3dResult& a, const Impact3dResult& b) {
+  EXPECT_EQ(a.rebounded, b.rebounded);
+  EXPECT_EQ(a.vx, b.vx);
+  EXPECT_EQ(a.vz, b.vz);
+  EXPECT_EQ(a.x_impact, b.x_impact);
+  ASSERT_EQ(a.ejecta.size(), b.ejecta.size());
+  for (std::size_t k = 0; k < a.ejecta.size(); ++k) {
+    EXPECT_EQ(a.ejecta[k].id, b.ejecta[k].id);
+    EXPECT_EQ(a.ejecta[k].vz_launch, b.ejecta[k].vz_launch);
+    EXPECT_EQ(a.ejecta[k].time, b.ejecta[k].time);
+  }
 }
 
 TEST(Impacts3d, SpheresStruckAsCaseAGiveBackNoMoreEnergyThanTheyGet) {
-  const Bed3d bed = small_bed();
+  const Bed3d& bed = small_bed();
   // 360 spheres of 4.19 cm^3 in 16 x 12 cm at packing ~0.55: about 14 cm deep.
   EXPECT_GT(bed.top, 10.0);
   EXPECT_LT(bed.top, 20.0);
@@ -45,6 +74,77 @@ TEST(Impacts3d, SpheresStruckAsCaseAGiveBackNoMoreEnergyThanTheyGet) {
       EXPECT_GT(r.vz, 0);
     }
   }
+}
+
+// A sand-gun checkpoint keeps the bed bit for bit and the impacts as they were: the bed read back gives the
+// same impact as the bed that was built, so a continued run computes what an unbroken one would.
+TEST(SandGunCheckpoint, KeepsTheBedAndTheImpactsExactly) {
+  const Bed3d& bed = small_bed();
+  const ImpactCase& c = impact_case("A");
+  ImpactOptions o;
+  o.duration = 0.03;
+  SandGunProgress p;
+  p.bed = bed;
+  p.done[{1, 0}] = run_impact3d(bed, c, 3, 0, o);
+  p.done[{4, 7}] = run_impact3d(bed, c, 3, 1, o);
+  ASSERT_GT(p.done.at({1, 0}).ejecta.size() + p.done.at({4, 7}).ejecta.size(), 0u);
+  TempFile f;
+  write_sand_gun_checkpoint(f.path.string(), p, 3);
+  const std::optional<SandGunProgress> back = read_sand_gun_checkpoint(f.path.string(), bed.spec, 3);
+  ASSERT_TRUE(back);
+  const auto& a = bed.scene.bodies3d;
+  const auto& b = back->bed.scene.bodies3d;
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].id, b[i].id);
+    EXPECT_EQ(a[i].position, b[i].position);
+    EXPECT_EQ(a[i].orientation.coeffs(), b[i].orientation.coeffs());
+    EXPECT_EQ(a[i].radius, b[i].radius);
+    EXPECT_EQ(a[i].mass, b[i].mass);
+    EXPECT_EQ(a[i].inertia, b[i].inertia);
+  }
+  EXPECT_EQ(back->bed.top, bed.top);
+  EXPECT_EQ(back->bed.probes, bed.probes);
+  ASSERT_EQ(back->done.size(), 2u);
+  expect_same_impact(back->done.at({1, 0}), p.done.at({1, 0}));
+  expect_same_impact(back->done.at({4, 7}), p.done.at({4, 7}));
+  expect_same_impact(run_impact3d(back->bed, c, 3, 1, o), p.done.at({4, 7}));
+  // Another seed or bed is refused, naming the option; no file is no checkpoint.
+  EXPECT_THROW(read_sand_gun_checkpoint(f.path.string(), bed.spec, 4), InputError);
+  Bed3dSpec other = bed.spec;
+  other.k_n *= 2;
+  EXPECT_THROW(read_sand_gun_checkpoint(f.path.string(), other, 3), InputError);
+  EXPECT_FALSE(read_sand_gun_checkpoint(f.path.string() + ".none", bed.spec, 3));
+}
+
+// Seeded corruption anywhere in a checkpoint: each mutant is read or refused with InputError.
+TEST(SandGunCheckpoint, RandomByteFlipsNeverCrash) {
+  const Bed3d& bed = small_bed();
+  SandGunProgress p;
+  p.bed = bed;
+  ImpactOptions o;
+  o.duration = 0.01;
+  p.done[{2, 0}] = run_impact3d(bed, impact_case("A"), 5, 0, o);
+  TempFile good, mutant;
+  write_sand_gun_checkpoint(good.path.string(), p, 5);
+  std::ifstream in(good.path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  std::mt19937_64 rng(2031);
+  int refused = 0;
+  for (int k = 0; k < 120; ++k) {
+    std::string s = bytes;
+    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e)
+      s[rng() % s.size()] ^= static_cast<char>(1 + rng() % 255);
+    std::ofstream(mutant.path, std::ios::binary) << s;
+    try {
+      const std::optional<SandGunProgress> r = read_sand_gun_checkpoint(mutant.path.string(), bed.spec, 5);
+      ASSERT_TRUE(r);
+      EXPECT_EQ(r->bed.scene.bodies3d.size(), bed.scene.bodies3d.size());
+    } catch (const InputError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 0);
 }
 
 }  // namespace

@@ -251,13 +251,22 @@ Bed3d build_bed3d(const Bed3dSpec& spec) {
     bodies = settled(spec, std::move(kept), spec.k_n, 0, (deep_movers ? 0.2 : 0.05) * ts);
     bodies = settled(spec, std::move(bodies), spec.k_n, spec.restitution, 0.05 * ts);
   }
-  bed.scene = parse_scene(bed3d_text(spec, spec.k_n, spec.restitution, 0.07 * ts, false), "3-D impact bed");
+  const Bed3d built = bed3d_from_bodies(spec, std::move(bodies));
+  bed.scene = built.scene, bed.top = built.top, bed.packing_fraction = built.packing_fraction;
+  bed.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return bed;
+}
+
+Bed3d bed3d_from_bodies(const Bed3dSpec& spec, std::vector<Body3Spec> bodies) {
+  Bed3d bed;
+  bed.spec = spec;
+  bed.scene = parse_scene(bed3d_text(spec, spec.k_n, spec.restitution, 0.07 * spec.time_scale, false),
+                          "3-D impact bed");
   bed.scene.bodies3d = std::move(bodies);
   bed.top = bed_top(bed.scene.bodies3d, spec);
   const double d = 2 * spec.radius;
   bed.packing_fraction = solid_fraction(bed.scene.bodies3d, Vec3(2 * d, 2 * d, 2 * d),
                                         Vec3(spec.width - 2 * d, spec.depth - 2 * d, bed.top - 2 * d));
-  bed.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return bed;
 }
 
@@ -379,10 +388,10 @@ Impact3dSummary summarize_impacts3d(const std::vector<Impact3dResult>& results) 
 }
 
 namespace {
-// One impact as a fixed-width row (MPI gathering): 14 numbers, then 10 per ejectum.
-constexpr std::size_t kHead3 = 14, kPer3 = 10;
+constexpr std::size_t kHead3 = kImpact3dHead, kPer3 = kImpact3dPerEjectum;
+}  // namespace
 
-std::vector<double> pack(const Impact3dResult& r) {
+std::vector<double> impact3d_row(const Impact3dResult& r) {
   std::vector<double> row{
       r.x_impact, r.y_impact,       r.z_impact,  r.rebounded ? 1.0 : 0.0, r.vx,       r.vy,
       r.vz,       r.incident_speed, r.alpha_deg, r.incident_mass,         r.bed_mass, r.g,
@@ -396,7 +405,7 @@ std::vector<double> pack(const Impact3dResult& r) {
   return row;
 }
 
-Impact3dResult unpack(const std::vector<double>& w) {
+Impact3dResult impact3d_from_row(const std::vector<double>& w) {
   Impact3dResult r;
   r.x_impact = w[0], r.y_impact = w[1], r.z_impact = w[2], r.rebounded = w[3] != 0;
   r.vx = w[4], r.vy = w[5], r.vz = w[6], r.incident_speed = w[7], r.alpha_deg = w[8];
@@ -409,33 +418,45 @@ Impact3dResult unpack(const std::vector<double>& w) {
   }
   return r;
 }
-}  // namespace
 
 namespace {
+// Impact `index(k)` for k < count, on bed_of(index(k)), dealt out over the ranks.
 std::vector<Impact3dResult> impact3d_rows(const std::function<const Bed3d&(std::size_t)>& bed_of,
-                                          const ImpactCase& c, std::uint64_t seed, std::size_t runs,
+                                          const ImpactCase& c, std::uint64_t seed, std::size_t count,
+                                          const std::function<std::size_t(std::size_t)>& index,
                                           const ImpactOptions& o,
                                           const std::function<void(std::size_t, std::size_t)>& progress) {
   const auto rows = run_ensemble(
-      runs, kHead3 + kMaxEjecta * kPer3,
-      [&](std::size_t i) { return pack(run_impact3d(bed_of(i), c, seed, i, o)); }, progress);
+      count, kHead3 + kMaxEjecta * kPer3,
+      [&](std::size_t k) { return impact3d_row(run_impact3d(bed_of(index(k)), c, seed, index(k), o)); },
+      progress);
   std::vector<Impact3dResult> out;
-  for (const auto& row : rows) out.push_back(unpack(row));
+  for (const auto& row : rows) out.push_back(impact3d_from_row(row));
   return out;
+}
+std::size_t same(std::size_t i) {
+  return i;
 }
 }  // namespace
 
 std::vector<Impact3dResult> run_impact3d_ensemble(
     const std::vector<Bed3d>& beds, const ImpactCase& c, std::uint64_t seed, std::size_t runs,
     const ImpactOptions& o, const std::function<void(std::size_t, std::size_t)>& progress) {
-  return impact3d_rows([&](std::size_t i) -> const Bed3d& { return beds[i % beds.size()]; }, c, seed, runs, o,
-                       progress);
+  return impact3d_rows([&](std::size_t i) -> const Bed3d& { return beds[i % beds.size()]; }, c, seed, runs,
+                       same, o, progress);
 }
 
 std::vector<Impact3dResult> run_impact3d_ensemble(
     const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t runs, const ImpactOptions& o,
     const std::function<void(std::size_t, std::size_t)>& progress) {
-  return impact3d_rows([&](std::size_t) -> const Bed3d& { return bed; }, c, seed, runs, o, progress);
+  return impact3d_rows([&](std::size_t) -> const Bed3d& { return bed; }, c, seed, runs, same, o, progress);
+}
+
+std::vector<Impact3dResult> run_impact3d_indices(
+    const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, const std::vector<std::size_t>& indices,
+    const ImpactOptions& o, const std::function<void(std::size_t, std::size_t)>& progress) {
+  return impact3d_rows([&](std::size_t) -> const Bed3d& { return bed; }, c, seed, indices.size(),
+                       [&](std::size_t k) { return indices[k]; }, o, progress);
 }
 
 }  // namespace grainlab::validation

@@ -51,6 +51,9 @@ struct Bed3d {
 
 // Pours and settles a bed (seconds to a minute of computing).
 Bed3d build_bed3d(const Bed3dSpec& spec);
+// The bed build_bed3d makes around `bodies` (its spheres at rest), without the build's statistics: the
+// same scene, top and packing, so a bed kept in a checkpoint gives the same impacts bit for bit.
+Bed3d bed3d_from_bodies(const Bed3dSpec& spec, std::vector<Body3Spec> bodies);
 
 struct Ejectum3d {
   std::int64_t id = -1;
@@ -78,6 +81,14 @@ BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration,
 Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
                             const ImpactOptions& o = {});
 
+// One impact as a fixed-width row of numbers (MPI gathering, checkpoints): kImpact3dHead numbers (impact
+// point, rebounded, rebound velocity, incident speed, angle and mass, bed mass, g, steps, wall seconds),
+// then kImpact3dPerEjectum per ejectum (id, mass, x0, y0, z0, vx, vy, vz, vz_launch, time), NaN after the
+// last, kMaxEjecta of them.
+inline constexpr std::size_t kImpact3dHead = 14, kImpact3dPerEjectum = 10;
+std::vector<double> impact3d_row(const Impact3dResult& r);
+Impact3dResult impact3d_from_row(const std::vector<double>& row);
+
 // Means with intervals over impacts, under the 2-D summary's names where the quantity is the same
 // (eps_ix, eps_iy (vertical), eps_i, theta_i, ejected, reptation, ej_speed, ej_vy (vertical), ej_angle
 // (from the vertical)) and 3-D ones: eps_iz (the rebound's sideways velocity / v_i), ej_azimuth (degrees
@@ -99,5 +110,10 @@ std::vector<Impact3dResult> run_impact3d_ensemble(
 std::vector<Impact3dResult> run_impact3d_ensemble(
     const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t runs, const ImpactOptions& o,
     const std::function<void(std::size_t, std::size_t)>& progress = {});
+// The impacts numbered `indices` (each as run_impact3d's `run`), dealt out over the ranks: the same
+// results as those entries of an ensemble.
+std::vector<Impact3dResult> run_impact3d_indices(
+    const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, const std::vector<std::size_t>& indices,
+    const ImpactOptions& o, const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 }  // namespace grainlab::validation

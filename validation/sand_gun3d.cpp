@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "parallel.hpp"
 #include "splash_file.hpp"
 
 namespace grainlab::validation {
@@ -142,9 +143,35 @@ PowerLaw fit_power_law(const std::vector<double>& x, const std::vector<double>& 
   return log_fit(x, y, std::vector<double>(x.size(), 1.0), false);
 }
 
+namespace {
+// Row `row`'s impacts 0..runs-1: those in `p` as they are, the rest computed a round (one per rank) at a
+// time, each round added to `p` and written to `checkpoint`.
+std::vector<Impact3dResult> checkpointed_row(SandGunProgress& p, const SandGunRow& row, std::size_t runs,
+                                             std::uint64_t seed, const ImpactOptions& o,
+                                             const std::string& checkpoint,
+                                             const EnsembleProgress& progress) {
+  std::vector<std::size_t> missing;
+  for (std::size_t i = 0; i < runs; ++i)
+    if (!p.done.count({row.index, i})) missing.push_back(i);
+  const std::size_t round = static_cast<std::size_t>(parallel::size());
+  for (std::size_t k = 0; k < missing.size(); k += round) {
+    const std::vector<std::size_t> these(
+        missing.begin() + static_cast<long>(k),
+        missing.begin() + static_cast<long>(std::min(k + round, missing.size())));
+    const std::vector<Impact3dResult> r = run_impact3d_indices(p.bed, sand_gun_case(row), seed, these, o);
+    for (std::size_t j = 0; j < these.size(); ++j) p.done[{row.index, these[j]}] = r[j];
+    if (parallel::rank() == 0) write_sand_gun_checkpoint(checkpoint, p, seed);
+    if (progress) progress(runs - missing.size() + k + these.size(), runs);
+  }
+  std::vector<Impact3dResult> out;
+  for (std::size_t i = 0; i < runs; ++i) out.push_back(p.done.at({row.index, i}));
+  return out;
+}
+}  // namespace
+
 SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& rows, std::size_t runs,
                         std::uint64_t seed, const std::function<void(const std::string&)>& log,
-                        const EnsembleProgress& progress) {
+                        const EnsembleProgress& progress, const std::string& checkpoint) {
   SandGunRun out;
   for (std::size_t i : rows) {
     if (i < 1 || i > sand_gun_rows().size())
@@ -152,10 +179,21 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
     out.rows.push_back(sand_gun_rows()[i - 1]);
   }
   if (rows.empty()) out.rows = sand_gun_rows();
-  if (log)
-    log(fmt::format("sand gun: pouring {} sand spheres into {:.2f} x {:.2f} cm", spec.count, spec.width,
-                    spec.depth));
-  out.bed = build_bed3d(spec);
+  SandGunProgress kept;
+  if (std::optional<SandGunProgress> p =
+          checkpoint.empty() ? std::nullopt : read_sand_gun_checkpoint(checkpoint, spec, seed)) {
+    kept = std::move(*p);
+    if (log)
+      log(fmt::format("sand gun: continuing from {}: its bed of {} spheres and {} finished impacts",
+                      checkpoint, kept.bed.scene.bodies3d.size(), kept.done.size()));
+  } else {
+    if (log)
+      log(fmt::format("sand gun: pouring {} sand spheres into {:.2f} x {:.2f} cm", spec.count, spec.width,
+                      spec.depth));
+    kept.bed = build_bed3d(spec);
+    if (!checkpoint.empty() && parallel::rank() == 0) write_sand_gun_checkpoint(checkpoint, kept, seed);
+  }
+  out.bed = kept.bed;
   if (log)
     log(
         fmt::format("sand gun: bed top {:.3f} cm, packing {:.3f}, {} loose spheres taken away, {} probes, "
@@ -164,7 +202,9 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
                     out.bed.deep_movers, out.bed.build_seconds));
   const ImpactOptions o = sand_gun_options(spec);
   for (const SandGunRow& row : out.rows) {
-    out.impacts.push_back(run_impact3d_ensemble(out.bed, sand_gun_case(row), seed, runs, o, progress));
+    out.impacts.push_back(checkpoint.empty()
+                              ? run_impact3d_ensemble(out.bed, sand_gun_case(row), seed, runs, o, progress)
+                              : checkpointed_row(kept, row, runs, seed, o, checkpoint, progress));
     out.quantities.push_back(sand_gun_quantities(out.impacts.back()));
     if (log)
       log(fmt::format("sand gun: row {} ({} cm/s, {} deg): {} impacts, {:.2f} ejecta each", row.index,

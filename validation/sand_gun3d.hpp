@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,11 +65,25 @@ struct SandGunRun {
   std::vector<std::map<std::string, MeanInterval>> quantities;
 };
 
+// What a sand-gun checkpoint keeps: the built bed and each finished impact by (row 1-9, run index).
+struct SandGunProgress {
+  Bed3d bed;
+  std::map<std::pair<std::size_t, std::size_t>, Impact3dResult> done;
+};
+// Writes the checkpoint atomically (validation/sand_gun_checkpoint.cpp).
+void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed);
+// Reads it back: nullopt if `path` does not exist; InputError (key --checkpoint) if it is damaged, not a
+// sand-gun checkpoint, or written for another bed spec or seed.
+std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path, const Bed3dSpec& spec,
+                                                        std::uint64_t seed);
+
 // Builds the bed and runs `runs` impacts of each row (`rows`: 1-based indices; empty: all nine), spread
-// over the MPI ranks.
+// over the MPI ranks. With a `checkpoint` path, the bed and the impacts already in that file are taken from
+// it, and the file is rewritten (rank 0) after the bed is built and after each round of impacts (one per
+// rank), so a run stopped at any point continues from there to the same numbers.
 SandGunRun run_sand_gun(const Bed3dSpec& bed, const std::vector<std::size_t>& rows, std::size_t runs,
                         std::uint64_t seed, const std::function<void(const std::string&)>& log = {},
-                        const EnsembleProgress& progress = {});
+                        const EnsembleProgress& progress = {}, const std::string& checkpoint = {});
 
 // Tables 3.11 and 3.12 with grainlab's spheres beside the experiment: one row per shot, each cell
 // "mean [95 % interval] (experiment)"; then the fitted exponents of ejecta per event, ejection velocity and

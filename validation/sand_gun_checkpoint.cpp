@@ -1,0 +1,158 @@
+// A sand-gun run's checkpoint: the settled bed (its spheres, exactly) and every impact finished so far.
+// Building a 20,000-sphere bed takes tens of minutes and each impact on it a minute or two, so a long run
+// keeps both and continues from them. Impact i of a row depends only on the bed, the row and (seed, i),
+// so impacts found in the file are the ones the run would compute: a continued run gives the same numbers
+// as one that never stopped, and may ask for more runs or other rows than the first did.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "h5_input.hpp"
+#include "h5_output.hpp"
+#include "input_error.hpp"
+#include "sand_gun3d.hpp"
+
+namespace grainlab::validation {
+
+namespace {
+
+constexpr const char* kKind = "grainlab-sand-gun-checkpoint/1";
+const std::vector<std::string> kSphereColumns = {"id",  "radius", "mass", "i00", "i01", "i02",     "i10",
+                                                 "i11", "i12",    "i20",  "i21", "i22", "x",       "y",
+                                                 "z",   "qw",     "qx",   "qy",  "qz",  "material"};
+const std::vector<std::string> kBuildColumns = {"removed", "probes", "deep_movers", "build_seconds"};
+const std::vector<std::string> kImpactColumns = {
+    "row",      "run", "x_impact", "y_impact",       "z_impact",  "rebounded",
+    "vx",       "vy",  "vz",       "incident_speed", "alpha_deg", "incident_mass",
+    "bed_mass", "g",   "steps",    "wall_seconds"};
+const std::vector<std::string> kEjectumColumns = {"impact", "id", "mass", "x0",        "y0",  "z0",
+                                                  "vx",     "vy", "vz",   "vz_launch", "time"};
+
+// Everything that decides the bed and the impacts: the bed's spec and the impacts' seed (not the rows or
+// the number of runs, which a continued run may change).
+std::string fingerprint(const Bed3dSpec& s, std::uint64_t seed) {
+  return fmt::format(
+      "spheres {} bed_seed {} seed {} width {:.17g} depth {:.17g} radius {:.17g} spread {:.17g} density "
+      "{:.17g} k_n {:.17g} restitution {:.17g} mu {:.17g} settle {:.17g} time_scale {:.17g}",
+      s.count, s.seed, seed, s.width, s.depth, s.radius, s.radius_spread, s.density, s.k_n, s.restitution,
+      s.mu, s.settle_time, s.time_scale);
+}
+
+std::vector<double> sphere_row(const Body3Spec& b) {
+  std::vector<double> r{static_cast<double>(b.id), b.radius, b.mass};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r.push_back(b.inertia(i, j));
+  const Quat& q = b.orientation;
+  r.insert(r.end(), {b.position.x(), b.position.y(), b.position.z(), q.w(), q.x(), q.y(), q.z(),
+                     static_cast<double>(b.material)});
+  return r;
+}
+
+Body3Spec sphere_of(const std::vector<double>& r) {
+  Body3Spec b;
+  b.id = static_cast<std::int64_t>(r[0]), b.radius = r[1], b.mass = r[2];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) b.inertia(i, j) = r[static_cast<std::size_t>(3 + 3 * i + j)];
+  b.position = Vec3(r[12], r[13], r[14]);
+  b.orientation = Quat(r[15], r[16], r[17], r[18]);
+  b.material = static_cast<int>(r[19]);
+  return b;
+}
+
+}  // namespace
+
+void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed) {
+  SampleTable spheres{"bed/spheres", "the settled bed's spheres, at rest", kSphereColumns, {}};
+  for (const Body3Spec& b : p.bed.scene.bodies3d) spheres.rows.push_back(sphere_row(b));
+  SampleTable build{"bed/build",
+                    "how the bed was made",
+                    kBuildColumns,
+                    {{static_cast<double>(p.bed.removed), static_cast<double>(p.bed.probes),
+                      static_cast<double>(p.bed.deep_movers), p.bed.build_seconds}}};
+  SampleTable impacts{"impacts", "each finished impact: its row (1-9) and run index", kImpactColumns, {}};
+  SampleTable ejecta{"ejecta", "each impact's ejecta (impact: its row in `impacts`)", kEjectumColumns, {}};
+  for (const auto& [key, r] : p.done) {
+    const std::vector<double> w = impact3d_row(r);
+    std::vector<double> head{static_cast<double>(key.first), static_cast<double>(key.second)};
+    head.insert(head.end(), w.begin(), w.begin() + kImpact3dHead);
+    const double index = static_cast<double>(impacts.rows.size());
+    impacts.rows.push_back(std::move(head));
+    for (std::size_t k = 0; k < r.ejecta.size() && k < kMaxEjecta; ++k) {
+      const auto* e = w.data() + kImpact3dHead + k * kImpact3dPerEjectum;
+      std::vector<double> row{index};
+      row.insert(row.end(), e, e + kImpact3dPerEjectum);
+      ejecta.rows.push_back(std::move(row));
+    }
+  }
+  write_sample_tables(
+      path, {spheres, build, impacts, ejecta},
+      {{"kind", kKind}, {"grainlab_version", GRAINLAB_VERSION}, {"options", fingerprint(p.bed.spec, seed)}});
+}
+
+std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path, const Bed3dSpec& spec,
+                                                        std::uint64_t seed) {
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--checkpoint", why); };
+  TableFile file;
+  try {
+    file = read_sample_tables(path, {{"bed/spheres", kSphereColumns},
+                                     {"bed/build", kBuildColumns},
+                                     {"impacts", kImpactColumns},
+                                     {"ejecta", kEjectumColumns}});
+    require_checkpoint(file, path, kKind, "sand-gun checkpoint", fingerprint(spec, seed),
+                       "was written for another bed or seed (--spheres, --bed-seed, --stiffness, --seed): "
+                       "pass the ones it was started with, or another --checkpoint");
+  } catch (const InputError& e) {
+    refuse(e.message());
+  }
+  std::vector<Body3Spec> bodies;
+  for (const auto& r : file.tables.at("bed/spheres").rows) {
+    bodies.push_back(sphere_of(r));
+    const Body3Spec& b = bodies.back();
+    const bool finite = std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); });
+    if (!finite || !(b.radius > 0) || !(b.mass > 0) || std::abs(b.orientation.norm() - 1) > 1e-9 ||
+        b.id != static_cast<std::int64_t>(bodies.size() - 1))
+      refuse(fmt::format("bed sphere {} is damaged", bodies.size() - 1));
+  }
+  if (bodies.empty()) refuse("holds no bed");
+  const auto& build = file.tables.at("bed/build").rows;
+  if (build.size() != 1 || !std::all_of(build[0].begin(), build[0].end(), [](double v) { return v >= 0; }))
+    refuse("has no record of how its bed was built");
+  SandGunProgress p;
+  try {
+    p.bed = bed3d_from_bodies(spec, std::move(bodies));
+  } catch (const std::exception& e) {
+    refuse(fmt::format("holds a bed that does not fit its box ({})", e.what()));
+  }
+  p.bed.removed = static_cast<std::size_t>(build[0][0]), p.bed.probes = static_cast<std::size_t>(build[0][1]);
+  p.bed.deep_movers = static_cast<std::size_t>(build[0][2]), p.bed.build_seconds = build[0][3];
+  const auto& heads = file.tables.at("impacts").rows;
+  std::vector<std::vector<double>> packed;
+  for (const auto& h : heads) {
+    std::vector<double> w(h.begin() + 2, h.end());
+    w.resize(kImpact3dHead + kMaxEjecta * kImpact3dPerEjectum, std::numeric_limits<double>::quiet_NaN());
+    packed.push_back(std::move(w));
+  }
+  std::vector<std::size_t> filled(heads.size(), 0);
+  for (const auto& e : file.tables.at("ejecta").rows) {
+    const double at = e[0];
+    if (!(at >= 0 && at < static_cast<double>(heads.size())) || at != std::floor(at))
+      refuse("has an ejectum of no impact");
+    const auto i = static_cast<std::size_t>(at);
+    if (filled[i] == kMaxEjecta) refuse("has more ejecta for one impact than a run keeps");
+    std::copy(e.begin() + 1, e.end(),
+              packed[i].begin() + static_cast<long>(kImpact3dHead + filled[i]++ * kImpact3dPerEjectum));
+  }
+  for (std::size_t i = 0; i < heads.size(); ++i) {
+    const double row = heads[i][0], run = heads[i][1];
+    if (!(row >= 1 && row <= 9 && run >= 0 && run == std::floor(run) && row == std::floor(row)))
+      refuse(fmt::format("has an impact of row {} run {}", row, run));
+    p.done[{static_cast<std::size_t>(row), static_cast<std::size_t>(run)}] = impact3d_from_row(packed[i]);
+  }
+  return p;
+}
+
+}  // namespace grainlab::validation
