@@ -209,6 +209,28 @@ void linear_response_checks(Report& rep, std::string& md) {
                                   "(within 10 %)",
                                   c.forward, c.backward, c.angle, r.wavelength));
   }
+  // Growth by wavelength for Fig. 5.22's hops at 15 deg: the theory's curve and seeded sines along it.
+  PlotSpec plot{"ripples_lattice_linear_growth.png",
+                "Lattice, target ejection, hops 15 / 5, 15 deg: growth of a seeded sine",
+                "wavelength (lattice spacings)",
+                "growth per ejection per surface grain",
+                true,
+                {}};
+  PlotSpec::Series theory{"linear theory (b = 0.036)", "line", {}, {}, {}};
+  for (double lambda = 20; lambda <= 400; lambda *= 1.02) {
+    theory.x.push_back(lambda);
+    theory.y.push_back(lattice_linear_rate(15, 15, 5, 0.036, lambda).real());
+  }
+  PlotSpec::Series measured{"seeded sine, 20 seeds", "points", {}, {}, {}};
+  for (const double lambda : {25.0, 30.0, 40.0, 50.0, 70.0, 100.0, 150.0, 200.0}) {
+    LatticeParams p = lattice(15, 5, 0.0);
+    p.initial_amplitude = lambda < 60 ? 1 : 2, p.initial_wavelength = lambda;
+    const LatticeResponse r = lattice_linear_response(p, 4, 10, 20);
+    measured.x.push_back(r.wavelength), measured.y.push_back(r.growth);
+  }
+  plot.series = {theory, measured};
+  rep.plots.push_back(plot);
+  md += "\n![Growth of a seeded sine against the linear theory](ripples_lattice_linear_growth.png)\n";
 }
 
 void lattice_checks(Report& rep, const SuiteOptions& o, std::string& md) {
