@@ -355,9 +355,12 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_flux->add_option("--average-from", flux.average_from, "start of the averaging window, t*")
       ->default_val(2000)
       ->check(CLI::Range(0.0, 1e8));
-  hybrid_flux->add_option("--splash", flux.splash, "Lammel parameter set")
+  hybrid_flux
+      ->add_option("--splash", flux.splash,
+                   "Lammel parameter set (paper2021, lammel2017) or a grainlab-splash/1 file of recorded "
+                   "impacts (grainlab splash)")
       ->default_val("paper2021")
-      ->check(CLI::IsMember({"paper2021", "lammel2017"}));
+      ->check(CLI::IsMember({"paper2021", "lammel2017"}) | CLI::ExistingFile);
   hybrid_flux->add_flag(
       "--no-collisions", [this](std::int64_t) { flux.collisions = false; }, "no mid-air collisions");
   hybrid_flux->add_flag("--wind-loosened", flux.wind_loosened,

@@ -11,6 +11,7 @@
 #include "h5_input.hpp"
 #include "h5_output.hpp"
 #include "hybrid_config.hpp"
+#include "hybrid_splash_file.hpp"
 #include "input_error.hpp"
 #include "progress.hpp"
 #include "ripple_config.hpp"
@@ -18,12 +19,20 @@
 
 namespace grainlab::cli {
 
+// A splash that is not one of the Lammel sets is a grainlab-splash/1 file of recorded impacts.
+void attach_recorded_splash(ripples::hybrid::TransportOptions& o) {
+  if (o.splash == "paper2021" || o.splash == "lammel2017") return;
+  o.recorded =
+      std::make_shared<const ripples::hybrid::RecordedSplash>(validation::read_recorded_splash(o.splash));
+}
+
 int hybrid_flux_command(const RipplesCommands& a) {
   const ripples::hybrid::FluxOptions& o = a.flux;
   if (!(o.average_from < o.duration))
     throw InputError({"--average-from", 0}, fmt::format("{}", o.average_from),
                      fmt::format("must be before the end of the run (--duration {})", o.duration));
   ripples::hybrid::FluxOptions run = o;
+  attach_recorded_splash(run);
   ProgressBar bar(!a.quiet && !a.json);
   run.progress = [&](double t, double total) { bar.update(t, total); };
   const ripples::hybrid::FluxResult r = ripples::hybrid::run_flux(run);
@@ -168,6 +177,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   ripples::hybrid::RippleOptions& o = config.options;
   if (a.duration_override > 0)
     o.duration = a.duration_override, o.frame_every = std::min(o.frame_every, o.duration);
+  attach_recorded_splash(o);
   ripples::hybrid::RippleRun run(o);
   const auto& bed = run.bed();
   const double dx = bed.cell() / o.diameter;

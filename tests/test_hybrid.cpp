@@ -5,14 +5,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "bed_statistics.hpp"
 #include "collision.hpp"
 #include "flux_model.hpp"
 #include "height_field.hpp"
+#include "hybrid_splash_file.hpp"
+#include "input_error.hpp"
 #include "lammel_splash.hpp"
 #include "ripple_run.hpp"
 #include "rng.hpp"
+#include "transport.hpp"
 
 namespace grainlab::ripples::hybrid {
 
@@ -354,3 +358,89 @@ TEST(HybridRipples, StartsFromASeededSine) {
 }
 
 }  // namespace grainlab::ripples::hybrid
+
+// The recorded splash: a grainlab-splash/1 file's impacts, drawn one at a time from the nearest cell.
+namespace grainlab::validation {
+
+namespace {
+// Two speeds by two angles; in each cell impact 0 rebounds at (along, normal) = (3, 2) x the cell's speed
+// / 10 with one ejectum, impact 1 is nabbed with none.
+saltation::SplashFile two_by_two() {
+  saltation::SplashFile f;
+  f.text = {{"schema", saltation::kSplashSchema}, {"kind", "simulated"}};
+  f.grain_diameter_cm = 0.025, f.grain_density = 2.65;
+  f.speeds = {10, 40}, f.angles_deg = {10, 30};
+  for (double v : f.speeds)
+    for (double a : f.angles_deg) {
+      saltation::SplashCell c;
+      c.speed = v, c.angle_deg = a, c.impacts = 2;
+      c.rebound = {{0, 1, 0.3 * v, 0.2 * v, 0}, {1, 0, 0, 0, 0}};
+      c.ejecta = {{0, 0, 0, 0.5, 4.0, -1.5, 0, 1}};
+      f.cells.push_back(c);
+    }
+  return f;
+}
+}  // namespace
+
+TEST(RecordedSplash, CellsKeepTheirImpactsAndTheNearestCellIsDrawn) {
+  const ripples::hybrid::RecordedSplash r = recorded_splash(two_by_two(), "two.h5");
+  ASSERT_EQ(r.cells.size(), 4u);
+  const ripples::hybrid::RecordedCell& c = r.nearest(33, 12);  // speed 40, angle 10
+  EXPECT_EQ(c.speed, 40);
+  EXPECT_EQ(c.angle_deg, 10);
+  EXPECT_EQ(&r.nearest(1, 89), &r.cells[1]);  // below and above the grid: its edges
+  ASSERT_EQ(c.impacts.size(), 2u);
+  EXPECT_TRUE(c.impacts[0].rebounded);
+  EXPECT_EQ(c.impacts[0].rebound.along, 12);
+  EXPECT_EQ(c.impacts[0].rebound.normal, 8);
+  ASSERT_EQ(c.impacts[0].ejecta.size(), 1u);
+  EXPECT_EQ(c.impacts[0].ejecta[0].launch.normal, 4);
+  EXPECT_EQ(c.impacts[0].ejecta[0].along, -1.5);
+  EXPECT_FALSE(c.impacts[1].rebounded);
+  // Draws are uniform over the cell's impacts: the sampled rebound fraction and ejecta per impact match
+  // the cell's (1/2 and 1/2) within four standard errors.
+  Rng rng(5, 0);
+  double rebounds = 0, ejecta = 0;
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) {
+    const auto& hit = c.draw(rng.uniform());
+    rebounds += hit.rebounded, ejecta += static_cast<double>(hit.ejecta.size());
+  }
+  EXPECT_NEAR(rebounds / n, 0.5, 4 * 0.5 / std::sqrt(n));
+  EXPECT_NEAR(ejecta / n, 0.5, 4 * 0.5 / std::sqrt(n));
+  // A file with moments only (the sand gun) holds no impacts to draw.
+  EXPECT_THROW(recorded_splash(saltation::sand_gun_splash(), "sand-gun"), InputError);
+}
+
+// In the transport: every impact is nabbed and throws one grain straight up at 4 sqrt(g d); the grains
+// launched carry exactly that velocity out of the step that made them.
+TEST(RecordedSplash, TransportLaunchesTheRecordedEjecta) {
+  saltation::SplashFile f = two_by_two();
+  for (auto& c : f.cells)
+    c.rebound = {{0, 0, 0, 0, 0}, {1, 0, 0, 0, 0}},
+    c.ejecta = {{0, 0, 0, 0, 4, 0, 0, 1}, {1, 0, 0, 0, 4, 0, 0, 1}};
+  ripples::hybrid::TransportOptions o;
+  o.length = 40, o.width = 10, o.triggers = 1, o.collisions = false;
+  o.recorded = std::make_shared<const ripples::hybrid::RecordedSplash>(recorded_splash(f, "up.h5"));
+  ripples::hybrid::Transport t(o, nullptr);
+  while (t.tally.impacts == 0) t.step();
+  EXPECT_EQ(t.tally.deaths, 1u);
+  EXPECT_EQ(t.tally.ejecta, 1u);
+  ASSERT_EQ(t.airborne(), 1u);
+  const double up = 4 * std::sqrt(o.g * o.diameter);
+  EXPECT_NEAR(t.grains().vz[0], up, 1e-12 * up);
+  EXPECT_NEAR(t.grains().vx[0], 0, 1e-12 * up);
+  EXPECT_NEAR(t.grains().vy[0], 0, 1e-12 * up);
+  // Every impact rebounds at (along, normal) = (3, 2) scaled to the impact's speed, and ejects nothing:
+  // the grain leaves the flat bed downwind, rising at 2 in 3.
+  for (auto& c : f.cells) c.rebound = {{0, 1, 3, 2, 0}, {1, 1, 3, 2, 0}}, c.ejecta.clear();
+  o.recorded = std::make_shared<const ripples::hybrid::RecordedSplash>(recorded_splash(f, "rebound.h5"));
+  ripples::hybrid::Transport r(o, nullptr);
+  while (r.tally.impacts == 0) r.step();
+  ASSERT_EQ(r.airborne(), 1u);
+  const double vx = r.grains().vx[0], vy = r.grains().vy[0], vz = r.grains().vz[0];
+  EXPECT_GT(vx, 0);
+  EXPECT_NEAR(vz / std::hypot(vx, vy), 2.0 / 3.0, 1e-12);
+}
+
+}  // namespace grainlab::validation

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <filesystem>
 
 #include "ripple_config.hpp"
 #include "toml_reader.hpp"
@@ -45,8 +46,9 @@ void read_bed(const TomlReader& r, RippleOptions& o) {
 
 void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
   o.splash = r.string_or("splash", o.splash);
-  if (o.splash != "paper2021" && o.splash != "lammel2017")
-    r.fail("splash", "must be \"paper2021\" or \"lammel2017\"");
+  // A Lammel parameter set, or a grainlab-splash/1 file of recorded impacts (the command reads it).
+  if (o.splash != "paper2021" && o.splash != "lammel2017" && !std::filesystem::is_regular_file(o.splash))
+    r.fail("splash", "must be \"paper2021\", \"lammel2017\" or a grainlab-splash/1 file that exists");
   o.wind_loosened = r.boolean_or("wind_loosened", o.wind_loosened);
   const std::string launch = r.string_or("ejecta_launch", "normal");
   if (launch != "normal" && launch != "vertical")

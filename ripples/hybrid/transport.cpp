@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -16,7 +17,10 @@ void check_transport_options(const TransportOptions& o) {
   if (o.triggers < 1) throw std::invalid_argument("triggers must be at least 1");
   if (!(o.loosened_floor > 0) || !(o.loosened_floor <= 1))
     throw std::invalid_argument("loosened_floor must be in (0, 1]");
-  LammelParameters::named(o.splash);  // throws for an unknown set
+  if (o.recorded)
+    o.recorded->check();
+  else
+    LammelParameters::named(o.splash);  // throws for an unknown set
 }
 
 namespace {
@@ -29,7 +33,7 @@ WindColumnParams wind_params(const TransportOptions& o) {
 Transport::Transport(const TransportOptions& o, HeightField* bed)
     : o_(o),
       bed_(bed),
-      splash_(LammelParameters::named(o.splash)),
+      splash_(LammelParameters::named(o.recorded ? "paper2021" : o.splash)),
       wind_(wind_params(o)),
       rng_(o.seed),
       grid_(o.length * o.diameter, o.width * o.diameter, o.diameter),
@@ -145,6 +149,10 @@ void Transport::impacts() {
     }
     const double theta = std::atan2(-vn, vt), px = g.x[i], py = g.y[i];
     tally.impacts += 1, tally.speed_sum += speed, tally.angle_sum += theta;
+    if (o_.recorded) {
+      recorded_splash(i, b, {tx, ty, tz}, speed, theta);
+      continue;
+    }
     const double e_bar = std::max(0.0, mean_restitution(coefficients_, d_, d_, theta));
     const double up = rebound_angle(coefficients_, theta, rng_.uniform()), rebound = e_bar * speed;
     const double along = rebound * std::cos(up), off = rebound * std::sin(up);
@@ -172,6 +180,43 @@ void Transport::impacts() {
         launch(x, y, h, v * b.nx, v * b.ny, v * b.nz);
       ++tally.ejecta;
     }
+  }
+}
+
+// The splash as recorded impacts: one impact of the nearest cell (speed in sqrt(g d), angle in the frame
+// of the triangle hit), its rebound scaled by the speed over the cell's, its ejecta launched as recorded
+// from where they sat. Frame: t along the incident motion in the bed plane, n the bed's normal, a = n x t.
+// The same rules as the Lammel splash: a rebound or ejectum that cannot rise a diameter stays.
+void Transport::recorded_splash(std::size_t i, const BedPoint& b, const std::array<double, 3>& t,
+                                double speed, double theta) {
+  Grains& g = grains_;
+  const double scale = std::sqrt(o_.g * d_), rise2 = 2 * g_hat_ * d_, px = g.x[i], py = g.y[i];
+  const std::array<double, 3> n{b.nx, b.ny, b.nz};
+  const std::array<double, 3> a{n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
+                                n[0] * t[1] - n[1] * t[0]};
+  auto world = [&](const RecordedVelocity& v, double k, int axis) {
+    return k * (v.along * t[axis] + v.normal * n[axis] + v.across * a[axis]);
+  };
+  const RecordedCell& cell = o_.recorded->nearest(speed / scale, theta * 180 / M_PI);
+  const RecordedImpact& hit = cell.draw(rng_.uniform());
+  const double k = speed / cell.speed;  // cm/s per sqrt(g d) of the rebound: scaled to this impact's speed
+  const double uz = world(hit.rebound, k, 2);
+  if (hit.rebounded && uz > 0 && uz * uz > rise2) {
+    g.z[i] = b.h + 0.5 * d_, g.vx[i] = world(hit.rebound, k, 0), g.vy[i] = world(hit.rebound, k, 1),
+    g.vz[i] = uz;
+    v2_launch_ = std::max(v2_launch_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + uz * uz);
+  } else {  // dead: it settles
+    g.remove(i), ++tally.deaths;
+    if (bed_) bed_->deposit(px, py);
+  }
+  for (const RecordedEjectum& e : hit.ejecta) {
+    const double vz = world(e.launch, scale, 2);
+    if (vz * vz <= rise2) continue;  // cannot rise a diameter: it stays
+    const double x = into(px + d_ * (e.along * t[0] + e.across * a[0]), length_);
+    const double y = into(py + d_ * (e.along * t[1] + e.across * a[1]), width_);
+    if (bed_ && !bed_->erode(x, y)) continue;  // the erodible layer is used up here
+    launch(x, y, bed_ ? bed_->height(x, y) : 0, world(e.launch, scale, 0), world(e.launch, scale, 1), vz);
+    ++tally.ejecta;
   }
 }
 

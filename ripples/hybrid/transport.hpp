@@ -5,8 +5,10 @@
 // triangle beneath it, with the wind-loosened E_eff if asked), and the steady wind column updated from
 // the grains' drag every wind_interval. The bed is either fixed and flat (the flux runs) or a height field
 // that the grains that settle and leave change (the ripple runs).
+#include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 #include "h5_output.hpp"
 #include "height_field.hpp"
 #include "lammel_splash.hpp"
+#include "recorded_splash.hpp"
 #include "rng.hpp"
 #include "wind_column.hpp"
 
@@ -33,7 +36,9 @@ struct TransportOptions {
   double wind_memory = 20;                         // t*: the grains' drag is a running mean over this
   bool collisions = true;
   double collision_restitution = 0.9, collision_friction = 0.4;
-  std::string splash = "paper2021";  // LammelParameters::named
+  std::string splash = "paper2021";  // LammelParameters::named; with `recorded`, the file's name
+  // Recorded impacts (a grainlab-splash/1 file's cells) in place of the Lammel splash, when set.
+  std::shared_ptr<const RecordedSplash> recorded;
   // Eq. 19: bed grains loosened by the wind's stress at the bed need E_eff = E_d2 (1 - tau_fw / tau_ft),
   // tau_ft of Shao & Lu (2000); floored at loosened_floor E_d2 (early on the stress passes the threshold).
   bool wind_loosened = false;
@@ -90,6 +95,8 @@ class Transport {
   void collide();
   void impacts();
   void launch(double x, double y, double bed_height, double vx, double vy, double vz);
+  void recorded_splash(std::size_t i, const BedPoint& b, const std::array<double, 3>& t, double speed,
+                       double theta);
   void update_wind();
   double tau_threshold() const;  // Shao & Lu (2000), tau_ft / rho_f
 
