@@ -20,12 +20,12 @@ void RecordedSplash::check() const {
   auto fail = [&](const std::string& why) {
     throw std::invalid_argument("recorded splash " + source + ": " + why);
   };
+  for (const RecordedCell& c : cells)
+    if (c.impacts.empty()) fail("a cell holds no recorded impacts (a measured file with moments only?)");
   if (speeds.empty() || angles_deg.empty()) fail("has no grid");
   if (!std::is_sorted(speeds.begin(), speeds.end()) || !std::is_sorted(angles_deg.begin(), angles_deg.end()))
     fail("grid is not ascending");
   if (cells.size() != speeds.size() * angles_deg.size()) fail("cells do not fill the grid");
-  for (const RecordedCell& c : cells)
-    if (c.impacts.empty()) fail("a cell holds no recorded impacts (a measured file with moments only?)");
 }
 
 const RecordedCell& RecordedSplash::nearest(double speed, double angle_deg) const {
