@@ -201,8 +201,13 @@ Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, con
 
 }  // namespace
 
-Bed3d build_bed3d(const Bed3dSpec& spec) {
+Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log) {
   const auto start = std::chrono::steady_clock::now();
+  auto say = [&](const std::string& what) {
+    if (log)
+      log(fmt::format("bed of {} spheres: {} ({:.0f} s)", spec.count, what,
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
+  };
   Bed3d bed;
   bed.spec = spec;
   // As the 2-D beds are made (impact_bed.cpp): poured 100 x softer and less elastic (restitution 0.3),
@@ -217,6 +222,7 @@ Bed3d build_bed3d(const Bed3dSpec& spec) {
                                       std::sqrt(2 * column_top / 981.0) + spec.settle_time * ts, true),
                            "3-D impact bed");
   std::vector<Body3Spec> bodies = dem::expanded_bodies3d(pour);
+  say("poured and settled soft");
   for (int j = 1; j <= 10; ++j)
     bodies = settled(spec, std::move(bodies), spec.k_n / kSoftening * std::pow(kSoftening, j / 10.0), 0,
                      0.005 * ts);
@@ -224,6 +230,7 @@ Bed3d build_bed3d(const Bed3dSpec& spec) {
   // bed's own material from rest, as every impact will start.
   bodies = settled(spec, std::move(bodies), spec.k_n, 0, 0.1 * ts);
   bodies = settled(spec, std::move(bodies), spec.k_n, spec.restitution, 0.05 * ts);
+  say("stiffened, damped and relaxed");
   // The bed is then left alone for an impact's 0.07 s, as every impact will leave it, and each sphere that
   // moves more than 2.5 % of its radius (half the limit impacts-3d checks) is dealt with:
   // - one that carries no other is a loose grain: a sphere in a pocket of the surface rolls to and fro
@@ -245,6 +252,8 @@ Bed3d build_bed3d(const Bed3dSpec& spec) {
       deep_movers += moves && carrying[i];
     }
     ++bed.probes, bed.deep_movers = deep_movers;
+    say(fmt::format("probe {}: {} loose spheres taken away, {} deep spheres still moving", bed.probes,
+                    bodies.size() - kept.size(), deep_movers));
     if (kept.size() == bodies.size() && deep_movers == 0) break;
     bed.removed += bodies.size() - kept.size();
     for (std::size_t i = 0; i < kept.size(); ++i) kept[i].id = static_cast<std::int64_t>(i);

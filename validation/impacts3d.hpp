@@ -49,8 +49,10 @@ struct Bed3d {
   std::size_t deep_movers = 0;  // spheres below others still moving at the last probe (0: at rest)
 };
 
-// Pours and settles a bed (seconds to a minute of computing).
-Bed3d build_bed3d(const Bed3dSpec& spec);
+// Pours and settles a bed (seconds to a minute of computing for the thesis's beds; tens of minutes for a
+// 20,000-sphere sand bed). `log`, when given, hears of each stage as it ends (pour, stiffening, damping,
+// each probe for spheres still moving), with the time so far.
+Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log = {});
 // The bed build_bed3d makes around `bodies` (its spheres at rest), without the build's statistics: the
 // same scene, top and packing, so a bed kept in a checkpoint gives the same impacts bit for bit.
 Bed3d bed3d_from_bodies(const Bed3dSpec& spec, std::vector<Body3Spec> bodies);

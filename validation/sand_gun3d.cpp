@@ -190,7 +190,9 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
     if (log)
       log(fmt::format("sand gun: pouring {} sand spheres into {:.2f} x {:.2f} cm", spec.count, spec.width,
                       spec.depth));
-    kept.bed = build_bed3d(spec);
+    kept.bed = build_bed3d(spec, [&](const std::string& line) {
+      if (log) log("sand gun: " + line);
+    });
     if (!checkpoint.empty() && parallel::rank() == 0) write_sand_gun_checkpoint(checkpoint, kept, seed);
   }
   out.bed = kept.bed;
