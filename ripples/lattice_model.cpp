@@ -88,17 +88,6 @@ std::complex<double> lattice_linear_rate(double impact_deg, double forward, doub
   return {grow, -k * speed};
 }
 
-namespace {
-double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y) {
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i] / x.size(), my += y[i] / y.size();
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < x.size(); ++i)
-    sxy += (x[i] - mx) * (y[i] - my), sxx += (x[i] - mx) * (x[i] - mx);
-  return sxy / sxx;
-}
-}  // namespace
-
 LatticeResponse lattice_linear_response(LatticeParams p, double tau, int frames, int seeds) {
   if (p.initial_amplitude <= 0 || frames < 2 || seeds < 1 || tau <= 0)
     throw std::invalid_argument("the linear response needs a seeded sine, frames >= 2, seeds >= 1, tau > 0");

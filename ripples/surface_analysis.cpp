@@ -137,4 +137,13 @@ SurfaceShape surface_shape(const std::vector<double>& y, double dx, double min_r
   return s;
 }
 
+double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const auto n = static_cast<double>(x.size());
+  if (x.size() < 3) return std::nan("");
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sx += x[i], sy += y[i], sxx += x[i] * x[i], sxy += x[i] * y[i];
+  const double den = n * sxx - sx * sx;
+  return den > 0 ? (n * sxy - sx * sy) / den : std::nan("");
+}
+
 }  // namespace grainlab::ripples

@@ -23,6 +23,9 @@ std::vector<double> power_spectrum(const std::vector<double>& h);
 // highest maximum (grid steps); 0 if none.
 double autocorrelation_wavelength(const std::vector<double>& h);
 
+// Least-squares slope of y against x; NaN with fewer than 3 points or no spread in x.
+double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y);
+
 // Ripple shape of a periodic surface (x spacing dx, heights in the same unit; wind towards +x): crests and
 // troughs alternate, each standing at least `min_relief` above / below its neighbours (smaller wiggles are
 // skipped). Wavelength: mean crest spacing; height: mean crest-to-next-trough drop; ripple index: their

@@ -260,8 +260,8 @@ Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::str
     bodies = settled(spec, std::move(kept), spec.k_n, 0, (deep_movers ? 0.2 : 0.05) * ts);
     bodies = settled(spec, std::move(bodies), spec.k_n, spec.restitution, 0.05 * ts);
   }
-  const Bed3d built = bed3d_from_bodies(spec, std::move(bodies));
-  bed.scene = built.scene, bed.top = built.top, bed.packing_fraction = built.packing_fraction;
+  Bed3d built = bed3d_from_bodies(spec, std::move(bodies));
+  bed.scene = std::move(built.scene), bed.top = built.top, bed.packing_fraction = built.packing_fraction;
   bed.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return bed;
 }

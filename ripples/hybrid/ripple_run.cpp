@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "surface_analysis.hpp"
+
 namespace grainlab::ripples::hybrid {
 
 RippleOptions::RippleOptions() {
@@ -97,18 +99,6 @@ BedFrame RippleRun::frame() {
   return f;
 }
 
-namespace {
-// Least-squares slope of y against x; NaN with fewer than 3 points.
-double slope(const std::vector<double>& x, const std::vector<double>& y) {
-  const auto n = static_cast<double>(x.size());
-  if (x.size() < 3) return std::nan("");
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) sx += x[i], sy += y[i], sxx += x[i] * x[i], sxy += x[i] * y[i];
-  const double den = n * sxx - sx * sx;
-  return den > 0 ? (n * sxy - sx * sy) / den : std::nan("");
-}
-}  // namespace
-
 std::vector<SampleTable> RippleRun::save(const std::string& prefix) const {
   std::vector<SampleTable> out = transport_->save(prefix + "transport/");
   const SampleTable bed = grid_table(prefix + "bed", "key-point heights (cm)", bed_.heights(), bed_.nx());
@@ -171,8 +161,8 @@ RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {
     }
     r.response = band_response(series, frames.back().dx, interval);
   }
-  r.growth_rate = slope(t, ln_a);
-  r.chi = slope(ln_t, ln_l);
+  r.growth_rate = least_squares_slope(t, ln_a);
+  r.chi = least_squares_slope(ln_t, ln_l);
   r.migration_speed = std::nan("");
   if (profiles.size() >= 3 && !wavelengths.empty()) {
     std::sort(wavelengths.begin(), wavelengths.end());
