@@ -201,68 +201,109 @@ Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, con
 
 }  // namespace
 
-Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log) {
-  const auto start = std::chrono::steady_clock::now();
-  auto say = [&](const std::string& what) {
-    if (log)
-      log(fmt::format("bed of {} spheres: {} ({:.0f} s)", spec.count, what,
-                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
-  };
-  Bed3d bed;
-  bed.spec = spec;
-  // As the 2-D beds are made (impact_bed.cpp): poured 100 x softer and less elastic (restitution 0.3),
-  // so it comes to rest in about a second at a tenth of the steps; then stiffened in ten critically damped
-  // steps of 10^0.2, so no grain is thrown; then relaxed with the bed's own material from rest.
-  constexpr double kSoftening = 100, kPourRestitution = 0.3;
-  const double pitch = 2.2 * spec.largest_radius(), ts = spec.time_scale;
+namespace {
+
+// build_bed3d's stages, by the number done when each ends.
+constexpr int kStiffeningSteps = 10, kMaxProbes = 8;
+constexpr int kPoured = 1, kStiffened = kPoured + kStiffeningSteps, kDamped = kStiffened + 1,
+              kRelaxed = kDamped + 1;
+
+// As the 2-D beds are made (impact_bed.cpp): poured 100 x softer and less elastic (restitution 0.3), so it
+// comes to rest in about a second at a tenth of the steps; then stiffened in ten critically damped steps
+// of 10^0.2, so no grain is thrown; then relaxed with the bed's own material from rest.
+constexpr double kSoftening = 100, kPourRestitution = 0.3;
+
+std::vector<Body3Spec> poured(const Bed3dSpec& spec) {
+  const double pitch = 2.2 * spec.largest_radius();
   const double per_layer =
       std::max(1.0, std::floor(spec.width / pitch)) * std::max(1.0, std::floor(spec.depth / pitch));
   const double column_top = pitch * std::ceil(spec.count / per_layer) + spec.radius;
-  Scene pour = parse_scene(bed3d_text(spec, spec.k_n / kSoftening, kPourRestitution,
-                                      std::sqrt(2 * column_top / 981.0) + spec.settle_time * ts, true),
-                           "3-D impact bed");
-  std::vector<Body3Spec> bodies = dem::expanded_bodies3d(pour);
-  say("poured and settled soft");
-  for (int j = 1; j <= 10; ++j)
-    bodies = settled(spec, std::move(bodies), spec.k_n / kSoftening * std::pow(kSoftening, j / 10.0), 0,
-                     0.005 * ts);
+  Scene pour =
+      parse_scene(bed3d_text(spec, spec.k_n / kSoftening, kPourRestitution,
+                             std::sqrt(2 * column_top / 981.0) + spec.settle_time * spec.time_scale, true),
+                  "3-D impact bed");
+  return dem::expanded_bodies3d(pour);
+}
+
+// The bed is left alone for an impact's 0.07 s, as every impact will leave it, and each sphere that moves
+// more than 2.5 % of its radius (half the limit impacts-3d checks) is dealt with:
+// - one that carries no other is a loose grain: a sphere in a pocket of the surface rolls to and fro
+//   without loss (this contact law has no rolling resistance), so zeroing velocities does not put it at
+//   rest. It is taken away, as loose grains are brushed off a prepared bed.
+// - one that carries others is part of a bed still finding its place (a slow collapse near a wall, at a
+//   few cm/s). Taking it away opens a hole the spheres above fall into: a 3,000-sphere sand bed lost 96 %
+//   of its spheres in five passes, the 2,000-sphere thesis-sized one 99 %. The bed settles 0.2 s more,
+//   critically damped, instead (a 700-sphere bed whose deep spheres slid 0.42 cm then moves 0.006 cm).
+// Returns the log line.
+std::string probe(const Bed3dSpec& spec, Bed3dBuild& b) {
+  const double ts = spec.time_scale;
+  const std::vector<Body3Spec> moved = settled(spec, b.bodies, spec.k_n, spec.restitution, 0.07 * ts);
+  const std::vector<char> carrying = carries_a_sphere(b.bodies);
+  std::vector<Body3Spec> kept;
+  std::size_t deep_movers = 0;
+  for (std::size_t i = 0; i < b.bodies.size(); ++i) {
+    const bool moves = (moved[i].position - b.bodies[i].position).norm() > 0.025 * b.bodies[i].radius;
+    if (!moves || carrying[i]) kept.push_back(b.bodies[i]);
+    deep_movers += moves && carrying[i];
+  }
+  ++b.probes, b.deep_movers = deep_movers;
+  const std::size_t taken = b.bodies.size() - kept.size();
+  const std::string line = fmt::format("probe {}: {} loose spheres taken away, {} deep spheres still moving",
+                                       b.probes, taken, deep_movers);
+  if (taken == 0 && deep_movers == 0) {
+    b.finished = true;
+    return line;
+  }
+  b.removed += taken;
+  for (std::size_t i = 0; i < kept.size(); ++i) kept[i].id = static_cast<std::int64_t>(i);
+  b.bodies = settled(spec, std::move(kept), spec.k_n, 0, (deep_movers ? 0.2 : 0.05) * ts);
+  b.bodies = settled(spec, std::move(b.bodies), spec.k_n, spec.restitution, 0.05 * ts);
+  return line;
+}
+
+// Runs the stage after b.stage; returns what it did, for the log.
+std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b) {
+  const double ts = spec.time_scale;
+  const int stage = b.stage++;
+  if (stage == 0) {
+    b.bodies = poured(spec);
+    return "poured and settled soft";
+  }
+  if (stage < kStiffened) {
+    const double k = spec.k_n / kSoftening * std::pow(kSoftening, stage / double(kStiffeningSteps));
+    b.bodies = settled(spec, std::move(b.bodies), k, 0, 0.005 * ts);
+    return fmt::format("stiffened to k_n {:.3g} dyn/cm", k);
+  }
   // Critically damped at the bed's own stiffness until perched grains have found their places, then the
   // bed's own material from rest, as every impact will start.
-  bodies = settled(spec, std::move(bodies), spec.k_n, 0, 0.1 * ts);
-  bodies = settled(spec, std::move(bodies), spec.k_n, spec.restitution, 0.05 * ts);
-  say("stiffened, damped and relaxed");
-  // The bed is then left alone for an impact's 0.07 s, as every impact will leave it, and each sphere that
-  // moves more than 2.5 % of its radius (half the limit impacts-3d checks) is dealt with:
-  // - one that carries no other is a loose grain: a sphere in a pocket of the surface rolls to and fro
-  //   without loss (this contact law has no rolling resistance), so zeroing velocities does not put it at
-  //   rest. It is taken away, as loose grains are brushed off a prepared bed.
-  // - one that carries others is part of a bed still finding its place (a slow collapse near a wall, at
-  //   a few cm/s). Taking it away opens a hole the spheres above fall into: a 3,000-sphere sand bed lost
-  //   96 % of its spheres in five passes, the 2,000-sphere thesis-sized one 99 %. The bed settles 0.2 s
-  //   more, critically damped, instead (a 700-sphere bed whose deep spheres slid 0.42 cm then moves
-  //   0.006 cm).
-  for (int pass = 0; pass < 8; ++pass) {
-    const std::vector<Body3Spec> moved = settled(spec, bodies, spec.k_n, spec.restitution, 0.07 * ts);
-    const std::vector<char> carrying = carries_a_sphere(bodies);
-    std::vector<Body3Spec> kept;
-    std::size_t deep_movers = 0;
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-      const bool moves = (moved[i].position - bodies[i].position).norm() > 0.025 * bodies[i].radius;
-      if (!moves || carrying[i]) kept.push_back(bodies[i]);
-      deep_movers += moves && carrying[i];
-    }
-    ++bed.probes, bed.deep_movers = deep_movers;
-    say(fmt::format("probe {}: {} loose spheres taken away, {} deep spheres still moving", bed.probes,
-                    bodies.size() - kept.size(), deep_movers));
-    if (kept.size() == bodies.size() && deep_movers == 0) break;
-    bed.removed += bodies.size() - kept.size();
-    for (std::size_t i = 0; i < kept.size(); ++i) kept[i].id = static_cast<std::int64_t>(i);
-    bodies = settled(spec, std::move(kept), spec.k_n, 0, (deep_movers ? 0.2 : 0.05) * ts);
-    bodies = settled(spec, std::move(bodies), spec.k_n, spec.restitution, 0.05 * ts);
+  if (stage == kStiffened) {
+    b.bodies = settled(spec, std::move(b.bodies), spec.k_n, 0, 0.1 * ts);
+    return "damped";
   }
-  Bed3d built = bed3d_from_bodies(spec, std::move(bodies));
-  bed.scene = std::move(built.scene), bed.top = built.top, bed.packing_fraction = built.packing_fraction;
-  bed.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (stage == kDamped) {
+    b.bodies = settled(spec, std::move(b.bodies), spec.k_n, spec.restitution, 0.05 * ts);
+    return "relaxed";
+  }
+  const std::string line = probe(spec, b);
+  if (b.stage == kRelaxed + kMaxProbes) b.finished = true;
+  return line;
+}
+
+}  // namespace
+
+Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log, Bed3dBuild from,
+                  const std::function<void(const Bed3dBuild&)>& after_stage) {
+  Bed3dBuild b = std::move(from);
+  while (!b.finished) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::string what = next_stage(spec, b);
+    b.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (log) log(fmt::format("bed of {} spheres: {} ({:.0f} s)", spec.count, what, b.seconds));
+    if (after_stage) after_stage(b);
+  }
+  Bed3d bed = bed3d_from_bodies(spec, std::move(b.bodies));
+  bed.removed = b.removed, bed.probes = b.probes, bed.deep_movers = b.deep_movers;
+  bed.build_seconds = b.seconds;
   return bed;
 }
 

@@ -49,10 +49,24 @@ struct Bed3d {
   std::size_t deep_movers = 0;  // spheres below others still moving at the last probe (0: at rest)
 };
 
-// Pours and settles a bed (seconds to a minute of computing for the thesis's beds; tens of minutes for a
+// A bed part-way through its build: the spheres at rest after the first `stage` of build_bed3d's stages
+// (the pour, ten stiffening steps, damping, relaxing, then up to eight probes for spheres still moving)
+// and the build's counts so far. Each stage starts from spheres at rest, so a build continued from here
+// makes, bit for bit, the bed a build that never stopped would.
+struct Bed3dBuild {
+  int stage = 0;
+  bool finished = false;
+  std::vector<Body3Spec> bodies;
+  std::size_t removed = 0, probes = 0, deep_movers = 0;
+  double seconds = 0;  // computing time so far
+};
+
+// Pours and settles a bed (seconds to a minute of computing for the thesis's beds; an hour or more for a
 // 20,000-sphere sand bed). `log`, when given, hears of each stage as it ends (pour, stiffening, damping,
-// each probe for spheres still moving), with the time so far.
-Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log = {});
+// each probe for spheres still moving), with the time so far. The build starts from `from` (a fresh one:
+// the pour) and hands its state to `after_stage` after every stage, so a long build can be checkpointed.
+Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log = {},
+                  Bed3dBuild from = {}, const std::function<void(const Bed3dBuild&)>& after_stage = {});
 // The bed build_bed3d makes around `bodies` (its spheres at rest), without the build's statistics: the
 // same scene, top and packing, so a bed kept in a checkpoint gives the same impacts bit for bit.
 Bed3d bed3d_from_bodies(const Bed3dSpec& spec, std::vector<Body3Spec> bodies);

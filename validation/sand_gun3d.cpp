@@ -184,16 +184,30 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
           checkpoint.empty() ? std::nullopt : read_sand_gun_checkpoint(checkpoint, spec, seed)) {
     kept = std::move(*p);
     if (log)
-      log(fmt::format("sand gun: continuing from {}: its bed of {} spheres and {} finished impacts",
-                      checkpoint, kept.bed.scene.bodies3d.size(), kept.done.size()));
-  } else {
-    if (log)
-      log(fmt::format("sand gun: pouring {} sand spheres into {:.2f} x {:.2f} cm", spec.count, spec.width,
-                      spec.depth));
-    kept.bed = build_bed3d(spec, [&](const std::string& line) {
-      if (log) log("sand gun: " + line);
-    });
-    if (!checkpoint.empty() && parallel::rank() == 0) write_sand_gun_checkpoint(checkpoint, kept, seed);
+      log(kept.build.finished
+              ? fmt::format("sand gun: continuing from {}: its bed of {} spheres and {} finished impacts",
+                            checkpoint, kept.bed.scene.bodies3d.size(), kept.done.size())
+              : fmt::format("sand gun: continuing the bed's build from {}: {} stages done ({:.0f} s)",
+                            checkpoint, kept.build.stage, kept.build.seconds));
+  } else if (log) {
+    log(fmt::format("sand gun: pouring {} sand spheres into {:.2f} x {:.2f} cm", spec.count, spec.width,
+                    spec.depth));
+  }
+  if (!kept.build.finished) {
+    kept.bed.spec = spec;
+    auto keep_stage = [&](const Bed3dBuild& b) {
+      if (checkpoint.empty() || parallel::rank() != 0) return;
+      kept.build = b;
+      write_sand_gun_checkpoint(checkpoint, kept, seed);
+    };
+    kept.bed = build_bed3d(
+        spec,
+        [&](const std::string& line) {
+          if (log) log("sand gun: " + line);
+        },
+        std::move(kept.build), keep_stage);
+    kept.build = Bed3dBuild{};  // the bed holds it now (the last stage's checkpoint has it as finished)
+    kept.build.finished = true;
   }
   out.bed = kept.bed;
   if (log)

@@ -65,8 +65,10 @@ struct SandGunRun {
   std::vector<std::map<std::string, MeanInterval>> quantities;
 };
 
-// What a sand-gun checkpoint keeps: the built bed and each finished impact by (row 1-9, run index).
+// What a sand-gun checkpoint keeps: the bed (built, or part-way through its build) and each finished
+// impact by (row 1-9, run index).
 struct SandGunProgress {
+  Bed3dBuild build;  // while build.finished is false, the bed is not yet built (only bed.spec is set)
   Bed3d bed;
   std::map<std::pair<std::size_t, std::size_t>, Impact3dResult> done;
 };
@@ -78,9 +80,10 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
                                                         std::uint64_t seed);
 
 // Builds the bed and runs `runs` impacts of each row (`rows`: 1-based indices; empty: all nine), spread
-// over the MPI ranks. With a `checkpoint` path, the bed and the impacts already in that file are taken from
-// it, and the file is rewritten (rank 0) after the bed is built and after each round of impacts (one per
-// rank), so a run stopped at any point continues from there to the same numbers.
+// over the MPI ranks. With a `checkpoint` path, the bed (or its build so far) and the impacts already in that
+// file are taken from it, and the file is rewritten (rank 0) after each stage of the bed's build and after
+// each round of impacts (one per rank), so a run stopped at any point continues from there to the same
+// numbers.
 SandGunRun run_sand_gun(const Bed3dSpec& bed, const std::vector<std::size_t>& rows, std::size_t runs,
                         std::uint64_t seed, const std::function<void(const std::string&)>& log = {},
                         const EnsembleProgress& progress = {}, const std::string& checkpoint = {});

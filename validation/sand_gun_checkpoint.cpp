@@ -1,6 +1,7 @@
-// A sand-gun run's checkpoint: the settled bed (its spheres, exactly) and every impact finished so far.
-// Building a 20,000-sphere bed takes tens of minutes and each impact on it a minute or two, so a long run
-// keeps both and continues from them. Impact i of a row depends only on the bed, the row and (seed, i),
+// A sand-gun run's checkpoint: the settled bed (its spheres, exactly) and every impact finished so far, or,
+// while the bed is being built, its spheres after the last finished stage of the build. Building a
+// 20,000-sphere bed takes an hour or more and each impact on it a minute or two, so a long run keeps both
+// and continues from them. Impact i of a row depends only on the bed, the row and (seed, i),
 // so impacts found in the file are the ones the run would compute: a continued run gives the same numbers
 // as one that never stopped, and may ask for more runs or other rows than the first did.
 #include <fmt/format.h>
@@ -19,11 +20,12 @@ namespace grainlab::validation {
 
 namespace {
 
-constexpr const char* kKind = "grainlab-sand-gun-checkpoint/1";
+constexpr const char* kKind = "grainlab-sand-gun-checkpoint/2";
 const std::vector<std::string> kSphereColumns = {"id",  "radius", "mass", "i00", "i01", "i02",     "i10",
                                                  "i11", "i12",    "i20",  "i21", "i22", "x",       "y",
                                                  "z",   "qw",     "qx",   "qy",  "qz",  "material"};
-const std::vector<std::string> kBuildColumns = {"removed", "probes", "deep_movers", "build_seconds"};
+const std::vector<std::string> kBuildColumns = {"removed",       "probes", "deep_movers",
+                                                "build_seconds", "stage",  "finished"};
 const std::vector<std::string> kImpactColumns = {
     "row",      "run", "x_impact", "y_impact",       "z_impact",  "rebounded",
     "vx",       "vy",  "vz",       "incident_speed", "alpha_deg", "incident_mass",
@@ -65,13 +67,22 @@ Body3Spec sphere_of(const std::vector<double>& r) {
 }  // namespace
 
 void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed) {
-  SampleTable spheres{"bed/spheres", "the settled bed's spheres, at rest", kSphereColumns, {}};
-  for (const Body3Spec& b : p.bed.scene.bodies3d) spheres.rows.push_back(sphere_row(b));
-  SampleTable build{"bed/build",
-                    "how the bed was made",
-                    kBuildColumns,
-                    {{static_cast<double>(p.bed.removed), static_cast<double>(p.bed.probes),
-                      static_cast<double>(p.bed.deep_movers), p.bed.build_seconds}}};
+  // A built bed, or the spheres of a build still under way.
+  const bool built = !p.bed.scene.bodies3d.empty();
+  SampleTable spheres{
+      "bed/spheres", "the bed's spheres, at rest (after `stage` stages of its build)", kSphereColumns, {}};
+  for (const Body3Spec& b : built ? p.bed.scene.bodies3d : p.build.bodies)
+    spheres.rows.push_back(sphere_row(b));
+  const std::vector<double> counts =
+      built
+          ? std::vector<double>{static_cast<double>(p.bed.removed),     static_cast<double>(p.bed.probes),
+                                static_cast<double>(p.bed.deep_movers), p.bed.build_seconds,
+                                static_cast<double>(p.build.stage),     1.0}
+          : std::vector<double>{static_cast<double>(p.build.removed),     static_cast<double>(p.build.probes),
+                                static_cast<double>(p.build.deep_movers), p.build.seconds,
+                                static_cast<double>(p.build.stage),       p.build.finished ? 1.0 : 0.0};
+  SampleTable build{
+      "bed/build", "how the bed was made, and whether its build is finished", kBuildColumns, {counts}};
   SampleTable impacts{"impacts", "each finished impact: its row (1-9) and run index", kImpactColumns, {}};
   SampleTable ejecta{"ejecta", "each impact's ejecta (impact: its row in `impacts`)", kEjectumColumns, {}};
   for (const auto& [key, r] : p.done) {
@@ -119,16 +130,26 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
   }
   if (bodies.empty()) refuse("holds no bed");
   const auto& build = file.tables.at("bed/build").rows;
-  if (build.size() != 1 || !std::all_of(build[0].begin(), build[0].end(), [](double v) { return v >= 0; }))
+  if (build.size() != 1 || !std::all_of(build[0].begin(), build[0].end(), [](double v) { return v >= 0; }) ||
+      (build[0][5] != 0 && build[0][5] != 1) || build[0][4] != std::floor(build[0][4]) || build[0][4] > 1000)
     refuse("has no record of how its bed was built");
   SandGunProgress p;
+  Bed3dBuild& b = p.build;
+  b.removed = static_cast<std::size_t>(build[0][0]), b.probes = static_cast<std::size_t>(build[0][1]);
+  b.deep_movers = static_cast<std::size_t>(build[0][2]), b.seconds = build[0][3];
+  b.stage = static_cast<int>(build[0][4]), b.finished = build[0][5] == 1;
+  if (!b.finished) {
+    b.bodies = std::move(bodies);
+    if (!file.tables.at("impacts").rows.empty()) refuse("has impacts on a bed still being built");
+    return p;
+  }
   try {
     p.bed = bed3d_from_bodies(spec, std::move(bodies));
   } catch (const std::exception& e) {
     refuse(fmt::format("holds a bed that does not fit its box ({})", e.what()));
   }
-  p.bed.removed = static_cast<std::size_t>(build[0][0]), p.bed.probes = static_cast<std::size_t>(build[0][1]);
-  p.bed.deep_movers = static_cast<std::size_t>(build[0][2]), p.bed.build_seconds = build[0][3];
+  p.bed.removed = b.removed, p.bed.probes = b.probes, p.bed.deep_movers = b.deep_movers;
+  p.bed.build_seconds = b.seconds;
   const auto& heads = file.tables.at("impacts").rows;
   std::vector<std::vector<double>> packed;
   for (const auto& h : heads) {
