@@ -110,8 +110,10 @@ class SphereBed {
   void pipelined(K& k, bool complete);
   template <bool Complete, class K>
   void drift_all(K& k);
-  template <bool Complete, bool Distributed, class K>
-  void sweep(K& k, const std::uint8_t* skip, std::size_t lag);
+  template <bool Complete, class K>
+  void sweep(K& k, std::size_t lag);
+  template <bool Complete, class K>
+  void sweep_distributed(K& k, std::size_t lag);
   template <class K>
   void forces_with(K& k);
   template <class K>
@@ -165,6 +167,9 @@ class SphereBed {
   Decomposition decomposition_;
   std::vector<std::uint8_t> ghost_;
   std::vector<std::uint8_t> not_swept_;  // ghosts, and spheres sent as ghosts (drifted before the sweep)
+  // The sweep's steps t in [first, last) that are a serial bed's: sphere t drifts in the sweep and the
+  // row of t - lag is this rank's (set at each rebuild).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> plain_runs_;
   std::vector<int> to_, from_;
   std::vector<std::vector<std::uint32_t>> send_slots_, recv_slots_;
   std::vector<std::vector<double>> send_buf_, recv_buf_;
