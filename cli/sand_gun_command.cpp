@@ -59,6 +59,7 @@ nlohmann::json run_json(const SandGunCommand& a, const SandGunRun& run) {
           {"seed", a.seed},
           {"bed_seed", a.bed_seed},
           {"runs", a.runs},
+          {"visible_above", run.visible_above},
           {"rows", rows},
           {"exponents", exponents}};
 }
@@ -84,6 +85,12 @@ void SandGunCommand::add(CLI::App& app) {
   cmd->add_option("--checkpoint", checkpoint,
                   "keep the bed and each finished impact in this HDF5 file; run again with it to continue "
                   "(more --runs or other --rows may be asked for)");
+  cmd->add_option("--visible-above", visible_above,
+                  "count an ejectum only if its centre rises this many bed-grain diameters above the top of "
+                  "the bed (1: the thesis's rule; the photographs' apparent surface stood a few diameters "
+                  "above the true one)")
+      ->default_val(1.0)
+      ->check(CLI::Range(1.0, 50.0));
   cmd->add_flag("--json", json, "print one JSON object (rows, quantities with intervals, exponents)");
   cmd->add_flag("--quiet,-q", quiet, "no progress");
 }
@@ -99,7 +106,7 @@ int SandGunCommand::dispatch() const {
   Bed3dSpec spec = sand_gun_bed_spec(spheres, stiffness);
   spec.seed = bed_seed;
   ProgressBar bar(speak, "impacts");
-  const SandGunRun run = run_sand_gun(
+  SandGunRun run = run_sand_gun(
       spec, rows, runs, seed,
       [&](const std::string& line) {
         if (!speak) return;
@@ -109,6 +116,7 @@ int SandGunCommand::dispatch() const {
       [&](std::size_t d, std::size_t t) { bar.update(static_cast<double>(d), static_cast<double>(t)); },
       checkpoint);
   bar.finish();
+  if (visible_above != 1) recount_sand_gun(run, visible_above);
   if (parallel::rank() != 0) return 0;
   if (json) {
     fmt::print("{}\n", run_json(*this, run).dump(2));

@@ -13,7 +13,7 @@ struct SandGunCommand {
   std::vector<std::size_t> rows;
   std::size_t runs = 20;
   std::uint64_t seed = 1, bed_seed = 1;
-  double stiffness = 1;
+  double stiffness = 1, visible_above = 1;
   std::string checkpoint;
   bool json = false, quiet = false;
 

@@ -52,6 +52,26 @@ TEST(SandGun3d, PowerLawFitRecoversAnExponent) {
   EXPECT_NEAR(fit_power_law(speed, ejecta).exponent, 1.5205, 1e-4);
 }
 
+// The photographs' counting rule: an ejectum recorded at top + 1 d moving up at v_z rises v_z^2 / 2g more,
+// so with d = 0.078 cm it is seen above top + 3 d only if v_z >= sqrt(2 g 2 d) = 17.49 cm/s.
+TEST(SandGun3d, EjectaBelowTheApparentSurfaceAreNotCounted) {
+  Impact3dResult r;
+  r.incident_speed = 1000, r.alpha_deg = 15, r.g = 981;
+  for (double vz : {10.0, 17.4, 17.6, 40.0}) {
+    Ejectum3d e;
+    e.vx = 5, e.vz = vz;
+    r.ejecta.push_back(e);
+  }
+  const auto all = sand_gun_quantities({r});
+  EXPECT_EQ(all.at("ejecta").mean, 4);
+  EXPECT_NEAR(all.at("ej_vz").mean, (10 + 17.4 + 17.6 + 40) / 4, 1e-12);
+  const auto seen = sand_gun_quantities({r}, 3, 0.078);
+  EXPECT_EQ(seen.at("ejecta").mean, 2);
+  EXPECT_NEAR(seen.at("ej_vz").mean, (17.6 + 40) / 2, 1e-12);
+  EXPECT_NEAR(seen.at("reptation_event").mean, 2 * 5 * (17.6 + 40) / 981, 1e-12);
+  EXPECT_EQ(sand_gun_quantities({r}, 1, 0.078).at("ejecta").mean, 4);  // 1 d: the thesis's rule
+}
+
 TEST(SandGun3d, SandBedHoldsStill) {
   // A small sand bed (0.71 x 0.35 cm, ten grains deep). Left alone for an impact's 0.0138 s it must move
   // less than the thesis-sized bed's limits scaled to the grain: 2.5 % of a diameter, 1 cm/s x sqrt(r / 1

@@ -76,7 +76,11 @@ ImpactOptions sand_gun_options(const Bed3dSpec& bed) {
   return o;
 }
 
-std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact3dResult>& impacts) {
+std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact3dResult>& impacts,
+                                                        double visible_above, double diameter) {
+  // An ejectum is recorded as its centre crosses top + 1 d moving up at e.vz; its apex is e.vz^2 / 2g
+  // higher.
+  const double extra_rise = std::max(0.0, visible_above - 1) * diameter;
   std::map<std::string, std::vector<double>> v;
   for (const Impact3dResult& r : impacts) {
     const double a = r.alpha_deg * kDeg, speed = r.incident_speed;
@@ -89,7 +93,10 @@ std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact
     v["energy_ratio"].push_back(rebound((r.vx * r.vx + r.vz * r.vz) / (speed * speed)));
     v["eps_lateral"].push_back(rebound(r.vy / speed));
     double reptation = 0;
+    std::size_t counted = 0;
     for (const Ejectum3d& e : r.ejecta) {
+      if (e.vz * e.vz / (2 * r.g) < extra_rise) continue;
+      ++counted;
       const double range = 2 * e.vx * e.vz / r.g;
       reptation += range;
       v["reptation"].push_back(range);
@@ -97,7 +104,7 @@ std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact
       v["theta_e"].push_back(std::atan2(e.vx, e.vz) / kDeg);
       v["ej_sideways"].push_back(std::abs(std::sin(std::atan2(e.vy, e.vx))));
     }
-    v["ejecta"].push_back(static_cast<double>(r.ejecta.size()));
+    v["ejecta"].push_back(static_cast<double>(counted));
     v["reptation_event"].push_back(reptation);
   }
   std::map<std::string, MeanInterval> q;
@@ -229,6 +236,12 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
   return out;
 }
 
+void recount_sand_gun(SandGunRun& run, double visible_above) {
+  run.visible_above = visible_above;
+  for (std::size_t i = 0; i < run.rows.size(); ++i)
+    run.quantities[i] = sand_gun_quantities(run.impacts[i], visible_above, 2 * run.bed.spec.radius);
+}
+
 std::vector<std::size_t> sand_gun_speed_series(const SandGunRun& run) {
   std::vector<std::size_t> out;
   for (std::size_t i = 0; i < run.rows.size(); ++i)
@@ -283,7 +296,13 @@ std::string sand_gun_markdown(const SandGunRun& run) {
                     {"eps_iy", "eps_iy"},
                     {"theta_i", "theta_i (deg)"},
                     {"energy_ratio", "E_out/E_in"}});
-  md += "\nTable 3.12 (the ejecta; reptation = 2 v_x v_z / g at one diameter above the top):\n\n";
+  md += "\nTable 3.12 (the ejecta; reptation = 2 v_x v_z / g at one diameter above the top";
+  md += run.visible_above == 1
+            ? "):\n\n"
+            : fmt::format(
+                  "; counted only if they rise {:g} diameters above the top, as the photographs' "
+                  "apparent surface would have let them be seen):\n\n",
+                  run.visible_above);
   md += table(run, {{"ejecta", "ejecta/event"},
                     {"reptation_event", "reptation/event (cm)"},
                     {"reptation", "reptation/ejectum (cm)"},

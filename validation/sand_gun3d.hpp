@@ -47,7 +47,15 @@ ImpactOptions sand_gun_options(const Bed3dSpec& bed);
 // ejecta (per event), reptation_event (cm: sum over an event's ejecta of 2 v_x v_z / g), reptation
 // (per ejectum, cm), ej_vz (vertical velocity, cm/s), theta_e (ejection angle from the vertical, in the
 // incident plane, degrees), plus 3-D ones: ej_sideways, eps_lateral.
-std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact3dResult>& impacts);
+//
+// `visible_above` (in bed-grain diameters d) is how high above the top of the bed an ejectum's centre
+// must rise to be counted. 1 is the thesis's rule for its simulations, and grainlab's. The photographs
+// counted only what rose into view: their apparent bed surface, the highest grains along the line of
+// sight, stood "a few grain diameters" above the true bed level at the impact (thesis Ch. III section 6),
+// and a grain moving against a bed of identical grains is lost in it. With visible_above > 1, an ejectum
+// whose apex stays below top + visible_above d is left out of every ejecta quantity.
+std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact3dResult>& impacts,
+                                                        double visible_above = 1, double diameter = 0);
 
 // A power law y = a x^n fitted by weighted least squares to the logs of positive means (weights from
 // their intervals): the exponent and its 95 % half-width.
@@ -60,6 +68,7 @@ PowerLaw fit_power_law(const std::vector<double>& x, const std::vector<double>& 
 
 struct SandGunRun {
   Bed3d bed;
+  double visible_above = 1;  // the ejecta counting rule of `quantities` (sand_gun_quantities)
   std::vector<SandGunRow> rows;
   std::vector<std::vector<Impact3dResult>> impacts;  // per row
   std::vector<std::map<std::string, MeanInterval>> quantities;
@@ -92,6 +101,10 @@ SandGunRun run_sand_gun(const Bed3dSpec& bed, const std::vector<std::size_t>& ro
 // "mean [95 % interval] (experiment)"; then the fitted exponents of ejecta per event, ejection velocity and
 // reptation per ejectum in v_i over the rows at 15-16 degrees (markdown).
 std::string sand_gun_markdown(const SandGunRun& run);
+
+// The quantities again with ejecta counted only when they rise `visible_above` bed-grain diameters above
+// the top of the bed (sand_gun_quantities).
+void recount_sand_gun(SandGunRun& run, double visible_above);
 
 // The rows at 15-16 degrees (the speed series 650-1200 cm/s) of a run, as indices into run.rows.
 std::vector<std::size_t> sand_gun_speed_series(const SandGunRun& run);
