@@ -49,7 +49,7 @@ std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<
   p.vertices = vertices;
   // Each directed edge must appear once and its reverse once: the surface is closed and consistently
   // oriented.
-  std::map<std::pair<int, int>, int> directed;
+  std::map<std::pair<int, int>, int> directed, face_of;
   std::vector<int> used(static_cast<std::size_t>(nv), 0);
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const auto& face = faces[f];
@@ -61,6 +61,7 @@ std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<
       const Vec3 &a = vertices[face[k]], &b = vertices[face[(k + 1) % face.size()]];
       n += (a - mean).cross(b - mean);
       ++directed[{face[k], face[(k + 1) % face.size()]}];
+      face_of[{face[k], face[(k + 1) % face.size()]}] = static_cast<int>(f);
       ++used[face[k]];
     }
     if (n.norm() < 1e-12 * size * size) return fmt::format("face {} has no area", f);
@@ -77,7 +78,10 @@ std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<
     if (!directed.count({e.second, e.first}))
       return fmt::format("edge {}-{} belongs to one face only: the faces do not close the solid", e.first,
                          e.second);
-    if (e.first < e.second) p.edges.push_back(e);
+    if (e.first < e.second) {
+      p.edges.push_back(e);
+      p.edge_faces.emplace_back(face_of.at(e), face_of.at({e.second, e.first}));
+    }
   }
   for (int i = 0; i < nv; ++i)
     if (!used[i]) return fmt::format("vertex {} belongs to no face", i);

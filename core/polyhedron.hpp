@@ -17,6 +17,8 @@ struct Polyhedron {
   std::vector<Vec3> normals;               // outward unit normal per face
   std::vector<double> offsets;             // plane of face f: normals[f] . x = offsets[f]
   std::vector<std::pair<int, int>> edges;  // each edge once, a < b
+  // Per edge, the two faces that meet there: the one that runs a -> b, then the one that runs b -> a.
+  std::vector<std::pair<int, int>> edge_faces;
 
   // Signed distance of p from the plane of face f (positive outside).
   double plane_distance(int f, const Vec3& p) const { return normals[f].dot(p) - offsets[f]; }
