@@ -161,6 +161,64 @@ int face_contacts(const Placed3& ref, int rf, const Placed3& inc, bool ref_is_b,
   return added;
 }
 
+// Only edge pairs that form a face of the Minkowski difference A - B can give the least overlap (or
+// separate the two): those whose arcs on the Gauss map cross, the arc of A's edge running between the
+// normals of its two faces, the arc of B's between its two negated. The other pairs' axes overlap more
+// than some face's, so skipping them changes no result, and it leaves a few dozen of an irregular grain
+// pair's 900 edge pairs to project.
+//
+// The test needs, for each edge, on which side of its arc's plane each face normal of the other body
+// lies: for A's edge i, bit k of neg_a[i] (pos_a[i]) is set when B's face normal k is strictly below
+// (above) it; the same for B's edges over A's faces. Bit masks keep the pair tests free of branches (up to
+// 64 faces a body; bodies with more, or without their edges' faces, have every pair tested).
+class MinkowskiEdgePairs {
+ public:
+  MinkowskiEdgePairs(const Placed3& a, const Placed3& b)
+      : a_(*a.hull),
+        b_(*b.hull),
+        usable_(a_.edge_faces.size() == a_.edges.size() && b_.edge_faces.size() == b_.edges.size() &&
+                a.world_normals.size() <= 64 && b.world_normals.size() <= 64) {
+    if (!usable_) return;
+    sides(a, b, neg_a_, pos_a_);
+    sides(b, a, neg_b_, pos_b_);
+  }
+  // The arcs a1 -> a2 (A's edge i) and -b1 -> -b2 (B's edge j) cross: each arc's great circle separates
+  // the other's ends (the products of their sides are negative), and they cross on the arcs, not
+  // opposite them.
+  bool forms_face(std::size_t i, std::size_t j) const {
+    if (!usable_) return true;
+    const auto [fa1, fa2] = a_.edge_faces[i];
+    const auto [fb1, fb2] = b_.edge_faces[j];
+    const std::uint64_t na = neg_a_[i], pa = pos_a_[i], nb = neg_b_[j], pb = pos_b_[j];
+    const bool straddle_a = ((na >> fb1) & (pa >> fb2) & 1) | ((pa >> fb1) & (na >> fb2) & 1);
+    const bool straddle_b = ((nb >> fa1) & (pb >> fa2) & 1) | ((pb >> fa1) & (nb >> fa2) & 1);
+    const bool on_arcs = ((na >> fb1) & (pb >> fa2) & 1) | ((pa >> fb1) & (nb >> fa2) & 1);
+    return straddle_a & straddle_b & on_arcs;
+  }
+
+ private:
+  static void sides(const Placed3& h, const Placed3& other, std::vector<std::uint64_t>& neg,
+                    std::vector<std::uint64_t>& pos) {
+    const std::size_t ne = h.hull->edges.size();
+    neg.assign(ne, 0), pos.assign(ne, 0);
+    for (std::size_t i = 0; i < ne; ++i) {
+      const auto [f1, f2] = h.hull->edge_faces[i];
+      const Vec3 arc = h.world_normals[f2].cross(h.world_normals[f1]);
+      for (std::size_t k = 0; k < other.world_normals.size(); ++k) {
+        const double side = other.world_normals[k].dot(arc);
+        neg[i] |= std::uint64_t{side < 0} << k;
+        pos[i] |= std::uint64_t{side > 0} << k;
+      }
+    }
+  }
+  const Polyhedron &a_, &b_;
+  bool usable_;
+  // (Kept between calls: a bed asks this of thousands of pairs a step.)
+  static thread_local std::vector<std::uint64_t> neg_a_, pos_a_, neg_b_, pos_b_;
+};
+thread_local std::vector<std::uint64_t> MinkowskiEdgePairs::neg_a_, MinkowskiEdgePairs::pos_a_,
+    MinkowskiEdgePairs::neg_b_, MinkowskiEdgePairs::pos_b_;
+
 }  // namespace
 
 int sphere_hull(const Placed3& s, const Placed3& h, bool sphere_is_a, std::vector<ContactPoint3>& out) {
@@ -200,48 +258,11 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
     if (!overlap_on(a, b, b.world_normals[f], best, 1, static_cast<int>(f), 1.0)) return 0;
   const auto& ea = a.hull->edges;
   const auto& eb = b.hull->edges;
-  // Only edge pairs that form a face of the Minkowski difference A - B can give the least overlap (or
-  // separate the two): those whose arcs on the Gauss map cross, the arc of A's edge running between the
-  // normals of its two faces, the arc of B's between its two negated. The other pairs' axes overlap
-  // more than some face's, so skipping them changes no result, and it leaves a few dozen of an
-  // irregular grain pair's 900 edge pairs to project.
-  // The tests need, for each edge, on which side of its arc's plane each face normal of the other body
-  // lies: for A's edge i, bit k of neg_a[i] (pos_a[i]) is set when B's face normal k is strictly below
-  // (above) it; the same for B's edges over A's faces. Bit masks keep the 900 pair tests free of branches
-  // (up to 64 faces a body; more take every pair).
-  thread_local std::vector<std::uint64_t> neg_a, pos_a, neg_b, pos_b;
-  const bool gauss = a.hull->edge_faces.size() == ea.size() && b.hull->edge_faces.size() == eb.size() &&
-                     a.world_normals.size() <= 64 && b.world_normals.size() <= 64;
-  auto sides = [](const Placed3& h, const Placed3& other, std::vector<std::uint64_t>& neg,
-                  std::vector<std::uint64_t>& pos) {
-    const std::size_t ne = h.hull->edges.size();
-    neg.assign(ne, 0), pos.assign(ne, 0);
-    for (std::size_t i = 0; i < ne; ++i) {
-      const auto [f1, f2] = h.hull->edge_faces[i];
-      const Vec3 arc = h.world_normals[f2].cross(h.world_normals[f1]);
-      for (std::size_t k = 0; k < other.world_normals.size(); ++k) {
-        const double side = other.world_normals[k].dot(arc);
-        neg[i] |= std::uint64_t{side < 0} << k;
-        pos[i] |= std::uint64_t{side > 0} << k;
-      }
-    }
-  };
-  if (gauss) sides(a, b, neg_a, pos_a), sides(b, a, neg_b, pos_b);
+  const MinkowskiEdgePairs gauss(a, b);
   // Edge axes must beat the best face axis clearly, so resting face contacts do not flicker to edges.
   for (std::size_t i = 0; i < ea.size(); ++i) {
-    const std::uint64_t na = gauss ? neg_a[i] : 0, pa = gauss ? pos_a[i] : 0;
-    const auto [fa1, fa2] = gauss ? a.hull->edge_faces[i] : std::pair<int, int>{0, 0};
     for (std::size_t j = 0; j < eb.size(); ++j) {
-      if (gauss) {
-        // The arcs a1 -> a2 and -b1 -> -b2 cross: each arc's great circle separates the other's ends
-        // (the two sides' products are negative), and they cross on the arcs, not opposite them.
-        const auto [fb1, fb2] = b.hull->edge_faces[j];
-        const std::uint64_t nb = neg_b[j], pb = pos_b[j];
-        const bool straddle_a = ((na >> fb1) & (pa >> fb2) & 1) | ((pa >> fb1) & (na >> fb2) & 1);
-        const bool straddle_b = ((nb >> fa1) & (pb >> fa2) & 1) | ((pb >> fa1) & (nb >> fa2) & 1);
-        const bool on_arcs = ((na >> fb1) & (pb >> fa2) & 1) | ((pa >> fb1) & (nb >> fa2) & 1);
-        if (!(straddle_a & straddle_b & on_arcs)) continue;
-      }
+      if (!gauss.forms_face(i, j)) continue;
       const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
       const Vec3 db = b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first];
       Vec3 n = da.cross(db);
