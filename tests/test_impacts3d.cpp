@@ -105,6 +105,9 @@ TEST(SandGunCheckpoint, KeepsTheBedAndTheImpactsExactly) {
   }
   EXPECT_EQ(back->bed.top, bed.top);
   EXPECT_EQ(back->bed.probes, bed.probes);
+  EXPECT_EQ(back->bed.build_stages, bed.build_stages);  // the finished bed's own record, not a reset one
+  EXPECT_GT(bed.build_stages, 13);
+  EXPECT_TRUE(back->build.finished);
   ASSERT_EQ(back->done.size(), 2u);
   expect_same_impact(back->done.at({1, 0}), p.done.at({1, 0}));
   expect_same_impact(back->done.at({4, 7}), p.done.at({4, 7}));
@@ -128,6 +131,7 @@ TEST(SandGunCheckpoint, ABuildContinuedFromAnyStageMakesTheSameBed) {
   ASSERT_GT(stages.size(), 13u);  // the pour, ten stiffening steps, damping, relaxing, one probe or more
   EXPECT_TRUE(stages.back().finished);
   EXPECT_EQ(whole.probes, stages.back().probes);
+  EXPECT_EQ(whole.build_stages, stages.back().stage);
   for (std::size_t k : {std::size_t{0}, std::size_t{12}, stages.size() - 2}) {
     SandGunProgress p;
     p.build = stages[k];

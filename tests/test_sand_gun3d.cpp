@@ -70,6 +70,9 @@ TEST(SandGun3d, EjectaBelowTheApparentSurfaceAreNotCounted) {
   EXPECT_NEAR(seen.at("ej_vz").mean, (17.6 + 40) / 2, 1e-12);
   EXPECT_NEAR(seen.at("reptation_event").mean, 2 * 5 * (17.6 + 40) / 981, 1e-12);
   EXPECT_EQ(sand_gun_quantities({r}, 1, 0.078).at("ejecta").mean, 4);  // 1 d: the thesis's rule
+  // A rule above 1 d without the grains' size cannot be applied: it must not silently count everything.
+  EXPECT_THROW(sand_gun_quantities({r}, 3, 0), std::invalid_argument);
+  EXPECT_THROW(sand_gun_quantities({r}, 0.5, 0.078), std::invalid_argument);
 }
 
 TEST(SandGun3d, SandBedHoldsStill) {

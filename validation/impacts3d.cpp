@@ -303,7 +303,7 @@ Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::str
   }
   Bed3d bed = bed3d_from_bodies(spec, std::move(b.bodies));
   bed.removed = b.removed, bed.probes = b.probes, bed.deep_movers = b.deep_movers;
-  bed.build_seconds = b.seconds;
+  bed.build_seconds = b.seconds, bed.build_stages = b.stage;
   return bed;
 }
 

@@ -47,6 +47,7 @@ struct Bed3d {
   std::size_t removed = 0;      // spheres that would not come to rest on the surface, taken away
   std::size_t probes = 0;       // times the bed was left alone to find spheres still moving
   std::size_t deep_movers = 0;  // spheres below others still moving at the last probe (0: at rest)
+  int build_stages = 0;         // stages its build took (Bed3dBuild::stage when it finished)
 };
 
 // A bed part-way through its build: the spheres at rest after the first `stage` of build_bed3d's stages

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "parallel.hpp"
 #include "splash_file.hpp"
@@ -76,8 +77,14 @@ ImpactOptions sand_gun_options(const Bed3dSpec& bed) {
   return o;
 }
 
+std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact3dResult>& impacts) {
+  return sand_gun_quantities(impacts, 1, 1);  // 1 d above the top: the diameter does not enter
+}
+
 std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact3dResult>& impacts,
                                                         double visible_above, double diameter) {
+  if (!(diameter > 0) || !(visible_above >= 1))
+    throw std::invalid_argument("sand_gun_quantities: visible_above must be >= 1 and the diameter > 0 cm");
   // An ejectum is recorded as its centre crosses top + 1 d moving up at e.vz; its apex is e.vz^2 / 2g
   // higher.
   const double extra_rise = std::max(0.0, visible_above - 1) * diameter;

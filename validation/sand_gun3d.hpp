@@ -53,9 +53,11 @@ ImpactOptions sand_gun_options(const Bed3dSpec& bed);
 // counted only what rose into view: their apparent bed surface, the highest grains along the line of
 // sight, stood "a few grain diameters" above the true bed level at the impact (thesis Ch. III section 6),
 // and a grain moving against a bed of identical grains is lost in it. With visible_above > 1, an ejectum
-// whose apex stays below top + visible_above d is left out of every ejecta quantity.
+// whose apex stays below top + visible_above d is left out of every ejecta quantity; that needs the bed
+// grains' diameter d (cm, > 0; std::invalid_argument otherwise). Without the two, every ejectum counts.
+std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact3dResult>& impacts);
 std::map<std::string, MeanInterval> sand_gun_quantities(const std::vector<Impact3dResult>& impacts,
-                                                        double visible_above = 1, double diameter = 0);
+                                                        double visible_above, double diameter);
 
 // A power law y = a x^n fitted by weighted least squares to the logs of positive means (weights from
 // their intervals): the exponent and its 95 % half-width.

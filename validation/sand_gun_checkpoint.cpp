@@ -73,14 +73,15 @@ void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p
       "bed/spheres", "the bed's spheres, at rest (after `stage` stages of its build)", kSphereColumns, {}};
   for (const Body3Spec& b : built ? p.bed.scene.bodies3d : p.build.bodies)
     spheres.rows.push_back(sphere_row(b));
-  const std::vector<double> counts =
-      built
-          ? std::vector<double>{static_cast<double>(p.bed.removed),     static_cast<double>(p.bed.probes),
-                                static_cast<double>(p.bed.deep_movers), p.bed.build_seconds,
-                                static_cast<double>(p.build.stage),     1.0}
-          : std::vector<double>{static_cast<double>(p.build.removed),     static_cast<double>(p.build.probes),
-                                static_cast<double>(p.build.deep_movers), p.build.seconds,
-                                static_cast<double>(p.build.stage),       p.build.finished ? 1.0 : 0.0};
+  // One record of the build, whichever holds it: a finished bed carries its own.
+  const Bed3dBuild record =
+      built ? Bed3dBuild{p.bed.build_stages, true, {}, p.bed.removed, p.bed.probes, p.bed.deep_movers,
+                         p.bed.build_seconds}
+            : p.build;
+  const std::vector<double> counts{
+      static_cast<double>(record.removed),     static_cast<double>(record.probes),
+      static_cast<double>(record.deep_movers), record.seconds,
+      static_cast<double>(record.stage),       record.finished ? 1.0 : 0.0};
   SampleTable build{
       "bed/build", "how the bed was made, and whether its build is finished", kBuildColumns, {counts}};
   SampleTable impacts{"impacts", "each finished impact: its row (1-9) and run index", kImpactColumns, {}};
@@ -149,7 +150,7 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
     refuse(fmt::format("holds a bed that does not fit its box ({})", e.what()));
   }
   p.bed.removed = b.removed, p.bed.probes = b.probes, p.bed.deep_movers = b.deep_movers;
-  p.bed.build_seconds = b.seconds;
+  p.bed.build_seconds = b.seconds, p.bed.build_stages = b.stage;
   const auto& heads = file.tables.at("impacts").rows;
   std::vector<std::vector<double>> packed;
   for (const auto& h : heads) {
