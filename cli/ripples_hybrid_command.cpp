@@ -260,6 +260,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                     {{"grainlab_version", GRAINLAB_VERSION},
                      {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},
                      {"config", config.text},
+                     {"wind", o.wind_follows_bed ? "column on the bed beneath each grain (wind_follows_bed)"
+                                                 : "column on the mean bed level"},
                      {"units",
                       "frames: bed height in grain diameters above the initial surface, x and y in "
                       "grain diameters (x downwind); time t* = t / sqrt(d / g^)"},
@@ -292,6 +294,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"galileo", tr.galileo()},
                            {"shields", tr.shields()},
                            {"splash", o.splash},
+                           {"wind_follows_bed", o.wind_follows_bed},
+                           {"wind_loosened", o.wind_loosened},
                            {"deposited", bed.deposited},
                            {"eroded", bed.eroded},
                            {"grain_steps", tr.grain_steps},

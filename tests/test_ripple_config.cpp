@@ -152,7 +152,9 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   const HybridConfig c = parse_hybrid_config(good, "h.toml");
   EXPECT_EQ(c.options.u_star, 35);
   EXPECT_EQ(c.options.length, 300);
-  EXPECT_TRUE(c.options.wind_loosened);  // the paper's default
+  EXPECT_TRUE(c.options.wind_loosened);     // the paper's default
+  EXPECT_TRUE(c.options.wind_follows_bed);  // grainlab's default over an erodible bed (docs/ripples.md)
+  EXPECT_FALSE(parse_hybrid_config(good + "wind_follows_bed = false\n", "h.toml").options.wind_follows_bed);
   auto error_of = [](const std::string& text) {
     try {
       parse_hybrid_config(text, "h.toml");
@@ -165,6 +167,7 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   EXPECT_NE(error_of("[hybrid]\nu_star = -3\n").find("h.toml:2"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nsplash = \"x\"\n").find("splash"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nejecta_launch = \"up\"\n").find("ejecta_launch"), std::string::npos);
+  EXPECT_NE(error_of("[hybrid]\nwind_follows_bed = 1\n").find("wind_follows_bed"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nwidth = 5\ncell = 2\n").find("cell"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nduration = 10\nframe_every = 20\n").find("frame_every"), std::string::npos);
   EXPECT_NE(error_of("[bins]\nbins = 20\n").find("[hybrid]"), std::string::npos);

@@ -49,21 +49,6 @@ std::size_t HeightField::neighbour(std::size_t k, int which) const {
 }
 
 // The grid cell holding (x, y) and the position in it (x and y inside the periodic box, so no division).
-HeightField::Cell HeightField::cell_at(double x, double y) const {
-  const double sx = x * inv_cell_, sy = y * inv_cell_;
-  auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
-  const double fx = sx - static_cast<double>(i0), fy = sy - static_cast<double>(j0);
-  if (i0 >= nx_) i0 -= nx_;
-  if (j0 >= ny_) j0 -= ny_;
-  const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
-  return {{j0 * nx_ + i0, j0 * nx_ + i1, j1 * nx_ + i0, j1 * nx_ + i1}, fx, fy};
-}
-
-HeightField::Corner HeightField::corner(double x, double y) const {
-  const Cell c = cell_at(x, y);
-  return {h_[c.k[0]], h_[c.k[1]], h_[c.k[2]], h_[c.k[3]], c.fx, c.fy};
-}
-
 bool HeightField::share(double x, double y, double dh) {
   const Cell c = cell_at(x, y);
   const double w[4] = {(1 - c.fx) * (1 - c.fy), c.fx * (1 - c.fy), (1 - c.fx) * c.fy, c.fx * c.fy};
@@ -72,12 +57,6 @@ bool HeightField::share(double x, double y, double dh) {
   for (int q = 0; q < 4; ++q) h_[c.k[q]] += dh * w[q], top_ = std::max(top_, h_[c.k[q]]);
   sum_ += dh;
   return true;
-}
-
-double HeightField::height(double x, double y) const {
-  const Corner c = corner(x, y);
-  return c.fx + c.fy <= 1 ? c.h00 + (c.h10 - c.h00) * c.fx + (c.h01 - c.h00) * c.fy
-                          : c.h11 - (c.h11 - c.h01) * (1 - c.fx) - (c.h11 - c.h10) * (1 - c.fy);
 }
 
 BedPoint HeightField::at(double x, double y) const {

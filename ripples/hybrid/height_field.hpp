@@ -82,4 +82,26 @@ class HeightField {
   std::vector<double> h_;
 };
 
+// Inline: every airborne grain asks for the bed beneath it every step (the wind column stands on it).
+inline HeightField::Cell HeightField::cell_at(double x, double y) const {
+  const double sx = x * inv_cell_, sy = y * inv_cell_;
+  auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
+  const double fx = sx - static_cast<double>(i0), fy = sy - static_cast<double>(j0);
+  if (i0 >= nx_) i0 -= nx_;
+  if (j0 >= ny_) j0 -= ny_;
+  const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
+  return {{j0 * nx_ + i0, j0 * nx_ + i1, j1 * nx_ + i0, j1 * nx_ + i1}, fx, fy};
+}
+
+inline HeightField::Corner HeightField::corner(double x, double y) const {
+  const Cell c = cell_at(x, y);
+  return {h_[c.k[0]], h_[c.k[1]], h_[c.k[2]], h_[c.k[3]], c.fx, c.fy};
+}
+
+inline double HeightField::height(double x, double y) const {
+  const Corner c = corner(x, y);
+  return c.fx + c.fy <= 1 ? c.h00 + (c.h10 - c.h00) * c.fx + (c.h01 - c.h00) * c.fy
+                          : c.h11 - (c.h11 - c.h01) * (1 - c.fx) - (c.h11 - c.h10) * (1 - c.fy);
+}
+
 }  // namespace grainlab::ripples::hybrid

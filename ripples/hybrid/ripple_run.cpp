@@ -13,6 +13,9 @@ RippleOptions::RippleOptions() {
   grain_density = 2.65, fluid_density = 2.65 / 2098, diameter = 0.0251, viscosity = 0.146;
   length = 4000, width = 200, height = 1200, triggers = 200, u_star = 30;
   wind_loosened = true;
+  // Over an erodible bed the wind column stands on the bed beneath each grain: with the column on the mean
+  // level, crests reach into faster wind than troughs and every wavelength decays (docs/ripples.md).
+  wind_follows_bed = true;
 }
 
 void check_ripple_options(const RippleOptions& o) {

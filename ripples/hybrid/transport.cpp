@@ -100,17 +100,20 @@ void Transport::move_grains(double dt) {
     return -c * rx;  // the drag the wind gives per unit grain mass, x
   };
   Grains& g = grains_;
+  const bool follow = o_.wind_follows_bed && bed_;
   for (std::size_t i = 0; i < g.size(); ++i) {
     double ax, ay, az, bx, by, bz;
-    const double f1 = accel(g.z[i], g.vx[i], g.vy[i], g.vz[i], ax, ay, az);
+    // The wind column's origin under this grain: the mean bed level, or the bed beneath it.
+    const double shift = follow ? bed_->height(g.x[i], g.y[i]) - base : 0, z = g.z[i] - shift;
+    const double f1 = accel(z, g.vx[i], g.vy[i], g.vz[i], ax, ay, az);
     const double wx = g.vx[i] + dt * ax, wy = g.vy[i] + dt * ay, wz = g.vz[i] + dt * az;
-    const double f2 = accel(g.z[i] + dt * g.vz[i], wx, wy, wz, bx, by, bz);
+    const double f2 = accel(z + dt * g.vz[i], wx, wy, wz, bx, by, bz);
     g.x[i] += 0.5 * dt * (g.vx[i] + wx), g.y[i] += 0.5 * dt * (g.vy[i] + wy),
         g.z[i] += 0.5 * dt * (g.vz[i] + wz);
     g.vx[i] += 0.5 * dt * (ax + bx), g.vy[i] += 0.5 * dt * (ay + by), g.vz[i] += 0.5 * dt * (az + bz);
     g.x[i] = into(g.x[i], length_), g.y[i] = into(g.y[i], width_);
     v2_next_ = std::max(v2_next_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + g.vz[i] * g.vz[i]);
-    const std::size_t k = wind_.bin(g.z[i] - base);
+    const std::size_t k = wind_.bin(g.z[i] - shift - base);
     drag_now_[k] += m_ * 0.5 * (f1 + f2) * dt, volume_now_[k] += volume_ * dt;
   }
 }

@@ -45,6 +45,10 @@ struct TransportOptions {
   // Ejecta leave along the local bed's normal (the spec's reading of the paper), or straight up.
   bool ejecta_vertical = false;
   double loosened_floor = 0.1;
+  // The wind column's height is measured from the mean bed level (the paper's horizontally homogeneous
+  // column), or from the bed right beneath each grain, so that the near-bed wind follows the topography
+  // (crests do not reach into faster wind than troughs).
+  bool wind_follows_bed = false;
   std::uint64_t seed = 2021;
 };
 
