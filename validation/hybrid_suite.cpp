@@ -179,6 +179,49 @@ double steepest_step(const HeightField& bed) {
   return worst;
 }
 
+// Every frame of a run from its start to o.duration.
+std::vector<BedFrame> run_frames(RippleRun& run, const RippleOptions& o) {
+  std::vector<BedFrame> frames{run.frame()};
+  for (double t = o.frame_every; t <= o.duration * (1 + 1e-12); t += o.frame_every) {
+    run.advance_to(t);
+    frames.push_back(run.frame());
+  }
+  return frames;
+}
+
+// A bed started as a 50 d sine of 1 d, with the wind column on the mean bed level and on the bed beneath
+// each grain: the growth rate of the band holding the wave. On the mean level a crest stands in faster
+// wind than a trough, exports its grains and every band decays; on the bed the wave is not damped.
+void seeded_wave_checks(Report& rep, std::string& md) {
+  RippleOptions o;
+  o.u_star = 40, o.length = 200, o.width = 8, o.triggers = 8, o.duration = 4000, o.frame_every = 100;
+  o.initial_amplitude = 1, o.initial_wavelength = 50;
+  auto band_of_the_wave = [&](bool follows) {
+    RippleOptions w = o;
+    w.wind_follows_bed = follows;
+    RippleRun run(w);
+    for (const BandResponse& b : ripple_trends(run_frames(run, w)).response)
+      if (b.lambda_min <= 50 && b.lambda_max >= 50) return b;
+    return BandResponse{0, 0, NAN, NAN, NAN};
+  };
+  const BandResponse column = band_of_the_wave(false), bed = band_of_the_wave(true);
+  rep.expect_below(
+      "hybrid/ripples/seeded-wave-column-wind", "hybrid", column.growth_rate + 2 * column.growth_error, 0,
+      "growth rate + 2 standard errors of a seeded 50 d wave, wind column on the mean bed level");
+  rep.expect_below(
+      "hybrid/ripples/seeded-wave-bed-wind", "hybrid",
+      3 * std::hypot(column.growth_error, bed.growth_error) - (bed.growth_rate - column.growth_rate), 0,
+      "3 standard errors less the rise of the seeded wave's growth rate when the column stands on "
+      "the bed beneath each grain");
+  md += fmt::format(
+      "Seeded 50 d wave of 1 d ({} d x {} d, u* = {}, {} t*), growth rate of the band {:.0f}-{:.0f} d per "
+      "t*: "
+      "wind column on the mean bed level {:+.2e} +- {:.1e}; on the bed beneath each grain {:+.2e} +- "
+      "{:.1e}.\n\n",
+      o.length, o.width, o.u_star, o.duration, bed.lambda_min, bed.lambda_max, column.growth_rate,
+      column.growth_error, bed.growth_rate, bed.growth_error);
+}
+
 // A ripple run over an erodible bed: the grains' bookkeeping is exact, repose holds, the flat erodible
 // bed carries the fixed flat bed's flux; in the full mode, what the paper reports of the ripples.
 void ripple_checks(Report& rep, bool quick, const SuiteOptions& so, std::string& md) {
@@ -187,11 +230,7 @@ void ripple_checks(Report& rep, bool quick, const SuiteOptions& so, std::string&
   o.duration = quick ? 3000 : 60000, o.frame_every = quick ? 250 : 1000;
   if (so.log) so.log(fmt::format("hybrid ripple run: {} d x {} d, {} t*", o.length, o.width, o.duration));
   RippleRun run(o);
-  std::vector<BedFrame> frames{run.frame()};
-  for (double t = o.frame_every; t <= o.duration * (1 + 1e-12); t += o.frame_every) {
-    run.advance_to(t);
-    frames.push_back(run.frame());
-  }
+  const std::vector<BedFrame> frames = run_frames(run, o);
   const HeightField& bed = run.bed();
   const auto airborne = static_cast<double>(run.transport().airborne());
   rep.expect_near("hybrid/ripples/grain-count", "hybrid", airborne,
@@ -271,6 +310,8 @@ void run_hybrid_suite(Report& rep, const SuiteOptions& so) {
   wind_checks(rep, base);
   flux_checks(rep, base, so.quick, so, md);
   ripple_checks(rep, so.quick, so, md);
+  if (so.log) so.log("hybrid seeded wave: 200 d x 8 d, 4000 t*, two winds");
+  seeded_wave_checks(rep, md);
   md += "Not built yet: the polydisperse surface layer, the measured splash, MPI (docs/ripples.md).\n";
   rep.markdown.push_back(md);
 }
