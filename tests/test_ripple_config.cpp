@@ -174,7 +174,7 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
 }
 
 TEST(HybridConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {
-  for (const char* name : {"huo2021_ripples.toml", "hybrid_quick.toml"})
+  for (const char* name : {"huo2021_ripples.toml", "hybrid_quick.toml", "hybrid_seeded.toml"})
     fuzz_shipped_config(
         name, parse_hybrid_config,
         [](const HybridConfig& c) {
