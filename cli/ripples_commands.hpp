@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "ripple_config.hpp"
+
 #include "flux_model.hpp"
 
 namespace grainlab::cli {
@@ -47,7 +49,8 @@ int run_command(const RipplesCommands& a);
 int continuum_command(const RipplesCommands& a);
 int hybrid_flux_command(const RipplesCommands& a);
 int hybrid_ripples_command(const RipplesCommands& a);
-// The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file.
-std::vector<double> splash_hops(const std::string& splash, double angle, double speed);
+// The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file, thrown
+// ballistically or, with splash_wind, flown through the Ch. IV wind (saltation::wind_blown_hops).
+ripples::SplashHops splash_hops(const ripples::LatticeRun& run);
 
 }  // namespace grainlab::cli

@@ -2,6 +2,7 @@
 // h(x, t) and the surface statistics per frame; with --seeds, the final statistics over an ensemble.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "ripple_config.hpp"
 #include "ripples_commands.hpp"
 #include "splash_file.hpp"
+#include "wind_model.hpp"
 
 namespace grainlab::cli {
 
@@ -65,14 +67,43 @@ LatticeOutcome run_lattice(const LatticeRun& run) {
 
 }  // namespace
 
-// The lattice model's splash mode reads its hops through ejecta_hop_lengths (saltation/splash_file.hpp).
-std::vector<double> splash_hops(const std::string& splash, double angle, double speed) {
+namespace {
+double mean_of(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m += x / static_cast<double>(v.size());
+  return m;
+}
+}  // namespace
+
+// The lattice model's splash mode reads its hops through ejecta_hop_lengths or, in wind mode, through
+// wind_blown_hops (saltation/): the Ch. IV wind's grains are the thesis's (d = 0.025 cm, 2.6 g/cm^3).
+ripples::SplashHops splash_hops(const LatticeRun& run) {
   using namespace grainlab::saltation;
-  const SplashFile f = splash == "sand-gun" ? sand_gun_splash() : read_splash_file(splash);
-  std::vector<double> hops = ejecta_hop_lengths(f, angle, speed);
-  if (hops.empty())
-    throw InputError({splash, 0}, "", "has no ejecta (or reptation lengths) in the cells chosen");
-  return hops;
+  const SplashFile f = run.splash == "sand-gun" ? sand_gun_splash() : read_splash_file(run.splash);
+  ripples::SplashHops out;
+  if (run.splash_wind > 0) {
+    WindModelOptions o;
+    o.u_star = run.splash_wind;
+    WindBlownHops w;
+    try {
+      w = wind_blown_hops(f, o);
+    } catch (const std::invalid_argument& e) {
+      throw InputError({run.splash, 0}, "splash_wind", e.what());
+    }
+    if (parallel::rank() == 0)
+      fmt::print(stderr,
+                 "grainlab ripples: the splash's steady wind at u* = {} cm/s (u*_eff {:.1f}): ejecting impacts "
+                 "at {:.1f} sqrt(g d), {:.1f} deg on average; {} recorded ejecta of {} cells flown: mean hop "
+                 "{:.1f} d (ballistic {:.1f} d), {:.0f} % upstream\n",
+                 o.u_star, w.wind.u_star_eff, w.impact_speed, w.impact_deg, w.ejecta_flown, w.cells_used,
+                 mean_of(w.hops_d), w.ballistic_mean_d, 100 * w.upstream_share);
+    out.hops_d = std::move(w.hops_d), out.impact_deg = w.impact_deg;
+    return out;
+  }
+  out.hops_d = ejecta_hop_lengths(f, run.splash_angle, run.splash_speed);
+  if (out.hops_d.empty())
+    throw InputError({run.splash, 0}, "", "has no ejecta (or reptation lengths) in the cells chosen");
+  return out;
 }
 
 namespace {
@@ -97,7 +128,7 @@ int lattice_command(const RipplesCommands& a) {
   if (a.lattice_seeds < 1 || a.lattice_seeds > 100000)
     throw InputError({"--seeds", 0}, std::to_string(a.lattice_seeds), "must lie in 1..100000");
   LatticeRun run = read_lattice_config(a.config);
-  if (!run.splash.empty()) run.params.hops_d = splash_hops(run.splash, run.splash_angle, run.splash_speed);
+  if (!run.splash.empty()) apply_splash_hops(run, splash_hops(run));
   if (a.lattice_ejections < 0 || a.lattice_ejections > 1e6)
     throw InputError({"--ejections", 0}, fmt::format("{}", a.lattice_ejections), "must lie in (0, 1e6]");
   if (a.lattice_ejections > 0) run.ejections_per_grain = a.lattice_ejections;
@@ -137,6 +168,9 @@ int lattice_command(const RipplesCommands& a) {
     fmt::print("{}\n", nlohmann::json{{"seeds", members.size()},
                                       {"ejections_per_grain", run.ejections_per_grain},
                                       {"impacts_per_second", first.impacts_per_second},
+                                      {"impact_angle", run.params.impact_deg},
+                                      {"mean_hop_d", run.params.hops_d.empty() ? 0.0 : mean_of(run.params.hops_d)},
+                                      {"splash_wind", run.splash_wind},
                                       {"final", summary},
                                       {"members", members}}
                            .dump(2));
@@ -148,12 +182,12 @@ int lattice_command(const RipplesCommands& a) {
         "lattice-bed model: {} columns, impacts at {} deg, hops {} forward / {} backward, brink share {}\n",
         p.columns, p.impact_deg, p.forward, p.backward, p.brink_probability);
   } else {
-    double mean = 0;
-    for (double L : p.hops_d) mean += L / static_cast<double>(p.hops_d.size());
     fmt::print(
-        "lattice-bed model: {} columns, impacts at {} deg, hops drawn from {} ({} lengths, mean {:.1f} d), "
+        "lattice-bed model: {} columns, impacts at {:.1f} deg, hops drawn from {} ({} lengths, mean {:.1f} d{}), "
         "brink share {}\n",
-        p.columns, p.impact_deg, run.splash, p.hops_d.size(), mean, p.brink_probability);
+        p.columns, p.impact_deg, run.splash, p.hops_d.size(), mean_of(p.hops_d),
+        run.splash_wind > 0 ? fmt::format(", flown in the wind at u* = {} cm/s", run.splash_wind) : "",
+        p.brink_probability);
   }
   for (std::size_t k = 0; k < first.history.rows.size();
        k += std::max<std::size_t>(1, first.history.rows.size() / 10)) {

@@ -84,6 +84,7 @@ LatticeRun parse_lattice_config(const std::string& text, const std::string& path
   run.splash = r.string_or("splash", "");
   run.splash_angle = r.number_or("splash_angle", run.splash_angle, Range{0, 90, true});
   run.splash_speed = r.number_or("splash_speed", run.splash_speed, Range::non_negative());
+  run.splash_wind = r.number_or("splash_wind", run.splash_wind, Range{0, 1000, false});
   run.frames = static_cast<int>(r.integer_or("frames", run.frames, 1, 100000));
   r.finish();
   if (p.columns % 2) r.fail("columns", "must be even (a lattice spacing is two columns)");
@@ -91,6 +92,8 @@ LatticeRun parse_lattice_config(const std::string& text, const std::string& path
     r.fail("forward", "hops must be shorter than the domain");
   if (2L * p.brink_lookahead + 4 >= p.columns)
     r.fail("brink_lookahead", "must be shorter than half the domain");
+  if (run.splash_wind > 0 && (run.splash.empty() || run.splash == "sand-gun"))
+    r.fail("splash_wind", "needs a splash file of recorded impacts (splash = \"FILE.h5\")");
   if (p.initial_amplitude > 0 && p.roughness > 0)
     r.fail("initial_amplitude", "a seeded sine needs the flat start (roughness = 0)");
   if (p.initial_amplitude > 0 && p.initial_wavelength <= 0)
@@ -138,6 +141,11 @@ TriangleRun parse_triangle_config(const std::string& text, const std::string& pa
 
 std::string read_config_text(const std::string& path) {
   return read_text(path);
+}
+
+void apply_splash_hops(LatticeRun& run, const SplashHops& hops) {
+  run.params.hops_d = hops.hops_d;
+  if (hops.impact_deg >= 0) run.params.impact_deg = hops.impact_deg;
 }
 
 }  // namespace grainlab::ripples

@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 
 #include <string>
+#include <vector>
 
 #include "bin_model.hpp"
 #include "lattice_model.hpp"
@@ -29,10 +30,23 @@ struct LatticeRun {
   // 0: every speed pooled). The caller turns them into params.hops_d (ripples/ does not read HDF5).
   std::string splash;
   double splash_angle = 15, splash_speed = 0;
+  // Wind mode (the thesis's general model in 2-D), when > 0: the splash file drives the Ch. IV steady
+  // wind at this u* (cm/s); the shots come in at its mean impact angle and each recorded ejectum of the
+  // cell nearest its mean impact hops as far as it flies through that wind (splash_angle, splash_speed
+  // and impact_angle are then not used).
+  double splash_wind = 0;
   double ejections_per_grain = 10;  // run length: impacts per surface grain
   int frames = 100;
   std::string text;
 };
+
+// What splash mode takes from a splash file: the hops (grain diameters, negative upstream) and, in wind
+// mode, the steady wind's mean impact angle for the shots (deg; negative: keep impact_angle).
+struct SplashHops {
+  std::vector<double> hops_d;
+  double impact_deg = -1;
+};
+void apply_splash_hops(LatticeRun& run, const SplashHops& hops);
 // Reads `[lattice]` (docs/ripples.md lists the keys). Throws InputError.
 LatticeRun parse_lattice_config(const std::string& text, const std::string& path);
 LatticeRun read_lattice_config(const std::string& path);

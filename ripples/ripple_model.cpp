@@ -73,7 +73,7 @@ const std::vector<RippleModelEntry>& ripple_models() {
          LatticeRun r = parse_lattice_config(text, path);
          if (!r.splash.empty()) {
            if (!hops) throw InputError({path, 0}, "lattice.splash", "splash files cannot be read here");
-           r.params.hops_d = hops(r.splash, r.splash_angle, r.splash_speed);
+           apply_splash_hops(r, hops(r));
          }
          return RippleModelRun{std::make_unique<LatticeRipples>(r.params), r.ejections_per_grain, r.frames,
                                "lattice", text};

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "ripple_config.hpp"
+
 namespace grainlab::ripples {
 
 class RippleModel {
@@ -32,9 +34,9 @@ struct RippleModelRun {
   std::string name, text;
 };
 
-// Reads a splash file's hop lengths (grain diameters) for the lattice model's splash mode: (file, impact
-// angle in deg, impact speed in sqrt(g d) or 0 for all). The caller supplies it: ripples/ reads no HDF5.
-using SplashHopLoader = std::function<std::vector<double>(const std::string&, double, double)>;
+// Reads a splash file's hops for the lattice model's splash mode, as the run's splash keys ask (the file,
+// the cells, and in wind mode the Ch. IV wind). The caller supplies it: ripples/ reads no HDF5.
+using SplashHopLoader = std::function<SplashHops(const LatticeRun&)>;
 
 struct RippleModelEntry {
   std::string name, description;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <stdexcept>
 
@@ -488,6 +489,52 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
   if (grid2d) r.F2d = Fs;
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
+}
+
+WindBlownHops wind_blown_hops(const SplashFile& f, const WindModelOptions& o, std::size_t samples) {
+  WindBlownHops out;
+  out.wind = solve_wind_model(o, kernel_of(f, o));
+  if (!out.wind.failure.empty())
+    throw std::invalid_argument("the splash makes no steady wind at u* = " + std::to_string(o.u_star) +
+                                " cm/s: " + out.wind.failure);
+  const WindModelResult& w = out.wind;
+  const double d = 2 * o.grain.radius, scale = std::sqrt(o.g * d);
+  // Each cell's ejecta flown once (hop in d, ballistic range in d), then weighted per impact on the cell.
+  std::map<const SplashCell*, std::vector<std::pair<double, double>>> flown;
+  std::vector<std::pair<double, double>> weighted;  // hop, weight
+  double total = 0, ballistic = 0, upstream = 0, angle_sum = 0, speed_sum = 0;
+  for (std::size_t j = 0; j < w.F.size(); ++j) {
+    const double rate = w.F[j] * o.dv;  // impacts per cm^2 per s of this bin's grains
+    const Trajectory& t = w.trajectories[j];
+    if (!(rate > 0) || !(t.v_iy < 0)) continue;
+    const double speed = std::hypot(t.v_ix, t.v_iy) / scale, angle = std::atan2(-t.v_iy, t.v_ix) * 180 / M_PI;
+    const SplashCell& cell = f.nearest(speed, angle);
+    auto [it, fresh] = flown.try_emplace(&cell);
+    if (fresh)
+      for (const EjectumRow& e : cell.ejecta)
+        if (e[4] > 0) it->second.push_back({fly(o, w.y, w.u, e[3] * scale, e[4] * scale).length / d, 2 * e[3] * e[4]});
+    if (it->second.empty() || cell.impacts == 0) continue;
+    const double each = rate / static_cast<double>(cell.impacts);
+    for (const auto& [hop, range] : it->second) {
+      weighted.push_back({hop, each});
+      total += each, ballistic += each * range, upstream += hop < 0 ? each : 0;
+      angle_sum += each * angle, speed_sum += each * speed;
+    }
+  }
+  if (!(total > 0))
+    throw std::invalid_argument("no impact of the steady state lands on a splash cell with recorded ejecta");
+  for (const auto& [cell, hops] : flown) out.cells_used += hops.empty() ? 0 : 1, out.ejecta_flown += hops.size();
+  out.ballistic_mean_d = ballistic / total, out.upstream_share = upstream / total;
+  out.impact_deg = angle_sum / total, out.impact_speed = speed_sum / total;
+  // Systematic resampling by weight: value k is the hop where the cumulative weight passes (k + 1/2) / n.
+  double cumulative = 0;
+  std::size_t i = 0;
+  for (std::size_t k = 0; k < samples; ++k) {
+    const double target = (static_cast<double>(k) + 0.5) / static_cast<double>(samples) * total;
+    while (i + 1 < weighted.size() && cumulative + weighted[i].second < target) cumulative += weighted[i++].second;
+    out.hops_d.push_back(weighted[i].first);
+  }
+  return out;
 }
 
 }  // namespace grainlab::saltation

@@ -135,4 +135,23 @@ inline WindModelResult solve_wind_model(const WindModelOptions& o, const Analyti
   return solve_wind_model(o, kernel_of(splash));
 }
 
+// The thesis's "general model" in 2-D (Ch. VI): a recorded splash, scaled to the grains of `o` (velocities
+// in sqrt(g d), as kernel_of), drives the steady wind of Fig. 4.10 at o.u_star, and the ejecta it records
+// are flown through that wind instead of thrown ballistically. Each launch bin's grains land at their
+// trajectory's impact velocity, at a rate F dv; that impact draws on the file's nearest cell, whose every
+// ejectum counts with weight rate / (the cell's impacts). The hops (grain diameters, negative: upstream,
+// each the flight's length to a flat bed) are resampled by those weights to `samples` values, so a model
+// drawing uniformly from them draws from the steady state's ejecta. Throws std::invalid_argument when the
+// wind has no steady state or no impact's cell holds recorded ejecta (a file with moments only).
+struct WindBlownHops {
+  std::vector<double> hops_d;
+  double ballistic_mean_d = 0;  // the same weighted ejecta's mean ballistic range 2 v_x v_y
+  double upstream_share = 0;    // weight of the hops that go upstream
+  double impact_deg = 0;        // the impacts' mean angle below the horizontal, weighted by their ejecta
+  double impact_speed = 0;      // and their mean speed, sqrt(g d)
+  std::size_t ejecta_flown = 0, cells_used = 0;
+  WindModelResult wind;
+};
+WindBlownHops wind_blown_hops(const SplashFile& f, const WindModelOptions& o, std::size_t samples = 4000);
+
 }  // namespace grainlab::saltation
