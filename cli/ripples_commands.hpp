@@ -4,9 +4,8 @@
 #include <cstdint>
 #include <string>
 
-#include "ripple_config.hpp"
-
 #include "flux_model.hpp"
+#include "ripple_config.hpp"
 
 namespace grainlab::cli {
 

@@ -91,12 +91,21 @@ ripples::SplashHops splash_hops(const LatticeRun& run) {
       throw InputError({run.splash, 0}, "splash_wind", e.what());
     }
     if (parallel::rank() == 0)
-      fmt::print(stderr,
-                 "grainlab ripples: the splash's steady wind at u* = {} cm/s (u*_eff {:.1f}): ejecting impacts "
-                 "at {:.1f} sqrt(g d), {:.1f} deg on average; {} recorded ejecta of {} cells flown: mean hop "
-                 "{:.1f} d (ballistic {:.1f} d), {:.0f} % upstream\n",
-                 o.u_star, w.wind.u_star_eff, w.impact_speed, w.impact_deg, w.ejecta_flown, w.cells_used,
-                 mean_of(w.hops_d), w.ballistic_mean_d, 100 * w.upstream_share);
+      fmt::print(
+          stderr,
+          "grainlab ripples: the splash's steady wind at u* = {} cm/s (u*_eff {:.1f}): ejecting impacts "
+          "at {:.1f} sqrt(g d), {:.1f} deg on average; {} recorded ejecta of {} cells flown: mean hop "
+          "{:.1f} d (ballistic {:.1f} d), {:.0f} % upstream\n",
+          o.u_star, w.wind.u_star_eff, w.impact_speed, w.impact_deg, w.ejecta_flown, w.cells_used,
+          mean_of(w.hops_d), w.ballistic_mean_d, 100 * w.upstream_share);
+    out.wind_state = {{"u_star_eff", w.wind.u_star_eff},
+                      {"impact_speed", w.impact_speed},
+                      {"impact_angle", w.impact_deg},
+                      {"upstream_share", w.upstream_share},
+                      {"ballistic_mean_hop_d", w.ballistic_mean_d},
+                      {"wind_mean_hop_d", mean_of(w.hops_d)},
+                      {"ejecta_flown", static_cast<double>(w.ejecta_flown)},
+                      {"cells_used", static_cast<double>(w.cells_used)}};
     out.hops_d = std::move(w.hops_d), out.impact_deg = w.impact_deg;
     return out;
   }
@@ -128,7 +137,11 @@ int lattice_command(const RipplesCommands& a) {
   if (a.lattice_seeds < 1 || a.lattice_seeds > 100000)
     throw InputError({"--seeds", 0}, std::to_string(a.lattice_seeds), "must lie in 1..100000");
   LatticeRun run = read_lattice_config(a.config);
-  if (!run.splash.empty()) apply_splash_hops(run, splash_hops(run));
+  ripples::SplashHops hops;
+  if (!run.splash.empty()) {
+    hops = splash_hops(run);
+    apply_splash_hops(run, hops);
+  }
   if (a.lattice_ejections < 0 || a.lattice_ejections > 1e6)
     throw InputError({"--ejections", 0}, fmt::format("{}", a.lattice_ejections), "must lie in (0, 1e6]");
   if (a.lattice_ejections > 0) run.ejections_per_grain = a.lattice_ejections;
@@ -165,15 +178,17 @@ int lattice_command(const RipplesCommands& a) {
     summary[key] = {{"mean", mi.mean}, {"sd", mi.sd}, {"half_width_95", mi.half_width()}};
   }
   if (a.json) {
-    fmt::print("{}\n", nlohmann::json{{"seeds", members.size()},
-                                      {"ejections_per_grain", run.ejections_per_grain},
-                                      {"impacts_per_second", first.impacts_per_second},
-                                      {"impact_angle", run.params.impact_deg},
-                                      {"mean_hop_d", run.params.hops_d.empty() ? 0.0 : mean_of(run.params.hops_d)},
-                                      {"splash_wind", run.splash_wind},
-                                      {"final", summary},
-                                      {"members", members}}
-                           .dump(2));
+    fmt::print("{}\n",
+               nlohmann::json{{"seeds", members.size()},
+                              {"ejections_per_grain", run.ejections_per_grain},
+                              {"impacts_per_second", first.impacts_per_second},
+                              {"impact_angle", run.params.impact_deg},
+                              {"mean_hop_d", run.params.hops_d.empty() ? 0.0 : mean_of(run.params.hops_d)},
+                              {"splash_wind", run.splash_wind},
+                              {"splash_wind_state", hops.wind_state},
+                              {"final", summary},
+                              {"members", members}}
+                   .dump(2));
     return 0;
   }
   const LatticeParams& p = run.params;
@@ -183,7 +198,8 @@ int lattice_command(const RipplesCommands& a) {
         p.columns, p.impact_deg, p.forward, p.backward, p.brink_probability);
   } else {
     fmt::print(
-        "lattice-bed model: {} columns, impacts at {:.1f} deg, hops drawn from {} ({} lengths, mean {:.1f} d{}), "
+        "lattice-bed model: {} columns, impacts at {:.1f} deg, hops drawn from {} ({} lengths, mean {:.1f} "
+        "d{}), "
         "brink share {}\n",
         p.columns, p.impact_deg, run.splash, p.hops_d.size(), mean_of(p.hops_d),
         run.splash_wind > 0 ? fmt::format(", flown in the wind at u* = {} cm/s", run.splash_wind) : "",

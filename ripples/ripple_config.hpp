@@ -3,6 +3,7 @@
 // of range stop with the file, line and key, and exit status 2. docs/ripples.md lists the keys.
 #include <toml++/toml.h>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,7 @@ struct LatticeRun {
 struct SplashHops {
   std::vector<double> hops_d;
   double impact_deg = -1;
+  std::map<std::string, double> wind_state;  // wind mode: what the steady wind made of the splash
 };
 void apply_splash_hops(LatticeRun& run, const SplashHops& hops);
 // Reads `[lattice]` (docs/ripples.md lists the keys). Throws InputError.

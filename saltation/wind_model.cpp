@@ -512,7 +512,8 @@ WindBlownHops wind_blown_hops(const SplashFile& f, const WindModelOptions& o, st
     auto [it, fresh] = flown.try_emplace(&cell);
     if (fresh)
       for (const EjectumRow& e : cell.ejecta)
-        if (e[4] > 0) it->second.push_back({fly(o, w.y, w.u, e[3] * scale, e[4] * scale).length / d, 2 * e[3] * e[4]});
+        if (e[4] > 0)
+          it->second.push_back({fly(o, w.y, w.u, e[3] * scale, e[4] * scale).length / d, 2 * e[3] * e[4]});
     if (it->second.empty() || cell.impacts == 0) continue;
     const double each = rate / static_cast<double>(cell.impacts);
     for (const auto& [hop, range] : it->second) {
@@ -523,7 +524,8 @@ WindBlownHops wind_blown_hops(const SplashFile& f, const WindModelOptions& o, st
   }
   if (!(total > 0))
     throw std::invalid_argument("no impact of the steady state lands on a splash cell with recorded ejecta");
-  for (const auto& [cell, hops] : flown) out.cells_used += hops.empty() ? 0 : 1, out.ejecta_flown += hops.size();
+  for (const auto& [cell, hops] : flown)
+    out.cells_used += hops.empty() ? 0 : 1, out.ejecta_flown += hops.size();
   out.ballistic_mean_d = ballistic / total, out.upstream_share = upstream / total;
   out.impact_deg = angle_sum / total, out.impact_speed = speed_sum / total;
   // Systematic resampling by weight: value k is the hop where the cumulative weight passes (k + 1/2) / n.
@@ -531,7 +533,8 @@ WindBlownHops wind_blown_hops(const SplashFile& f, const WindModelOptions& o, st
   std::size_t i = 0;
   for (std::size_t k = 0; k < samples; ++k) {
     const double target = (static_cast<double>(k) + 0.5) / static_cast<double>(samples) * total;
-    while (i + 1 < weighted.size() && cumulative + weighted[i].second < target) cumulative += weighted[i++].second;
+    while (i + 1 < weighted.size() && cumulative + weighted[i].second < target)
+      cumulative += weighted[i++].second;
     out.hops_d.push_back(weighted[i].first);
   }
   return out;

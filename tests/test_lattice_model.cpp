@@ -117,6 +117,12 @@ TEST(LatticeConfig, RejectsBadValuesWithFileAndKey) {
   EXPECT_THROW(parse_lattice_config("[lattice]\ncolumns = 101\n", "x.toml"), std::exception);
   EXPECT_THROW(parse_lattice_config("[lattice]\nbrink_probability = 1.5\n", "x.toml"), std::exception);
   EXPECT_THROW(parse_lattice_config("[lattice]\nunknown = 1\n", "x.toml"), std::exception);
+  // Wind mode needs recorded ejecta to fly: no file, or the sand gun's moments, is refused.
+  EXPECT_THROW(parse_lattice_config("[lattice]\nsplash_wind = 40.0\n", "x.toml"), std::exception);
+  EXPECT_THROW(parse_lattice_config("[lattice]\nsplash = \"sand-gun\"\nsplash_wind = 40.0\n", "x.toml"),
+               std::exception);
+  EXPECT_EQ(parse_lattice_config("[lattice]\nsplash = \"s.h5\"\nsplash_wind = 40.0\n", "x.toml").splash_wind,
+            40);
   EXPECT_THROW(parse_lattice_config("[bins]\n", "x.toml"), std::exception);
   EXPECT_THROW(parse_lattice_config("[lattice]\ninitial_amplitude = 2\n", "x.toml"), std::exception);
   EXPECT_THROW(parse_lattice_config(

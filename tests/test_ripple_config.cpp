@@ -2,6 +2,7 @@
 // mutates a valid config and every mutant is read or refused with an InputError, never a crash.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -105,6 +106,18 @@ void fuzz_shipped_config(const std::string& name, Parse parse, Check check, std:
     }
   }
   EXPECT_GT(refused, 0) << name;
+}
+
+TEST(RippleConfig, EveryShippedLatticePresetReads) {
+  int read = 0;
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::string(GRAINLAB_SOURCE_DIR) + "/scenes/ripples")) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("lattice_", 0) != 0 || e.path().extension() != ".toml") continue;
+    EXPECT_NO_THROW(read_lattice_config(e.path().string())) << name;
+    ++read;
+  }
+  EXPECT_GE(read, 8);
 }
 
 TEST(RippleConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {

@@ -33,10 +33,11 @@ TEST(RippleModel, EveryModelIsCreatedByItsTableAndRunsThroughTheInterface) {
 TEST(RippleModel, AConfigWithoutAModelTableOrWithASplashButNoReaderIsRefused) {
   EXPECT_THROW(create_ripple_model("[scene]\nname = 'x'\n", "c.toml"), InputError);
   EXPECT_THROW(create_ripple_model("[lattice]\nsplash = 'sand-gun'\n", "c.toml"), InputError);
-  const RippleModelRun r = create_ripple_model("[lattice]\nsplash = 'f.h5'\ncolumns = 400\n", "c.toml",
-                                               [](const std::string&, double, double) {
-                                                 return std::vector<double>{10.0, -5.0};
-                                               });
+  const RippleModelRun r =
+      create_ripple_model("[lattice]\nsplash = 'f.h5'\ncolumns = 400\n", "c.toml", [](const LatticeRun& run) {
+        EXPECT_EQ(run.splash, "f.h5");
+        return SplashHops{{10.0, -5.0}, -1, {}};
+      });
   EXPECT_EQ(r.name, "lattice");
 }
 
