@@ -48,7 +48,6 @@ std::size_t HeightField::neighbour(std::size_t k, int which) const {
   }
 }
 
-// The grid cell holding (x, y) and the position in it (x and y inside the periodic box, so no division).
 bool HeightField::share(double x, double y, double dh) {
   const Cell c = cell_at(x, y);
   const double w[4] = {(1 - c.fx) * (1 - c.fy), c.fx * (1 - c.fy), (1 - c.fx) * c.fy, c.fx * c.fy};

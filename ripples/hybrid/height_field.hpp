@@ -83,6 +83,7 @@ class HeightField {
 };
 
 // Inline: every airborne grain asks for the bed beneath it every step (the wind column stands on it).
+// The grid cell holding (x, y) and the position in it (x and y inside the periodic box, so no division).
 inline HeightField::Cell HeightField::cell_at(double x, double y) const {
   const double sx = x * inv_cell_, sy = y * inv_cell_;
   auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
