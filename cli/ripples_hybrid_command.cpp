@@ -52,6 +52,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"u_star_bed", r.u_star_bed},
                            {"impact_speed", r.mean_impact_speed},
                            {"impact_angle_deg", r.mean_impact_angle_deg},
+                           {"bed_friction", r.bed_friction},
                            {"collisions", r.collisions},
                            {"splash", o.splash},
                            {"wind_loosened", o.wind_loosened},

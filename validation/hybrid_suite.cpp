@@ -137,7 +137,8 @@ void flux_checks(Report& rep, const FluxOptions& base, bool quick, const SuiteOp
       "Flux runs: {} d x {} d periodic, flat fixed bed, s = {:.0f}, Ga = {:.1f}, {} t* averaged from {}; "
       "splash {}. S_d, where Q* extrapolates to zero from the two weakest runs: {:.4f}.\n\n| u* (cm/s) | S | "
       "Q* | eq. 31 | ratio | airborne | "
-      "u* at the bed | impact speed / angle | grain-steps/s |\n|---|---|---|---|---|---|---|---|---|\n",
+      "u* at the bed | impact speed / angle | mu_b measured (eq. 31: 0.61) | ratio to eq. 31 with it | "
+      "grain-steps/s |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
       base.length, base.width, runs.front().s, runs.front().galileo, base.duration, base.average_from,
       base.splash, sd);
   PlotSpec plot{"hybrid_flux_law.png", "Q*(S): hybrid flux runs and eq. 31", "S", "Q*", false, {}};
@@ -146,11 +147,14 @@ void flux_checks(Report& rep, const FluxOptions& base, bool quick, const SuiteOp
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const FluxResult& r = runs[k];
     const double predicted = flux_law(r.shields, sd);
+    // The same law with the model's own bed friction: how much of the gap mu_b explains.
+    const double own = r.bed_friction > 0 ? flux_law(r.shields, sd, 0.42, r.bed_friction) : 0;
     md += fmt::format(
-        "| {:g} | {:.4f} | {:.5f} | {:.5f} | {:.2f} | {:.0f} | {:.1f} | {:.0f} cm/s at {:.0f} deg | "
-        "{:.3g} |\n",
+        "| {:g} | {:.4f} | {:.5f} | {:.5f} | {:.2f} | {:.0f} | {:.1f} | {:.0f} cm/s at {:.0f} deg | {:.2f} | "
+        "{:.2f} | {:.3g} |\n",
         ustars[k], r.shields, r.mass_flux_star, predicted, predicted > 0 ? r.mass_flux_star / predicted : NAN,
-        r.airborne, r.u_star_bed, r.mean_impact_speed, r.mean_impact_angle_deg,
+        r.airborne, r.u_star_bed, r.mean_impact_speed, r.mean_impact_angle_deg, r.bed_friction,
+        own > 0 ? r.mass_flux_star / own : NAN,
         r.wall_seconds > 0 ? static_cast<double>(r.grain_steps) / r.wall_seconds : 0.0);
     measured.x.push_back(r.shields), measured.y.push_back(r.mass_flux_star);
     if (r.mass_flux_star > 0 && predicted > 0)

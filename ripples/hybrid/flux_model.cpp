@@ -54,6 +54,7 @@ FluxResult run_flux(const FluxOptions& o) {
     r.mean_impact_angle_deg = run.tally.angle_sum / run.tally.impacts * 180 / M_PI;
     const double area = o.length * o.width * o.diameter * o.diameter;
     r.impacts_per_area_time = run.tally.impacts / (area * std::max(run.time() - window_start, 1e-300));
+    r.bed_friction = run.tally.bed_pz > 0 ? run.tally.bed_px / run.tally.bed_pz : 0;
   }
   r.grain_steps = run.grain_steps, r.steps = run.steps, r.collisions = run.collisions;
   r.u_star_bed = std::sqrt(run.wind().bed_stress());

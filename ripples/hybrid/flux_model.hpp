@@ -29,6 +29,9 @@ struct FluxResult {
   double u_star_bed = 0;                     // sqrt(tau_f / rho_f) at the bed
   double impacts_per_area_time = 0;          // 1/(cm^2 s)
   double mean_impact_speed = 0, mean_impact_angle_deg = 0;
+  // mu_b of eq. 31, measured: the downwind over the downward momentum the bed takes in the window. The
+  // law's flux near threshold goes as 1 / mu_b (the paper fits 0.61).
+  double bed_friction = 0;
   std::vector<double> z, u, u_clean;          // the wind at the end (cm, cm/s)
   std::vector<std::array<double, 3>> series;  // t*, Q*, airborne
   std::uint64_t grain_steps = 0, steps = 0, collisions = 0;

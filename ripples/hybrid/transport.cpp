@@ -124,6 +124,7 @@ void Transport::collide() {
 
 void Transport::launch(double x, double y, double bed_height, double vx, double vy, double vz) {
   grains_.add(x, y, bed_height + 0.5 * d_, vx, vy, vz);
+  tally.bed_px -= vx, tally.bed_pz += vz;
   v2_launch_ = std::max(v2_launch_, vx * vx + vy * vy + vz * vz);
 }
 
@@ -152,6 +153,7 @@ void Transport::impacts() {
     }
     const double theta = std::atan2(-vn, vt), px = g.x[i], py = g.y[i];
     tally.impacts += 1, tally.speed_sum += speed, tally.angle_sum += theta;
+    tally.bed_px += g.vx[i], tally.bed_pz -= g.vz[i];
     if (o_.recorded) {
       recorded_splash(i, b, {tx, ty, tz}, speed, theta);
       continue;
@@ -163,6 +165,7 @@ void Transport::impacts() {
     if (up > 0 && uz > 0 && uz * uz > rise2) {
       g.z[i] = b.h + r, g.vx[i] = ux, g.vy[i] = uy, g.vz[i] = uz;
       v2_launch_ = std::max(v2_launch_, rebound * rebound);
+      tally.bed_px -= ux, tally.bed_pz += uz;
     } else {  // dead: it settles
       g.remove(i), ++tally.deaths;
       if (bed_) bed_->deposit(px, py);
@@ -208,6 +211,7 @@ void Transport::recorded_splash(std::size_t i, const BedPoint& b, const std::arr
     g.z[i] = b.h + 0.5 * d_, g.vx[i] = world(hit.rebound, k, 0), g.vy[i] = world(hit.rebound, k, 1),
     g.vz[i] = uz;
     v2_launch_ = std::max(v2_launch_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + uz * uz);
+    tally.bed_px -= g.vx[i], tally.bed_pz += uz;
   } else {  // dead: it settles
     g.remove(i), ++tally.deaths;
     if (bed_) bed_->deposit(px, py);

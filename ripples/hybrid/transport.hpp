@@ -69,6 +69,11 @@ void check_transport_options(const TransportOptions& o);
 struct ImpactTally {
   double impacts = 0, speed_sum = 0, angle_sum = 0;  // cm/s, rad
   std::uint64_t deaths = 0, ejecta = 0;
+  // Momentum per unit grain mass the bed takes (cm/s, summed): downwind, v_x in - v_x out, and downward,
+  // v_z out - v_z in, over every grain that reaches it and every rebound and ejectum that leaves it. Their
+  // ratio is the bed friction coefficient mu_b of eq. 31 (Pahtz & Duran 2020). Flux runs only: a
+  // checkpoint does not keep them.
+  double bed_px = 0, bed_pz = 0;
 };
 
 class Transport {
