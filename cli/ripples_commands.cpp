@@ -365,6 +365,11 @@ void RipplesCommands::add(CLI::App& app) {
       "--no-collisions", [this](std::int64_t) { flux.collisions = false; }, "no mid-air collisions");
   hybrid_flux->add_flag("--wind-loosened", flux.wind_loosened,
                         "eq. 19: ejecta need E_eff = E_d2 (1 - tau_fw / tau_ft) (Shao & Lu's threshold)");
+  hybrid_flux
+      ->add_option("--dead-rise", flux.dead_rise,
+                   "a rebound or ejectum whose centre cannot rise this many diameters settles")
+      ->default_val(1.0)
+      ->check(CLI::Range(0.0, 10.0));
   hybrid_flux->add_option("--seed", flux.seed, "seed")->default_val(2021);
   hybrid_flux->add_flag("--json", json, "print the result as JSON");
   hybrid_flux->add_flag("--quiet", quiet, "no progress bar");

@@ -131,7 +131,7 @@ void Transport::launch(double x, double y, double bed_height, double vx, double 
 // A grain whose bottom is below the bed beneath it while moving into the bed rebounds (or settles, if it
 // cannot rise a diameter) and ejects bed grains, all in the frame of the bed triangle beneath it.
 void Transport::impacts() {
-  const double r = 0.5 * d_, top = bed_ ? bed_->top() : 0, rise2 = 2 * g_hat_ * d_;
+  const double r = 0.5 * d_, top = bed_ ? bed_->top() : 0, rise2 = 2 * g_hat_ * d_ * o_.dead_rise;
   Grains& g = grains_;
   for (std::size_t i = g.size(); i-- > 0;) {
     const double bottom = g.z[i] - r;
@@ -196,7 +196,7 @@ void Transport::impacts() {
 void Transport::recorded_splash(std::size_t i, const BedPoint& b, const std::array<double, 3>& t,
                                 double speed, double theta) {
   Grains& g = grains_;
-  const double scale = std::sqrt(o_.g * d_), rise2 = 2 * g_hat_ * d_, px = g.x[i], py = g.y[i];
+  const double scale = std::sqrt(o_.g * d_), rise2 = 2 * g_hat_ * d_ * o_.dead_rise, px = g.x[i], py = g.y[i];
   const std::array<double, 3> n{b.nx, b.ny, b.nz};
   const std::array<double, 3> a{n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
                                 n[0] * t[1] - n[1] * t[0]};

@@ -49,6 +49,9 @@ struct TransportOptions {
   // column), or from the bed right beneath each grain, so that the near-bed wind follows the topography
   // (crests do not reach into faster wind than troughs).
   bool wind_follows_bed = false;
+  // A rebound or ejectum is dead (it settles) when its centre cannot rise this many diameters above where
+  // it leaves: the paper's "particles which cannot jump higher than 1d" (eq. 31's flux depends on it).
+  double dead_rise = 1;
   std::uint64_t seed = 2021;
 };
 
