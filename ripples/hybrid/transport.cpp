@@ -92,6 +92,16 @@ void Transport::step() {
 }
 
 void Transport::move_grains(double dt) {
+  if (o_.wind_follows_bed && bed_)
+    move_grains_as<true>(dt);
+  else
+    move_grains_as<false>(dt);
+}
+
+// The loop once per wind reading, so the column on the mean level (the flux runs) pays nothing for the
+// bed lookup.
+template <bool kFollowsBed>
+void Transport::move_grains_as(double dt) {
   const double base = base_, g_hat = g_hat_, drag_a = drag_a_, drag_b = drag_b_;
   auto accel = [&](double z, double vx, double vy, double vz, double& ax, double& ay, double& az) {
     const double rx = vx - wind_.at(z - base), speed = std::sqrt(rx * rx + vy * vy + vz * vz);
@@ -100,11 +110,12 @@ void Transport::move_grains(double dt) {
     return -c * rx;  // the drag the wind gives per unit grain mass, x
   };
   Grains& g = grains_;
-  const bool follow = o_.wind_follows_bed && bed_;
   for (std::size_t i = 0; i < g.size(); ++i) {
     double ax, ay, az, bx, by, bz;
     // The wind column's origin under this grain: the mean bed level, or the bed beneath it.
-    const double shift = follow ? bed_->height(g.x[i], g.y[i]) - base : 0, z = g.z[i] - shift;
+    double shift = 0;
+    if constexpr (kFollowsBed) shift = bed_->height(g.x[i], g.y[i]) - base;
+    const double z = g.z[i] - shift;
     const double f1 = accel(z, g.vx[i], g.vy[i], g.vz[i], ax, ay, az);
     const double wx = g.vx[i] + dt * ax, wy = g.vy[i] + dt * ay, wz = g.vz[i] + dt * az;
     const double f2 = accel(z + dt * g.vz[i], wx, wy, wz, bx, by, bz);

@@ -104,6 +104,8 @@ class Transport {
 
  private:
   void move_grains(double dt);
+  template <bool kFollowsBed>
+  void move_grains_as(double dt);
   void collide();
   void impacts();
   void launch(double x, double y, double bed_height, double vx, double vy, double vz);
