@@ -217,13 +217,16 @@ void seeded_wave_checks(Report& rep, std::string& md) {
       3 * std::hypot(column.growth_error, bed.growth_error) - (bed.growth_rate - column.growth_rate), 0,
       "3 standard errors less the rise of the seeded wave's growth rate when the column stands on "
       "the bed beneath each grain");
+  rep.expect_below("hybrid/ripples/seeded-wave-migrates-downwind", "hybrid", -bed.phase_speed, 0,
+                   "minus the seeded wave's phase speed (d per t*), wind column on the bed: ripples migrate "
+                   "downwind (paper section 3.2)");
   md += fmt::format(
       "Seeded 50 d wave of 1 d ({} d x {} d, u* = {}, {} t*), growth rate of the band {:.0f}-{:.0f} d per "
       "t*: "
       "wind column on the mean bed level {:+.2e} +- {:.1e}; on the bed beneath each grain {:+.2e} +- "
-      "{:.1e}.\n\n",
+      "{:.1e}, moving downwind at {:.2e} d per t*.\n\n",
       o.length, o.width, o.u_star, o.duration, bed.lambda_min, bed.lambda_max, column.growth_rate,
-      column.growth_error, bed.growth_rate, bed.growth_error);
+      column.growth_error, bed.growth_rate, bed.growth_error, bed.phase_speed);
 }
 
 // A ripple run over an erodible bed: the grains' bookkeeping is exact, repose holds, the flat erodible
