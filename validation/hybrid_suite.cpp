@@ -1,8 +1,9 @@
-// Suite `hybrid` (issue #17): the 3-D hybrid ripple model of Huo et al. 2021, so far its pieces and its
-// flux runs over a fixed flat bed. Checks: the drag law's limits, momentum and energy in mid-air
-// collisions, the Lammel splash's numbers and sampled moments for both parameter sets, the grain-free wind
-// (u+ = z+ and the log law), and Q*(S) against the law the paper fits (eq. 31, c_M = 2.3, mu_b = 0.61)
-// within 25 %, with the threshold S_d fitted to the runs. docs/ripples.md, "3-D hybrid model".
+// Suite `hybrid` (issue #17): the 3-D hybrid ripple model of Huo et al. 2021. Checks: the drag law's
+// limits, momentum and energy in mid-air collisions, the Lammel splash's numbers and sampled moments for
+// both parameter sets, the grain-free wind (u+ = z+ and the log law), Q*(S) against the law the paper fits
+// (eq. 31, c_M = 2.3, mu_b = 0.61) within 25 % with the threshold S_d fitted to the runs, a ripple run's
+// bookkeeping, and a seeded wave under both wind readings; the full mode adds the paper's ripple stages
+// (an unstable band, chi, RI, migration). docs/ripples.md, "3-D hybrid model".
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -319,7 +320,7 @@ void run_hybrid_suite(Report& rep, const SuiteOptions& so) {
   ripple_checks(rep, so.quick, so, md);
   if (so.log) so.log("hybrid seeded wave: 200 d x 8 d, 4000 t*, two winds");
   seeded_wave_checks(rep, md);
-  md += "Not built yet: the polydisperse surface layer, the measured splash, MPI (docs/ripples.md).\n";
+  md += "Not built yet: the polydisperse surface layer, MPI (docs/ripples.md).\n";
   rep.markdown.push_back(md);
 }
 
