@@ -67,14 +67,6 @@ LatticeOutcome run_lattice(const LatticeRun& run) {
 
 }  // namespace
 
-namespace {
-double mean_of(const std::vector<double>& v) {
-  double m = 0;
-  for (double x : v) m += x / static_cast<double>(v.size());
-  return m;
-}
-}  // namespace
-
 // The lattice model's splash mode reads its hops through ejecta_hop_lengths or, in wind mode, through
 // wind_blown_hops (saltation/): the Ch. IV wind's grains are the thesis's (d = 0.025 cm, 2.6 g/cm^3).
 ripples::SplashHops splash_hops(const LatticeRun& run) {
@@ -97,13 +89,13 @@ ripples::SplashHops splash_hops(const LatticeRun& run) {
           "at {:.1f} sqrt(g d), {:.1f} deg on average; {} recorded ejecta of {} cells flown: mean hop "
           "{:.1f} d (ballistic {:.1f} d), {:.0f} % upstream\n",
           o.u_star, w.wind.u_star_eff, w.impact_speed, w.impact_deg, w.ejecta_flown, w.cells_used,
-          mean_of(w.hops_d), w.ballistic_mean_d, 100 * w.upstream_share);
+          validation::mean_interval(w.hops_d).mean, w.ballistic_mean_d, 100 * w.upstream_share);
     out.wind_state = {{"u_star_eff", w.wind.u_star_eff},
                       {"impact_speed", w.impact_speed},
                       {"impact_angle", w.impact_deg},
                       {"upstream_share", w.upstream_share},
                       {"ballistic_mean_hop_d", w.ballistic_mean_d},
-                      {"wind_mean_hop_d", mean_of(w.hops_d)},
+                      {"wind_mean_hop_d", validation::mean_interval(w.hops_d).mean},
                       {"ejecta_flown", static_cast<double>(w.ejecta_flown)},
                       {"cells_used", static_cast<double>(w.cells_used)}};
     out.hops_d = std::move(w.hops_d), out.impact_deg = w.impact_deg;
@@ -178,17 +170,18 @@ int lattice_command(const RipplesCommands& a) {
     summary[key] = {{"mean", mi.mean}, {"sd", mi.sd}, {"half_width_95", mi.half_width()}};
   }
   if (a.json) {
-    fmt::print("{}\n",
-               nlohmann::json{{"seeds", members.size()},
-                              {"ejections_per_grain", run.ejections_per_grain},
-                              {"impacts_per_second", first.impacts_per_second},
-                              {"impact_angle", run.params.impact_deg},
-                              {"mean_hop_d", run.params.hops_d.empty() ? 0.0 : mean_of(run.params.hops_d)},
-                              {"splash_wind", run.splash_wind},
-                              {"splash_wind_state", hops.wind_state},
-                              {"final", summary},
-                              {"members", members}}
-                   .dump(2));
+    fmt::print("{}\n", nlohmann::json{{"seeds", members.size()},
+                                      {"ejections_per_grain", run.ejections_per_grain},
+                                      {"impacts_per_second", first.impacts_per_second},
+                                      {"impact_angle", run.params.impact_deg},
+                                      {"mean_hop_d", run.params.hops_d.empty()
+                                                         ? 0.0
+                                                         : validation::mean_interval(run.params.hops_d).mean},
+                                      {"splash_wind", run.splash_wind},
+                                      {"splash_wind_state", hops.wind_state},
+                                      {"final", summary},
+                                      {"members", members}}
+                           .dump(2));
     return 0;
   }
   const LatticeParams& p = run.params;
@@ -201,7 +194,7 @@ int lattice_command(const RipplesCommands& a) {
         "lattice-bed model: {} columns, impacts at {:.1f} deg, hops drawn from {} ({} lengths, mean {:.1f} "
         "d{}), "
         "brink share {}\n",
-        p.columns, p.impact_deg, run.splash, p.hops_d.size(), mean_of(p.hops_d),
+        p.columns, p.impact_deg, run.splash, p.hops_d.size(), validation::mean_interval(p.hops_d).mean,
         run.splash_wind > 0 ? fmt::format(", flown in the wind at u* = {} cm/s", run.splash_wind) : "",
         p.brink_probability);
   }

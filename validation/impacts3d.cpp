@@ -302,9 +302,17 @@ Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::str
     if (after_stage) after_stage(b);
   }
   Bed3d bed = bed3d_from_bodies(spec, std::move(b.bodies));
+  keep_build_record(bed, b);
+  return bed;
+}
+
+void keep_build_record(Bed3d& bed, const Bed3dBuild& b) {
   bed.removed = b.removed, bed.probes = b.probes, bed.deep_movers = b.deep_movers;
   bed.build_seconds = b.seconds, bed.build_stages = b.stage;
-  return bed;
+}
+
+Bed3dBuild build_record(const Bed3d& bed) {
+  return {bed.build_stages, true, {}, bed.removed, bed.probes, bed.deep_movers, bed.build_seconds};
 }
 
 Bed3d bed3d_from_bodies(const Bed3dSpec& spec, std::vector<Body3Spec> bodies) {

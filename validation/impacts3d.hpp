@@ -62,6 +62,11 @@ struct Bed3dBuild {
   double seconds = 0;  // computing time so far
 };
 
+// A build's counts as a finished bed keeps them, and back (the spheres aside): what a checkpoint writes
+// for either.
+void keep_build_record(Bed3d& bed, const Bed3dBuild& b);
+Bed3dBuild build_record(const Bed3d& bed);
+
 // Pours and settles a bed (seconds to a minute of computing for the thesis's beds; an hour or more for a
 // 20,000-sphere sand bed). `log`, when given, hears of each stage as it ends (pour, stiffening, damping,
 // each probe for spheres still moving), with the time so far. The build starts from `from` (a fresh one:

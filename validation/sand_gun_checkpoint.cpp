@@ -74,10 +74,7 @@ void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p
   for (const Body3Spec& b : built ? p.bed.scene.bodies3d : p.build.bodies)
     spheres.rows.push_back(sphere_row(b));
   // One record of the build, whichever holds it: a finished bed carries its own.
-  const Bed3dBuild record =
-      built ? Bed3dBuild{p.bed.build_stages, true, {}, p.bed.removed, p.bed.probes, p.bed.deep_movers,
-                         p.bed.build_seconds}
-            : p.build;
+  const Bed3dBuild record = built ? build_record(p.bed) : p.build;
   const std::vector<double> counts{
       static_cast<double>(record.removed),     static_cast<double>(record.probes),
       static_cast<double>(record.deep_movers), record.seconds,
@@ -149,8 +146,7 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
   } catch (const std::exception& e) {
     refuse(fmt::format("holds a bed that does not fit its box ({})", e.what()));
   }
-  p.bed.removed = b.removed, p.bed.probes = b.probes, p.bed.deep_movers = b.deep_movers;
-  p.bed.build_seconds = b.seconds, p.bed.build_stages = b.stage;
+  keep_build_record(p.bed, b);
   const auto& heads = file.tables.at("impacts").rows;
   std::vector<std::vector<double>> packed;
   for (const auto& h : heads) {

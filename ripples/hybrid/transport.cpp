@@ -42,7 +42,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
   volume_ = M_PI / 6 * d_ * d_ * d_, m_ = o.grain_density * volume_;
   coefficients_ = lammel_coefficients(splash_, d_, d_);
-  e_d2_ = m_ * o.g * d_;
+  e_d2_ = m_ * o.g * d_, rise2_ = 2 * g_hat_ * d_ * o.dead_rise;
   // The huo2021 drag written out for the hot loop: the acceleration is c (u - v) with c = 3/4 (rho_f /
   // (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) + sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
   drag_a_ = 0.75 * o.fluid_density / (o.grain_density * d_), drag_b_ = std::sqrt(24 * o.viscosity / d_);
@@ -142,7 +142,7 @@ void Transport::launch(double x, double y, double bed_height, double vx, double 
 // A grain whose bottom is below the bed beneath it while moving into the bed rebounds (or settles, if it
 // cannot rise a diameter) and ejects bed grains, all in the frame of the bed triangle beneath it.
 void Transport::impacts() {
-  const double r = 0.5 * d_, top = bed_ ? bed_->top() : 0, rise2 = 2 * g_hat_ * d_ * o_.dead_rise;
+  const double r = 0.5 * d_, top = bed_ ? bed_->top() : 0, rise2 = rise2_;
   Grains& g = grains_;
   for (std::size_t i = g.size(); i-- > 0;) {
     const double bottom = g.z[i] - r;
@@ -207,7 +207,7 @@ void Transport::impacts() {
 void Transport::recorded_splash(std::size_t i, const BedPoint& b, const std::array<double, 3>& t,
                                 double speed, double theta) {
   Grains& g = grains_;
-  const double scale = std::sqrt(o_.g * d_), rise2 = 2 * g_hat_ * d_ * o_.dead_rise, px = g.x[i], py = g.y[i];
+  const double scale = std::sqrt(o_.g * d_), rise2 = rise2_, px = g.x[i], py = g.y[i];
   const std::array<double, 3> n{b.nx, b.ny, b.nz};
   const std::array<double, 3> a{n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
                                 n[0] * t[1] - n[1] * t[0]};
