@@ -84,12 +84,13 @@ namespace {
 using ripples::hybrid::BedFrame;
 
 const std::vector<std::string> kHistoryColumns = {
-    "t_star", "amplitude",      "wavelength", "ripple_index", "mean_height",
-    "shift",  "mass_flux_star", "airborne",   "u_star_bed",   "loosening"};
+    "t_star",         "amplitude", "wavelength", "ripple_index", "mean_height", "shift",
+    "mass_flux_star", "airborne",  "u_star_bed", "loosening",    "size_crest",  "size_trough"};
 
 std::vector<double> history_row(const BedFrame& f) {
-  return {f.t_star, f.stats.amplitude, f.stats.wavelength, f.stats.ripple_index, f.stats.mean,
-          f.shift,  f.mass_flux_star,  f.airborne,         f.u_star_bed,         f.loosening};
+  return {f.t_star,     f.stats.amplitude, f.stats.wavelength, f.stats.ripple_index,
+          f.stats.mean, f.shift,           f.mass_flux_star,   f.airborne,
+          f.u_star_bed, f.loosening,       f.size_crest,       f.size_trough};
 }
 
 nlohmann::json number_or_null(double v) {
@@ -99,8 +100,26 @@ nlohmann::json number_or_null(double v) {
 BedFrame frame_of_row(const std::vector<double>& r) {
   BedFrame f;
   f.t_star = r[0], f.stats = {r[1], r[2], r[3], r[4]}, f.shift = r[5], f.mass_flux_star = r[6];
-  f.airborne = r[7], f.u_star_bed = r[8], f.loosening = r[9];
+  f.airborne = r[7], f.u_star_bed = r[8], f.loosening = r[9], f.size_crest = r[10], f.size_trough = r[11];
   return f;
+}
+
+// A bed of several sizes: each frame's mean surface grain size by column (d), as rows t*, x0, x1, ...
+SampleTable size_profiles(const std::vector<BedFrame>& frames, std::size_t nx) {
+  SampleTable t{"surface_size",
+                "per frame: t*, then the surface layer's mean grain size (d) of each key-point column "
+                "averaged across the bed (coarse crests are the armouring of bidisperse ripples)",
+                {"t_star"},
+                {}};
+  for (std::size_t i = 0; i < nx; ++i) t.columns.push_back(fmt::format("x{}", i));
+  for (const BedFrame& f : frames) {
+    if (f.size_profile.size() != nx)
+      continue;  // frames restored from a checkpoint keep their statistics only
+    std::vector<double> row{f.t_star};
+    row.insert(row.end(), f.size_profile.begin(), f.size_profile.end());
+    t.rows.push_back(row);
+  }
+  return t;
 }
 
 constexpr const char* kCheckpointKind = "grainlab-hybrid-ripples-checkpoint/1";
@@ -129,6 +148,12 @@ void write_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hyb
   const SampleTable heights = ripples::hybrid::grid_table(
       "cli/frames", "every written frame's heights (d), frame after frame", height_values, nx);
   tables.insert(tables.end(), {history, profiles, heights});
+  if (!c.options.sizes.empty()) {
+    std::vector<double> sizes;
+    for (const BedFrame& f : frames) sizes.insert(sizes.end(), f.size_profile.begin(), f.size_profile.end());
+    tables.push_back(
+        ripples::hybrid::grid_table("cli/size_profiles", "each frame's mean surface size (d)", sizes, nx));
+  }
   write_sample_tables(
       path, tables,
       {{"kind", kCheckpointKind}, {"grainlab_version", GRAINLAB_VERSION}, {"options", fingerprint(c)}});
@@ -140,6 +165,7 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
   std::map<std::string, std::vector<std::string>> wanted{
       {"cli/history", kHistoryColumns}, {"cli/profiles", {}}, {"cli/frames", {}}};
   for (const SampleTable& t : run.save("run/")) wanted[t.name] = t.columns;  // the tables a run writes
+  if (!c.options.sizes.empty()) wanted["cli/size_profiles"] = {};
   const TableFile file = read_sample_tables(path, wanted);
   require_checkpoint(file, path, kCheckpointKind, "hybrid ripple checkpoint", fingerprint(c),
                      "was written for another config or duration: pass the ones it was started with");
@@ -153,6 +179,12 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
     for (std::size_t k = 0; k < history.size(); ++k) {
       frames.push_back(frame_of_row(history[k]));
       frames.back().profile = profiles[k], frames.back().dx = run.bed().cell() / c.options.diameter;
+    }
+    if (!c.options.sizes.empty()) {
+      const auto& sizes =
+          ripples::hybrid::checkpoint_table(file.tables, "cli/size_profiles", run.bed().nx()).rows;
+      if (sizes.size() != history.size()) refuse("has surface sizes for another number of frames");
+      for (std::size_t k = 0; k < sizes.size(); ++k) frames[k].size_profile = sizes[k];
     }
     const std::vector<double> h = ripples::hybrid::grid_values(
         ripples::hybrid::checkpoint_table(file.tables, "cli/frames", run.bed().nx()));
@@ -256,25 +288,32 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                          {}};
     for (const auto& b : trend.response)
       response.rows.push_back({b.lambda_min, b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed});
-    const std::string xmf =
-        out->commit({history, flux, response},
-                    {{"grainlab_version", GRAINLAB_VERSION},
-                     {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},
-                     {"config", config.text},
-                     {"wind", o.wind_follows_bed ? "column on the bed beneath each grain (wind_follows_bed)"
-                                                 : "column on the mean bed level"},
-                     {"units",
-                      "frames: bed height in grain diameters above the initial surface, x and y in "
-                      "grain diameters (x downwind); time t* = t / sqrt(d / g^)"},
-                     {"dx", fmt::format("{:.17g}", dx)},
-                     {"time_unit", "t*"}});
+    std::vector<SampleTable> tables{history, flux, response};
+    if (!o.sizes.empty()) tables.push_back(size_profiles(frames, bed.nx()));
+    const std::string xmf = out->commit(
+        tables, {{"grainlab_version", GRAINLAB_VERSION},
+                 {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},
+                 {"config", config.text},
+                 {"wind", o.wind_follows_bed ? "column on the bed beneath each grain (wind_follows_bed)"
+                                             : "column on the mean bed level"},
+                 {"units",
+                  "frames: bed height in grain diameters above the initial surface, x and y in "
+                  "grain diameters (x downwind); time t* = t / sqrt(d / g^)"},
+                 {"dx", fmt::format("{:.17g}", dx)},
+                 {"sizes", fmt::format("{} (diameters), fractions {}", nlohmann::json(o.sizes).dump(),
+                                       nlohmann::json(o.fractions).dump())},
+                 {"time_unit", "t*"}});
     if (talk) fmt::print("wrote {} and {}\n", a.out, xmf);
   }
   const auto& tr = run.transport();
   const double rate = wall > 0 ? static_cast<double>(tr.grain_steps - steps_before) / wall : 0;
   if (a.json) {
     nlohmann::json rows = nlohmann::json::array();
-    for (const BedFrame& f : frames) rows.push_back(history_row(f));
+    for (const BedFrame& f : frames) {
+      nlohmann::json row = nlohmann::json::array();
+      for (double v : history_row(f)) row.push_back(number_or_null(v));
+      rows.push_back(row);
+    }
     nlohmann::json response = nlohmann::json::array();
     for (const auto& b : trend.response)
       response.push_back({{"lambda_min", b.lambda_min},
@@ -297,6 +336,10 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"splash", o.splash},
                            {"wind_follows_bed", o.wind_follows_bed},
                            {"wind_loosened", o.wind_loosened},
+                           {"sizes", o.sizes},
+                           {"fractions", o.fractions},
+                           {"size_crest", number_or_null(last.size_crest)},
+                           {"size_trough", number_or_null(last.size_trough)},
                            {"deposited", bed.deposited},
                            {"eroded", bed.eroded},
                            {"grain_steps", tr.grain_steps},

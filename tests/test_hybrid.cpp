@@ -444,3 +444,92 @@ TEST(RecordedSplash, TransportLaunchesTheRecordedEjecta) {
 }
 
 }  // namespace grainlab::validation
+
+namespace grainlab::ripples::hybrid {
+
+// The affectable layer of Huo et al. (2021) Fig. 3: (B) deposition resizes it; (C) erosion from a
+// stretched layer resizes it back first; (A) erosion at psi0 shifts it down, refilled with the initial mix.
+TEST(SurfaceLayer, ResizesThenShiftsAsFigure3) {
+  SurfaceLayer layer(1, {0.25, 0.75}, 2.0);
+  EXPECT_DOUBLE_EQ(layer.depth(0), 2.0);
+  EXPECT_DOUBLE_EQ(layer.fraction(0, 0), 0.25);
+  layer.add(0, 0, 1.0);  // (B): 1.5 coarse + 1.5 fine
+  EXPECT_DOUBLE_EQ(layer.depth(0), 3.0);
+  EXPECT_DOUBLE_EQ(layer.amount(0, 0), 1.5);
+  layer.take(0, 1, 0.5);  // (C) resizing only: psi 2.5 > psi0
+  EXPECT_DOUBLE_EQ(layer.depth(0), 2.5);
+  EXPECT_DOUBLE_EQ(layer.amount(0, 1), 1.0);
+  layer.take(0, 0, 1.0);  // (C) then (A): to psi 1.5, shifted down by 0.5 of the initial mix
+  EXPECT_DOUBLE_EQ(layer.depth(0), 2.0);
+  EXPECT_DOUBLE_EQ(layer.amount(0, 0), 0.5 + 0.25 * 0.5);
+  EXPECT_DOUBLE_EQ(layer.amount(0, 1), 1.0 + 0.75 * 0.5);
+  // A class the layer has too little of: the layer reaches down into the mix below until it has it.
+  SurfaceLayer thin(1, {0.5, 0.5}, 2.0);
+  thin.take(0, 0, 1.0), thin.take(0, 0, 1.0);
+  for (int c = 0; c < 2; ++c) EXPECT_GE(thin.amount(0, c), 0);
+  EXPECT_GE(thin.depth(0), 2.0 - 1e-12);
+  EXPECT_THROW(SurfaceLayer(1, {0.5, 0.6}, 2.0), std::invalid_argument);
+  EXPECT_THROW(SurfaceLayer(1, {1.0}, 0.0), std::invalid_argument);
+}
+
+TEST(SurfaceLayer, DrawsGrainsByVolume) {
+  SurfaceLayer layer(1, {0.3, 0.7}, 1.0);
+  Rng rng(3);
+  int first = 0;
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) first += layer.draw(0, rng.uniform()) == 0;
+  EXPECT_NEAR(first / double(n), 0.3, 4 * std::sqrt(0.21 / n));
+}
+
+// A coarse grain of 1.5 d raises the surface 1.5^3 times a grain of one diameter and joins the layer of
+// the key point it settles on.
+TEST(HybridBed, GrainsOfSeveralSizesMoveTheSurfaceByTheirVolume) {
+  HeightFieldParams p;
+  p.length = 1, p.width = 0.5, p.cell = 0.05, p.diameter = 0.025;
+  HeightField bed(p);
+  bed.set_mixture({1.5, 0.5}, {0.5, 0.5}, 2 * p.diameter);
+  bed.deposit(0.5, 0.25, 0);
+  EXPECT_NEAR(bed.sum(), 3.375 * bed.step(), 1e-15);
+  ASSERT_NE(bed.layer(), nullptr);
+  const std::size_t k = std::size_t(5) * bed.nx() + 10;  // the key point at (0.5, 0.25)
+  EXPECT_NEAR(bed.layer()->amount(k, 0), p.diameter + 3.375 * bed.step(), 1e-15);
+  EXPECT_TRUE(bed.erode(0.5, 0.25, 1));
+  EXPECT_NEAR(bed.sum(), (3.375 - 0.125) * bed.step(), 1e-15);
+  EXPECT_THROW(bed.set_mixture({1.5, 0}, {0.5, 0.5}, 0.05), std::invalid_argument);
+}
+
+// A bidisperse bed under wind (the paper's case 2 sizes, 1.5 d and 0.5 d): the fine grains, lighter and
+// needing a sixteenth of the coarse grains' E_d2 = m g d to leave, make up more of the airborne grains
+// than of the bed; the run is reproducible and a checkpoint continues it exactly.
+TEST(HybridRipples, BidisperseBedsCarryFinesAndContinueFromCheckpoints) {
+  RippleOptions o;
+  o.u_star = 40, o.length = 120, o.width = 8, o.triggers = 10, o.duration = 300, o.frame_every = 100;
+  o.sizes = {1.5, 0.5}, o.fractions = {0.5, 0.5};
+  RippleRun a(o), b(o);
+  a.advance_to(150);
+  b.restore(
+      [&] {
+        std::map<std::string, SampleTable> m;
+        for (auto& t : a.save("r/")) m[t.name] = t;
+        return m;
+      }(),
+      "r/");
+  a.advance_to(300), b.advance_to(300);
+  EXPECT_EQ(a.bed().heights(), b.bed().heights());
+  EXPECT_EQ(a.bed().layer()->amounts(), b.bed().layer()->amounts());
+  const Grains& g = a.transport().grains();
+  ASSERT_GT(g.size(), 20u);
+  double fine = 0;
+  for (auto k : g.kind) fine += k == 1;
+  // By volume: a fine grain is 1/27 of a coarse one.
+  const double fine_volume = fine / 27, coarse_volume = static_cast<double>(g.size()) - fine;
+  EXPECT_GT(fine_volume / (fine_volume + coarse_volume), 0.5);
+  const BedFrame f = a.frame();
+  EXPECT_EQ(f.size_profile.size(), a.bed().nx());
+  EXPECT_TRUE(std::isfinite(f.size_crest) && std::isfinite(f.size_trough));
+  for (double s : f.size_profile) EXPECT_TRUE(s >= 0.5 && s <= 1.5);
+  o.sizes = {1.5, 0.5}, o.fractions = {0.5, 0.6};
+  EXPECT_THROW(RippleRun{o}, std::invalid_argument);
+}
+
+}  // namespace grainlab::ripples::hybrid

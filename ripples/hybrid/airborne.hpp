@@ -10,12 +10,15 @@ namespace grainlab::ripples::hybrid {
 
 struct Grains {
   std::vector<double> x, y, z, vx, vy, vz;
+  std::vector<std::uint8_t> kind;  // size class (all 0 in a run of one size)
   std::size_t size() const { return x.size(); }
-  void add(double px, double py, double pz, double ux, double uy, double uz) {
+  void add(double px, double py, double pz, double ux, double uy, double uz, int k = 0) {
     x.push_back(px), y.push_back(py), z.push_back(pz), vx.push_back(ux), vy.push_back(uy), vz.push_back(uz);
+    kind.push_back(static_cast<std::uint8_t>(k));
   }
   void remove(std::size_t i) {  // swap with the last
     for (auto* v : {&x, &y, &z, &vx, &vy, &vz}) (*v)[i] = v->back(), v->pop_back();
+    kind[i] = kind.back(), kind.pop_back();
   }
 };
 
@@ -32,14 +35,22 @@ inline double into(double x, double period) {
 // holds a grain or two whose z test rejects most pairs.
 class CollisionGrid {
  public:
+  // d: the largest grain diameter (the columns' width).
   CollisionGrid(double length, double width, double d);
-  // Collides every overlapping, approaching pair of equal grains of mass m; returns how many collided.
+  // Grains of several sizes: diameter and mass per size class (Grains::kind); without, all grains are
+  // equal, of diameter d and the mass collide_all is given.
+  void set_sizes(std::vector<double> diameters, std::vector<double> masses);
+  // Collides every overlapping, approaching pair; returns how many collided.
   std::uint64_t collide_all(Grains& g, double m, const CollisionLaw& law);
 
  private:
+  template <bool kMixed>
+  std::uint64_t collide_as(Grains& g, double m, const CollisionLaw& law);
+  template <bool kMixed>
   bool pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) const;
   long nx_, ny_;
   double inv_hx_, inv_hy_, d_, length_, width_;
+  std::vector<double> diameters_, masses_;
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};
   std::vector<std::uint32_t> head_;           // per column: the last grain chained into it, or kNone
   std::vector<std::uint32_t> next_, column_;  // per grain: the grain chained before it, its column

@@ -85,27 +85,42 @@ std::size_t HeightField::repose_walk(double x, double y, double sign, std::int64
   return k;
 }
 
-void HeightField::deposit(double x, double y) {
+void HeightField::set_mixture(const std::vector<double>& sizes, const std::vector<double>& fractions,
+                              double psi0) {
+  if (sizes.size() != fractions.size()) throw std::invalid_argument("one fraction per size class");
+  volumes_.clear();
+  for (double s : sizes) {
+    if (!(s > 0) || !std::isfinite(s)) throw std::invalid_argument("every size class needs a positive size");
+    volumes_.push_back(s * s * s);
+  }
+  layer_.emplace(h_.size(), fractions, psi0);
+}
+
+void HeightField::deposit(double x, double y, int kind) {
   std::int64_t moves = 0;
   const std::size_t k = repose_walk(x, y, 1, moves);
+  const double dh = step_ * volumes_[static_cast<std::size_t>(kind)];
   ++deposited, rolled += moves;
+  if (layer_) layer_->add(k, kind, dh);
   if (p_.bilinear && moves == 0) {
-    share(x, y, step_);  // settling never meets the floor
+    share(x, y, dh);  // settling never meets the floor
     return;
   }
-  h_[k] += step_, sum_ += step_;
+  h_[k] += dh, sum_ += dh;
   top_ = std::max(top_, h_[k]);
 }
 
-bool HeightField::erode(double x, double y) {
+bool HeightField::erode(double x, double y, int kind) {
   std::int64_t moves = 0;
   const std::size_t k = repose_walk(x, y, -1, moves);
+  const double dh = step_ * volumes_[static_cast<std::size_t>(kind)];
   if (p_.bilinear && moves == 0) {
-    if (!share(x, y, -step_)) return false;
+    if (!share(x, y, -dh)) return false;
   } else {
-    if (h_[k] - step_ < -p_.erodible) return false;
-    h_[k] -= step_, sum_ -= step_;
+    if (h_[k] - dh < -p_.erodible) return false;
+    h_[k] -= dh, sum_ -= dh;
   }
+  if (layer_) layer_->take(k, kind, dh);
   ++eroded, pit_taken += moves;
   return true;
 }

@@ -9,7 +9,10 @@
 // neighbours within repose plus one grain's step, docs/ripples.md.)
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
+
+#include "surface_layer.hpp"
 
 namespace grainlab::ripples::hybrid {
 
@@ -45,9 +48,18 @@ class HeightField {
   double height(double x, double y) const;
   BedPoint at(double x, double y) const;
   // A grain settles at (x, y) / leaves from (x, y); erode returns false (and changes nothing) where the
-  // erodible layer is used up.
-  void deposit(double x, double y);
-  bool erode(double x, double y);
+  // erodible layer is used up. `kind` is its size class (0 on a bed of one size).
+  void deposit(double x, double y, int kind = 0);
+  bool erode(double x, double y, int kind = 0);
+  // A bed of several sizes: `sizes` in diameters (one per class), their initial `fractions` by volume, the
+  // surface layer's least depth psi0 (cm). A grain of class c moves the surface sizes[c]^3 times a
+  // grain of one diameter. Throws std::invalid_argument for sizes that are not positive.
+  void set_mixture(const std::vector<double>& sizes, const std::vector<double>& fractions, double psi0);
+  // The surface's composition (null on a bed of one size), and the class of the grain an impact at (x, y)
+  // meets, drawn by volume from the layer there with u in [0, 1).
+  const SurfaceLayer* layer() const { return layer_ ? &*layer_ : nullptr; }
+  SurfaceLayer* layer() { return layer_ ? &*layer_ : nullptr; }
+  int surface_kind(double x, double y, double u) const { return layer_ ? layer_->draw(nearest(x, y), u) : 0; }
   double mean() const { return sum_ / static_cast<double>(h_.size()); }
   // An upper bound of the highest key point (exact after refresh()).
   double top() const { return top_; }
@@ -80,6 +92,8 @@ class HeightField {
   std::size_t nx_, ny_;
   double cell_, inv_cell_, step_, slope_drop_, sum_ = 0, top_ = 0;
   std::vector<double> h_;
+  std::optional<SurfaceLayer> layer_;
+  std::vector<double> volumes_{1.0};  // per size class, in grains of one diameter
 };
 
 // Inline: every airborne grain asks for the bed beneath it every step (the wind column stands on it).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <filesystem>
 
 #include "ripple_config.hpp"
@@ -44,6 +45,30 @@ void read_bed(const TomlReader& r, RippleOptions& o) {
            "must be between two cells and the bed's length when initial_amplitude is set");
 }
 
+// A bed of several sizes: `sizes` (2 to 8, in diameters of `diameter`), `fractions` by volume (equal when
+// absent), and the surface layer's least depth.
+void read_sizes(const TomlReader& r, RippleOptions& o) {
+  o.affectable_depth = r.number_or("affectable_depth", o.affectable_depth, Range{0, 1e4, true});
+  if (!r.has("sizes")) {
+    if (r.has("fractions")) r.fail("fractions", "needs sizes, one fraction per size");
+    return;
+  }
+  const toml::array* a = r.node("sizes")->as_array();
+  if (!a || a->size() < 2 || a->size() > 8)
+    r.fail("sizes", "must be an array of 2 to 8 grain sizes, in diameters of `diameter`");
+  o.sizes = r.numbers("sizes", a->size());
+  for (double v : o.sizes)
+    if (!(v >= 0.1 && v <= 10)) r.fail("sizes", "every size must be between 0.1 and 10 diameters");
+  o.fractions.assign(o.sizes.size(), 1.0 / static_cast<double>(o.sizes.size()));
+  if (r.has("fractions")) o.fractions = r.numbers("fractions", o.sizes.size());
+  double sum = 0;
+  for (double f : o.fractions) {
+    if (!(f > 0)) r.fail("fractions", "every fraction must be positive");
+    sum += f;
+  }
+  if (std::abs(sum - 1) > 1e-6) r.fail("fractions", "must sum to 1 (they are the bed's volume fractions)");
+}
+
 void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
   o.splash = r.string_or("splash", o.splash);
   // A Lammel parameter set, or a grainlab-splash/1 file of recorded impacts (the command reads it).
@@ -78,7 +103,11 @@ HybridConfig parse_hybrid_config(const std::string& text, const std::string& pat
   read_grains_and_wind(r, o);
   read_bed(r, o);
   read_splash_and_run(r, o);
+  read_sizes(r, o);
   r.finish();
+  if (!o.sizes.empty() && o.splash != "paper2021" && o.splash != "lammel2017")
+    r.fail("sizes",
+           "a recorded splash holds impacts of one grain size: use splash = \"paper2021\" or \"lammel2017\"");
   // Defaults follow a short duration; values given must fit it.
   if (!r.has("frame_every")) o.frame_every = std::min(o.frame_every, o.duration);
   if (!r.has("sample_every")) o.sample_every = std::min(o.sample_every, o.frame_every);

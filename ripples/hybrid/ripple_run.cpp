@@ -1,5 +1,7 @@
 #include "ripple_run.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -20,9 +22,10 @@ RippleOptions::RippleOptions() {
 
 void check_ripple_options(const RippleOptions& o) {
   check_transport_options(o);
-  for (double v : {o.cell, o.packing, o.duration, o.frame_every, o.sample_every})
+  for (double v : {o.cell, o.packing, o.duration, o.frame_every, o.sample_every, o.affectable_depth})
     if (!(v > 0) || !std::isfinite(v))
-      throw std::invalid_argument("cell, packing, duration, frame_every and sample_every must be positive");
+      throw std::invalid_argument(
+          "cell, packing, duration, frame_every, sample_every and affectable_depth must be positive");
   if (o.length < 3 * o.cell || o.width < 3 * o.cell)
     throw std::invalid_argument("the bed needs at least 3 cells each way");
   if (o.initial_amplitude < 0 || o.initial_amplitude >= o.erodible ||
@@ -45,6 +48,7 @@ namespace {
 // model's linear stability directly, above the shot noise).
 HeightField initial_bed(const RippleOptions& o) {
   HeightField bed(bed_params(o));
+  if (!o.sizes.empty()) bed.set_mixture(o.sizes, o.fractions, o.affectable_depth * o.diameter);
   if (o.initial_amplitude > 0) {
     const double waves = std::max(1.0, std::round(o.length / o.initial_wavelength));
     auto& h = bed.heights();
@@ -78,6 +82,26 @@ void RippleRun::advance_to(double t_star, const std::function<void(double)>& pro
   }
 }
 
+// The surface layer's mean size by column (averaged across the bed) and at the crests and troughs: the
+// highest and lowest quarter of the columns of the across-averaged profile. Columns, not key points: a
+// coarse grain raises the one key point it settles on 27/8 times as much as a 1 d grain, so single high
+// key points are coarse whether or not ripples sort the sand.
+void RippleRun::surface_sizes(const SurfaceLayer& layer, BedFrame& f) const {
+  const std::size_t nx = bed_.nx(), ny = bed_.ny();
+  f.size_profile.assign(nx, 0.0);
+  for (std::size_t k = 0; k < nx * ny; ++k)
+    f.size_profile[k % nx] += layer.mean_size(k, o_.sizes) / static_cast<double>(ny);
+  std::vector<std::size_t> order(nx);
+  for (std::size_t i = 0; i < nx; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return f.profile[a] < f.profile[b]; });
+  const std::size_t quarter = std::max<std::size_t>(1, nx / 4);
+  double low = 0, high = 0;
+  for (std::size_t q = 0; q < quarter; ++q)
+    low += f.size_profile[order[q]], high += f.size_profile[order[nx - 1 - q]];
+  f.size_trough = low / static_cast<double>(quarter), f.size_crest = high / static_cast<double>(quarter);
+}
+
 BedFrame RippleRun::frame() {
   BedFrame f;
   f.t_star = t_star();
@@ -97,10 +121,22 @@ BedFrame RippleRun::frame() {
   if (samples_ > 0) f.mass_flux_star = q_sum_ / samples_, f.airborne = air_sum_ / samples_;
   f.u_star_bed = std::sqrt(transport_->wind().bed_stress());
   f.loosening = transport_->loosening();
+  if (const SurfaceLayer* layer = bed_.layer()) surface_sizes(*layer, f);
   q_sum_ = air_sum_ = samples_ = 0;
   last_h_ = f.h;
   return f;
 }
+
+namespace {
+SampleTable layer_table(const std::string& prefix, const SurfaceLayer& layer) {
+  SampleTable t = grid_table(prefix + "layer",
+                             "surface layer: each size class's volume as bed height (cm), "
+                             "one row per key point",
+                             layer.amounts(), layer.kinds());
+  for (std::size_t c = 0; c < layer.kinds(); ++c) t.columns[c] = fmt::format("size{}", c);
+  return t;
+}
+}  // namespace
 
 std::vector<SampleTable> RippleRun::save(const std::string& prefix) const {
   std::vector<SampleTable> out = transport_->save(prefix + "transport/");
@@ -117,6 +153,7 @@ std::vector<SampleTable> RippleRun::save(const std::string& prefix) const {
                       static_cast<double>(bed_.rolled), static_cast<double>(bed_.pit_taken), bed_.sum(),
                       bed_.top(), next_sample_, q_sum_, air_sum_, samples_}}};
   out.insert(out.end(), {bed, last, series, clock});
+  if (const SurfaceLayer* layer = bed_.layer()) out.push_back(layer_table(prefix, *layer));
   return out;
 }
 
@@ -136,6 +173,8 @@ void RippleRun::restore(const std::map<std::string, SampleTable>& tables, const 
     series_.push_back({r[0], r[1], r[2]});
   next_sample_ = c[6], q_sum_ = c[7], air_sum_ = c[8], samples_ = c[9];
   transport_->restore(tables, prefix + "transport/");
+  if (SurfaceLayer* layer = bed_.layer())
+    layer->restore(grid_values(checkpoint_table(tables, prefix + "layer", layer->kinds())));
 }
 
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {

@@ -4,6 +4,7 @@
 // bed_statistics.hpp taken at every frame. The caller drives it frame by frame (the CLI streams frames to
 // HDF5 and shows progress).
 #include <array>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -23,6 +24,7 @@ struct RippleOptions : TransportOptions {
   bool bilinear = false;          // grains settle / leave shared among four key points (HeightFieldParams)
   double initial_amplitude = 0;   // d: the bed starts as a downwind sine of this amplitude (0: flat)
   double initial_wavelength = 0;  // d, rounded to fit the length a whole number of times
+  double affectable_depth = 2;    // psi0 of the surface layer on a bed of several sizes, d (unstated)
   double duration = 100000;       // t*
   double frame_every = 1000;      // t* between bed frames
   double sample_every = 10;       // t* between flux samples
@@ -41,6 +43,11 @@ struct BedFrame {
   double airborne = 0;          // grains in flight, averaged since the previous frame
   double u_star_bed = 0;        // cm/s
   double loosening = 1;         // E_eff / E_d2
+  // A bed of several sizes: the surface layer's mean grain size (d) by key-point column, averaged across
+  // the bed, and over the highest and the lowest quarter of those columns by the profile's height (coarse
+  // crests: crest > trough). Empty / NaN on a bed of one size.
+  std::vector<double> size_profile;
+  double size_crest = std::nan(""), size_trough = std::nan("");
 };
 
 class RippleRun {
@@ -62,6 +69,7 @@ class RippleRun {
   void restore(const std::map<std::string, SampleTable>& tables, const std::string& prefix);
 
  private:
+  void surface_sizes(const SurfaceLayer& layer, BedFrame& f) const;
   RippleOptions o_;
   HeightField bed_;
   std::unique_ptr<Transport> transport_;

@@ -17,6 +17,18 @@ void check_transport_options(const TransportOptions& o) {
   if (o.triggers < 1) throw std::invalid_argument("triggers must be at least 1");
   if (!(o.loosened_floor > 0) || !(o.loosened_floor <= 1))
     throw std::invalid_argument("loosened_floor must be in (0, 1]");
+  if (o.sizes.size() != o.fractions.size() || o.sizes.size() > 8)
+    throw std::invalid_argument("grain sizes: one fraction per size, at most 8 sizes");
+  double sum = 0;
+  for (std::size_t k = 0; k < o.sizes.size(); ++k) {
+    if (!(o.sizes[k] > 0) || !(o.fractions[k] > 0) || !std::isfinite(o.sizes[k]))
+      throw std::invalid_argument("grain sizes and their fractions must be positive");
+    sum += o.fractions[k];
+  }
+  if (!o.sizes.empty() && std::abs(sum - 1) > 1e-6)
+    throw std::invalid_argument("the grain sizes' fractions must sum to 1");
+  if (!o.sizes.empty() && o.recorded)
+    throw std::invalid_argument("a recorded splash holds impacts of one grain size: use a Lammel splash");
   if (o.recorded)
     o.recorded->check();
   else
@@ -28,6 +40,9 @@ WindColumnParams wind_params(const TransportOptions& o) {
   check_transport_options(o);
   return {o.u_star, o.viscosity, o.fluid_density, o.diameter, o.height * o.diameter};
 }
+double largest_size(const TransportOptions& o) {
+  return o.sizes.empty() ? 1.0 : *std::max_element(o.sizes.begin(), o.sizes.end());
+}
 }  // namespace
 
 Transport::Transport(const TransportOptions& o, HeightField* bed)
@@ -36,21 +51,35 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
       splash_(LammelParameters::named(o.recorded ? "paper2021" : o.splash)),
       wind_(wind_params(o)),
       rng_(o.seed),
-      grid_(o.length * o.diameter, o.width * o.diameter, o.diameter),
+      grid_(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o)),
       law_{o.collision_restitution, o.collision_friction} {
   d_ = o.diameter, s_ = o.grain_density / o.fluid_density, g_hat_ = (1 - 1 / s_) * o.g;
   t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
   volume_ = M_PI / 6 * d_ * d_ * d_, m_ = o.grain_density * volume_;
-  coefficients_ = lammel_coefficients(splash_, d_, d_);
   e_d2_ = m_ * o.g * d_, rise2_ = 2 * g_hat_ * d_ * o.dead_rise;
   // The huo2021 drag written out for the hot loop: the acceleration is c (u - v) with c = 3/4 (rho_f /
   // (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) + sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
   drag_a_ = 0.75 * o.fluid_density / (o.grain_density * d_), drag_b_ = std::sqrt(24 * o.viscosity / d_);
+  mixed_ = !o.sizes.empty();
+  if (!mixed_) classes_.push_back({d_, m_, volume_, drag_a_, drag_b_, e_d2_, rise2_});
+  for (double size : o.sizes) {
+    const double d = size * d_, volume = M_PI / 6 * d * d * d, m = o.grain_density * volume;
+    classes_.push_back({d, m, volume, 0.75 * o.fluid_density / (o.grain_density * d),
+                        std::sqrt(24 * o.viscosity / d), m * o.g * d, 2 * g_hat_ * d * o.dead_rise});
+  }
+  for (const SizeClass& a : classes_)
+    for (const SizeClass& b : classes_) coefficients_.push_back(lammel_coefficients(splash_, a.d, b.d));
+  if (mixed_) {
+    std::vector<double> diameters, masses;
+    for (const SizeClass& c : classes_) diameters.push_back(c.d), masses.push_back(c.m);
+    grid_.set_sizes(diameters, masses);
+  }
   for (auto* v : {&drag_mean_, &volume_mean_, &drag_now_, &volume_now_}) v->assign(wind_.bins(), 0.0);
   const double lift = 20 * std::sqrt(o.g * d_);
   for (int k = 0; k < o.triggers; ++k) {
     const double x = rng_.uniform(0, length_), y = rng_.uniform(0, width_);
-    grains_.add(x, y, (bed_ ? bed_->height(x, y) : 0) + d_, 0, 0, lift);  // x, y inside the box
+    const int kind = mixed_ ? bed_kind(x, y) : 0;
+    grains_.add(x, y, (bed_ ? bed_->height(x, y) : 0) + d_, 0, 0, lift, kind);  // x, y inside the box
   }
   v2_launch_ = lift * lift;
   next_wind_ = o.wind_interval * t_unit_;
@@ -58,8 +87,21 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
 
 double Transport::mass_flux() const {
   double q = 0;
+  if (mixed_) {
+    for (std::size_t i = 0; i < grains_.size(); ++i) q += classes_[grains_.kind[i]].m * grains_.vx[i];
+    return q / area_;
+  }
   for (std::size_t i = 0; i < grains_.size(); ++i) q += grains_.vx[i];
   return m_ * q / area_;
+}
+
+int Transport::bed_kind(double x, double y) {
+  if (!mixed_) return 0;
+  if (bed_ && bed_->layer()) return bed_->surface_kind(x, y, rng_.uniform());
+  double u = rng_.uniform();  // a fixed bed of the initial mix
+  for (std::size_t k = 0; k + 1 < o_.fractions.size(); ++k)
+    if ((u -= o_.fractions[k]) < 0) return static_cast<int>(k);
+  return static_cast<int>(o_.fractions.size() - 1);
 }
 double Transport::flux_unit() const {
   return o_.grain_density * d_ * std::sqrt(s_ * g_hat_ * d_);
@@ -92,17 +134,19 @@ void Transport::step() {
 }
 
 void Transport::move_grains(double dt) {
-  if (o_.wind_follows_bed && bed_)
-    move_grains_as<true>(dt);
+  const bool follows = o_.wind_follows_bed && bed_;
+  if (mixed_)
+    follows ? move_grains_as<true, true>(dt) : move_grains_as<false, true>(dt);
   else
-    move_grains_as<false>(dt);
+    follows ? move_grains_as<true, false>(dt) : move_grains_as<false, false>(dt);
 }
 
-// The loop once per wind reading, so the column on the mean level (the flux runs) pays nothing for the
-// bed lookup.
-template <bool kFollowsBed>
+// The loop once per wind reading and per bed (one size or several), so the column on the mean level (the
+// flux runs) pays nothing for the bed lookup and one size nothing for the classes.
+template <bool kFollowsBed, bool kMixed>
 void Transport::move_grains_as(double dt) {
-  const double base = base_, g_hat = g_hat_, drag_a = drag_a_, drag_b = drag_b_;
+  const double base = base_, g_hat = g_hat_;
+  double drag_a = drag_a_, drag_b = drag_b_, m = m_, volume = volume_;
   auto accel = [&](double z, double vx, double vy, double vz, double& ax, double& ay, double& az) {
     const double rx = vx - wind_.at(z - base), speed = std::sqrt(rx * rx + vy * vy + vz * vz);
     const double root = std::sqrt(0.5 * speed) + drag_b, c = drag_a * root * root;
@@ -112,6 +156,10 @@ void Transport::move_grains_as(double dt) {
   Grains& g = grains_;
   for (std::size_t i = 0; i < g.size(); ++i) {
     double ax, ay, az, bx, by, bz;
+    if constexpr (kMixed) {
+      const SizeClass& c = classes_[g.kind[i]];
+      drag_a = c.drag_a, drag_b = c.drag_b, m = c.m, volume = c.volume;
+    }
     // The wind column's origin under this grain: the mean bed level, or the bed beneath it.
     double shift = 0;
     if constexpr (kFollowsBed) shift = bed_->height(g.x[i], g.y[i]) - base;
@@ -125,7 +173,7 @@ void Transport::move_grains_as(double dt) {
     g.x[i] = into(g.x[i], length_), g.y[i] = into(g.y[i], width_);
     v2_next_ = std::max(v2_next_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + g.vz[i] * g.vz[i]);
     const std::size_t k = wind_.bin(g.z[i] - shift - base);
-    drag_now_[k] += m_ * 0.5 * (f1 + f2) * dt, volume_now_[k] += volume_ * dt;
+    drag_now_[k] += m * 0.5 * (f1 + f2) * dt, volume_now_[k] += volume * dt;
   }
 }
 
@@ -133,8 +181,8 @@ void Transport::collide() {
   collisions += grid_.collide_all(grains_, m_, law_);
 }
 
-void Transport::launch(double x, double y, double bed_height, double vx, double vy, double vz) {
-  grains_.add(x, y, bed_height + 0.5 * d_, vx, vy, vz);
+void Transport::launch(double x, double y, double bed_height, double vx, double vy, double vz, int kind) {
+  grains_.add(x, y, bed_height + 0.5 * classes_[static_cast<std::size_t>(kind)].d, vx, vy, vz, kind);
   tally.bed_px -= vx, tally.bed_pz += vz;
   v2_launch_ = std::max(v2_launch_, vx * vx + vy * vy + vz * vz);
 }
@@ -142,16 +190,19 @@ void Transport::launch(double x, double y, double bed_height, double vx, double 
 // A grain whose bottom is below the bed beneath it while moving into the bed rebounds (or settles, if it
 // cannot rise a diameter) and ejects bed grains, all in the frame of the bed triangle beneath it.
 void Transport::impacts() {
-  const double r = 0.5 * d_, top = bed_ ? bed_->top() : 0, rise2 = rise2_;
+  const double top = bed_ ? bed_->top() : 0, r_max = 0.5 * largest_size(o_) * d_;
   Grains& g = grains_;
   for (std::size_t i = g.size(); i-- > 0;) {
-    const double bottom = g.z[i] - r;
+    if (g.z[i] - r_max > top) continue;  // most grains, at the cost of one test
+    const int k1 = g.kind[i];
+    const SizeClass& c1 = classes_[static_cast<std::size_t>(k1)];
+    const double r = 0.5 * c1.d, bottom = g.z[i] - r;
     if (bottom > top) continue;
     if (bed_ && bottom > bed_->height(g.x[i], g.y[i])) continue;
     const BedPoint b = bed_ ? bed_->at(g.x[i], g.y[i]) : BedPoint{0, 0, 0, 1};
     const double vn = g.vx[i] * b.nx + g.vy[i] * b.ny + g.vz[i] * b.nz;
     if (vn >= 0) {  // leaving the bed; buried only if the bed rose over it
-      if (bed_ && bottom < b.h - d_) bed_->deposit(g.x[i], g.y[i]), g.remove(i), ++tally.deaths;
+      if (bed_ && bottom < b.h - c1.d) bed_->deposit(g.x[i], g.y[i], k1), g.remove(i), ++tally.deaths;
       continue;
     }
     double tx = g.vx[i] - vn * b.nx, ty = g.vy[i] - vn * b.ny, tz = g.vz[i] - vn * b.nz;
@@ -169,32 +220,37 @@ void Transport::impacts() {
       recorded_splash(i, b, {tx, ty, tz}, speed, theta);
       continue;
     }
-    const double e_bar = std::max(0.0, mean_restitution(coefficients_, d_, d_, theta));
-    const double up = rebound_angle(coefficients_, theta, rng_.uniform()), rebound = e_bar * speed;
+    // The bed grain it meets (its size is d2 of the splash; the ejecta are of its size).
+    const int k2 = bed_kind(px, py);
+    const SizeClass& c2 = classes_[static_cast<std::size_t>(k2)];
+    const LammelCoefficients& coefficients =
+        coefficients_[static_cast<std::size_t>(k1) * classes_.size() + static_cast<std::size_t>(k2)];
+    const double e_bar = std::max(0.0, mean_restitution(coefficients, c1.d, c2.d, theta));
+    const double up = rebound_angle(coefficients, theta, rng_.uniform()), rebound = e_bar * speed;
     const double along = rebound * std::cos(up), off = rebound * std::sin(up);
     const double ux = along * tx + off * b.nx, uy = along * ty + off * b.ny, uz = along * tz + off * b.nz;
-    if (up > 0 && uz > 0 && uz * uz > rise2) {
+    if (up > 0 && uz > 0 && uz * uz > c1.rise2) {
       g.z[i] = b.h + r, g.vx[i] = ux, g.vy[i] = uy, g.vz[i] = uz;
       v2_launch_ = std::max(v2_launch_, rebound * rebound);
       tally.bed_px -= ux, tally.bed_pz += uz;
     } else {  // dead: it settles
       g.remove(i), ++tally.deaths;
-      if (bed_) bed_->deposit(px, py);
+      if (bed_) bed_->deposit(px, py, k1);
     }
-    const EjectaLaw ejecta = ejecta_law(splash_, e_bar, 0.5 * m_ * speed * speed, e_d2_ * loosening_);
+    const EjectaLaw ejecta = ejecta_law(splash_, e_bar, 0.5 * c1.m * speed * speed, c2.e_d2 * loosening_);
     const int count = sample_ejecta_count(ejecta, rng_);
     for (int k = 0; k < count; ++k) {
-      const double v = std::sqrt(2 * sample_ejectum_energy(ejecta, rng_) / m_);
+      const double v = std::sqrt(2 * sample_ejectum_energy(ejecta, rng_) / c2.m);
       const double lift_speed = o_.ejecta_vertical ? v : v * b.nz;
-      if (lift_speed * lift_speed <= rise2) continue;  // cannot rise a diameter: it stays
-      const double rho = d_ * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
+      if (lift_speed * lift_speed <= c2.rise2) continue;  // cannot rise a diameter: it stays
+      const double rho = c1.d * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
       const double x = into(px + rho * std::cos(phi), length_), y = into(py + rho * std::sin(phi), width_);
-      if (bed_ && !bed_->erode(x, y)) continue;        // the erodible layer is used up here
+      if (bed_ && !bed_->erode(x, y, k2)) continue;    // the erodible layer is used up here
       const double h = bed_ ? bed_->height(x, y) : 0;  // the launch direction is the impact's normal
       if (o_.ejecta_vertical)
-        launch(x, y, h, 0, 0, v);
+        launch(x, y, h, 0, 0, v, k2);
       else
-        launch(x, y, h, v * b.nx, v * b.ny, v * b.nz);
+        launch(x, y, h, v * b.nx, v * b.ny, v * b.nz, k2);
       ++tally.ejecta;
     }
   }
@@ -233,7 +289,7 @@ void Transport::recorded_splash(std::size_t i, const BedPoint& b, const std::arr
     const double x = into(px + d_ * (e.along * t[0] + e.across * a[0]), length_);
     const double y = into(py + d_ * (e.along * t[1] + e.across * a[1]), width_);
     if (bed_ && !bed_->erode(x, y)) continue;  // the erodible layer is used up here
-    launch(x, y, bed_ ? bed_->height(x, y) : 0, world(e.launch, scale, 0), world(e.launch, scale, 1), vz);
+    launch(x, y, bed_ ? bed_->height(x, y) : 0, world(e.launch, scale, 0), world(e.launch, scale, 1), vz, 0);
     ++tally.ejecta;
   }
 }
@@ -304,7 +360,10 @@ std::vector<SampleTable> Transport::save(const std::string& prefix) const {
         static_cast<double>(rng & 0xffffffffull), static_cast<double>(grain_steps),
         static_cast<double>(steps), static_cast<double>(collisions), tally.impacts, tally.speed_sum,
         tally.angle_sum, static_cast<double>(tally.deaths), static_cast<double>(tally.ejecta)}}};
-  return {grains, wind, clock};
+  if (!mixed_) return {grains, wind, clock};
+  SampleTable kinds{prefix + "kinds", "airborne grains' size classes, in the order of grains", {"kind"}, {}};
+  for (auto k : grains_.kind) kinds.rows.push_back({static_cast<double>(k)});
+  return {grains, wind, clock, kinds};
 }
 
 void Transport::restore(const std::map<std::string, SampleTable>& tables, const std::string& prefix) {
@@ -313,8 +372,18 @@ void Transport::restore(const std::map<std::string, SampleTable>& tables, const 
   if (wind.rows.size() != drag_mean_.size() || clock.rows.size() != 1)
     throw std::invalid_argument("the checkpoint's wind or clock does not fit this run");
   grains_ = {};
-  for (const auto& r : checkpoint_table(tables, prefix + "grains", kGrainColumns.size()).rows)
-    grains_.add(r[0], r[1], r[2], r[3], r[4], r[5]);
+  const auto& rows = checkpoint_table(tables, prefix + "grains", kGrainColumns.size()).rows;
+  const std::vector<std::vector<double>> none;
+  const auto& kinds = mixed_ ? checkpoint_table(tables, prefix + "kinds", 1).rows : none;
+  if (mixed_ && kinds.size() != rows.size())
+    throw std::invalid_argument("the checkpoint's grain sizes do not match its grains");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    const double kind = mixed_ ? kinds[i][0] : 0;
+    if (!(kind >= 0 && kind < static_cast<double>(classes_.size())))
+      throw std::invalid_argument("the checkpoint has a grain of an unknown size class");
+    grains_.add(r[0], r[1], r[2], r[3], r[4], r[5], static_cast<int>(kind));
+  }
   for (std::size_t k = 0; k < drag_mean_.size(); ++k) {
     const auto& r = wind.rows[k];
     drag_mean_[k] = r[0], volume_mean_[k] = r[1], drag_now_[k] = r[2], volume_now_[k] = r[3];

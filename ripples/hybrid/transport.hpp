@@ -52,6 +52,11 @@ struct TransportOptions {
   // A rebound or ejectum is dead (it settles) when its centre cannot rise this many diameters above where
   // it leaves: the paper's "particles which cannot jump higher than 1d" (eq. 31's flux depends on it).
   double dead_rise = 1;
+  // A bed of several grain sizes (the paper's section 3.2.2): each class's diameter in units of
+  // `diameter` (which stays the unit of t*, Q* and S) and its fraction of the bed by volume. Empty: one
+  // size. The Lammel splash then takes the impactor's size as d1 and the size of the bed grain it meets
+  // (drawn from the surface layer where it lands) as d2; the ejecta are of that bed grain's size.
+  std::vector<double> sizes, fractions;
   std::uint64_t seed = 2021;
 };
 
@@ -89,6 +94,8 @@ class Transport {
   double mass_flux() const;                     // g/(cm s), now
   double flux_unit() const;                     // rho_p d sqrt(s g^ d): Q* = Q / flux_unit
   std::size_t airborne() const { return grains_.size(); }
+  std::size_t size_classes() const { return classes_.size(); }
+  double class_diameter(int k) const { return classes_[static_cast<std::size_t>(k)].d; }  // cm
   const Grains& grains() const { return grains_; }
   const WindColumn& wind() const { return wind_; }
   double loosening() const { return loosening_; }  // E_eff / E_d2 now
@@ -104,20 +111,27 @@ class Transport {
 
  private:
   void move_grains(double dt);
-  template <bool kFollowsBed>
+  template <bool kFollowsBed, bool kMixed>
   void move_grains_as(double dt);
   void collide();
   void impacts();
-  void launch(double x, double y, double bed_height, double vx, double vy, double vz);
+  void launch(double x, double y, double bed_height, double vx, double vy, double vz, int kind);
+  int bed_kind(double x, double y);  // the size class of the bed grain an impact at (x, y) meets
   void recorded_splash(std::size_t i, const BedPoint& b, const std::array<double, 3>& t, double speed,
                        double theta);
   void update_wind();
   double tau_threshold() const;  // Shao & Lu (2000), tau_ft / rho_f
 
+  // What the loops need of each size class (one class in a run of one size).
+  struct SizeClass {
+    double d, m, volume, drag_a, drag_b, e_d2, rise2;
+  };
   TransportOptions o_;
   HeightField* bed_;
   LammelParameters splash_;
-  LammelCoefficients coefficients_;
+  std::vector<SizeClass> classes_;
+  std::vector<LammelCoefficients> coefficients_;  // impactor class k1, bed class k2: [k1 * classes + k2]
+  bool mixed_ = false;
   double d_, s_, g_hat_, t_unit_, length_, width_, area_, m_, volume_, e_d2_;
   double drag_a_, drag_b_, base_ = 0, loosening_ = 1;
   double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
