@@ -184,10 +184,21 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   EXPECT_NE(error_of("[hybrid]\nwidth = 5\ncell = 2\n").find("cell"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nduration = 10\nframe_every = 20\n").find("frame_every"), std::string::npos);
   EXPECT_NE(error_of("[bins]\nbins = 20\n").find("[hybrid]"), std::string::npos);
+  // Beds of several sizes: one fraction per size, summing to 1; a cell wide enough for the largest grain.
+  const HybridConfig two = parse_hybrid_config(good + "sizes = [1.5, 0.5]\n", "h.toml");
+  EXPECT_EQ(two.options.fractions, (std::vector<double>{0.5, 0.5}));
+  EXPECT_NE(error_of(good + "sizes = [1.5, 0.5]\nfractions = [0.5, 0.6]\n").find("sum to 1"),
+            std::string::npos);
+  EXPECT_NE(error_of(good + "sizes = [1.5, 0.5]\nfractions = [1.0]\n").find("h.toml:8"), std::string::npos);
+  EXPECT_NE(error_of(good + "sizes = [1.5]\n").find("sizes"), std::string::npos);
+  EXPECT_NE(error_of(good + "sizes = [1.0, 2.5]\n").find("cell"), std::string::npos);
+  EXPECT_NE(error_of(good + "fractions = [0.5, 0.5]\n").find("needs sizes"), std::string::npos);
+  EXPECT_NE(error_of(good + "sizes = [1.5, -0.5]\n").find("between"), std::string::npos);
 }
 
 TEST(HybridConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {
-  for (const char* name : {"huo2021_ripples.toml", "hybrid_quick.toml", "hybrid_seeded.toml"})
+  for (const char* name :
+       {"huo2021_ripples.toml", "hybrid_quick.toml", "hybrid_seeded.toml", "hybrid_bidisperse.toml"})
     fuzz_shipped_config(
         name, parse_hybrid_config,
         [](const HybridConfig& c) {

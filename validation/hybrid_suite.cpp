@@ -306,6 +306,38 @@ void ripple_checks(Report& rep, bool quick, const SuiteOptions& so, std::string&
                  "downwind migration, d per t* (positive)");
 }
 
+// A bed of two sizes (the paper's case 2: 1.5 d and 0.5 d, half the volume each): the fines, needing 1/81
+// of the coarse grains' E_d2 = m g d to leave, make up more of the airborne sand than of the bed. (The
+// surface they leave coarsens, but in 600 t* by under 1 %, as much as the airborne fines hold: reported,
+// not asserted.)
+void bidisperse_checks(Report& rep, std::string& md) {
+  RippleOptions o;
+  o.u_star = 40, o.length = 200, o.width = 8, o.triggers = 8, o.duration = 600, o.frame_every = 100;
+  o.sizes = {1.5, 0.5}, o.fractions = {0.5, 0.5};
+  RippleRun run(o);
+  const std::vector<BedFrame> frames = run_frames(run, o);
+  double fine = 0, all = 0;
+  const Grains& g = run.transport().grains();
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const double v = std::pow(o.sizes[g.kind[i]], 3);
+    all += v, fine += g.kind[i] == 1 ? v : 0;
+  }
+  const double fine_share = all > 0 ? fine / all : 0;
+  const std::vector<double>& sizes = frames.back().size_profile;
+  double surface = 0;
+  for (double s : sizes) surface += s / static_cast<double>(sizes.size());
+  rep.expect_below(
+      "hybrid/bidisperse/fines-airborne", "hybrid", 0.5 - fine_share, 0,
+      fmt::format("0.5 less the fine grains' share of the airborne volume ({:.3f}; the bed's: 0.5)",
+                  fine_share));
+  md += fmt::format(
+      "Bidisperse bed (1.5 d and 0.5 d, {} d x {} d, u* = {}, {} t*): the fines are {:.0f} % of the airborne "
+      "volume against 50 % of the bed; the surface layer's mean size rose from 1 d to {:.3f} d (crest "
+      "columns {:.3f} d, troughs {:.3f} d).\n\n",
+      o.length, o.width, o.u_star, o.duration, 100 * fine_share, surface, frames.back().size_crest,
+      frames.back().size_trough);
+}
+
 }  // namespace
 
 void run_hybrid_suite(Report& rep, const SuiteOptions& so) {
@@ -320,7 +352,9 @@ void run_hybrid_suite(Report& rep, const SuiteOptions& so) {
   ripple_checks(rep, so.quick, so, md);
   if (so.log) so.log("hybrid seeded wave: 200 d x 8 d, 4000 t*, two winds");
   seeded_wave_checks(rep, md);
-  md += "Not built yet: the polydisperse surface layer, MPI (docs/ripples.md).\n";
+  if (so.log) so.log("hybrid bidisperse bed: 200 d x 8 d, 600 t*");
+  bidisperse_checks(rep, md);
+  md += "Not built yet: MPI (docs/ripples.md).\n";
   rep.markdown.push_back(md);
 }
 

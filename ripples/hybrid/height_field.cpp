@@ -67,10 +67,10 @@ BedPoint HeightField::at(double x, double y) const {
   return {height(x, y), -gx * norm, -gy * norm, norm};
 }
 
-// Where a grain settles (sign +1) or is taken (sign -1): from the nearest key point, on to the neighbour
-// lying furthest below it (settling) or above it (taking) while the step to that neighbour, once the grain
-// is settled or taken here, would pass repose.
-std::size_t HeightField::repose_walk(double x, double y, double sign, std::int64_t& moves) const {
+// Where a grain worth dh of height settles (sign +1) or is taken (sign -1): from the nearest key point, on
+// to the neighbour lying furthest below it (settling) or above it (taking) while the step to that
+// neighbour, once the grain is settled or taken here, would pass repose.
+std::size_t HeightField::repose_walk(double x, double y, double sign, double dh, std::int64_t& moves) const {
   std::size_t k = nearest(x, y);
   for (int move = 0; move < kMaxMoves; ++move) {
     std::size_t next = k;
@@ -79,7 +79,7 @@ std::size_t HeightField::repose_walk(double x, double y, double sign, std::int64
       const std::size_t q = neighbour(k, w);
       if (sign * (h_[k] - h_[q]) > drop) next = q, drop = sign * (h_[k] - h_[q]);
     }
-    if (next == k || drop + step_ <= slope_drop_) break;
+    if (next == k || drop + dh <= slope_drop_) break;
     k = next, ++moves;
   }
   return k;
@@ -98,8 +98,8 @@ void HeightField::set_mixture(const std::vector<double>& sizes, const std::vecto
 
 void HeightField::deposit(double x, double y, int kind) {
   std::int64_t moves = 0;
-  const std::size_t k = repose_walk(x, y, 1, moves);
   const double dh = step_ * volumes_[static_cast<std::size_t>(kind)];
+  const std::size_t k = repose_walk(x, y, 1, dh, moves);
   ++deposited, rolled += moves;
   if (layer_) layer_->add(k, kind, dh);
   if (p_.bilinear && moves == 0) {
@@ -112,8 +112,8 @@ void HeightField::deposit(double x, double y, int kind) {
 
 bool HeightField::erode(double x, double y, int kind) {
   std::int64_t moves = 0;
-  const std::size_t k = repose_walk(x, y, -1, moves);
   const double dh = step_ * volumes_[static_cast<std::size_t>(kind)];
+  const std::size_t k = repose_walk(x, y, -1, dh, moves);
   if (p_.bilinear && moves == 0) {
     if (!share(x, y, -dh)) return false;
   } else {

@@ -86,7 +86,7 @@ class HeightField {
   // them would go below the erodible layer.
   bool share(double x, double y, double dh);
   std::size_t nearest(double x, double y) const;
-  std::size_t repose_walk(double x, double y, double sign, std::int64_t& moves) const;
+  std::size_t repose_walk(double x, double y, double sign, double dh, std::int64_t& moves) const;
   std::size_t neighbour(std::size_t k, int which) const;  // 0..3: -x, +x, -y, +y
   HeightFieldParams p_;
   std::size_t nx_, ny_;

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "ripple_config.hpp"
+#include "ripple_run.hpp"
 #include "toml_reader.hpp"
 
 namespace grainlab::ripples::hybrid {
@@ -113,6 +114,7 @@ HybridConfig parse_hybrid_config(const std::string& text, const std::string& pat
   if (!r.has("sample_every")) o.sample_every = std::min(o.sample_every, o.frame_every);
   if (o.cell > o.length / 3 || o.cell > o.width / 3)
     r.fail("cell", "the bed needs at least 3 cells each way");
+  if (const std::string why = cell_too_small(o); !why.empty()) r.fail(r.has("cell") ? "cell" : "sizes", why);
   if (o.frame_every > o.duration) r.fail("frame_every", "must not be longer than the duration");
   if (o.sample_every > o.frame_every) r.fail("sample_every", "must not be longer than frame_every");
   c.text = text;

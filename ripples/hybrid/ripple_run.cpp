@@ -20,6 +20,21 @@ RippleOptions::RippleOptions() {
   wind_follows_bed = true;
 }
 
+std::string cell_too_small(const RippleOptions& o) {
+  if (o.sizes.empty()) return "";
+  // One grain of the largest size must not raise its key point by more than repose allows over a cell:
+  // nothing would then smooth the spike it leaves.
+  const double s = *std::max_element(o.sizes.begin(), o.sizes.end());
+  const double rise = M_PI / 6 * s * s * s / (o.packing * o.cell * o.cell);
+  const double allowed = std::tan(o.repose_deg * M_PI / 180) * o.cell;
+  if (rise < allowed) return "";
+  return fmt::format(
+      "cell {} d is too small for grains of {} d: one raises its key point {:.2f} d, more than repose allows "
+      "over a cell ({:.2f} d); use cell >= {:.2f} d",
+      o.cell, s, rise, allowed,
+      1.01 * s * std::cbrt(M_PI / (6 * o.packing * std::tan(o.repose_deg * M_PI / 180))));
+}
+
 void check_ripple_options(const RippleOptions& o) {
   check_transport_options(o);
   for (double v : {o.cell, o.packing, o.duration, o.frame_every, o.sample_every, o.affectable_depth})
@@ -28,6 +43,7 @@ void check_ripple_options(const RippleOptions& o) {
           "cell, packing, duration, frame_every, sample_every and affectable_depth must be positive");
   if (o.length < 3 * o.cell || o.width < 3 * o.cell)
     throw std::invalid_argument("the bed needs at least 3 cells each way");
+  if (const std::string why = cell_too_small(o); !why.empty()) throw std::invalid_argument(why);
   if (o.initial_amplitude < 0 || o.initial_amplitude >= o.erodible ||
       (o.initial_amplitude > 0 && !(o.initial_wavelength >= 2 * o.cell && o.initial_wavelength <= o.length)))
     throw std::invalid_argument(

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "bed_statistics.hpp"
@@ -30,6 +31,8 @@ struct RippleOptions : TransportOptions {
   double sample_every = 10;       // t* between flux samples
 };
 void check_ripple_options(const RippleOptions& o);  // throws std::invalid_argument
+// Why the key-point spacing cannot carry the largest grain size (empty when it can, or for one size).
+std::string cell_too_small(const RippleOptions& o);
 
 // One bed frame: heights in grain diameters relative to the initial surface, x fastest.
 struct BedFrame {
