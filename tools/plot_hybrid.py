@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Plots of a hybrid ripple run (`grainlab ripples hybrid --config F --out RUN.h5`): the bed at the last
 frame (plan view), the slice-averaged profile h(x, t) as a space-time image, A(t), lambda(t), RI(t),
-Q*(t) against t*, and the bed's growth rate by wavelength band (positive: ripples grow there).
+Q*(t) against t*, and the bed's growth rate by wavelength band (positive: ripples grow there). A bed of
+several sizes adds the surface layer's mean grain size along the bed beside its height at the last frame,
+and the mean size at crests and troughs against t*.
 
     /usr/bin/python3 tools/plot_hybrid.py RUN.h5 [out.png]
 """
@@ -33,8 +35,9 @@ def main():
     last = f["frames"][names[-1]][:]
     profiles = np.array([f["frames"][n][:].mean(axis=0) for n in names])
     t = col["t_star"]
-    fig = plt.figure(figsize=(13, 9))
-    grid = fig.add_gridspec(3, 5)
+    sizes = "surface_size" in f and len(f["surface_size"]) > 0
+    fig = plt.figure(figsize=(13, 12 if sizes else 9))
+    grid = fig.add_gridspec(4 if sizes else 3, 5)
     ax = fig.add_subplot(grid[0, :])
     ny, nx = last.shape
     im = ax.imshow(last - last.mean(), origin="lower", cmap="terrain", aspect="auto",
@@ -64,6 +67,20 @@ def main():
         ax.axhline(0, color="k", lw=0.8)
         ax.set_xscale("log")
         ax.set(xlabel="wavelength (d)", ylabel="growth rate per t* (+- 2 s.e.)")
+    if sizes:
+        size_rows = f["surface_size"][:]
+        ax = fig.add_subplot(grid[3, :3])
+        x = np.arange(profiles.shape[1]) * dx
+        ax.plot(x, profiles[-1] - profiles[-1].mean(), color="tab:brown", label="h - mean (d)")
+        ax.set(xlabel="x (d)", ylabel="h - mean (d)", title=f"surface at t* = {size_rows[-1, 0]:.0f}")
+        twin = ax.twinx()
+        twin.plot(x, size_rows[-1, 1:], color="tab:blue", lw=0.8)
+        twin.set_ylabel("mean surface grain size (d)", color="tab:blue")
+        ax = fig.add_subplot(grid[3, 3:])
+        ax.plot(t, col["size_crest"], "o-", ms=3, label="crest quarter")
+        ax.plot(t, col["size_trough"], "o-", ms=3, label="trough quarter")
+        ax.set(xlabel="t*", ylabel="mean surface size (d)")
+        ax.legend()
     fig.tight_layout()
     fig.savefig(out, dpi=90)
     print(out)

@@ -98,23 +98,39 @@ void RippleRun::advance_to(double t_star, const std::function<void(double)>& pro
   }
 }
 
-// The surface layer's mean size by column (averaged across the bed) and at the crests and troughs: the
-// highest and lowest quarter of the columns of the across-averaged profile. Columns, not key points: a
-// coarse grain raises the one key point it settles on 27/8 times as much as a 1 d grain, so single high
-// key points are coarse whether or not ripples sort the sand.
+namespace {
+// A periodic running mean over 2 m + 1 values.
+std::vector<double> running_mean(const std::vector<double>& v, std::size_t m) {
+  const std::size_t n = v.size();
+  std::vector<double> out(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k <= 2 * m; ++k) out[i] += v[(i + n * (m + 1) + k - m) % n];
+    out[i] /= static_cast<double>(2 * m + 1);
+  }
+  return out;
+}
+}  // namespace
+
+// The surface layer's mean size by column (averaged across the bed), and at the crests and troughs: the
+// highest and lowest quarter of the columns, both profiles smoothed over a quarter wavelength first.
+// Single columns will not do: a coarse grain raises the column it settles in 27 times as much as a fine
+// one (1.5 d against 0.5 d), so grain by grain, high columns are coarse whether or not ripples sort the
+// sand; the smoothing keeps the ripple scale and drops that noise.
 void RippleRun::surface_sizes(const SurfaceLayer& layer, BedFrame& f) const {
   const std::size_t nx = bed_.nx(), ny = bed_.ny();
   f.size_profile.assign(nx, 0.0);
   for (std::size_t k = 0; k < nx * ny; ++k)
     f.size_profile[k % nx] += layer.mean_size(k, o_.sizes) / static_cast<double>(ny);
+  const double wavelength = f.stats.wavelength > 0 ? f.stats.wavelength : 8 * f.dx;
+  const auto m = static_cast<std::size_t>(std::max(1.0, std::round(0.125 * wavelength / f.dx)));
+  const std::vector<double> height = running_mean(f.profile, std::min(m, nx / 4)),
+                            size = running_mean(f.size_profile, std::min(m, nx / 4));
   std::vector<std::size_t> order(nx);
   for (std::size_t i = 0; i < nx; ++i) order[i] = i;
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return f.profile[a] < f.profile[b]; });
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return height[a] < height[b]; });
   const std::size_t quarter = std::max<std::size_t>(1, nx / 4);
   double low = 0, high = 0;
-  for (std::size_t q = 0; q < quarter; ++q)
-    low += f.size_profile[order[q]], high += f.size_profile[order[nx - 1 - q]];
+  for (std::size_t q = 0; q < quarter; ++q) low += size[order[q]], high += size[order[nx - 1 - q]];
   f.size_trough = low / static_cast<double>(quarter), f.size_crest = high / static_cast<double>(quarter);
 }
 

@@ -47,8 +47,8 @@ struct BedFrame {
   double u_star_bed = 0;        // cm/s
   double loosening = 1;         // E_eff / E_d2
   // A bed of several sizes: the surface layer's mean grain size (d) by key-point column, averaged across
-  // the bed, and over the highest and the lowest quarter of those columns by the profile's height (coarse
-  // crests: crest > trough). Empty / NaN on a bed of one size.
+  // the bed, and over the highest and the lowest quarter of those columns by the profile's height, both
+  // smoothed over a quarter wavelength (coarse crests: crest > trough). Empty / NaN on a bed of one size.
   std::vector<double> size_profile;
   double size_crest = std::nan(""), size_trough = std::nan("");
 };
