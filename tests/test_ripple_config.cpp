@@ -194,6 +194,8 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   EXPECT_NE(error_of(good + "sizes = [1.0, 2.5]\n").find("cell"), std::string::npos);
   EXPECT_NE(error_of(good + "fractions = [0.5, 0.5]\n").find("needs sizes"), std::string::npos);
   EXPECT_NE(error_of(good + "sizes = [1.5, -0.5]\n").find("between"), std::string::npos);
+  EXPECT_NE(error_of(good + "ejecta_size = \"big\"\n").find("ejecta_size"), std::string::npos);
+  EXPECT_EQ(parse_hybrid_config(good + "ejecta_size = \"local\"\n", "h.toml").options.ejecta_size, "local");
 }
 
 TEST(HybridConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {

@@ -50,6 +50,10 @@ void read_bed(const TomlReader& r, RippleOptions& o) {
 // absent), and the surface layer's least depth.
 void read_sizes(const TomlReader& r, RippleOptions& o) {
   o.affectable_depth = r.number_or("affectable_depth", o.affectable_depth, Range{0, 1e4, true});
+  o.ejecta_size = r.string_or("ejecta_size", o.ejecta_size);
+  if (o.ejecta_size != "struck" && o.ejecta_size != "local")
+    r.fail("ejecta_size",
+           "must be \"struck\" (the struck bed grain's size) or \"local\" (each ejectum's own)");
   if (!r.has("sizes")) {
     if (r.has("fractions")) r.fail("fractions", "needs sizes, one fraction per size");
     return;

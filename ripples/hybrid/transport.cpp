@@ -27,6 +27,8 @@ void check_transport_options(const TransportOptions& o) {
   }
   if (!o.sizes.empty() && std::abs(sum - 1) > 1e-6)
     throw std::invalid_argument("the grain sizes' fractions must sum to 1");
+  if (o.ejecta_size != "struck" && o.ejecta_size != "local")
+    throw std::invalid_argument("ejecta_size must be \"struck\" or \"local\"");
   if (!o.sizes.empty() && o.recorded)
     throw std::invalid_argument("a recorded splash holds impacts of one grain size: use a Lammel splash");
   if (o.recorded)
@@ -60,7 +62,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   // The huo2021 drag written out for the hot loop: the acceleration is c (u - v) with c = 3/4 (rho_f /
   // (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) + sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
   drag_a_ = 0.75 * o.fluid_density / (o.grain_density * d_), drag_b_ = std::sqrt(24 * o.viscosity / d_);
-  mixed_ = !o.sizes.empty();
+  mixed_ = !o.sizes.empty(), local_ejecta_ = mixed_ && o.ejecta_size == "local";
   if (!mixed_) classes_.push_back({d_, m_, volume_, drag_a_, drag_b_, e_d2_, rise2_});
   for (double size : o.sizes) {
     const double d = size * d_, volume = M_PI / 6 * d * d * d, m = o.grain_density * volume;
@@ -240,17 +242,26 @@ void Transport::impacts() {
     const EjectaLaw ejecta = ejecta_law(splash_, e_bar, 0.5 * c1.m * speed * speed, c2.e_d2 * loosening_);
     const int count = sample_ejecta_count(ejecta, rng_);
     for (int k = 0; k < count; ++k) {
-      const double v = std::sqrt(2 * sample_ejectum_energy(ejecta, rng_) / c2.m);
+      const double energy = sample_ejectum_energy(ejecta, rng_);
+      int kind = k2;
+      double rho = 0, phi = 0;
+      if (local_ejecta_) {  // each ejectum of the size found where it sits, if the energy lifts it
+        rho = c1.d * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
+        kind = bed_kind(into(px + rho * std::cos(phi), length_), into(py + rho * std::sin(phi), width_));
+        if (energy < classes_[static_cast<std::size_t>(kind)].e_d2 * loosening_) continue;
+      }
+      const SizeClass& c = classes_[static_cast<std::size_t>(kind)];
+      const double v = std::sqrt(2 * energy / c.m);
       const double lift_speed = o_.ejecta_vertical ? v : v * b.nz;
-      if (lift_speed * lift_speed <= c2.rise2) continue;  // cannot rise a diameter: it stays
-      const double rho = c1.d * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
+      if (lift_speed * lift_speed <= c.rise2) continue;  // cannot rise a diameter: it stays
+      if (!local_ejecta_) rho = c1.d * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
       const double x = into(px + rho * std::cos(phi), length_), y = into(py + rho * std::sin(phi), width_);
-      if (bed_ && !bed_->erode(x, y, k2)) continue;    // the erodible layer is used up here
+      if (bed_ && !bed_->erode(x, y, kind)) continue;  // the erodible layer is used up here
       const double h = bed_ ? bed_->height(x, y) : 0;  // the launch direction is the impact's normal
       if (o_.ejecta_vertical)
-        launch(x, y, h, 0, 0, v, k2);
+        launch(x, y, h, 0, 0, v, kind);
       else
-        launch(x, y, h, v * b.nx, v * b.ny, v * b.nz, k2);
+        launch(x, y, h, v * b.nx, v * b.ny, v * b.nz, kind);
       ++tally.ejecta;
     }
   }

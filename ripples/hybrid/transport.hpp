@@ -57,6 +57,10 @@ struct TransportOptions {
   // size. The Lammel splash then takes the impactor's size as d1 and the size of the bed grain it meets
   // (drawn from the surface layer where it lands) as d2; the ejecta are of that bed grain's size.
   std::vector<double> sizes, fractions;
+  // On a bed of several sizes, the ejecta's sizes: "struck", all of the size of the bed grain the impact
+  // met (d2); or "local", each of the size drawn from the surface where it sits, leaving only if its
+  // energy (drawn from the law for d2) beats its own m g d, so that fines go and coarse grains stay.
+  std::string ejecta_size = "struck";
   std::uint64_t seed = 2021;
 };
 
@@ -131,7 +135,7 @@ class Transport {
   LammelParameters splash_;
   std::vector<SizeClass> classes_;
   std::vector<LammelCoefficients> coefficients_;  // impactor class k1, bed class k2: [k1 * classes + k2]
-  bool mixed_ = false;
+  bool mixed_ = false, local_ejecta_ = false;
   double d_, s_, g_hat_, t_unit_, length_, width_, area_, m_, volume_, e_d2_;
   double drag_a_, drag_b_, base_ = 0, loosening_ = 1;
   double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
