@@ -57,10 +57,11 @@ struct TransportOptions {
   // size. The Lammel splash then takes the impactor's size as d1 and the size of the bed grain it meets
   // (drawn from the surface layer where it lands) as d2; the ejecta are of that bed grain's size.
   std::vector<double> sizes, fractions;
-  // On a bed of several sizes, the ejecta's sizes: "struck", all of the size of the bed grain the impact
-  // met (d2); or "local", each of the size drawn from the surface where it sits, leaving only if its
-  // energy (drawn from the law for d2) beats its own m g d, so that fines go and coarse grains stay.
-  std::string ejecta_size = "struck";
+  // On a bed of several sizes, the ejecta's sizes: "local" (default), each of the size drawn from the
+  // surface where it sits, leaving only if its energy (drawn from the law for d2) beats its own m g d, so
+  // that fines go and coarse grains stay; or "struck", all of the size of the bed grain the impact met
+  // (d2). Only "local" gives the paper's coarse crests with the geometric rolling rule (docs/ripples.md).
+  std::string ejecta_size = "local";
   std::uint64_t seed = 2021;
 };
 
