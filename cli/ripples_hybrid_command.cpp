@@ -113,8 +113,7 @@ SampleTable size_profiles(const std::vector<BedFrame>& frames, std::size_t nx) {
                 {}};
   for (std::size_t i = 0; i < nx; ++i) t.columns.push_back(fmt::format("x{}", i));
   for (const BedFrame& f : frames) {
-    if (f.size_profile.size() != nx)
-      continue;  // frames restored from a checkpoint keep their statistics only
+    if (f.size_profile.size() != nx) continue;  // (every frame has one, restored frames too; a guard)
     std::vector<double> row{f.t_star};
     row.insert(row.end(), f.size_profile.begin(), f.size_profile.end());
     t.rows.push_back(row);

@@ -63,6 +63,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   // (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) + sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
   drag_a_ = 0.75 * o.fluid_density / (o.grain_density * d_), drag_b_ = std::sqrt(24 * o.viscosity / d_);
   mixed_ = !o.sizes.empty(), local_ejecta_ = mixed_ && o.ejecta_size == "local";
+  r_max_ = 0.5 * largest_size(o) * d_;
   if (!mixed_) classes_.push_back({d_, m_, volume_, drag_a_, drag_b_, e_d2_, rise2_});
   for (double size : o.sizes) {
     const double d = size * d_, volume = M_PI / 6 * d * d * d, m = o.grain_density * volume;
@@ -192,7 +193,7 @@ void Transport::launch(double x, double y, double bed_height, double vx, double 
 // A grain whose bottom is below the bed beneath it while moving into the bed rebounds (or settles, if it
 // cannot rise a diameter) and ejects bed grains, all in the frame of the bed triangle beneath it.
 void Transport::impacts() {
-  const double top = bed_ ? bed_->top() : 0, r_max = 0.5 * largest_size(o_) * d_;
+  const double top = bed_ ? bed_->top() : 0, r_max = r_max_;
   Grains& g = grains_;
   for (std::size_t i = g.size(); i-- > 0;) {
     if (g.z[i] - r_max > top) continue;  // most grains, at the cost of one test
