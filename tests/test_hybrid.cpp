@@ -469,6 +469,9 @@ TEST(SurfaceLayer, ResizesThenShiftsAsFigure3) {
   for (int c = 0; c < 2; ++c) EXPECT_GE(thin.amount(0, c), 0);
   EXPECT_GE(thin.depth(0), 2.0 - 1e-12);
   EXPECT_THROW(SurfaceLayer(1, {0.5, 0.6}, 2.0), std::invalid_argument);
+  // Thirds written to 7 digits, as a config may give them: accepted (the configs' tolerance) and normalised.
+  const SurfaceLayer thirds(1, {0.3333333, 0.3333333, 0.3333333}, 3.0);
+  EXPECT_NEAR(thirds.depth(0), 3.0, 1e-12);
   EXPECT_THROW(SurfaceLayer(1, {1.0}, 0.0), std::invalid_argument);
 }
 

@@ -71,7 +71,8 @@ void read_sizes(const TomlReader& r, RippleOptions& o) {
     if (!(f > 0)) r.fail("fractions", "every fraction must be positive");
     sum += f;
   }
-  if (std::abs(sum - 1) > 1e-6) r.fail("fractions", "must sum to 1 (they are the bed's volume fractions)");
+  if (std::abs(sum - 1) > kFractionTolerance)
+    r.fail("fractions", "must sum to 1 (they are the bed's volume fractions)");
 }
 
 void read_splash_and_run(const TomlReader& r, RippleOptions& o) {

@@ -13,8 +13,9 @@ SurfaceLayer::SurfaceLayer(std::size_t points, std::vector<double> fractions, do
     if (!(f > 0)) throw std::invalid_argument("every size class needs a positive fraction of the bed");
     sum += f;
   }
-  if (f0_.empty() || std::abs(sum - 1) > 1e-9)
+  if (f0_.empty() || std::abs(sum - 1) > kFractionTolerance)
     throw std::invalid_argument("the size classes' fractions must sum to 1");
+  for (double& f : f0_) f /= sum;
   if (!(psi0 > 0) || !std::isfinite(psi0))
     throw std::invalid_argument("the affectable depth must be positive");
   a_.assign(points * f0_.size(), 0.0);

@@ -10,10 +10,13 @@
 
 namespace grainlab::ripples::hybrid {
 
+// How far a mixture's fractions may sum from 1 (configs and options check it; the layer normalises them).
+constexpr double kFractionTolerance = 1e-6;
+
 class SurfaceLayer {
  public:
-  // `fractions`: the initial mix by volume, one per class, positive, summing to 1 (throws
-  // std::invalid_argument otherwise); psi0 > 0 in cm.
+  // `fractions`: the initial mix by volume, one per class, positive, summing to 1 within
+  // kFractionTolerance (throws std::invalid_argument otherwise; kept normalised); psi0 > 0 in cm.
   SurfaceLayer(std::size_t points, std::vector<double> fractions, double psi0);
   std::size_t kinds() const { return f0_.size(); }
   std::size_t points() const { return a_.size() / f0_.size(); }

@@ -25,7 +25,7 @@ void check_transport_options(const TransportOptions& o) {
       throw std::invalid_argument("grain sizes and their fractions must be positive");
     sum += o.fractions[k];
   }
-  if (!o.sizes.empty() && std::abs(sum - 1) > 1e-6)
+  if (!o.sizes.empty() && std::abs(sum - 1) > kFractionTolerance)
     throw std::invalid_argument("the grain sizes' fractions must sum to 1");
   if (o.ejecta_size != "struck" && o.ejecta_size != "local")
     throw std::invalid_argument("ejecta_size must be \"struck\" or \"local\"");
@@ -57,19 +57,27 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
       law_{o.collision_restitution, o.collision_friction} {
   d_ = o.diameter, s_ = o.grain_density / o.fluid_density, g_hat_ = (1 - 1 / s_) * o.g;
   t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
-  volume_ = M_PI / 6 * d_ * d_ * d_, m_ = o.grain_density * volume_;
-  e_d2_ = m_ * o.g * d_, rise2_ = 2 * g_hat_ * d_ * o.dead_rise;
-  // The huo2021 drag written out for the hot loop: the acceleration is c (u - v) with c = 3/4 (rho_f /
-  // (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) + sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
-  drag_a_ = 0.75 * o.fluid_density / (o.grain_density * d_), drag_b_ = std::sqrt(24 * o.viscosity / d_);
   mixed_ = !o.sizes.empty(), local_ejecta_ = mixed_ && o.ejecta_size == "local";
   r_max_ = 0.5 * largest_size(o) * d_;
-  if (!mixed_) classes_.push_back({d_, m_, volume_, drag_a_, drag_b_, e_d2_, rise2_});
-  for (double size : o.sizes) {
+  // A class of grains `size` reference diameters across. The huo2021 drag written out for the hot loop:
+  // the acceleration is c (u - v) with c = 3/4 (rho_f / (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) +
+  // sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
+  auto size_class = [&](double size) {
     const double d = size * d_, volume = M_PI / 6 * d * d * d, m = o.grain_density * volume;
-    classes_.push_back({d, m, volume, 0.75 * o.fluid_density / (o.grain_density * d),
-                        std::sqrt(24 * o.viscosity / d), m * o.g * d, 2 * g_hat_ * d * o.dead_rise});
-  }
+    return SizeClass{d,
+                     m,
+                     volume,
+                     0.75 * o.fluid_density / (o.grain_density * d),
+                     std::sqrt(24 * o.viscosity / d),
+                     m * o.g * d,
+                     2 * g_hat_ * d * o.dead_rise};
+  };
+  // The reference grain, which the loops of a bed of one size use directly.
+  const SizeClass reference = size_class(1.0);
+  m_ = reference.m, volume_ = reference.volume, drag_a_ = reference.drag_a, drag_b_ = reference.drag_b;
+  rise2_ = reference.rise2;
+  if (!mixed_) classes_.push_back(reference);
+  for (double size : o.sizes) classes_.push_back(size_class(size));
   for (const SizeClass& a : classes_)
     for (const SizeClass& b : classes_) coefficients_.push_back(lammel_coefficients(splash_, a.d, b.d));
   if (mixed_) {

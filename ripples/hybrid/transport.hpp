@@ -137,7 +137,7 @@ class Transport {
   std::vector<SizeClass> classes_;
   std::vector<LammelCoefficients> coefficients_;  // impactor class k1, bed class k2: [k1 * classes + k2]
   bool mixed_ = false, local_ejecta_ = false;
-  double d_, s_, g_hat_, t_unit_, length_, width_, area_, m_, volume_, e_d2_;
+  double d_, s_, g_hat_, t_unit_, length_, width_, area_, m_, volume_;
   double drag_a_, drag_b_, base_ = 0, loosening_ = 1;
   double r_max_;  // the largest grain's radius, cm: no grain whose centre is higher above the top touches
   double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
