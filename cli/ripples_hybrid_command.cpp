@@ -13,6 +13,7 @@
 #include "hybrid_config.hpp"
 #include "hybrid_splash_file.hpp"
 #include "input_error.hpp"
+#include "parallel.hpp"
 #include "progress.hpp"
 #include "ripple_config.hpp"
 #include "ripples_commands.hpp"
@@ -33,10 +34,12 @@ int hybrid_flux_command(const RipplesCommands& a) {
                      fmt::format("must be before the end of the run (--duration {})", o.duration));
   ripples::hybrid::FluxOptions run = o;
   attach_recorded_splash(run);
-  ProgressBar bar(!a.quiet && !a.json);
+  run.distributed = parallel::size() > 1;  // the ranks share the domain; the first one reports
+  ProgressBar bar(!a.quiet && !a.json && parallel::rank() == 0);
   run.progress = [&](double t, double total) { bar.update(t, total); };
   const ripples::hybrid::FluxResult r = ripples::hybrid::run_flux(run);
   bar.finish();
+  if (parallel::rank() != 0) return 0;
   const double rate = r.wall_seconds > 0 ? static_cast<double>(r.grain_steps) / r.wall_seconds : 0;
   if (a.json) {
     nlohmann::json series = nlohmann::json::array();
@@ -133,7 +136,8 @@ std::string fingerprint(const ripples::hybrid::HybridConfig& c) {
 void write_hybrid_checkpoint(const std::string& path, const ripples::hybrid::HybridConfig& c,
                              const ripples::hybrid::RippleRun& run, const std::vector<BedFrame>& frames,
                              const std::vector<std::vector<double>>& written) {
-  std::vector<SampleTable> tables = run.save("run/");
+  std::vector<SampleTable> tables = run.save("run/");  // collective: every rank's grains
+  if (parallel::rank() != 0) return;
   SampleTable history{"cli/history", "frames so far", kHistoryColumns, {}};
   std::vector<double> profile_values, height_values;
   for (const BedFrame& f : frames) {
@@ -210,13 +214,17 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   if (a.duration_override > 0)
     o.duration = a.duration_override, o.frame_every = std::min(o.frame_every, o.duration);
   attach_recorded_splash(o);
+  // Under mpirun the ranks share the domain (bit for bit the results of one process); the first one
+  // writes and reports.
+  o.distributed = parallel::size() > 1;
+  const bool first = parallel::rank() == 0;
   ripples::hybrid::RippleRun run(o);
   const auto& bed = run.bed();
   const double dx = bed.cell() / o.diameter;
   std::unique_ptr<GridSeriesWriter> out;
-  if (!a.out.empty())
+  if (!a.out.empty() && first)
     out = std::make_unique<GridSeriesWriter>(a.out, a.force, bed.nx(), bed.ny(), dx, "height");
-  const bool talk = !a.quiet && !a.json;
+  const bool talk = !a.quiet && !a.json && first;
   if (talk)
     fmt::print(
         "hybrid ripples: {} d x {} d ({} x {} key points, {} d apart), s = {:.0f}, Ga = {:.1f}, S = {:.4f}, "
@@ -258,6 +266,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
     }
     if (stop) {
       bar.finish();
+      if (!first) return 0;
       fmt::print(stderr, "stopped at t* = {:.0f}; continue with --restart {}\n", t, a.hybrid_checkpoint);
       return 0;  // the output stays unwritten: the continued run writes it whole
     }
@@ -306,6 +315,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   }
   const auto& tr = run.transport();
   const double rate = wall > 0 ? static_cast<double>(tr.grain_steps - steps_before) / wall : 0;
+  if (!first) return 0;
   if (a.json) {
     nlohmann::json rows = nlohmann::json::array();
     for (const BedFrame& f : frames) {

@@ -15,6 +15,48 @@ double nearest(double s, double period) {
 }
 }  // namespace
 
+void Grains::remove_marked(const std::vector<char>& drop) {
+  std::size_t keep = 0;
+  for (std::size_t i = 0; i < size(); ++i) {
+    if (i < drop.size() && drop[i]) continue;
+    if (keep != i)
+      x[keep] = x[i], y[keep] = y[i], z[keep] = z[i], vx[keep] = vx[i], vy[keep] = vy[i], vz[keep] = vz[i],
+      kind[keep] = kind[i], id[keep] = id[i];
+    ++keep;
+  }
+  truncate(keep);
+}
+
+void Grains::truncate(std::size_t n) {
+  for (auto* v : {&x, &y, &z, &vx, &vy, &vz}) v->resize(n);
+  kind.resize(n), id.resize(n);
+}
+
+void Grains::merge(const Grains& more) {
+  if (more.size() == 0) return;
+  Grains all;
+  std::size_t a = 0, b = 0;
+  auto take = [&all](const Grains& g, std::size_t i) {
+    all.add(g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], g.id[i]);
+  };
+  while (a < size() || b < more.size())
+    if (b == more.size() || (a < size() && id[a] < more.id[b]))
+      take(*this, a++);
+    else
+      take(more, b++);
+  *this = std::move(all);
+}
+
+void pack_grain(const Grains& g, std::size_t i, std::vector<double>& out) {
+  out.insert(out.end(), {static_cast<double>(g.id[i]), g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i],
+                         static_cast<double>(g.kind[i])});
+}
+
+void unpack_grains(const double* v, std::size_t count, Grains& into) {
+  for (std::size_t k = 0; k < count; ++k, v += kGrainValues)
+    into.add(v[1], v[2], v[3], v[4], v[5], v[6], static_cast<int>(v[7]), static_cast<std::uint64_t>(v[0]));
+}
+
 CollisionGrid::CollisionGrid(double length, double width, double d)
     : nx_(std::max(3L, static_cast<long>(length / d))),
       ny_(std::max(3L, static_cast<long>(width / d))),
@@ -22,7 +64,16 @@ CollisionGrid::CollisionGrid(double length, double width, double d)
       inv_hy_(static_cast<double>(ny_) / width),
       d_(d),
       length_(length),
-      width_(width) {}
+      width_(width) {
+  set_blocks(1);
+}
+
+void CollisionGrid::set_blocks(long blocks) {
+  blocks_ = std::clamp(blocks, 1L, std::max(1L, nx_ / 2));
+  edge_.assign(static_cast<std::size_t>(nx_), 0);
+  for (long x = 0; x < nx_; ++x)
+    edge_[static_cast<std::size_t>(x)] = block_of(x) != block_of(wrap(x + 1, nx_));
+}
 
 void CollisionGrid::set_sizes(std::vector<double> diameters, std::vector<double> masses) {
   diameters_ = std::move(diameters), masses_ = std::move(masses);
@@ -46,16 +97,51 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
   }
   std::uint64_t hits = 0;
   static constexpr long kAhead[4][2] = {{1, -1}, {1, 0}, {1, 1}, {0, 1}};
+  across_.clear();
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::uint32_t j = next_[i]; j != kNone; j = next_[j]) hits += pair<kMixed>(g, i, j, m, law);
     const long ix = static_cast<long>(column_[i]) / ny_, iy = static_cast<long>(column_[i]) % ny_;
+    const bool edge = edge_[static_cast<std::size_t>(ix)];
     for (const auto& off : kAhead) {
       const auto o = static_cast<std::size_t>(wrap(ix + off[0], nx_) * ny_ + wrap(iy + off[1], ny_));
-      for (std::uint32_t j = head_[o]; j != kNone; j = next_[j]) hits += pair<kMixed>(g, i, j, m, law);
+      for (std::uint32_t j = head_[o]; j != kNone; j = next_[j])
+        if (!edge || off[0] == 0)
+          hits += pair<kMixed>(g, i, j, m, law);
+        else if (overlap<kMixed>(g, i, j))  // across a block boundary: after every pair within blocks
+          across_.emplace_back(i, j);
     }
   }
   for (std::uint32_t i = 0; i < n; ++i) head_[column_[i]] = kNone;
+  for (const auto& [i, j] : across_) hits += pair<kMixed>(g, i, j, m, law);
   return hits;
+}
+
+std::uint64_t CollisionGrid::collide_across(Grains& g, const std::vector<std::uint32_t>& left,
+                                            const std::vector<std::uint32_t>& right, double m,
+                                            const CollisionLaw& law, bool count) {
+  std::uint64_t hits = 0;
+  for (const std::uint32_t i : left) {
+    const long iy = column_y(g.y[i]);
+    for (long dy = -1; dy <= 1; ++dy) {
+      const long y = wrap(iy + dy, ny_);
+      for (std::size_t k = right.size(); k-- > 0;) {  // a column's chain runs from its highest id down
+        const std::uint32_t j = right[k];
+        if (column_y(g.y[j]) == y)
+          hits += diameters_.empty() ? pair<false>(g, i, j, m, law) : pair<true>(g, i, j, m, law);
+      }
+    }
+  }
+  return count ? hits : 0;
+}
+
+template <bool kMixed>
+bool CollisionGrid::overlap(const Grains& g, std::size_t i, std::size_t j) const {
+  const double dz = g.z[j] - g.z[i];
+  if (dz >= d_ || dz <= -d_) return false;
+  const double dx = nearest(g.x[j] - g.x[i], length_), dy = nearest(g.y[j] - g.y[i], width_);
+  double reach = d_;
+  if constexpr (kMixed) reach = 0.5 * (diameters_[g.kind[i]] + diameters_[g.kind[j]]);
+  return dx * dx + dy * dy + dz * dz < reach * reach;
 }
 
 template <bool kMixed>

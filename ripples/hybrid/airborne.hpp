@@ -1,26 +1,39 @@
 #pragma once
 // The airborne grains of the 3-D hybrid model (structure of arrays) and the column grid that finds their
 // mid-air collisions. Shared by the flat-bed flux runs and the ripple runs (transport.hpp).
+#include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "collision.hpp"
 
 namespace grainlab::ripples::hybrid {
 
+// The transport keeps them in ascending id order (ids are handed out in increasing order, removal keeps
+// the order, arrivals from other MPI ranks are merged in), so that every order-dependent step (collisions,
+// splashes) sees them in an order that does not depend on how the domain is split.
 struct Grains {
   std::vector<double> x, y, z, vx, vy, vz;
   std::vector<std::uint8_t> kind;  // size class (all 0 in a run of one size)
+  std::vector<std::uint64_t> id;
   std::size_t size() const { return x.size(); }
-  void add(double px, double py, double pz, double ux, double uy, double uz, int k = 0) {
+  void add(double px, double py, double pz, double ux, double uy, double uz, int k = 0, std::uint64_t n = 0) {
     x.push_back(px), y.push_back(py), z.push_back(pz), vx.push_back(ux), vy.push_back(uy), vz.push_back(uz);
-    kind.push_back(static_cast<std::uint8_t>(k));
+    kind.push_back(static_cast<std::uint8_t>(k)), id.push_back(n);
   }
-  void remove(std::size_t i) {  // swap with the last
-    for (auto* v : {&x, &y, &z, &vx, &vy, &vz}) (*v)[i] = v->back(), v->pop_back();
-    kind[i] = kind.back(), kind.pop_back();
-  }
+  // Drops every grain i < drop.size() with drop[i] set, keeping the others' order.
+  void remove_marked(const std::vector<char>& drop);
+  // Takes in `more` (ascending ids, none shared with these), keeping the ids ascending.
+  void merge(const Grains& more);
+  void truncate(std::size_t n);
 };
+
+// Grain i of g as kGrainValues numbers (id, x, y, z, vx, vy, vz, kind) appended to `out`, and back: what
+// crosses between MPI ranks and into checkpoints.
+inline constexpr std::size_t kGrainValues = 8;
+void pack_grain(const Grains& g, std::size_t i, std::vector<double>& out);
+void unpack_grains(const double* values, std::size_t count, Grains& into);
 
 // x taken into [0, period) (a grain moves far less than a period per step).
 inline double into(double x, double period) {
@@ -29,7 +42,14 @@ inline double into(double x, double period) {
 
 // Mid-air collisions: grains chained into vertical columns one diameter square (periodic in x and y), each
 // grain checked against the grains chained before it in its column and against the four columns ahead of
-// it, each pair of overlapping, approaching grains collided once per step. Saltation is dilute: most
+// it, each pair of overlapping, approaching grains collided once per step.
+//
+// A grain may meet two others in one step, so the order of the pairs matters to the last bit. It is
+// fixed independently of the MPI ranks: the columns in x are grouped into `blocks` (a number the run
+// fixes, not the rank count; each rank holds whole blocks), and every pair within a block is collided
+// first, grains in ascending id; then the pairs that straddle two blocks, in the same order. Blocks are
+// at least two columns wide, so no grain is in the pairs of two block boundaries: each boundary can be
+// done by whichever rank(s) see both sides, and gives the same bits. Saltation is dilute: most
 // columns are empty (the bed has tens of columns per airborne grain), so the work per step touches only
 // the grains' columns (the chain heads are cleared grain by grain, never column by column), and a column
 // holds a grain or two whose z test rejects most pairs.
@@ -40,15 +60,34 @@ class CollisionGrid {
   // Grains of several sizes: diameter and mass per size class (Grains::kind); without, all grains are
   // equal, of diameter d and the mass collide_all is given.
   void set_sizes(std::vector<double> diameters, std::vector<double> masses);
-  // Collides every overlapping, approaching pair; returns how many collided.
+  // The grouping of the x columns (1 <= blocks <= columns / 2, or 1).
+  void set_blocks(long blocks);
+  long blocks() const { return blocks_; }
+  long columns_x() const { return nx_; }
+  long columns_y() const { return ny_; }
+  long column_x(double x) const { return std::min(nx_ - 1, static_cast<long>(x * inv_hx_)); }
+  long column_y(double y) const { return std::min(ny_ - 1, static_cast<long>(y * inv_hy_)); }
+  long block_of(long column_x) const { return column_x * blocks_ / nx_; }
+  // Collides every overlapping, approaching pair of g's grains: those within a block, then those across
+  // block boundaries; returns how many collided.
   std::uint64_t collide_all(Grains& g, double m, const CollisionLaw& law);
+  // The pairs across one block boundary whose sides lie on two ranks: grains `left` of g (one x column,
+  // ascending id) against grains `right` (the next x column, periodic; ascending id), in collide_all's
+  // order. `count`: whether the collisions are counted (one side of each boundary counts them).
+  std::uint64_t collide_across(Grains& g, const std::vector<std::uint32_t>& left,
+                               const std::vector<std::uint32_t>& right, double m, const CollisionLaw& law,
+                               bool count);
 
  private:
   template <bool kMixed>
   std::uint64_t collide_as(Grains& g, double m, const CollisionLaw& law);
   template <bool kMixed>
+  bool overlap(const Grains& g, std::size_t i, std::size_t j) const;
+  template <bool kMixed>
   bool pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) const;
-  long nx_, ny_;
+  long nx_, ny_, blocks_ = 1;
+  std::vector<char> edge_;  // per x column: the last of its block (its pairs ahead in x cross a boundary)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> across_;  // straddling pairs, in order, to do last
   double inv_hx_, inv_hy_, d_, length_, width_;
   std::vector<double> diameters_, masses_;
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};

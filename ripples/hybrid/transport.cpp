@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
+
+#include "parallel.hpp"
 
 namespace grainlab::ripples::hybrid {
 
@@ -85,25 +88,55 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
     for (const SizeClass& c : classes_) diameters.push_back(c.d), masses.push_back(c.m);
     grid_.set_sizes(diameters, masses);
   }
-  for (auto* v : {&drag_mean_, &volume_mean_, &drag_now_, &volume_now_}) v->assign(wind_.bins(), 0.0);
+  for (auto* v : {&drag_mean_, &volume_mean_}) v->assign(wind_.bins(), 0.0);
+  for (auto* v : {&drag_now_, &volume_now_}) v->assign(wind_.bins(), 0);
+  // Fixed-point units: 2^-16 of the drag gravity would give the reference grain over the longest step,
+  // and of its volume over that step, so a wind interval's sums stay exact in a double (checkpoints).
+  const double dt_cap = o.dt_max * std::sqrt(d_ / o.g);
+  drag_scale_ = 0x1p16 / (m_ * o.g * dt_cap), volume_scale_ = 0x1p16 / (volume_ * dt_cap);
+  flux_scale_ = 0x1p32 / (m_ * std::sqrt(o.g * d_));
+  grid_.set_blocks(std::min(kCollisionBlocks, grid_.columns_x() / 2));
+  if (o.distributed) rank_ = parallel::rank(), ranks_ = parallel::size();
+  if (ranks_ > grid_.blocks())
+    throw std::invalid_argument(fmt::format("a domain {} d long splits over at most {} MPI ranks, not {}",
+                                            o.length, grid_.blocks(), ranks_));
+  // Rank r holds blocks [r B / P, (r + 1) B / P).
+  for (long x = 0; x < grid_.columns_x(); ++x) {
+    int r = 0;
+    while (r + 1 < ranks_ && (r + 1) * grid_.blocks() / ranks_ <= grid_.block_of(x)) ++r;
+    owner_.push_back(r);
+  }
+  first_x_ = std::find(owner_.begin(), owner_.end(), rank_) - owner_.begin();
+  last_x_ = std::find(owner_.rbegin(), owner_.rend(), rank_).base() - owner_.begin() - 1;
   const double lift = 20 * std::sqrt(o.g * d_);
   for (int k = 0; k < o.triggers; ++k) {
     const double x = rng_.uniform(0, length_), y = rng_.uniform(0, width_);
     const int kind = mixed_ ? bed_kind(x, y) : 0;
-    grains_.add(x, y, (bed_ ? bed_->height(x, y) : 0) + d_, 0, 0, lift, kind);  // x, y inside the box
+    if (mine(x)) grains_.add(x, y, (bed_ ? bed_->height(x, y) : 0) + d_, 0, 0, lift, kind, next_id_);
+    ++next_id_;  // x, y inside the box
   }
+  airborne_ = next_id_;
   v2_launch_ = lift * lift;
   next_wind_ = o.wind_interval * t_unit_;
 }
 
+// Sum of m v_x in fixed point, so that it is the same on any rank count.
 double Transport::mass_flux() const {
-  double q = 0;
-  if (mixed_) {
-    for (std::size_t i = 0; i < grains_.size(); ++i) q += classes_[grains_.kind[i]].m * grains_.vx[i];
-    return q / area_;
-  }
-  for (std::size_t i = 0; i < grains_.size(); ++i) q += grains_.vx[i];
-  return m_ * q / area_;
+  std::int64_t q = 0;
+  for (std::size_t i = 0; i < grains_.size(); ++i)
+    q += static_cast<std::int64_t>(classes_[grains_.kind[i]].m * grains_.vx[i] * flux_scale_);
+  return static_cast<double>(summed({q})[0]) / flux_scale_ / area_;
+}
+
+std::uint64_t Transport::total_collisions() const {
+  return static_cast<std::uint64_t>(summed({static_cast<std::int64_t>(collisions)})[0]);
+}
+
+std::vector<std::int64_t> Transport::summed(const std::vector<std::int64_t>& v) const {
+  if (ranks_ == 1) return v;
+  std::vector<std::uint64_t> u(v.begin(), v.end());  // two's complement: the wrapped sum is exact
+  parallel::sum_all(u);
+  return {u.begin(), u.end()};
 }
 
 int Transport::bed_kind(double x, double y) {
@@ -137,11 +170,52 @@ void Transport::step() {
   const double dt =
       std::min(o_.dt_max * std::sqrt(d_ / o_.g), v2max > 0 ? 0.2 * d_ / std::sqrt(v2max) : 1e300);
   move_grains(dt);
-  grain_steps += grains_.size(), ++steps;
+  grain_steps += airborne_, ++steps;
+  if (ranks_ > 1) migrate();
   if (o_.collisions) collide();
   impacts();
   t_ += dt, since_wind_ += dt;
+  finish_step();
   if (t_ >= next_wind_) update_wind();
+}
+
+// The fastest grain and the grain count of every rank.
+void Transport::finish_step() {
+  if (ranks_ == 1) {
+    airborne_ = grains_.size();
+    return;
+  }
+  const std::vector<double> all = parallel::gather_all({v2_next_, static_cast<double>(grains_.size())});
+  airborne_ = 0;
+  for (std::size_t r = 0; r < all.size(); r += 2)
+    v2_next_ = std::max(v2_next_, all[r]), airborne_ += static_cast<std::uint64_t>(all[r + 1]);
+}
+
+namespace {
+// The grains in ascending id.
+Grains by_id(const Grains& g) {
+  std::vector<std::size_t> order(g.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return g.id[a] < g.id[b]; });
+  Grains out;
+  for (std::size_t i : order) out.add(g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], g.id[i]);
+  return out;
+}
+}  // namespace
+
+// Grains that flew out of this rank's columns go to the rank that holds them now.
+void Transport::migrate() {
+  std::vector<std::vector<double>> send(static_cast<std::size_t>(ranks_));
+  std::vector<char> gone(grains_.size(), 0);
+  for (std::size_t i = 0; i < grains_.size(); ++i) {
+    const int r = owner_[static_cast<std::size_t>(grid_.column_x(grains_.x[i]))];
+    if (r != rank_) pack_grain(grains_, i, send[static_cast<std::size_t>(r)]), gone[i] = 1;
+  }
+  const std::vector<std::vector<double>> recv = parallel::all_to_all(send);
+  grains_.remove_marked(gone);
+  Grains arrived;
+  for (const auto& m : recv) unpack_grains(m.data(), m.size() / kGrainValues, arrived);
+  grains_.merge(by_id(arrived));
 }
 
 void Transport::move_grains(double dt) {
@@ -184,95 +258,182 @@ void Transport::move_grains_as(double dt) {
     g.x[i] = into(g.x[i], length_), g.y[i] = into(g.y[i], width_);
     v2_next_ = std::max(v2_next_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + g.vz[i] * g.vz[i]);
     const std::size_t k = wind_.bin(g.z[i] - shift - base);
-    drag_now_[k] += m * 0.5 * (f1 + f2) * dt, volume_now_[k] += volume * dt;
+    drag_now_[k] += static_cast<std::int64_t>(m * 0.5 * (f1 + f2) * dt * drag_scale_);
+    volume_now_[k] += static_cast<std::int64_t>(volume * dt * volume_scale_);
   }
 }
 
 void Transport::collide() {
   collisions += grid_.collide_all(grains_, m_, law_);
+  if (ranks_ > 1) collide_rank_edges();
 }
 
+// The block boundaries between this rank and its neighbours: each side sends the grains of its edge
+// column (as they are after the pairs within blocks), and both sides collide the pairs across, so each
+// has its own grains' results. The boundary's left side counts them.
+void Transport::collide_rank_edges() {
+  const std::size_t n = grains_.size();
+  std::vector<std::uint32_t> first, last;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const long x = grid_.column_x(grains_.x[i]);
+    if (x == first_x_) first.push_back(i);
+    if (x == last_x_) last.push_back(i);
+  }
+  std::vector<double> message{static_cast<double>(first.size())};
+  for (auto i : first) pack_grain(grains_, i, message);
+  message.push_back(static_cast<double>(last.size()));
+  for (auto i : last) pack_grain(grains_, i, message);
+  const int left = (rank_ + ranks_ - 1) % ranks_, right = (rank_ + 1) % ranks_;
+  std::vector<std::vector<double>> send(static_cast<std::size_t>(ranks_));
+  send[static_cast<std::size_t>(left)] = message, send[static_cast<std::size_t>(right)] = message;
+  const std::vector<std::vector<double>> recv = parallel::all_to_all(send);
+  // The left neighbour's last column, then the right neighbour's first, appended as ghosts.
+  auto ghosts = [&](int from, bool its_last) {
+    const double* v = recv[static_cast<std::size_t>(from)].data();
+    std::size_t count = static_cast<std::size_t>(v[0]);
+    if (its_last) v += 1 + count * kGrainValues, count = static_cast<std::size_t>(v[0]);
+    std::vector<std::uint32_t> at;
+    for (std::size_t k = 0; k < count; ++k) at.push_back(static_cast<std::uint32_t>(grains_.size() + k));
+    unpack_grains(v + 1, count, grains_);
+    return at;
+  };
+  const std::vector<std::uint32_t> left_ghosts = ghosts(left, true), right_ghosts = ghosts(right, false);
+  collisions += grid_.collide_across(grains_, last, right_ghosts, m_, law_, true);
+  grid_.collide_across(grains_, left_ghosts, first, m_, law_, false);
+  grains_.truncate(n);
+}
+
+// Every new grain is numbered on every rank (they all do every splash), and kept by the rank it is over.
 void Transport::launch(double x, double y, double bed_height, double vx, double vy, double vz, int kind) {
-  grains_.add(x, y, bed_height + 0.5 * classes_[static_cast<std::size_t>(kind)].d, vx, vy, vz, kind);
+  const std::uint64_t id = next_id_++;
+  if (mine(x))
+    grains_.add(x, y, bed_height + 0.5 * classes_[static_cast<std::size_t>(kind)].d, vx, vy, vz, kind, id);
   tally.bed_px -= vx, tally.bed_pz += vz;
   v2_launch_ = std::max(v2_launch_, vx * vx + vy * vy + vz * vz);
 }
 
+void Transport::rebound(const Hit& h, double z, double vx, double vy, double vz) {
+  if (h.local < 0) return;
+  const auto i = static_cast<std::size_t>(h.local);
+  grains_.z[i] = z, grains_.vx[i] = vx, grains_.vy[i] = vy, grains_.vz[i] = vz;
+}
+
+void Transport::settle(const Hit& h) {
+  if (h.local >= 0) dead_[static_cast<std::size_t>(h.local)] = 1;
+  ++tally.deaths;
+}
+
+// The grains at or below the bed beneath them, as the bed stands before this step's splashes: this
+// rank's, or (distributed) every rank's, in ascending id, which is the order the splashes are done in.
+std::vector<Transport::Hit> Transport::hits() {
+  const double top = bed_ ? bed_->top() : 0, r_max = r_max_;
+  const Grains& g = grains_;
+  std::vector<Hit> out;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    if (g.z[i] - r_max > top) continue;  // most grains, at the cost of one test
+    const double bottom = g.z[i] - 0.5 * classes_[g.kind[i]].d;
+    if (bottom > top || (bed_ && bottom > bed_->height(g.x[i], g.y[i]))) continue;
+    out.push_back(
+        {g.id[i], g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], static_cast<long>(i)});
+  }
+  if (ranks_ == 1) return out;
+  std::vector<double> mine;
+  for (const Hit& h : out) {
+    mine.insert(mine.end(),
+                {static_cast<double>(h.id), h.x, h.y, h.z, h.vx, h.vy, h.vz, static_cast<double>(h.kind),
+                 static_cast<double>(h.local), static_cast<double>(rank_)});
+  }
+  const std::vector<double> all = parallel::gather_all(mine);
+  out.clear();
+  for (std::size_t k = 0; k + 10 <= all.size(); k += 10) {
+    const double* v = &all[k];
+    const long local = static_cast<int>(v[9]) == rank_ ? static_cast<long>(v[8]) : -1;
+    out.push_back({static_cast<std::uint64_t>(v[0]), v[1], v[2], v[3], v[4], v[5], v[6],
+                   static_cast<int>(v[7]), local});
+  }
+  std::sort(out.begin(), out.end(), [](const Hit& a, const Hit& b) { return a.id < b.id; });
+  return out;
+}
+
+// Every rank does every splash, in the same order with the same generator, so the bed, the tally and the
+// generator stay the same everywhere; each rank applies the outcome to its own grains and keeps the
+// launched grains over its columns.
+void Transport::impacts() {
+  std::vector<Hit> list = hits();
+  dead_.assign(grains_.size(), 0);
+  for (Hit& h : list) splash(h);
+  grains_.remove_marked(dead_);
+}
+
 // A grain whose bottom is below the bed beneath it while moving into the bed rebounds (or settles, if it
 // cannot rise a diameter) and ejects bed grains, all in the frame of the bed triangle beneath it.
-void Transport::impacts() {
-  const double top = bed_ ? bed_->top() : 0, r_max = r_max_;
-  Grains& g = grains_;
-  for (std::size_t i = g.size(); i-- > 0;) {
-    if (g.z[i] - r_max > top) continue;  // most grains, at the cost of one test
-    const int k1 = g.kind[i];
-    const SizeClass& c1 = classes_[static_cast<std::size_t>(k1)];
-    const double r = 0.5 * c1.d, bottom = g.z[i] - r;
-    if (bottom > top) continue;
-    if (bed_ && bottom > bed_->height(g.x[i], g.y[i])) continue;
-    const BedPoint b = bed_ ? bed_->at(g.x[i], g.y[i]) : BedPoint{0, 0, 0, 1};
-    const double vn = g.vx[i] * b.nx + g.vy[i] * b.ny + g.vz[i] * b.nz;
-    if (vn >= 0) {  // leaving the bed; buried only if the bed rose over it
-      if (bed_ && bottom < b.h - c1.d) bed_->deposit(g.x[i], g.y[i], k1), g.remove(i), ++tally.deaths;
-      continue;
+void Transport::splash(Hit& h) {
+  const int k1 = h.kind;
+  const SizeClass& c1 = classes_[static_cast<std::size_t>(k1)];
+  const double r = 0.5 * c1.d, bottom = h.z - r;
+  if (bed_ && bottom > bed_->height(h.x, h.y)) return;  // the splashes before this one lowered the bed
+  const BedPoint b = bed_ ? bed_->at(h.x, h.y) : BedPoint{0, 0, 0, 1};
+  const double vn = h.vx * b.nx + h.vy * b.ny + h.vz * b.nz;
+  if (vn >= 0) {  // leaving the bed; buried only if the bed rose over it
+    if (bed_ && bottom < b.h - c1.d) bed_->deposit(h.x, h.y, k1), settle(h);
+    return;
+  }
+  double tx = h.vx - vn * b.nx, ty = h.vy - vn * b.ny, tz = h.vz - vn * b.nz;
+  const double vt = std::sqrt(tx * tx + ty * ty + tz * tz), speed = std::hypot(vt, vn);
+  if (vt > 0) {
+    tx /= vt, ty /= vt, tz /= vt;
+  } else {  // straight down: any tangent, taken downwind
+    const double k = 1 / std::hypot(b.nz, b.nx);
+    tx = b.nz * k, ty = 0, tz = -b.nx * k;
+  }
+  const double theta = std::atan2(-vn, vt), px = h.x, py = h.y;
+  tally.impacts += 1, tally.speed_sum += speed, tally.angle_sum += theta;
+  tally.bed_px += h.vx, tally.bed_pz -= h.vz;
+  if (o_.recorded) {
+    recorded_splash(h, b, {tx, ty, tz}, speed, theta);
+    return;
+  }
+  // The bed grain it meets (its size is d2 of the splash; the ejecta are of its size).
+  const int k2 = bed_kind(px, py);
+  const SizeClass& c2 = classes_[static_cast<std::size_t>(k2)];
+  const LammelCoefficients& coefficients =
+      coefficients_[static_cast<std::size_t>(k1) * classes_.size() + static_cast<std::size_t>(k2)];
+  const double e_bar = std::max(0.0, mean_restitution(coefficients, c1.d, c2.d, theta));
+  const double up = rebound_angle(coefficients, theta, rng_.uniform()), speed_out = e_bar * speed;
+  const double along = speed_out * std::cos(up), off = speed_out * std::sin(up);
+  const double ux = along * tx + off * b.nx, uy = along * ty + off * b.ny, uz = along * tz + off * b.nz;
+  if (up > 0 && uz > 0 && uz * uz > c1.rise2) {
+    rebound(h, b.h + r, ux, uy, uz);
+    v2_launch_ = std::max(v2_launch_, speed_out * speed_out);
+    tally.bed_px -= ux, tally.bed_pz += uz;
+  } else {  // dead: it settles
+    settle(h);
+    if (bed_) bed_->deposit(px, py, k1);
+  }
+  const EjectaLaw ejecta = ejecta_law(splash_, e_bar, 0.5 * c1.m * speed * speed, c2.e_d2 * loosening_);
+  const int count = sample_ejecta_count(ejecta, rng_);
+  for (int k = 0; k < count; ++k) {
+    const double energy = sample_ejectum_energy(ejecta, rng_);
+    int kind = k2;
+    double rho = 0, phi = 0;
+    if (local_ejecta_) {  // each ejectum of the size found where it sits, if the energy lifts it
+      rho = c1.d * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
+      kind = bed_kind(into(px + rho * std::cos(phi), length_), into(py + rho * std::sin(phi), width_));
+      if (energy < classes_[static_cast<std::size_t>(kind)].e_d2 * loosening_) continue;
     }
-    double tx = g.vx[i] - vn * b.nx, ty = g.vy[i] - vn * b.ny, tz = g.vz[i] - vn * b.nz;
-    const double vt = std::sqrt(tx * tx + ty * ty + tz * tz), speed = std::hypot(vt, vn);
-    if (vt > 0) {
-      tx /= vt, ty /= vt, tz /= vt;
-    } else {  // straight down: any tangent, taken downwind
-      const double k = 1 / std::hypot(b.nz, b.nx);
-      tx = b.nz * k, ty = 0, tz = -b.nx * k;
-    }
-    const double theta = std::atan2(-vn, vt), px = g.x[i], py = g.y[i];
-    tally.impacts += 1, tally.speed_sum += speed, tally.angle_sum += theta;
-    tally.bed_px += g.vx[i], tally.bed_pz -= g.vz[i];
-    if (o_.recorded) {
-      recorded_splash(i, b, {tx, ty, tz}, speed, theta);
-      continue;
-    }
-    // The bed grain it meets (its size is d2 of the splash; the ejecta are of its size).
-    const int k2 = bed_kind(px, py);
-    const SizeClass& c2 = classes_[static_cast<std::size_t>(k2)];
-    const LammelCoefficients& coefficients =
-        coefficients_[static_cast<std::size_t>(k1) * classes_.size() + static_cast<std::size_t>(k2)];
-    const double e_bar = std::max(0.0, mean_restitution(coefficients, c1.d, c2.d, theta));
-    const double up = rebound_angle(coefficients, theta, rng_.uniform()), rebound = e_bar * speed;
-    const double along = rebound * std::cos(up), off = rebound * std::sin(up);
-    const double ux = along * tx + off * b.nx, uy = along * ty + off * b.ny, uz = along * tz + off * b.nz;
-    if (up > 0 && uz > 0 && uz * uz > c1.rise2) {
-      g.z[i] = b.h + r, g.vx[i] = ux, g.vy[i] = uy, g.vz[i] = uz;
-      v2_launch_ = std::max(v2_launch_, rebound * rebound);
-      tally.bed_px -= ux, tally.bed_pz += uz;
-    } else {  // dead: it settles
-      g.remove(i), ++tally.deaths;
-      if (bed_) bed_->deposit(px, py, k1);
-    }
-    const EjectaLaw ejecta = ejecta_law(splash_, e_bar, 0.5 * c1.m * speed * speed, c2.e_d2 * loosening_);
-    const int count = sample_ejecta_count(ejecta, rng_);
-    for (int k = 0; k < count; ++k) {
-      const double energy = sample_ejectum_energy(ejecta, rng_);
-      int kind = k2;
-      double rho = 0, phi = 0;
-      if (local_ejecta_) {  // each ejectum of the size found where it sits, if the energy lifts it
-        rho = c1.d * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
-        kind = bed_kind(into(px + rho * std::cos(phi), length_), into(py + rho * std::sin(phi), width_));
-        if (energy < classes_[static_cast<std::size_t>(kind)].e_d2 * loosening_) continue;
-      }
-      const SizeClass& c = classes_[static_cast<std::size_t>(kind)];
-      const double v = std::sqrt(2 * energy / c.m);
-      const double lift_speed = o_.ejecta_vertical ? v : v * b.nz;
-      if (lift_speed * lift_speed <= c.rise2) continue;  // cannot rise a diameter: it stays
-      if (!local_ejecta_) rho = c1.d * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
-      const double x = into(px + rho * std::cos(phi), length_), y = into(py + rho * std::sin(phi), width_);
-      if (bed_ && !bed_->erode(x, y, kind)) continue;  // the erodible layer is used up here
-      const double h = bed_ ? bed_->height(x, y) : 0;  // the launch direction is the impact's normal
-      if (o_.ejecta_vertical)
-        launch(x, y, h, 0, 0, v, kind);
-      else
-        launch(x, y, h, v * b.nx, v * b.ny, v * b.nz, kind);
-      ++tally.ejecta;
-    }
+    const SizeClass& c = classes_[static_cast<std::size_t>(kind)];
+    const double v = std::sqrt(2 * energy / c.m);
+    const double lift_speed = o_.ejecta_vertical ? v : v * b.nz;
+    if (lift_speed * lift_speed <= c.rise2) continue;  // cannot rise a diameter: it stays
+    if (!local_ejecta_) rho = c1.d * std::sqrt(rng_.uniform()), phi = 2 * M_PI * rng_.uniform();
+    const double x = into(px + rho * std::cos(phi), length_), y = into(py + rho * std::sin(phi), width_);
+    if (bed_ && !bed_->erode(x, y, kind)) continue;   // the erodible layer is used up here
+    const double hb = bed_ ? bed_->height(x, y) : 0;  // the launch direction is the impact's normal
+    if (o_.ejecta_vertical)
+      launch(x, y, hb, 0, 0, v, kind);
+    else
+      launch(x, y, hb, v * b.nx, v * b.ny, v * b.nz, kind);
+    ++tally.ejecta;
   }
 }
 
@@ -280,10 +441,9 @@ void Transport::impacts() {
 // of the triangle hit), its rebound scaled by the speed over the cell's, its ejecta launched as recorded
 // from where they sat. Frame: t along the incident motion in the bed plane, n the bed's normal, a = n x t.
 // The same rules as the Lammel splash: a rebound or ejectum that cannot rise a diameter stays.
-void Transport::recorded_splash(std::size_t i, const BedPoint& b, const std::array<double, 3>& t,
-                                double speed, double theta) {
-  Grains& g = grains_;
-  const double scale = std::sqrt(o_.g * d_), rise2 = rise2_, px = g.x[i], py = g.y[i];
+void Transport::recorded_splash(Hit& h, const BedPoint& b, const std::array<double, 3>& t, double speed,
+                                double theta) {
+  const double scale = std::sqrt(o_.g * d_), rise2 = rise2_, px = h.x, py = h.y;
   const std::array<double, 3> n{b.nx, b.ny, b.nz};
   const std::array<double, 3> a{n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
                                 n[0] * t[1] - n[1] * t[0]};
@@ -295,12 +455,12 @@ void Transport::recorded_splash(std::size_t i, const BedPoint& b, const std::arr
   const double k = speed / cell.speed;  // cm/s per sqrt(g d) of the rebound: scaled to this impact's speed
   const double uz = world(hit.rebound, k, 2);
   if (hit.rebounded && uz > 0 && uz * uz > rise2) {
-    g.z[i] = b.h + 0.5 * d_, g.vx[i] = world(hit.rebound, k, 0), g.vy[i] = world(hit.rebound, k, 1),
-    g.vz[i] = uz;
-    v2_launch_ = std::max(v2_launch_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + uz * uz);
-    tally.bed_px -= g.vx[i], tally.bed_pz += uz;
+    const double ux = world(hit.rebound, k, 0), uy = world(hit.rebound, k, 1);
+    rebound(h, b.h + 0.5 * d_, ux, uy, uz);
+    v2_launch_ = std::max(v2_launch_, ux * ux + uy * uy + uz * uz);
+    tally.bed_px -= ux, tally.bed_pz += uz;
   } else {  // dead: it settles
-    g.remove(i), ++tally.deaths;
+    settle(h);
     if (bed_) bed_->deposit(px, py);
   }
   for (const RecordedEjectum& e : hit.ejecta) {
@@ -318,11 +478,12 @@ void Transport::recorded_splash(std::size_t i, const BedPoint& b, const std::arr
 // origin, and the wind-loosened surface follows the new stress at the bed.
 void Transport::update_wind() {
   const double a = std::min(1.0, since_wind_ / (o_.wind_memory * t_unit_));
+  const std::vector<std::int64_t> drag = summed(drag_now_), volume = summed(volume_now_);
   for (std::size_t k = 0; k < wind_.bins(); ++k) {
-    drag_mean_[k] += a * (drag_now_[k] / since_wind_ - drag_mean_[k]);
-    volume_mean_[k] += a * (volume_now_[k] / since_wind_ - volume_mean_[k]);
+    drag_mean_[k] += a * (static_cast<double>(drag[k]) / drag_scale_ / since_wind_ - drag_mean_[k]);
+    volume_mean_[k] += a * (static_cast<double>(volume[k]) / volume_scale_ / since_wind_ - volume_mean_[k]);
   }
-  std::fill(drag_now_.begin(), drag_now_.end(), 0.0), std::fill(volume_now_.begin(), volume_now_.end(), 0.0);
+  std::fill(drag_now_.begin(), drag_now_.end(), 0), std::fill(volume_now_.begin(), volume_now_.end(), 0);
   wind_.solve(drag_mean_, volume_mean_, area_);
   if (o_.wind_loosened) loosening_ = std::max(o_.loosened_floor, 1 - wind_.bed_stress() / tau_threshold());
   if (bed_) bed_->refresh(), base_ = bed_->mean();
@@ -364,13 +525,26 @@ std::vector<double> grid_values(const SampleTable& t) {
 }
 
 std::vector<SampleTable> Transport::save(const std::string& prefix) const {
+  // Every rank's grains, in id order.
+  std::vector<double> packed;
+  for (std::size_t i = 0; i < grains_.size(); ++i) pack_grain(grains_, i, packed);
+  if (ranks_ > 1) packed = parallel::gather_all(packed);
+  Grains all;
+  unpack_grains(packed.data(), packed.size() / kGrainValues, all);
+  all = by_id(all);
   SampleTable grains{prefix + "grains", "airborne grains: cm, cm/s", kGrainColumns, {}};
-  for (std::size_t i = 0; i < grains_.size(); ++i)
-    grains.rows.push_back(
-        {grains_.x[i], grains_.y[i], grains_.z[i], grains_.vx[i], grains_.vy[i], grains_.vz[i]});
+  SampleTable ids{
+      prefix + "ids", "airborne grains' numbers, in the order of grains; then the next number", {"id"}, {}};
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    grains.rows.push_back({all.x[i], all.y[i], all.z[i], all.vx[i], all.vy[i], all.vz[i]});
+    ids.rows.push_back({static_cast<double>(all.id[i])});
+  }
+  ids.rows.push_back({static_cast<double>(next_id_)});
+  const std::vector<std::int64_t> drag = summed(drag_now_), volume = summed(volume_now_);
   SampleTable wind{prefix + "wind", "the grains' drag and volume per wind bin", kWindColumns, {}};
   for (std::size_t k = 0; k < drag_mean_.size(); ++k)
-    wind.rows.push_back({drag_mean_[k], volume_mean_[k], drag_now_[k], volume_now_[k]});
+    wind.rows.push_back({drag_mean_[k], volume_mean_[k], static_cast<double>(drag[k]) / drag_scale_,
+                         static_cast<double>(volume[k]) / volume_scale_});
   const std::uint64_t rng = rng_.state();
   SampleTable clock{
       prefix + "clock",
@@ -378,12 +552,12 @@ std::vector<SampleTable> Transport::save(const std::string& prefix) const {
       kClockColumns,
       {{t_, next_wind_, since_wind_, v2_next_, v2_launch_, base_, loosening_, static_cast<double>(rng >> 32),
         static_cast<double>(rng & 0xffffffffull), static_cast<double>(grain_steps),
-        static_cast<double>(steps), static_cast<double>(collisions), tally.impacts, tally.speed_sum,
+        static_cast<double>(steps), static_cast<double>(total_collisions()), tally.impacts, tally.speed_sum,
         tally.angle_sum, static_cast<double>(tally.deaths), static_cast<double>(tally.ejecta)}}};
-  if (!mixed_) return {grains, wind, clock};
+  if (!mixed_) return {grains, ids, wind, clock};
   SampleTable kinds{prefix + "kinds", "airborne grains' size classes, in the order of grains", {"kind"}, {}};
-  for (auto k : grains_.kind) kinds.rows.push_back({static_cast<double>(k)});
-  return {grains, wind, clock, kinds};
+  for (auto k : all.kind) kinds.rows.push_back({static_cast<double>(k)});
+  return {grains, ids, wind, clock, kinds};
 }
 
 void Transport::restore(const std::map<std::string, SampleTable>& tables, const std::string& prefix) {
@@ -397,23 +571,47 @@ void Transport::restore(const std::map<std::string, SampleTable>& tables, const 
   const auto& kinds = mixed_ ? checkpoint_table(tables, prefix + "kinds", 1).rows : none;
   if (mixed_ && kinds.size() != rows.size())
     throw std::invalid_argument("the checkpoint's grain sizes do not match its grains");
+  // Ids: as saved, or (a checkpoint from before they existed) the rows' order.
+  std::vector<std::uint64_t> numbers(rows.size());
+  std::iota(numbers.begin(), numbers.end(), std::uint64_t{0});
+  next_id_ = rows.size();
+  if (tables.count(prefix + "ids")) {
+    const auto& ids = checkpoint_table(tables, prefix + "ids", 1).rows;
+    if (ids.size() != rows.size() + 1)
+      throw std::invalid_argument("the checkpoint's ids do not match its grains");
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (!(ids[i][0] >= 0 && ids[i][0] < 0x1p53) || (i > 0 && !(ids[i][0] > ids[i - 1][0])))
+        throw std::invalid_argument("the checkpoint's grain ids are not ascending whole numbers");
+      numbers[i] = static_cast<std::uint64_t>(ids[i][0]);
+    }
+    if (!(ids.back()[0] >= 0 && ids.back()[0] < 0x1p53) ||
+        (!rows.empty() && !(ids.back()[0] > ids[rows.size() - 1][0])))
+      throw std::invalid_argument("the checkpoint's next grain id is not above its grains'");
+    next_id_ = static_cast<std::uint64_t>(ids.back()[0]);
+  }
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
     const double kind = mixed_ ? kinds[i][0] : 0;
     if (!(kind >= 0 && kind < static_cast<double>(classes_.size())))
       throw std::invalid_argument("the checkpoint has a grain of an unknown size class");
-    grains_.add(r[0], r[1], r[2], r[3], r[4], r[5], static_cast<int>(kind));
+    if (!(r[0] >= 0 && r[0] < length_ && r[1] >= 0 && r[1] < width_))
+      throw std::invalid_argument("the checkpoint has a grain outside the domain");
+    if (mine(r[0])) grains_.add(r[0], r[1], r[2], r[3], r[4], r[5], static_cast<int>(kind), numbers[i]);
   }
+  airborne_ = rows.size();
+  // The sums since the last wind update: all on the first rank (fixed point, exact below 2^53 units).
   for (std::size_t k = 0; k < drag_mean_.size(); ++k) {
     const auto& r = wind.rows[k];
-    drag_mean_[k] = r[0], volume_mean_[k] = r[1], drag_now_[k] = r[2], volume_now_[k] = r[3];
+    drag_mean_[k] = r[0], volume_mean_[k] = r[1];
+    drag_now_[k] = rank_ == 0 ? std::llround(r[2] * drag_scale_) : 0;
+    volume_now_[k] = rank_ == 0 ? std::llround(r[3] * volume_scale_) : 0;
   }
   const auto& c = clock.rows[0];
   t_ = c[0], next_wind_ = c[1], since_wind_ = c[2], v2_next_ = c[3], v2_launch_ = c[4], base_ = c[5];
   loosening_ = c[6];
   rng_.set_state((static_cast<std::uint64_t>(c[7]) << 32) | static_cast<std::uint64_t>(c[8]));
   grain_steps = static_cast<std::uint64_t>(c[9]), steps = static_cast<std::uint64_t>(c[10]);
-  collisions = static_cast<std::uint64_t>(c[11]);
+  collisions = rank_ == 0 ? static_cast<std::uint64_t>(c[11]) : 0;
   tally = {c[12], c[13], c[14], static_cast<std::uint64_t>(c[15]), static_cast<std::uint64_t>(c[16])};
   // The wind as it was: solved from the same running means at the last update.
   wind_.solve(drag_mean_, volume_mean_, area_);

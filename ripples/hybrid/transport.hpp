@@ -63,6 +63,10 @@ struct TransportOptions {
   // (d2). Only "local" gives the paper's coarse crests with the geometric rolling rule (docs/ripples.md).
   std::string ejecta_size = "local";
   std::uint64_t seed = 2021;
+  // Spread the domain over the MPI ranks in x (each rank flies the grains over its share; the bed, the
+  // splash and the wind are the same on every rank). Off: every rank runs the whole model (the validation
+  // suites give ranks whole runs). Either way the results do not depend on the rank count, bit for bit.
+  bool distributed = false;
 };
 
 // A checkpoint's table by name with rows `columns` wide; throws std::invalid_argument otherwise.
@@ -89,28 +93,37 @@ struct ImpactTally {
   double bed_px = 0, bed_pz = 0;
 };
 
+// The x columns of the collision grid are grouped into this many blocks (fewer on short domains: a block
+// is at least two columns wide); a distributed run gives each rank whole blocks, so it can use at most
+// this many ranks. A constant, not the rank count: it fixes the order of mid-air collisions.
+inline constexpr long kCollisionBlocks = 64;
+
 class Transport {
  public:
   // `bed` null: a fixed flat bed at z = 0 with unlimited sand. Otherwise the bed must cover the domain.
   Transport(const TransportOptions& o, HeightField* bed);
   void step();
-  double time() const { return t_; }            // s
-  double time_unit() const { return t_unit_; }  // sqrt(d / g^), s
-  double mass_flux() const;                     // g/(cm s), now
-  double flux_unit() const;                     // rho_p d sqrt(s g^ d): Q* = Q / flux_unit
-  std::size_t airborne() const { return grains_.size(); }
+  double time() const { return t_; }                  // s
+  double time_unit() const { return t_unit_; }        // sqrt(d / g^), s
+  double mass_flux() const;                           // g/(cm s), now; collective on a distributed run
+  double flux_unit() const;                           // rho_p d sqrt(s g^ d): Q* = Q / flux_unit
+  std::size_t airborne() const { return airborne_; }  // on every rank
+  std::uint64_t total_collisions() const;             // every rank's; collective on a distributed run
   std::size_t size_classes() const { return classes_.size(); }
   double class_diameter(int k) const { return classes_[static_cast<std::size_t>(k)].d; }  // cm
-  const Grains& grains() const { return grains_; }
+  const Grains& grains() const { return grains_; }  // this rank's (all of them unless distributed)
   const WindColumn& wind() const { return wind_; }
   double loosening() const { return loosening_; }  // E_eff / E_d2 now
   double shields() const;
   double galileo() const;
   double density_ratio() const { return s_; }
-  ImpactTally tally;
-  std::uint64_t grain_steps = 0, steps = 0, collisions = 0;
-  // Everything a continued run needs, as named tables (prefix + "grains", "wind", "clock"); restore takes
-  // them back (throws std::invalid_argument when one is missing or the wrong shape).
+  ImpactTally tally;  // every impact's, on every rank
+  std::uint64_t grain_steps = 0, steps = 0;
+  std::uint64_t collisions = 0;  // this rank's: total_collisions() sums them
+  // Everything a continued run needs, as named tables (prefix + "grains", "ids", "wind", "clock"); restore
+  // takes them back (throws std::invalid_argument when one is missing or the wrong shape). Both are
+  // collective on a distributed run, and a run continued on any rank count goes on bit for bit. A
+  // checkpoint without ids (written before they existed) numbers its grains in row order.
   std::vector<SampleTable> save(const std::string& prefix) const;
   void restore(const std::map<std::string, SampleTable>& tables, const std::string& prefix);
 
@@ -119,11 +132,26 @@ class Transport {
   template <bool kFollowsBed, bool kMixed>
   void move_grains_as(double dt);
   void collide();
+  void collide_rank_edges();
+  void migrate();
+  void finish_step();
+  // A grain at or below the bed: a copy of its state, and where it sits here (-1: on another rank).
+  struct Hit {
+    std::uint64_t id;
+    double x, y, z, vx, vy, vz;
+    int kind;
+    long local;
+  };
+  std::vector<Hit> hits();  // every rank's, in ascending id
   void impacts();
+  void splash(Hit& h);
+  void rebound(const Hit& h, double z, double vx, double vy, double vz);
+  void settle(const Hit& h);
   void launch(double x, double y, double bed_height, double vx, double vy, double vz, int kind);
   int bed_kind(double x, double y);  // the size class of the bed grain an impact at (x, y) meets
-  void recorded_splash(std::size_t i, const BedPoint& b, const std::array<double, 3>& t, double speed,
-                       double theta);
+  void recorded_splash(Hit& h, const BedPoint& b, const std::array<double, 3>& t, double speed, double theta);
+  bool mine(double x) const { return owner_[static_cast<std::size_t>(grid_.column_x(x))] == rank_; }
+  std::vector<std::int64_t> summed(const std::vector<std::int64_t>& v) const;  // over the ranks, exactly
   void update_wind();
   double tau_threshold() const;  // Shao & Lu (2000), tau_ft / rho_f
 
@@ -142,7 +170,19 @@ class Transport {
   double r_max_;  // the largest grain's radius, cm: no grain whose centre is higher above the top touches
   double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
   WindColumn wind_;
-  std::vector<double> drag_mean_, volume_mean_, drag_now_, volume_now_;
+  std::vector<double> drag_mean_, volume_mean_;
+  // The drag and volume since the last wind update, in fixed point (units of 1 / drag_scale_ and
+  // 1 / volume_scale_): integer sums come out the same whatever order the grains are added in, so the
+  // wind does not depend on how the grains are spread over ranks.
+  std::vector<std::int64_t> drag_now_, volume_now_;
+  double drag_scale_ = 1, volume_scale_ = 1, flux_scale_ = 1;
+  // The decomposition: this rank, the rank count, the owner of each x column of the collision grid, and
+  // this rank's first and last x column.
+  int rank_ = 0, ranks_ = 1;
+  std::vector<int> owner_;
+  long first_x_ = 0, last_x_ = 0;
+  std::uint64_t next_id_ = 0, airborne_ = 0;
+  std::vector<char> dead_;
   Rng rng_;
   Grains grains_;
   CollisionGrid grid_;
