@@ -231,7 +231,10 @@ void Transport::move_grains(double dt) {
 template <bool kFollowsBed, bool kMixed>
 void Transport::move_grains_as(double dt) {
   const double base = base_, g_hat = g_hat_;
-  double drag_a = drag_a_, drag_b = drag_b_, m = m_, volume = volume_;
+  double drag_a = drag_a_, drag_b = drag_b_;
+  // Per grain-step, in the fixed-point units: the drag is this times (f1 + f2); the volume is constant.
+  double drag_unit = m_ * 0.5 * dt * drag_scale_;
+  auto volume_step = static_cast<std::int64_t>(volume_ * dt * volume_scale_);
   auto accel = [&](double z, double vx, double vy, double vz, double& ax, double& ay, double& az) {
     const double rx = vx - wind_.at(z - base), speed = std::sqrt(rx * rx + vy * vy + vz * vz);
     const double root = std::sqrt(0.5 * speed) + drag_b, c = drag_a * root * root;
@@ -243,7 +246,8 @@ void Transport::move_grains_as(double dt) {
     double ax, ay, az, bx, by, bz;
     if constexpr (kMixed) {
       const SizeClass& c = classes_[g.kind[i]];
-      drag_a = c.drag_a, drag_b = c.drag_b, m = c.m, volume = c.volume;
+      drag_a = c.drag_a, drag_b = c.drag_b, drag_unit = c.m * 0.5 * dt * drag_scale_;
+      volume_step = static_cast<std::int64_t>(c.volume * dt * volume_scale_);
     }
     // The wind column's origin under this grain: the mean bed level, or the bed beneath it.
     double shift = 0;
@@ -258,8 +262,8 @@ void Transport::move_grains_as(double dt) {
     g.x[i] = into(g.x[i], length_), g.y[i] = into(g.y[i], width_);
     v2_next_ = std::max(v2_next_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + g.vz[i] * g.vz[i]);
     const std::size_t k = wind_.bin(g.z[i] - shift - base);
-    drag_now_[k] += static_cast<std::int64_t>(m * 0.5 * (f1 + f2) * dt * drag_scale_);
-    volume_now_[k] += static_cast<std::int64_t>(volume * dt * volume_scale_);
+    drag_now_[k] += static_cast<std::int64_t>(drag_unit * (f1 + f2));
+    volume_now_[k] += volume_step;
   }
 }
 
@@ -318,9 +322,13 @@ void Transport::rebound(const Hit& h, double z, double vx, double vy, double vz)
   grains_.z[i] = z, grains_.vx[i] = vx, grains_.vy[i] = vy, grains_.vz[i] = vz;
 }
 
+// (remove_marked reads only the flags it has: grains past them, launched in this step, stay.)
 void Transport::settle(const Hit& h) {
-  if (h.local >= 0) dead_[static_cast<std::size_t>(h.local)] = 1;
   ++tally.deaths;
+  if (h.local < 0) return;
+  const auto i = static_cast<std::size_t>(h.local);
+  if (dead_.size() <= i) dead_.resize(i + 1, 0);
+  dead_[i] = 1;
 }
 
 // The grains at or below the bed beneath them, as the bed stands before this step's splashes: this
@@ -360,9 +368,9 @@ std::vector<Transport::Hit> Transport::hits() {
 // launched grains over its columns.
 void Transport::impacts() {
   std::vector<Hit> list = hits();
-  dead_.assign(grains_.size(), 0);
+  dead_.clear();  // sized at the first grain that settles: most steps have none
   for (Hit& h : list) splash(h);
-  grains_.remove_marked(dead_);
+  if (!dead_.empty()) grains_.remove_marked(dead_);
 }
 
 // A grain whose bottom is below the bed beneath it while moving into the bed rebounds (or settles, if it
