@@ -27,6 +27,19 @@ void attach_recorded_splash(ripples::hybrid::TransportOptions& o) {
       std::make_shared<const ripples::hybrid::RecordedSplash>(validation::read_recorded_splash(o.splash));
 }
 
+namespace {
+// A distributed run gives each rank at least one block of the collision grid's columns.
+void refuse_too_many_ranks(const ripples::hybrid::TransportOptions& o, const std::string& where,
+                           const std::string& key) {
+  const long most = ripples::hybrid::max_ranks(o);
+  if (parallel::size() > most)
+    throw InputError({where, 0}, key,
+                     fmt::format("a domain {} d long splits over at most {} MPI ranks (each takes whole "
+                                 "blocks of columns at least 2 d wide), not {}",
+                                 o.length, most, parallel::size()));
+}
+}  // namespace
+
 int hybrid_flux_command(const RipplesCommands& a) {
   const ripples::hybrid::FluxOptions& o = a.flux;
   if (!(o.average_from < o.duration))
@@ -35,6 +48,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
   ripples::hybrid::FluxOptions run = o;
   attach_recorded_splash(run);
   run.distributed = parallel::size() > 1;  // the ranks share the domain; the first one reports
+  refuse_too_many_ranks(run, "--length", "");
   ProgressBar bar(!a.quiet && !a.json && parallel::rank() == 0);
   run.progress = [&](double t, double total) { bar.update(t, total); };
   const ripples::hybrid::FluxResult r = ripples::hybrid::run_flux(run);
@@ -217,6 +231,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   // Under mpirun the ranks share the domain (bit for bit the results of one process); the first one
   // writes and reports.
   o.distributed = parallel::size() > 1;
+  refuse_too_many_ranks(o, a.config, "length");
   const bool first = parallel::rank() == 0;
   ripples::hybrid::RippleRun run(o);
   const auto& bed = run.bed();

@@ -50,6 +50,11 @@ double largest_size(const TransportOptions& o) {
 }
 }  // namespace
 
+long max_ranks(const TransportOptions& o) {
+  const CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o));
+  return std::max(1L, std::min(kCollisionBlocks, grid.columns_x() / 2));
+}
+
 Transport::Transport(const TransportOptions& o, HeightField* bed)
     : o_(o),
       bed_(bed),
@@ -179,16 +184,11 @@ void Transport::step() {
   if (t_ >= next_wind_) update_wind();
 }
 
-// The fastest grain and the grain count of every rank.
+// The grains in flight on all ranks: every rank did every splash, so each knows how many were launched
+// and how many settled.
 void Transport::finish_step() {
-  if (ranks_ == 1) {
-    airborne_ = grains_.size();
-    return;
-  }
-  const std::vector<double> all = parallel::gather_all({v2_next_, static_cast<double>(grains_.size())});
-  airborne_ = 0;
-  for (std::size_t r = 0; r < all.size(); r += 2)
-    v2_next_ = std::max(v2_next_, all[r]), airborne_ += static_cast<std::uint64_t>(all[r + 1]);
+  airborne_ = airborne_ + launched_ - settled_;
+  launched_ = 0, settled_ = 0;
 }
 
 namespace {
@@ -310,6 +310,7 @@ void Transport::collide_rank_edges() {
 // Every new grain is numbered on every rank (they all do every splash), and kept by the rank it is over.
 void Transport::launch(double x, double y, double bed_height, double vx, double vy, double vz, int kind) {
   const std::uint64_t id = next_id_++;
+  ++launched_;
   if (mine(x))
     grains_.add(x, y, bed_height + 0.5 * classes_[static_cast<std::size_t>(kind)].d, vx, vy, vz, kind, id);
   tally.bed_px -= vx, tally.bed_pz += vz;
@@ -324,7 +325,7 @@ void Transport::rebound(const Hit& h, double z, double vx, double vy, double vz)
 
 // (remove_marked reads only the flags it has: grains past them, launched in this step, stay.)
 void Transport::settle(const Hit& h) {
-  ++tally.deaths;
+  ++tally.deaths, ++settled_;
   if (h.local < 0) return;
   const auto i = static_cast<std::size_t>(h.local);
   if (dead_.size() <= i) dead_.resize(i + 1, 0);
@@ -345,19 +346,24 @@ std::vector<Transport::Hit> Transport::hits() {
         {g.id[i], g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], static_cast<long>(i)});
   }
   if (ranks_ == 1) return out;
-  std::vector<double> mine;
+  // Each rank's message: its fastest grain (the next step's size), how many hits, then each hit.
+  std::vector<double> mine{v2_next_, static_cast<double>(out.size())};
   for (const Hit& h : out) {
-    mine.insert(mine.end(),
-                {static_cast<double>(h.id), h.x, h.y, h.z, h.vx, h.vy, h.vz, static_cast<double>(h.kind),
-                 static_cast<double>(h.local), static_cast<double>(rank_)});
+    mine.insert(mine.end(), {static_cast<double>(h.id), h.x, h.y, h.z, h.vx, h.vy, h.vz,
+                             static_cast<double>(h.kind), static_cast<double>(h.local)});
   }
   const std::vector<double> all = parallel::gather_all(mine);
   out.clear();
-  for (std::size_t k = 0; k + 10 <= all.size(); k += 10) {
-    const double* v = &all[k];
-    const long local = static_cast<int>(v[9]) == rank_ ? static_cast<long>(v[8]) : -1;
-    out.push_back({static_cast<std::uint64_t>(v[0]), v[1], v[2], v[3], v[4], v[5], v[6],
-                   static_cast<int>(v[7]), local});
+  for (std::size_t k = 0, r = 0; k < all.size(); ++r) {
+    v2_next_ = std::max(v2_next_, all[k]);
+    const auto count = static_cast<std::size_t>(all[k + 1]);
+    k += 2;
+    for (std::size_t n = 0; n < count; ++n, k += 9) {
+      const double* v = &all[k];
+      const long local = static_cast<int>(r) == rank_ ? static_cast<long>(v[8]) : -1;
+      out.push_back({static_cast<std::uint64_t>(v[0]), v[1], v[2], v[3], v[4], v[5], v[6],
+                     static_cast<int>(v[7]), local});
+    }
   }
   std::sort(out.begin(), out.end(), [](const Hit& a, const Hit& b) { return a.id < b.id; });
   return out;

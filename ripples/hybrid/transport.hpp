@@ -98,6 +98,9 @@ struct ImpactTally {
 // this many ranks. A constant, not the rank count: it fixes the order of mid-air collisions.
 inline constexpr long kCollisionBlocks = 64;
 
+// The most MPI ranks a distributed run of these options can use (one block each).
+long max_ranks(const TransportOptions& o);
+
 class Transport {
  public:
   // `bed` null: a fixed flat bed at z = 0 with unlimited sand. Otherwise the bed must cover the domain.
@@ -181,7 +184,7 @@ class Transport {
   int rank_ = 0, ranks_ = 1;
   std::vector<int> owner_;
   long first_x_ = 0, last_x_ = 0;
-  std::uint64_t next_id_ = 0, airborne_ = 0;
+  std::uint64_t next_id_ = 0, airborne_ = 0, launched_ = 0, settled_ = 0;  // (the last two: this step's)
   std::vector<char> dead_;
   Rng rng_;
   Grains grains_;
