@@ -39,9 +39,9 @@ int run_hybrid_bench(const HybridBenchOptions& o) {
   const Rate full = median_rate(f, o.repeats);
   f.collisions = false;
   const Rate free = median_rate(f, o.repeats);
-  // Memory: six doubles per airborne grain, two 4-byte indices (chain and column) in the collision grid,
-  // and one 4-byte chain head per column of the grid (length x width / d^2 of them).
-  const double per_grain = 6 * 8 + 2 * 4 + 1, per_column = 4;  // position, velocity; chain; size class
+  // Memory: six doubles and an 8-byte id per airborne grain, two 4-byte indices (chain and column) in
+  // the collision grid, and one 4-byte chain head per column of the grid (length x width / d^2 of them).
+  const double per_grain = 6 * 8 + 8 + 2 * 4 + 1, per_column = 4;  // state, id; chain; size class
   fmt::print(
       "hybrid model, {} d x {} d, u* = {} cm/s, {} t*, median of {}: {:.3g} grain-steps/s ({:.0f} grains "
       "airborne); without mid-air collisions {:.3g} grain-steps/s (collisions cost {:.0f} %); memory {:.0f} "
