@@ -75,7 +75,8 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"wind_loosened", o.wind_loosened},
                            {"grain_steps", r.grain_steps},
                            {"steps", r.steps},
-                           {"grain_steps_per_second", rate},
+                           {"grain_steps_per_second", rate},  // all ranks together
+                           {"ranks", parallel::size()},
                            {"wall_seconds", r.wall_seconds},
                            {"series", series}};
     fmt::print("{}\n", j.dump());
@@ -88,7 +89,8 @@ int hybrid_flux_command(const RipplesCommands& a) {
       r.mass_flux, r.mass_flux_sd, r.mass_flux_star, r.airborne, r.u_star_bed);
   fmt::print("  impacts {:.1f} cm/s at {:.1f} deg; {} mid-air collisions\n", r.mean_impact_speed,
              r.mean_impact_angle_deg, r.collisions);
-  fmt::print("  {} grain-steps in {:.1f} s: {:.3g} grain-steps/s\n", r.grain_steps, r.wall_seconds, rate);
+  fmt::print("  {} grain-steps in {:.1f} s: {:.3g} grain-steps/s{}\n", r.grain_steps, r.wall_seconds, rate,
+             parallel::size() > 1 ? fmt::format(" on {} MPI ranks", parallel::size()) : "");
   return 0;
 }
 
@@ -367,7 +369,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"deposited", bed.deposited},
                            {"eroded", bed.eroded},
                            {"grain_steps", tr.grain_steps},
-                           {"grain_steps_per_second", rate},
+                           {"grain_steps_per_second", rate},  // all ranks together
+                           {"ranks", parallel::size()},
                            {"wall_seconds", wall},
                            {"history_columns", kHistoryColumns},
                            {"history", rows}};
@@ -390,7 +393,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                  b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed,
                  b.growth_rate > 2 * b.growth_error ? "  (growing)" : "");
   }
-  fmt::print("  {} grain-steps in {:.1f} s: {:.3g} grain-steps/s\n", tr.grain_steps, wall, rate);
+  fmt::print("  {} grain-steps in {:.1f} s: {:.3g} grain-steps/s{}\n", tr.grain_steps, wall, rate,
+             parallel::size() > 1 ? fmt::format(" on {} MPI ranks", parallel::size()) : "");
   return 0;
 }
 
