@@ -32,19 +32,24 @@ void Grains::truncate(std::size_t n) {
   kind.resize(n), id.resize(n);
 }
 
+// From the back, in place: the grains past the first arrival's place move once, the rest stay (no copy
+// of the whole set every step a grain arrives).
 void Grains::merge(const Grains& more) {
-  if (more.size() == 0) return;
-  Grains all;
-  std::size_t a = 0, b = 0;
-  auto take = [&all](const Grains& g, std::size_t i) {
-    all.add(g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], g.id[i]);
+  const std::size_t n = size(), k = more.size();
+  if (k == 0) return;
+  truncate(n + k);
+  std::size_t a = n, b = k, w = n + k;
+  auto put = [this, &w](const Grains& g, std::size_t i) {
+    x[w] = g.x[i], y[w] = g.y[i], z[w] = g.z[i], vx[w] = g.vx[i], vy[w] = g.vy[i], vz[w] = g.vz[i];
+    kind[w] = g.kind[i], id[w] = g.id[i];
   };
-  while (a < size() || b < more.size())
-    if (b == more.size() || (a < size() && id[a] < more.id[b]))
-      take(*this, a++);
+  while (b > 0) {
+    --w;
+    if (a > 0 && id[a - 1] > more.id[b - 1])
+      put(*this, --a);
     else
-      take(more, b++);
-  *this = std::move(all);
+      put(more, --b);
+  }
 }
 
 void pack_grain(const Grains& g, std::size_t i, std::vector<double>& out) {
@@ -107,7 +112,7 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
       for (std::uint32_t j = head_[o]; j != kNone; j = next_[j])
         if (!edge || off[0] == 0)
           hits += pair<kMixed>(g, i, j, m, law);
-        else if (overlap<kMixed>(g, i, j))  // across a block boundary: after every pair within blocks
+        else if (Separation s; overlap<kMixed>(g, i, j, s))  // across a block boundary: after all within
           across_.emplace_back(i, j);
     }
   }
@@ -135,29 +140,24 @@ std::uint64_t CollisionGrid::collide_across(Grains& g, const std::vector<std::ui
 }
 
 template <bool kMixed>
-bool CollisionGrid::overlap(const Grains& g, std::size_t i, std::size_t j) const {
-  const double dz = g.z[j] - g.z[i];
-  if (dz >= d_ || dz <= -d_) return false;
-  const double dx = nearest(g.x[j] - g.x[i], length_), dy = nearest(g.y[j] - g.y[i], width_);
+bool CollisionGrid::overlap(const Grains& g, std::size_t i, std::size_t j, Separation& s) const {
+  s.dz = g.z[j] - g.z[i];
+  if (s.dz >= d_ || s.dz <= -d_) return false;
+  s.dx = nearest(g.x[j] - g.x[i], length_), s.dy = nearest(g.y[j] - g.y[i], width_);
+  s.r2 = s.dx * s.dx + s.dy * s.dy + s.dz * s.dz;
   double reach = d_;
   if constexpr (kMixed) reach = 0.5 * (diameters_[g.kind[i]] + diameters_[g.kind[j]]);
-  return dx * dx + dy * dy + dz * dz < reach * reach;
+  return s.r2 < reach * reach && s.r2 > 0;
 }
 
 template <bool kMixed>
 bool CollisionGrid::pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) const {
-  const double dz = g.z[j] - g.z[i];
-  if (dz >= d_ || dz <= -d_) return false;
-  const double dx = nearest(g.x[j] - g.x[i], length_), dy = nearest(g.y[j] - g.y[i], width_);
-  const double r2 = dx * dx + dy * dy + dz * dz;
-  double reach = d_, mi = m, mj = m;
-  if constexpr (kMixed) {
-    const std::size_t ki = g.kind[i], kj = g.kind[j];
-    reach = 0.5 * (diameters_[ki] + diameters_[kj]), mi = masses_[ki], mj = masses_[kj];
-  }
-  if (r2 >= reach * reach || r2 <= 0) return false;
+  Separation s;
+  if (!overlap<kMixed>(g, i, j, s)) return false;
+  double mi = m, mj = m;
+  if constexpr (kMixed) mi = masses_[g.kind[i]], mj = masses_[g.kind[j]];
   Vec3 v1{g.vx[i], g.vy[i], g.vz[i]}, v2{g.vx[j], g.vy[j], g.vz[j]};
-  if (!collide(v1, v2, mi, mj, Vec3{dx, dy, dz} / std::sqrt(r2), law)) return false;
+  if (!collide(v1, v2, mi, mj, Vec3{s.dx, s.dy, s.dz} / std::sqrt(s.r2), law)) return false;
   g.vx[i] = v1.x(), g.vy[i] = v1.y(), g.vz[i] = v1.z(), g.vx[j] = v2.x(), g.vy[j] = v2.y(), g.vz[j] = v2.z();
   return true;
 }

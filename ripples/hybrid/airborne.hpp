@@ -81,8 +81,12 @@ class CollisionGrid {
  private:
   template <bool kMixed>
   std::uint64_t collide_as(Grains& g, double m, const CollisionLaw& law);
+  struct Separation {
+    double dx, dy, dz, r2;  // from grain i to grain j (nearest periodic image)
+  };
+  // Whether grains i and j overlap (and are apart at all); `s` gets their separation.
   template <bool kMixed>
-  bool overlap(const Grains& g, std::size_t i, std::size_t j) const;
+  bool overlap(const Grains& g, std::size_t i, std::size_t j, Separation& s) const;
   template <bool kMixed>
   bool pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) const;
   long nx_, ny_, blocks_ = 1;

@@ -51,8 +51,9 @@ double largest_size(const TransportOptions& o) {
 }  // namespace
 
 long max_ranks(const TransportOptions& o) {
-  const CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o));
-  return std::max(1L, std::min(kCollisionBlocks, grid.columns_x() / 2));
+  CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o));
+  grid.set_blocks(kCollisionBlocks);  // (fewer where the domain is short)
+  return grid.blocks();
 }
 
 Transport::Transport(const TransportOptions& o, HeightField* bed)
@@ -100,7 +101,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   const double dt_cap = o.dt_max * std::sqrt(d_ / o.g);
   drag_scale_ = 0x1p16 / (m_ * o.g * dt_cap), volume_scale_ = 0x1p16 / (volume_ * dt_cap);
   flux_scale_ = 0x1p32 / (m_ * std::sqrt(o.g * d_));
-  grid_.set_blocks(std::min(kCollisionBlocks, grid_.columns_x() / 2));
+  grid_.set_blocks(kCollisionBlocks);  // (fewer where the domain is short: max_ranks)
   if (o.distributed) rank_ = parallel::rank(), ranks_ = parallel::size();
   if (ranks_ > grid_.blocks())
     throw std::invalid_argument(fmt::format("a domain {} d long splits over at most {} MPI ranks, not {}",
@@ -117,8 +118,9 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   for (int k = 0; k < o.triggers; ++k) {
     const double x = rng_.uniform(0, length_), y = rng_.uniform(0, width_);
     const int kind = mixed_ ? bed_kind(x, y) : 0;
-    if (mine(x)) grains_.add(x, y, (bed_ ? bed_->height(x, y) : 0) + d_, 0, 0, lift, kind, next_id_);
-    ++next_id_;  // x, y inside the box
+    if (mine(x))  // x, y inside the box
+      grains_.add(x, y, (bed_ ? bed_->height(x, y) : 0) + d_, 0, 0, lift, kind, next_id_);
+    ++next_id_;
   }
   airborne_ = next_id_;
   v2_launch_ = lift * lift;
