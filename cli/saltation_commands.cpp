@@ -142,6 +142,7 @@ int wind_command(const SaltationCommands& a) {
     throw InputError({"--grain-diameter", 0}, fmt::format("{}", a.grain_diameter), "must lie in (0, 1) cm");
   WindModelOptions o;
   o.u_star = a.u_star, o.tolerance = a.tolerance;
+  o.trajectory_tolerance = a.trajectory_tolerance, o.sample_interval = a.sample_interval;
   o.grain.radius = a.grain_diameter / 2;
   if (!(a.reynolds_factor > 0 && a.reynolds_factor <= 10))
     throw InputError({"--re-factor", 0}, fmt::format("{}", a.reynolds_factor), "must lie in (0, 10]");
@@ -196,6 +197,8 @@ int wind_command(const SaltationCommands& a) {
                                       {"mean_hop_length", r.mean_hop_length},
                                       {"impact_velocity", {r.mean_impact_vx, r.mean_impact_vy}},
                                       {"wall_seconds", r.wall_seconds},
+                                      {"mean_flight_steps",
+                                       r.flights > 0 ? double(r.flight_steps) / double(r.flights) : 0.0},
                                       {"residuals", r.residuals}}
                            .dump(2));
     return 0;
@@ -277,6 +280,14 @@ void SaltationCommands::add(CLI::App& app) {
                    "largest relative change of F and u(y) at convergence (thesis: 0.01)")
       ->default_val(1e-3)
       ->check(CLI::Range(1e-8, 0.5));
+  wind->add_option("--trajectory-tolerance", trajectory_tolerance,
+                   "error per integrator step of each flight (relative; absolute in d and sqrt(g d))")
+      ->default_val(1e-8)
+      ->check(CLI::Range(1e-14, 1e-2));
+  wind->add_option("--sample-interval", sample_interval,
+                   "s between the points of a flight that feed the height profiles")
+      ->default_val(5e-4)
+      ->check(CLI::Range(1e-6, 0.1));
   study = group->add_subcommand(
       "study",
       "the wind-driven model over planets, grain sizes and u*: threshold, flux beside the classic laws");

@@ -18,6 +18,7 @@ struct SaltationCommands {
   std::string splash_file;
   double grain_diameter = 0.025, reynolds_factor = 1, flux_damping = 0.5;
   double u_star = 35, tolerance = 0.01;
+  double trajectory_tolerance = 1e-8, sample_interval = 5e-4;
   std::string planet;
   double gravity = 0, air_density = 0, viscosity = 0, grain_density_wind = 2.6;  // 0: the preset's
   int launch_bins = 80, vx_bins = 0;

@@ -1,6 +1,7 @@
 #include "wind_model.hpp"
 
 #include <algorithm>
+#include <boost/numeric/odeint.hpp>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -10,6 +11,8 @@
 #include "fluid.hpp"
 
 namespace grainlab::saltation {
+
+namespace odeint = boost::numeric::odeint;
 
 double Grain::mass() const {
   return 4.0 / 3.0 * M_PI * radius * radius * radius * density;
@@ -63,14 +66,23 @@ std::vector<double> bin_edges(const std::vector<double>& y) {
   return e;
 }
 
-struct State {
-  double x, y, vx, vy;
+// A grain still airborne after this long (s) is left where it is: it is in suspension, not saltation.
+constexpr double kLongestFlight = 1000;
+
+// The flight's state in units of the grain (positions / d, velocities / sqrt(g d)), so that one error
+// tolerance means the same for all four components.
+using Flight = std::array<double, 4>;  // x, y, vx, vy
+
+struct Scales {
+  double length, speed;
 };
 
-State derivative(const WindModelOptions& o, const std::vector<double>& ys, const std::vector<double>& u,
-                 const State& s, double drag_factor) {
-  const double rx = s.vx - wind_at(o, ys, u, s.y), ry = s.vy;
-  const double vr = std::hypot(rx, ry);
+// d(state)/dt: gravity and the drag of eqs 4.30-4.31 in the wind u(y).
+void flight_rate(const WindModelOptions& o, const std::vector<double>& ys, const std::vector<double>& u,
+                 const Scales& s, double drag_factor, const Flight& z, Flight& dz) {
+  const double y = z[1] * s.length, vx = z[2] * s.speed, vy = z[3] * s.speed;
+  const double rx = vx - wind_at(o, ys, u, y), ry = vy;
+  const double vr = std::sqrt(rx * rx + ry * ry);  // not hypot: no overflow here, and a third of the cost
   double ax = 0, ay = -(o.buoyancy ? o.g * (1 - o.fluid.density / o.grain.density) : o.g);
   if (vr > 0) {
     const double cd = fluid::drag_coefficient(
@@ -78,11 +90,7 @@ State derivative(const WindModelOptions& o, const std::vector<double>& ys, const
     const double c = drag_factor * cd * vr;  // eq. 4.30 over the grain's mass
     ax -= c * rx, ay -= c * ry;
   }
-  return {s.vx, s.vy, ax, ay};
-}
-
-State axpy(const State& s, double h, const State& d) {
-  return {s.x + h * d.x, s.y + h * d.y, s.vx + h * d.vx, s.vy + h * d.vy};
+  dz = {vx / s.length, vy / s.length, ax / s.speed, ay / s.speed};
 }
 
 // Adds `amount` over the bins that [a, b] spans, in proportion to the overlap.
@@ -127,42 +135,73 @@ Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const st
                double weight, FlightProfiles* profiles) {
   Trajectory t;
   t.v_ox = v_ox, t.v_oy = v_oy;
+  t.v_ix = v_ox, t.v_iy = v_oy;
+  if (!(v_oy > 0)) return t;  // it never leaves the bed
   const double m = o.grain.mass();
   const double drag_factor = 0.5 * o.fluid.density * M_PI * o.grain.radius * o.grain.radius / m;
-  // Fixed-step RK4: the drag's response time (~0.1 s for 0.025 cm sand) is 200 steps.
-  const double h = 5e-4;
-  State s{0, 0, v_ox, v_oy};
-  for (int n = 0; n < 2000000; ++n) {
-    const State k1 = derivative(o, y, u, s, drag_factor);
-    const State k2 = derivative(o, y, u, axpy(s, h / 2, k1), drag_factor);
-    const State k3 = derivative(o, y, u, axpy(s, h / 2, k2), drag_factor);
-    const State k4 = derivative(o, y, u, axpy(s, h, k3), drag_factor);
-    State next{s.x + h / 6 * (k1.x + 2 * k2.x + 2 * k3.x + k4.x),
-               s.y + h / 6 * (k1.y + 2 * k2.y + 2 * k3.y + k4.y),
-               s.vx + h / 6 * (k1.vx + 2 * k2.vx + 2 * k3.vx + k4.vx),
-               s.vy + h / 6 * (k1.vy + 2 * k2.vy + 2 * k3.vy + k4.vy)};
-    double dt = h;
-    if (!std::isfinite(next.y) || !std::isfinite(next.vx)) break;  // a broken wind: reported by the caller
-    const bool landed = next.y <= 0 && n > 0;
-    if (landed) {  // back to the bed within this step: cut it where y = 0 (linear in the step)
-      const double w = s.y / (s.y - next.y);
-      next = {s.x + w * (next.x - s.x), 0.0, s.vx + w * (next.vx - s.vx), s.vy + w * (next.vy - s.vy)};
-      dt = w * h;
-    }
-    if (impulse) deposit(*edges, *impulse, s.y, next.y, weight * m * (next.vx - s.vx));
+  const Scales sc{2 * o.grain.radius, std::sqrt(o.g * 2 * o.grain.radius)};
+  auto rate = [&](const Flight& z, Flight& dz, double) { flight_rate(o, y, u, sc, drag_factor, z, dz); };
+  // Dormand-Prince 5(4) with error control and its 4th-order dense output: the steps follow the error
+  // (long near the apex, short where the wind's slope changes near the bed), and the dense output gives the
+  // state between steps for the height bins and the landing.
+  auto stepper = odeint::make_dense_output(o.trajectory_tolerance, o.trajectory_tolerance,
+                                           odeint::runge_kutta_dopri5<Flight>());
+  // The first step a small part of the rise time, so that it cannot jump a whole short hop.
+  stepper.initialize(Flight{0, 0, v_ox / sc.speed, v_oy / sc.speed}, 0.0,
+                     std::min(o.sample_interval, 0.05 * v_oy / o.g));
+  Flight prev = stepper.current_state();
+  double t_prev = 0;
+  auto state_at = [&](double time) {
+    Flight z;
+    stepper.calc_state(time, z);
+    return z;
+  };
+  // One piece of the flight, from a to b over dt: the drag's momentum and the profiles go to the height
+  // bins it spans.
+  auto record = [&](const Flight& a, const Flight& b, double dt) {
+    const double ya = a[1] * sc.length, yb = b[1] * sc.length;
+    if (impulse) deposit(*edges, *impulse, ya, yb, weight * m * (b[2] - a[2]) * sc.speed);
     if (profiles) {
-      const double vx = 0.5 * (s.vx + next.vx), w = weight * dt;
-      deposit(*edges, profiles->time, s.y, next.y, w);
-      deposit(*edges, profiles->number_flux, s.y, next.y, w * vx);
-      deposit(*edges, profiles->energy_flux, s.y, next.y, w * 0.5 * m * vx * vx);
+      const double vx = 0.5 * (a[2] + b[2]) * sc.speed, w = weight * dt;
+      deposit(*edges, profiles->time, ya, yb, w);
+      deposit(*edges, profiles->number_flux, ya, yb, w * vx);
+      deposit(*edges, profiles->energy_flux, ya, yb, w * 0.5 * m * vx * vx);
     }
-    t.height = std::max(t.height, next.y);
+    t.height = std::max(t.height, yb);
     t.time += dt;
-    s = next;
-    if (landed) break;
+  };
+  auto finish = [&](const Flight& z) {
+    t.v_ix = z[2] * sc.speed, t.v_iy = z[3] * sc.speed, t.length = z[0] * sc.length;
+    return t;
+  };
+  while (t_prev < kLongestFlight) {
+    const auto [t0, t1] = stepper.do_step(rate);
+    ++t.steps;
+    // The step in pieces of at most sample_interval: the height bins see the path, not the chord.
+    const int pieces = std::max(1, static_cast<int>(std::ceil((t1 - t0) / o.sample_interval)));
+    for (int i = 1; i <= pieces; ++i) {
+      double ti = i == pieces ? t1 : t0 + (t1 - t0) * i / pieces;
+      Flight z = i == pieces ? stepper.current_state() : state_at(ti);
+      if (!std::isfinite(z[1]) || !std::isfinite(z[2]))
+        return finish(prev);  // a broken wind: the caller
+                              // reports it
+      if (z[1] <= 0) {
+        // Back at the bed: the landing time by bisection on the dense output, between the last state above
+        // the bed (or the launch) and this one.
+        double a = t_prev, b = ti;
+        for (int k = 0; k < 80 && b - a > 1e-13 * b; ++k) {
+          const double mid = 0.5 * (a + b);
+          (state_at(mid)[1] > 0 ? a : b) = mid;
+        }
+        ti = b, z = state_at(b), z[1] = 0;
+        record(prev, z, ti - t_prev);
+        return finish(z);
+      }
+      record(prev, z, ti - t_prev);
+      prev = z, t_prev = ti;
+    }
   }
-  t.v_ix = s.vx, t.v_iy = s.vy, t.length = s.x;
-  return t;
+  return finish(prev);
 }
 
 SplashKernel kernel_of(const AnalyticSplash& s) {
@@ -471,6 +510,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     if (grid2d && Fs[j] <= 0) continue;
     const Trajectory& t = flights[j];
     const double w = Fs[j] * o.dv;
+    r.flight_steps += t.steps, ++r.flights;
     rate += w, hsum += w * t.height, lsum += w * t.length, vxs += w * t.v_ix, vys += w * t.v_iy;
     r.grain_stress += w * m * (t.v_ix - t.v_ox);
     r.mass_flux += w * m * t.length;

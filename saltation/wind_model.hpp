@@ -56,6 +56,10 @@ struct WindModelOptions {
   double reynolds_factor = 1;
   double flux_damping = 0.5;  // F(n+1) = (1 - b) F(n) + b [T] F(n): damps the flux-wind overshoot
   int profile_subdivisions = 16;
+  // Each flight is integrated by Dormand-Prince 5(4) to this error per step, relative (and absolute in
+  // grain diameters and sqrt(g d)), and its path is sampled for the height bins every sample_interval s.
+  double trajectory_tolerance = 1e-8;
+  double sample_interval = 5e-4;
   // A 2-D launch grid (v_oy bins x vx_bins values of v_ox, dv apart from vx_min): every state keeps its
   // own v_ox. 0: the thesis's 1-D grid, where a bin's v_ox is the mean of the impacts that feed it.
   int vx_bins = 0;
@@ -67,6 +71,7 @@ struct Trajectory {
   double v_ox = 0, v_oy = 0;  // launch
   double v_ix = 0, v_iy = 0;  // at landing
   double length = 0, height = 0, time = 0;
+  int steps = 0;  // accepted integrator steps
 };
 
 struct WindModelResult {
@@ -95,6 +100,7 @@ struct WindModelResult {
   double mean_hop_height = 0, mean_hop_length = 0;  // launch-weighted (cm)
   double mean_impact_vx = 0, mean_impact_vy = 0;    // launch-weighted (cm/s)
   double wall_seconds = 0;
+  long flight_steps = 0, flights = 0;  // the final pass's integrator steps and flights
 };
 
 // The wind u(y) on the model's grid: zero below the roughness length, the log law above the grid.

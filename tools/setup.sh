@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libhdf5-dev hdf5-tools libtomlplusplus-dev libcli11-dev libfmt-dev
-  nlohmann-json3-dev libgtest-dev libgmock-dev googletest libbenchmark-dev
+  nlohmann-json3-dev libboost-dev libgtest-dev libgmock-dev googletest libbenchmark-dev
   libbox2d-dev libbullet-dev libbullet-extras-dev libode-dev libopenmpi-dev openmpi-bin
   python3-matplotlib python3-h5py python3-numpy
 )
