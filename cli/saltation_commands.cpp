@@ -195,6 +195,8 @@ int wind_command(const SaltationCommands& a) {
                                       {"converged", r.converged},
                                       {"mean_hop_height", r.mean_hop_height},
                                       {"mean_hop_length", r.mean_hop_length},
+                                      {"airborne_hop_height", r.airborne_hop_height},
+                                      {"airborne_hop_length", r.airborne_hop_length},
                                       {"impact_velocity", {r.mean_impact_vx, r.mean_impact_vy}},
                                       {"wall_seconds", r.wall_seconds},
                                       {"mean_flight_steps",
@@ -213,6 +215,8 @@ int wind_command(const SaltationCommands& a) {
   fmt::print("  mass flux {:.4g} g/(cm s); {:.4g} launches per cm^2 per s\n", r.mass_flux, r.launch_rate);
   fmt::print("  mean hop height {:.2f} cm, length {:.1f} cm; mean impact velocity ({:.0f}, {:.0f}) cm/s\n",
              r.mean_hop_height, r.mean_hop_length, r.mean_impact_vx, r.mean_impact_vy);
+  fmt::print("  over the grains in the air at an instant: hop height {:.2f} cm, length {:.1f} cm\n",
+             r.airborne_hop_height, r.airborne_hop_length);
   fmt::print("  wind with grains (clean) at 0.1, 1, 10 cm: ");
   for (double h : {0.1, 1.0, 10.0})
     fmt::print("{:.0f} ({:.0f})  ", wind_at(o, r.y, r.u, h), wind_at(o, r.y, r.u_clean, h));

@@ -504,7 +504,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     r.energy_flux[k] = prof.energy_flux[k] / height;
   }
   r.u_star_eff = std::sqrt(std::max(0.0, tau_edge[0]) / rho);
-  double rate = 0, hsum = 0, lsum = 0, vxs = 0, vys = 0;
+  double rate = 0, hsum = 0, lsum = 0, vxs = 0, vys = 0, airborne = 0, ahsum = 0, alsum = 0;
   r.grain_stress = 0, r.mass_flux = 0;
   for (std::size_t j = 0; j < S; ++j) {
     if (grid2d && Fs[j] <= 0) continue;
@@ -512,6 +512,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     const double w = Fs[j] * o.dv;
     r.flight_steps += t.steps, ++r.flights;
     rate += w, hsum += w * t.height, lsum += w * t.length, vxs += w * t.v_ix, vys += w * t.v_iy;
+    airborne += w * t.time, ahsum += w * t.time * t.height, alsum += w * t.time * t.length;
     r.grain_stress += w * m * (t.v_ix - t.v_ox);
     r.mass_flux += w * m * t.length;
   }
@@ -519,6 +520,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
   if (rate > 0)
     r.mean_hop_height = hsum / rate, r.mean_hop_length = lsum / rate, r.mean_impact_vx = vxs / rate,
     r.mean_impact_vy = vys / rate;
+  if (airborne > 0) r.airborne_hop_height = ahsum / airborne, r.airborne_hop_length = alsum / airborne;
   // Per v_oy bin for the tables: F summed over v_ox, its mean v_ox, and a flight at that mean.
   for (std::size_t k = 0; k < M; ++k) {
     double f = 0, fx = 0;

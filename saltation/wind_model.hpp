@@ -98,7 +98,10 @@ struct WindModelResult {
   double mass_flux = 0;                             // Q, g/(cm s)
   double launch_rate = 0;                           // grains per cm^2 per s
   double mean_hop_height = 0, mean_hop_length = 0;  // launch-weighted (cm)
-  double mean_impact_vx = 0, mean_impact_vy = 0;    // launch-weighted (cm/s)
+  // The same means over the grains in the air at an instant (each hop weighted by its launch rate times
+  // its flight time): what a snapshot of the saltation layer shows.
+  double airborne_hop_height = 0, airborne_hop_length = 0;
+  double mean_impact_vx = 0, mean_impact_vy = 0;  // launch-weighted (cm/s)
   double wall_seconds = 0;
   long flight_steps = 0, flights = 0;  // the final pass's integrator steps and flights
 };

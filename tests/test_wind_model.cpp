@@ -100,6 +100,16 @@ TEST(WindModel, Case1IdentitiesHoldExactly) {
   double Q = 0;
   for (std::size_t j = 0; j < r.F.size(); ++j) Q += o.grain.mass() * r.F[j] * o.dv * r.trajectories[j].length;
   EXPECT_NEAR(Q, r.mass_flux, 1e-9 * Q);
+  // The means over the grains in the air weight each hop by its flight time too, so the long, high hops
+  // count for more than per launch.
+  double airborne = 0, height = 0;
+  for (std::size_t j = 0; j < r.F.size(); ++j) {
+    airborne += r.F[j] * r.trajectories[j].time;
+    height += r.F[j] * r.trajectories[j].time * r.trajectories[j].height;
+  }
+  EXPECT_NEAR(r.airborne_hop_height, height / airborne, 1e-9 * r.airborne_hop_height);
+  EXPECT_GT(r.airborne_hop_height, r.mean_hop_height);
+  EXPECT_GT(r.airborne_hop_length, r.mean_hop_length);
   // The grains slow the wind near the bed and it stays a wind.
   EXPECT_LT(wind_at(o, r.y, r.u, 1.0), wind_at(o, r.y, r.u_clean, 1.0));
   EXPECT_GT(r.u_star_eff, 0);
