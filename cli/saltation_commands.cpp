@@ -66,22 +66,34 @@ int map_case(const SaltationCommands& a) {
 
 int distribution_case(const SaltationCommands& a) {
   const DistributionSplashParams p = table_4_1(a.case_name);
-  const DistributionResult r = conveyor_distribution(p, a.max_iterations);
+  // The default start is flat over the grid; --start-below puts the same number of grains in the bins
+  // below it only (the spec's narrow start, which kills the flux in CASES A and B).
+  std::vector<double> start;
+  if (a.start_below > 0) {
+    const std::size_t below = static_cast<std::size_t>(std::ceil(a.start_below / p.dmu - 0.5));
+    if (below == 0 || below > static_cast<std::size_t>(p.bins))
+      throw InputError(
+          {"--start-below", 0}, fmt::format("{}", a.start_below),
+          fmt::format("must leave at least one bin centre below it, within the grid's {} bins of {}", p.bins,
+                      p.dmu));
+    start.assign(static_cast<std::size_t>(p.bins), 0.0);
+    for (std::size_t i = 0; i < below; ++i) start[i] = double(p.bins) / double(below);
+  }
+  const DistributionResult r = conveyor_distribution(p, a.max_iterations, 1e-10, start);
+  if (!r.failure.empty()) fmt::print(stderr, "grainlab saltation conveyor: {}\n", r.failure);
   if (a.json) {
-    fmt::print("{}\n", nlohmann::json{{"case", a.case_name},
-                                      {"v_c", r.v_c},
-                                      {"iterations", r.iterations},
-                                      {"converged", r.converged},
-                                      {"mu", r.mu},
-                                      {"F", r.F},
-                                      {"residuals", r.residuals}}
-                           .dump(2));
-    return 0;
+    nlohmann::json j{{"case", a.case_name},      {"v_c", r.v_c}, {"iterations", r.iterations},
+                     {"converged", r.converged}, {"mu", r.mu},   {"F", r.F},
+                     {"residuals", r.residuals}};
+    if (!r.failure.empty()) j["failure"] = r.failure;
+    fmt::print("{}\n", j.dump(2));
+    return r.converged ? 0 : 1;
   }
   fmt::print("conveyor-belt model with the distribution splash (eqs 4.12-4.16), CASE {} of Table 4.1\n",
              a.case_name);
   fmt::print("  {} after {} iterations: v_c = {:.5g}\n", r.converged ? "converged" : "NOT converged",
              r.iterations, r.v_c);
+  if (!r.converged) return 1;
   double peak = 0;
   for (double x : r.F) peak = std::max(peak, x);
   for (std::size_t i = 0; i < r.mu.size(); ++i)
@@ -239,6 +251,10 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::IsMember({"simultaneous", "velocity-first"}));
   conveyor->add_option("--F0", F0, "D, E: starting flux")->default_val(50);
   conveyor->add_option("--v-oy0", v_oy0, "D, E: starting launch velocity")->default_val(3);
+  conveyor
+      ->add_option("--start-below", start_below,
+                   "A, B, C: start with every grain launched below this mu (default: flat over the grid)")
+      ->check(CLI::Range(0.0, 1e6));
   conveyor->add_option("--max-iterations", max_iterations, "iteration limit")
       ->default_val(10000)
       ->check(CLI::Range(1, 10000000));

@@ -19,6 +19,7 @@ struct SaltationCommands {
   double grain_diameter = 0.025, reynolds_factor = 1, flux_damping = 0.5;
   double u_star = 35, tolerance = 0.01;
   double trajectory_tolerance = 1e-8, sample_interval = 5e-4;
+  double start_below = 0;  // conveyor A-C: a narrow start (0: flat)
   std::string planet;
   double gravity = 0, air_density = 0, viscosity = 0, grain_density_wind = 2.6;  // 0: the preset's
   int launch_bins = 80, vx_bins = 0;

@@ -1,8 +1,11 @@
 #include "conveyor.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numeric>
 #include <stdexcept>
 
 namespace grainlab::saltation {
@@ -165,12 +168,17 @@ double conveyor_kernel(const DistributionSplashParams& p, double v, double vp, d
   return rebound + ejecta;
 }
 
-DistributionResult conveyor_distribution(const DistributionSplashParams& p, int max_iterations, double tol) {
+DistributionResult conveyor_distribution(const DistributionSplashParams& p, int max_iterations, double tol,
+                                         const std::vector<double>& start) {
   DistributionResult r;
   const int M = p.bins;
   for (int i = 0; i < M; ++i) r.mu.push_back((i + 0.5) * p.dmu);
-  // A broad start: a start concentrated below mu = 1 nearly kills the flux for hundreds of steps (spec).
-  r.F.assign(static_cast<std::size_t>(M), 1.0);
+  // A broad start by default: a start concentrated below mu = 1 nearly kills the flux for hundreds of
+  // steps (spec).
+  if (!start.empty() && start.size() != static_cast<std::size_t>(M))
+    throw std::invalid_argument("conveyor_distribution: the start has " + std::to_string(start.size()) +
+                                " bins, the grid " + std::to_string(M));
+  r.F = start.empty() ? std::vector<double>(static_cast<std::size_t>(M), 1.0) : start;
   auto belt = [&](const std::vector<double>& F) {
     return increasing_root([&](double v_c) {
       double s = 0;
@@ -181,6 +189,7 @@ DistributionResult conveyor_distribution(const DistributionSplashParams& p, int 
   };
   r.v_c = belt(r.F);
   std::vector<double> next(static_cast<std::size_t>(M));
+  double peak_total = 0;
   for (int n = 0; n < max_iterations; ++n) {
     for (int i = 0; i < M; ++i) {
       double s = 0;
@@ -200,11 +209,27 @@ DistributionResult conveyor_distribution(const DistributionSplashParams& p, int 
     r.residuals.push_back(change);
     r.iterations = n + 1;
     if (!std::isfinite(change) || fmax <= 0) break;
+    // F = 0 is a fixed point too (the belt at its no-grain speed sqrt(P_T / zeta)). A flux nine decades
+    // below its largest is heading there, not to the steady state: the relative change would otherwise
+    // stall at the decay factor, then read as converged once F underflows.
+    const double total = std::accumulate(next.begin(), next.end(), 0.0);
+    peak_total = std::max(peak_total, total);
+    if (total < 1e-9 * peak_total) {
+      r.failure = fmt::format(
+          "the flux died out after {} iterations: from this start the belt runs near its speed without "
+          "grains ({:.4g} at the end), the rebounds climb past the top of the velocity grid and are lost "
+          "faster than they replace themselves; start from a broad distribution",
+          n + 1, v_c);
+      break;
+    }
     if (change < tol) {
       r.converged = true;
       break;
     }
   }
+  if (!r.converged && r.failure.empty())
+    r.failure = fmt::format("not converged in {} iterations (last change {:.3g})", r.iterations,
+                            r.residuals.empty() ? 0.0 : r.residuals.back());
   return r;
 }
 

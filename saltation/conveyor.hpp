@@ -82,10 +82,13 @@ struct DistributionResult {
   bool converged = false;
   int iterations = 0;
   std::vector<double> residuals;  // largest relative change of F (over its maximum) and v_c per step
+  std::string failure;            // why it did not converge (the flux died out, or the iteration limit)
 };
-// F(n+1) = [T{v_c(F(n))}] F(n) (eq. 4.16) from a flat start, v_c solved from the power balance
-// P_T = v_c sum_i F_i [v_c mu_i / (mu_i + v_c)] dmu + zeta v_c^2 at every step.
+// F(n+1) = [T{v_c(F(n))}] F(n) (eq. 4.16) from a flat start (or `start`, one value per bin), v_c solved
+// from the power balance P_T = v_c sum_i F_i [v_c mu_i / (mu_i + v_c)] dmu + zeta v_c^2 at every step.
+// A start that sends the flux to zero (F = 0 is a fixed point too) is reported in `failure`, not as
+// converged.
 DistributionResult conveyor_distribution(const DistributionSplashParams& p, int max_iterations = 5000,
-                                         double tol = 1e-10);
+                                         double tol = 1e-10, const std::vector<double>& start = {});
 
 }  // namespace grainlab::saltation

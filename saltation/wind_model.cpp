@@ -367,6 +367,9 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
   // Launch states: one per v_oy bin (the thesis's grid; each bin's v_ox is the mean of what feeds it), or
   // with `vx_bins` > 0 one per (v_oy, v_ox) cell, each with its fixed v_ox (the 4-index [T] of Fig. 4.10's
   // note). Fs[s] is grains per cm^2 per s per cm/s of v_oy in state s.
+  if (!o.start.empty() && o.start.size() != static_cast<std::size_t>(o.bins))
+    throw std::invalid_argument("solve_wind_model: the start has " + std::to_string(o.start.size()) +
+                                " launch bins, the grid " + std::to_string(o.bins));
   const bool grid2d = o.vx_bins > 0;
   const std::size_t X = grid2d ? static_cast<std::size_t>(o.vx_bins) : 1, S = M * X;
   const double dvx = o.dv;
@@ -388,7 +391,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     r.v_launch[j] = (j + 0.5) * o.dv;
     for (std::size_t x = 0; x < X; ++x)
       voy[j * X + x] = r.v_launch[j], vox[j * X + x] = grid2d ? vx_centre(x) : 0;
-    Fs[j * X + m_zero] = std::exp(-r.v_launch[j] / 100) / 100;
+    Fs[j * X + m_zero] = o.start.empty() ? std::exp(-r.v_launch[j] / 100) / 100 : o.start[j];
   }
   std::vector<double> impulse(H), tau_edge(H + 1);
   double relax = o.relaxation, last_change = 1e300;

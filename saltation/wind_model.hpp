@@ -63,7 +63,10 @@ struct WindModelOptions {
   // A 2-D launch grid (v_oy bins x vx_bins values of v_ox, dv apart from vx_min): every state keeps its
   // own v_ox. 0: the thesis's 1-D grid, where a bin's v_ox is the mean of the impacts that feed it.
   int vx_bins = 0;
-  double vx_min = -100;  // cm/s  // flights per launch bin for the final N(y), flux and energy profiles
+  // The starting F per launch bin (grains per cm^2 per s per cm/s; with a 2-D grid, in the v_ox = 0
+  // column). Empty: a weak, broad start, exp(-v / 100 cm/s) / 100.
+  std::vector<double> start;
+  double vx_min = -100;                                   // cm/s
   double roughness() const { return grain.radius / 15; }  // l = d/30
 };
 

@@ -98,3 +98,22 @@ TEST(ConveyorDistribution, Table41BeltSpeedsAndShapes) {
     power += a.v_c * a.F[i] * a.v_c * a.mu[i] / (a.mu[i] + a.v_c) * p.dmu;
   EXPECT_NEAR(power, p.P_T, 1e-6 * p.P_T);
 }
+
+TEST(ConveyorDistribution, ANarrowStartThatKillsTheFluxIsReportedNotConverged) {
+  // The spec's warning: a start concentrated below mu = 1. In CASE A the belt then runs near its speed
+  // without grains (sqrt(P_T / zeta) = 141.4), the rebounds climb off the grid and F decays to the trivial
+  // fixed point F = 0; that must be a failure, not a steady state. In CASE C the ejecta refill the low
+  // bins and the same start reaches the steady state of the flat start (the thesis: independent of it).
+  std::vector<double> narrow(40, 0.0);
+  for (int i = 0; i < 4; ++i) narrow[static_cast<std::size_t>(i)] = 10;
+  const DistributionResult a = conveyor_distribution(table_4_1("A"), 5000, 1e-10, narrow);
+  EXPECT_FALSE(a.converged);
+  EXPECT_NE(a.failure.find("died out"), std::string::npos) << a.failure;
+  EXPECT_LT(a.iterations, 200);  // said early, not after the flux underflows
+  const DistributionResult c_flat = conveyor_distribution(table_4_1("C"));
+  const DistributionResult c = conveyor_distribution(table_4_1("C"), 5000, 1e-10, narrow);
+  ASSERT_TRUE(c.converged) << c.failure;
+  EXPECT_NEAR(c.v_c, c_flat.v_c, 1e-6 * c_flat.v_c);
+  EXPECT_THROW(conveyor_distribution(table_4_1("C"), 10, 1e-10, std::vector<double>(7, 1.0)),
+               std::invalid_argument);
+}
