@@ -1,5 +1,7 @@
 #include "wind_model.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <boost/numeric/odeint.hpp>
 #include <chrono>
@@ -128,6 +130,26 @@ double wind_at(const WindModelOptions& o, const std::vector<double>& y, const st
   const std::size_t k = std::min(static_cast<std::size_t>(t), y.size() - 2);
   const double w = t - k;
   return u[k] * (1 - w) + u[k + 1] * w;
+}
+
+// Why the iteration stopped short: a stall (the change has not fallen over the last quarter of the
+// iterations, at least 50: an oscillation the damping does not remove) or simply the iteration limit.
+std::string why_not_converged(const std::vector<double>& residuals, double tolerance) {
+  const std::size_t n = residuals.size(), window = std::max<std::size_t>(50, n / 4);
+  if (n == 0) return "no iterations";
+  if (n >= 2 * window) {
+    const auto [lo, hi] =
+        std::minmax_element(residuals.end() - static_cast<std::ptrdiff_t>(window), residuals.end());
+    const double before =
+        *std::min_element(residuals.begin(), residuals.end() - static_cast<std::ptrdiff_t>(window));
+    if (*lo >= 0.5 * before)
+      return fmt::format(
+          "stalled: the largest change stayed between {:.3g} and {:.3g} over the last {} iterations "
+          "(tolerance {:.3g}) without falling: the iteration oscillates about a state it does not reach",
+          *lo, *hi, window, tolerance);
+  }
+  return fmt::format("not converged in {} iterations (last change {:.3g}, tolerance {:.3g})", n,
+                     residuals.back(), tolerance);
 }
 
 Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const std::vector<double>& u,
@@ -482,6 +504,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       break;
     }
   }
+  if (!r.converged && r.failure.empty()) r.failure = why_not_converged(r.residuals, o.tolerance);
   // Final state: trajectories and wind for the final F, then the diagnostics.
   update_wind(Fs);
   // The profiles from sub-launches spread evenly across each bin (F is a density in v_oy): one flight

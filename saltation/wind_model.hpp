@@ -141,6 +141,10 @@ SplashKernel kernel_of(const AnalyticSplash& s);
 // (zero below its root), launched with an exponential of the measured mean v_y.
 SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o);
 
+// Why an iteration with these residuals (one per step) stopped short of `tolerance`: "stalled: ..." when
+// the change has not fallen over the last quarter of the steps (at least 50), else the iteration limit.
+std::string why_not_converged(const std::vector<double>& residuals, double tolerance);
+
 // Solves for the steady state (Fig. 4.10).
 WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& splash);
 inline WindModelResult solve_wind_model(const WindModelOptions& o, const AnalyticSplash& splash) {

@@ -222,3 +222,16 @@ TEST(WindModel, TheSteadyStateDoesNotDependOnTheStart) {
   o.start.assign(7, 1.0);
   EXPECT_THROW(solve_wind_model(o, table_4_3(1)), std::invalid_argument);
 }
+
+TEST(WindModel, AStalledIterationIsToldFromASlowOne) {
+  // Falling to 0.0117 and staying there for 380 steps (the 3-D splash file at u* = 125 cm/s, where the
+  // grains take all the stress): a stall. Falling steadily by 1 % a step: only the iteration limit.
+  std::vector<double> stalled = {42.0, 0.5, 0.05};
+  while (stalled.size() < 400) stalled.push_back(0.0117 + 1e-5 * (stalled.size() % 2));
+  EXPECT_EQ(why_not_converged(stalled, 1e-3).rfind("stalled", 0), 0u) << why_not_converged(stalled, 1e-3);
+  std::vector<double> slow = {1.0};
+  while (slow.size() < 400) slow.push_back(slow.back() * 0.99);
+  EXPECT_EQ(why_not_converged(slow, 1e-3).rfind("not converged in 400", 0), 0u)
+      << why_not_converged(slow, 1e-3);
+  EXPECT_EQ(why_not_converged({}, 1e-3), "no iterations");
+}
