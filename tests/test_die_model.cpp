@@ -71,6 +71,23 @@ TEST(Ensemble, WilsonIntervalKnownValues) {
 
 // A throw's outcome depends on (seed, index) alone: the same throw twice is the same, and a fair die
 // thrown on the native engine is captured by a face.
+TEST(Ensemble, LineFitKnownValues) {
+  // On a line exactly: its coefficients and zero errors.
+  const LineFit exact = fit_line({0, 1, 2, 3}, {1, 3, 5, 7});
+  EXPECT_NEAR(exact.intercept, 1, 1e-12);
+  EXPECT_NEAR(exact.slope, 2, 1e-12);
+  EXPECT_NEAR(exact.slope_se, 0, 1e-12);
+  // x = 0, 1, 2, y = 0, 2, 1 (worked by hand): slope 0.5, intercept 0.5, residuals -0.5, 1, -0.5, so
+  // s^2 = 1.5 / 1, slope s.e. = sqrt(1.5 / 2), intercept s.e. = sqrt(1.5 (1/3 + 1/2)).
+  const LineFit f = fit_line({0, 1, 2}, {0, 2, 1});
+  EXPECT_NEAR(f.slope, 0.5, 1e-12);
+  EXPECT_NEAR(f.intercept, 0.5, 1e-12);
+  EXPECT_NEAR(f.slope_se, std::sqrt(0.75), 1e-12);
+  EXPECT_NEAR(f.intercept_se, std::sqrt(1.5 * (1.0 / 3 + 0.5)), 1e-12);
+  EXPECT_THROW(fit_line({1, 1, 1}, {0, 1, 2}), std::invalid_argument);
+  EXPECT_THROW(fit_line({0, 1}, {0, 1}), std::invalid_argument);
+}
+
 TEST(Ensemble, ThrowsAreReproducible) {
   for (std::size_t i : {0u, 7u}) {
     const DieThrow a = throw_die_2d("native", Die2d{0.0, 0.7, 0.8}, 5, i),

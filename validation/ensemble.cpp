@@ -70,6 +70,28 @@ double family_z(std::size_t m) {
   return (lo + hi) / 2;
 }
 
+LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.size() != y.size() || x.size() < 3)
+    throw std::invalid_argument("fit_line: needs three or more (x, y) points of equal count");
+  const double n = static_cast<double>(x.size());
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i] / n, my += y[i] / n;
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    sxx += (x[i] - mx) * (x[i] - mx), sxy += (x[i] - mx) * (y[i] - my);
+  if (!(sxx > 0)) throw std::invalid_argument("fit_line: every x is the same");
+  LineFit f;
+  f.slope = sxy / sxx, f.intercept = my - f.slope * mx;
+  double ss = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double r = y[i] - (f.intercept + f.slope * x[i]);
+    ss += r * r;
+  }
+  const double s2 = ss / (n - 2);
+  f.slope_se = std::sqrt(s2 / sxx), f.intercept_se = std::sqrt(s2 * (1 / n + mx * mx / sxx));
+  return f;
+}
+
 double throws_for_half_width(double p, double h) {
   const double z = 1.959963984540054;
   return std::ceil(z * z * p * (1 - p) / (h * h));

@@ -42,6 +42,14 @@ Proportion wilson_interval(std::size_t k, std::size_t n);
 // must not fail by chance one time in two.
 double family_z(std::size_t m);
 
+// The least-squares line y = intercept + slope x through n >= 3 points, with the standard errors of both
+// (from the scatter about the line, n - 2 degrees of freedom). Throws std::invalid_argument for fewer
+// points, unequal lengths, or x all equal.
+struct LineFit {
+  double intercept = 0, slope = 0, intercept_se = 0, slope_se = 0;
+};
+LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y);
+
 // Throws needed for a 95 % interval of half-width h on a proportion near p (normal approximation).
 double throws_for_half_width(double p, double h);
 

@@ -14,6 +14,7 @@
 #include "ensemble.hpp"
 #include "fluid.hpp"
 #include "flux_model.hpp"
+#include "hybrid_config.hpp"
 #include "lammel_splash.hpp"
 #include "ripple_run.hpp"
 #include "rng.hpp"
@@ -122,7 +123,9 @@ double fit_threshold(std::vector<FluxResult> runs) {
   return slope > 0 ? std::max(0.0, a.shields - a.mass_flux_star / slope) : a.shields;
 }
 
-void flux_checks(Report& rep, const FluxOptions& base, bool quick, const SuiteOptions& so, std::string& md) {
+// Returns u_d*, the u* at the measured S_d (cm/s).
+double flux_checks(Report& rep, const FluxOptions& base, bool quick, const SuiteOptions& so,
+                   std::string& md) {
   const std::vector<double> ustars =
       quick ? std::vector<double>{26, 30, 40, 50} : std::vector<double>{24, 26, 30, 35, 40, 50, 60, 70};
   std::vector<FluxResult> runs;
@@ -171,6 +174,7 @@ void flux_checks(Report& rep, const FluxOptions& base, bool quick, const SuiteOp
   plot.series = {measured, law};
   rep.plots.push_back(plot);
   md += "\n";
+  return ustars.front() * std::sqrt(sd / runs.front().shields);  // S goes as u*^2
 }
 
 // The largest height difference between neighbouring key points, in key-point spacings.
@@ -308,6 +312,73 @@ void ripple_checks(Report& rep, bool quick, const SuiteOptions& so, std::string&
                  "downwind migration, d per t* (positive)");
 }
 
+// The paper's initial wavelength (section 3.2): linear in u*/u_d* and vanishing near u* = u_d*. Narrow
+// beds (400 d x 16 d, flat start), three seeds at each of six u*; the autocorrelation's wavelength
+// averaged over t* = 10,000-20,000, the first 10,000 t* after ripples emerge on such beds (the paper
+// averages t* = 1.0-1.5e5 on 4000 d x 200 d, where they emerge later). Full mode only: about 45 min of CPU,
+// dealt out over MPI ranks.
+void initial_wavelength_checks(Report& rep, double u_d, const SuiteOptions& so, std::string& md) {
+  const std::vector<double> ustars = {26, 30, 35, 40, 45, 50};
+  const std::size_t seeds = 3;
+  auto config = [](double u, std::size_t seed) {
+    return fmt::format(
+        "[hybrid]\ndiameter = 0.0251\ngrain_density = 2.65\nfluid_density = 0.00126311\nviscosity = "
+        "0.146\nu_star = {}\nlength = 400\nwidth = 16\nheight = 1200\ncell = 2\npacking = 0.6\n"
+        "repose_angle = 30\nerodible = 80\nsplash = \"paper2021\"\nwind_loosened = true\n"
+        "wind_follows_bed = true\ncollisions = true\ntriggers = 20\nduration = 20000\nframe_every = 500\n"
+        "sample_every = 10\nseed = {}\n",
+        u, seed);
+  };
+  if (so.log)
+    so.log(fmt::format("hybrid initial wavelength: {} u* x {} seeds, 400 d x 16 d, 20,000 t*", ustars.size(),
+                       seeds));
+  const auto rows = run_ensemble(ustars.size() * seeds, 3, [&](std::size_t i) -> std::vector<double> {
+    const double u = ustars[i / seeds];
+    const RippleOptions o = parse_hybrid_config(config(u, i % seeds + 1), "<initial wavelength>").options;
+    RippleRun run(o);
+    double sum = 0, n = 0;
+    BedFrame last;
+    for (const BedFrame& f : run_frames(run, o)) {
+      if (f.t_star >= 10000 - 1e-6 && std::isfinite(f.stats.wavelength) && f.stats.wavelength > 0)
+        sum += f.stats.wavelength, ++n;
+      last = f;
+    }
+    return {n > 0 ? sum / n : NAN, last.stats.amplitude, last.stats.ripple_index};
+  });
+  std::vector<double> x, y;
+  md += fmt::format(
+      "## Initial wavelength against u* (400 d x 16 d, {} seeds, mean over t* = 10,000-20,000; u_d* = {:.1f} "
+      "cm/s from the flux runs' S_d)\n\n| u* (cm/s) | u*/u_d* | lambda (d), mean +- s.e. over seeds | A at "
+      "20,000 (d) | RI at 20,000 |\n|---|---|---|---|---|\n",
+      seeds, u_d);
+  for (std::size_t k = 0; k < ustars.size(); ++k) {
+    std::vector<double> lambda, amplitude, index;
+    for (std::size_t s = 0; s < seeds; ++s) {
+      const std::vector<double>& r = rows[k * seeds + s];
+      lambda.push_back(r[0]), amplitude.push_back(r[1]), index.push_back(r[2]);
+      if (std::isfinite(r[0])) x.push_back(ustars[k] / u_d - 1), y.push_back(r[0]);
+    }
+    const MeanInterval l = mean_interval(lambda), a = mean_interval(amplitude), ri = mean_interval(index);
+    md += fmt::format("| {:g} | {:.2f} | {:.0f} +- {:.0f} | {:.1f} | {:.1f} |\n", ustars[k], ustars[k] / u_d,
+                      l.mean, l.sd / std::sqrt(static_cast<double>(std::max<std::size_t>(l.n, 1))), a.mean,
+                      ri.mean);
+  }
+  const LineFit fit = fit_line(x, y);
+  const double top = fit.intercept + fit.slope * (ustars.back() / u_d - 1);
+  md += fmt::format(
+      "\nLeast squares over the {} runs: lambda = ({:.1f} +- {:.1f}) d + ({:.1f} +- {:.1f}) d x (u*/u_d* - "
+      "1).\n\n",
+      x.size(), fit.intercept, fit.intercept_se, fit.slope, fit.slope_se);
+  rep.expect_below("hybrid/ripples/initial-wavelength-grows", "hybrid", -(fit.slope - 2 * fit.slope_se), 0,
+                   "the initial wavelength grows with u*/u_d*: slope more than two standard errors above 0");
+  rep.expect_near(
+      "hybrid/ripples/initial-wavelength-vanishes", "hybrid", fit.intercept, 0, 2 * fit.intercept_se,
+      "the line's value at u* = u_d* is 0 within two standard errors (paper: vanishing near u_d*)");
+  rep.expect_below("hybrid/ripples/initial-wavelength-resolved", "hybrid", 2 * fit.intercept_se, 0.25 * top,
+                   "that test has teeth: two standard errors of the intercept below a quarter of lambda at "
+                   "the highest u*");
+}
+
 // A bed of two sizes (the paper's case 2: 1.5 d and 0.5 d, half the volume each): the fines, needing 1/81
 // of the coarse grains' E_d2 = m g d to leave, make up more of the airborne sand than of the bed. (The
 // surface they leave coarsens, but in 600 t* by under 1 %, as much as the airborne fines hold: reported,
@@ -393,14 +464,14 @@ void run_hybrid_suite(Report& rep, const SuiteOptions& so) {
   FluxOptions base;
   base.duration = so.quick ? 1200 : 6000, base.average_from = so.quick ? 600 : 2000;
   wind_checks(rep, base);
-  flux_checks(rep, base, so.quick, so, md);
+  const double u_d = flux_checks(rep, base, so.quick, so, md);
   ripple_checks(rep, so.quick, so, md);
+  if (!so.quick) initial_wavelength_checks(rep, u_d, so, md);
   if (so.log) so.log("hybrid seeded wave: 200 d x 8 d, 4000 t*, two winds");
   seeded_wave_checks(rep, md);
   if (so.log) so.log("hybrid bidisperse bed: 200 d x 8 d, 600 t*");
   bidisperse_checks(rep, md);
   if (!so.quick) bidisperse_ripple_checks(rep, so, md);
-  md += "Not built yet: MPI (docs/ripples.md).\n";
   rep.markdown.push_back(md);
 }
 
