@@ -315,7 +315,7 @@ void ripple_checks(Report& rep, bool quick, const SuiteOptions& so, std::string&
 // The paper's initial wavelength (section 3.2): linear in u*/u_d* and vanishing near u* = u_d*. Narrow
 // beds (400 d x 16 d, flat start), three seeds at each of six u*; the autocorrelation's wavelength
 // averaged over t* = 10,000-20,000, the first 10,000 t* after ripples emerge on such beds (the paper
-// averages t* = 1.0-1.5e5 on 4000 d x 200 d, where they emerge later). Full mode only: about 45 min of CPU,
+// averages t* = 1.0-1.5e5 on 4000 d x 200 d, where they emerge later). Full mode only: about 50 min of CPU,
 // dealt out over MPI ranks.
 void initial_wavelength_checks(Report& rep, double u_d, const SuiteOptions& so, std::string& md) {
   const std::vector<double> ustars = {26, 30, 35, 40, 45, 50};
