@@ -8,6 +8,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "convergence.hpp"
+
 namespace grainlab::saltation {
 
 namespace {
@@ -189,7 +191,7 @@ DistributionResult conveyor_distribution(const DistributionSplashParams& p, int 
   };
   r.v_c = belt(r.F);
   std::vector<double> next(static_cast<std::size_t>(M));
-  double peak_total = 0;
+  FluxWatch flux;
   for (int n = 0; n < max_iterations; ++n) {
     for (int i = 0; i < M; ++i) {
       double s = 0;
@@ -209,12 +211,8 @@ DistributionResult conveyor_distribution(const DistributionSplashParams& p, int 
     r.residuals.push_back(change);
     r.iterations = n + 1;
     if (!std::isfinite(change) || fmax <= 0) break;
-    // F = 0 is a fixed point too (the belt at its no-grain speed sqrt(P_T / zeta)). A flux nine decades
-    // below its largest is heading there, not to the steady state: the relative change would otherwise
-    // stall at the decay factor, then read as converged once F underflows.
-    const double total = std::accumulate(next.begin(), next.end(), 0.0);
-    peak_total = std::max(peak_total, total);
-    if (total < 1e-9 * peak_total) {
+    // F = 0 is a fixed point too: the belt at its speed without grains, sqrt(P_T / zeta).
+    if (flux.dying(std::accumulate(next.begin(), next.end(), 0.0))) {
       r.failure = fmt::format(
           "the flux died out after {} iterations: from this start the belt runs near its speed without "
           "grains ({:.4g} at the end), the rebounds climb past the top of the velocity grid and are lost "
@@ -227,9 +225,7 @@ DistributionResult conveyor_distribution(const DistributionSplashParams& p, int 
       break;
     }
   }
-  if (!r.converged && r.failure.empty())
-    r.failure = fmt::format("not converged in {} iterations (last change {:.3g})", r.iterations,
-                            r.residuals.empty() ? 0.0 : r.residuals.back());
+  if (!r.converged && r.failure.empty()) r.failure = why_not_converged(r.residuals, tol);
   return r;
 }
 

@@ -1,7 +1,5 @@
 #include "wind_model.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <boost/numeric/odeint.hpp>
 #include <chrono>
@@ -130,26 +128,6 @@ double wind_at(const WindModelOptions& o, const std::vector<double>& y, const st
   const std::size_t k = std::min(static_cast<std::size_t>(t), y.size() - 2);
   const double w = t - k;
   return u[k] * (1 - w) + u[k + 1] * w;
-}
-
-// Why the iteration stopped short: a stall (the change has not fallen over the last quarter of the
-// iterations, at least 50: an oscillation the damping does not remove) or simply the iteration limit.
-std::string why_not_converged(const std::vector<double>& residuals, double tolerance) {
-  const std::size_t n = residuals.size(), window = std::max<std::size_t>(50, n / 4);
-  if (n == 0) return "no iterations";
-  if (n >= 2 * window) {
-    const auto [lo, hi] =
-        std::minmax_element(residuals.end() - static_cast<std::ptrdiff_t>(window), residuals.end());
-    const double before =
-        *std::min_element(residuals.begin(), residuals.end() - static_cast<std::ptrdiff_t>(window));
-    if (*lo >= 0.5 * before)
-      return fmt::format(
-          "stalled: the largest change stayed between {:.3g} and {:.3g} over the last {} iterations "
-          "(tolerance {:.3g}) without falling: the iteration oscillates about a state it does not reach",
-          *lo, *hi, window, tolerance);
-  }
-  return fmt::format("not converged in {} iterations (last change {:.3g}, tolerance {:.3g})", n,
-                     residuals.back(), tolerance);
 }
 
 Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const std::vector<double>& u,
@@ -439,8 +417,8 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     for (std::size_t k = 0; k < H; ++k) r.u[k] = relax * u[k] + (1 - relax) * r.u[k];
     return change;
   };
-  std::vector<double> next(S);
-  double peak_total = 0;
+  std::vector<double> next(S), born_sum(grid2d ? S : 0);
+  FluxWatch flux;
   for (int n = 0; n < o.max_iterations; ++n) {
     double wind_change = 1;
     last_change = 1e300;
@@ -460,8 +438,10 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       }
     } else {
       // Each impact's grains share one v_ox (eq. 4.34's delta): they go to the two v_ox cells around it,
-      // in proportion to its distance from their centres (held in the grid at its ends).
-      for (std::size_t s2 = 0; s2 < S; ++s2) next[s2] = (1 - o.flux_damping) * Fs[s2];
+      // in proportion to its distance from their centres (held in the grid at its ends). The sums are
+      // damped as the 1-D grid's are, so a grid whose grains all leave at one v_ox value does the 1-D
+      // grid's arithmetic, bit for bit.
+      std::fill(born_sum.begin(), born_sum.end(), 0.0);
       for (std::size_t j = 0; j < S; ++j) {
         if (Fs[j] <= 0) continue;
         const Trajectory& t = flights[j];
@@ -470,10 +450,12 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
         const std::size_t m0 = std::min(static_cast<std::size_t>(q), X - 1), m1 = std::min(m0 + 1, X - 1);
         const double w1 = q - static_cast<double>(m0);
         for (std::size_t k = 0; k < M; ++k) {
-          const double born = o.flux_damping * splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
-          next[k * X + m0] += (1 - w1) * born, next[k * X + m1] += w1 * born;
+          const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
+          born_sum[k * X + m0] += (1 - w1) * born, born_sum[k * X + m1] += w1 * born;
         }
       }
+      for (std::size_t s2 = 0; s2 < S; ++s2)
+        next[s2] = (1 - o.flux_damping) * Fs[s2] + o.flux_damping * born_sum[s2];
     }
     const double change = std::max(max_relative_change(next, Fs), wind_change);
     double total = 0;
@@ -487,8 +469,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       r.iterations = n + 1;
       break;
     }
-    peak_total = std::max(peak_total, total);
-    if (total < 1e-9 * peak_total) {  // nine decades below its largest: it is dying, not settling
+    if (flux.dying(total)) {
       r.failure =
           "the flux died out: u* is below the impact threshold, or the rebounds leave the top of the launch "
           "grid (more bins)";

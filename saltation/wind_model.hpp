@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "convergence.hpp"
 #include "splash_file.hpp"
 
 namespace grainlab::saltation {
@@ -140,10 +141,6 @@ SplashKernel kernel_of(const AnalyticSplash& s);
 // of the nearest cell's eps_iy x |v_iy|, ejecta numbering the cells' least-squares line in impact speed
 // (zero below its root), launched with an exponential of the measured mean v_y.
 SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o);
-
-// Why an iteration with these residuals (one per step) stopped short of `tolerance`: "stalled: ..." when
-// the change has not fallen over the last quarter of the steps (at least 50), else the iteration limit.
-std::string why_not_converged(const std::vector<double>& residuals, double tolerance);
 
 // Solves for the steady state (Fig. 4.10).
 WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& splash);

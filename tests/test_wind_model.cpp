@@ -186,12 +186,8 @@ TEST(WindModel, TwoDimensionalGridReducesToTheThesisGridWhenEveryGrainLeavesVert
   const WindModelResult one = solve_wind_model(o, table_4_3(1));
   o.vx_bins = 41, o.vx_min = -100;
   const WindModelResult two = solve_wind_model(o, table_4_3(1));
-  // The two grids sum F in different orders, so their winds differ in the last bits; an adaptive
-  // integrator can take a different step for that, which moves a flight by up to its tolerance (1e-8), and
-  // the fixed point carries such differences through ~50 iterations. 1e-5 leaves room for that and is
-  // still a hundredth of what the grid changes when v_ox matters (0.1-0.5 %, docs/saltation.md).
-  EXPECT_NEAR(two.u_star_eff, one.u_star_eff, 1e-5 * one.u_star_eff);
-  EXPECT_NEAR(two.mass_flux, one.mass_flux, 1e-5 * one.mass_flux);
+  EXPECT_NEAR(two.u_star_eff, one.u_star_eff, 1e-9 * one.u_star_eff);
+  EXPECT_NEAR(two.mass_flux, one.mass_flux, 1e-9 * one.mass_flux);
   ASSERT_EQ(two.F2d.size(), 80u * 41u);
   double off_axis = 0;
   for (std::size_t k = 0; k < 80; ++k)

@@ -16,6 +16,7 @@
 #include "flux_model.hpp"
 #include "hybrid_config.hpp"
 #include "lammel_splash.hpp"
+#include "ripple_config.hpp"
 #include "ripple_run.hpp"
 #include "rng.hpp"
 #include "suites.hpp"
@@ -320,21 +321,18 @@ void ripple_checks(Report& rep, bool quick, const SuiteOptions& so, std::string&
 void initial_wavelength_checks(Report& rep, double u_d, const SuiteOptions& so, std::string& md) {
   const std::vector<double> ustars = {26, 30, 35, 40, 45, 50};
   const std::size_t seeds = 3;
-  auto config = [](double u, std::size_t seed) {
-    return fmt::format(
-        "[hybrid]\ndiameter = 0.0251\ngrain_density = 2.65\nfluid_density = 0.00126311\nviscosity = "
-        "0.146\nu_star = {}\nlength = 400\nwidth = 16\nheight = 1200\ncell = 2\npacking = 0.6\n"
-        "repose_angle = 30\nerodible = 80\nsplash = \"paper2021\"\nwind_loosened = true\n"
-        "wind_follows_bed = true\ncollisions = true\ntriggers = 20\nduration = 20000\nframe_every = 500\n"
-        "sample_every = 10\nseed = {}\n",
-        u, seed);
-  };
+  // The paper's case as shipped (scenes/ripples/huo2021_ripples.toml) on a narrow bed: the same runs as
+  // `grainlab ripples hybrid --config` of that file with these keys changed.
+  const std::string preset = std::string(GRAINLAB_SOURCE_DIR) + "/scenes/ripples/huo2021_ripples.toml";
+  const RippleOptions paper = parse_hybrid_config(ripples::read_config_text(preset), preset).options;
   if (so.log)
     so.log(fmt::format("hybrid initial wavelength: {} u* x {} seeds, 400 d x 16 d, 20,000 t*", ustars.size(),
                        seeds));
   const auto rows = run_ensemble(ustars.size() * seeds, 3, [&](std::size_t i) -> std::vector<double> {
     const double u = ustars[i / seeds];
-    const RippleOptions o = parse_hybrid_config(config(u, i % seeds + 1), "<initial wavelength>").options;
+    RippleOptions o = paper;
+    o.u_star = u, o.length = 400, o.width = 16, o.triggers = 20, o.duration = 20000, o.frame_every = 500;
+    o.seed = i % seeds + 1;
     RippleRun run(o);
     double sum = 0, n = 0;
     BedFrame last;
