@@ -97,6 +97,16 @@ std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<
   return {};
 }
 
+std::vector<Vec3> icosahedron_vertices() {
+  const double phi = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Vec3> ico;
+  for (const double s : {-1.0, 1.0})
+    for (const double t : {-1.0, 1.0})
+      ico.push_back(Vec3(0, s, t * phi).normalized()), ico.push_back(Vec3(s, t * phi, 0).normalized()),
+          ico.push_back(Vec3(t * phi, 0, s).normalized());
+  return ico;
+}
+
 Polyhedron make_box(const Vec3& h) {
   std::vector<Vec3> v;
   for (int k = 0; k < 8; ++k)

@@ -34,6 +34,9 @@ struct Polyhedron {
 std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<int>> faces, Polyhedron& out);
 // An axis-aligned box centred on the origin.
 Polyhedron make_box(const Vec3& half_extents);
+// The 12 vertices of a regular icosahedron of circumradius 1 centred on the origin (the seed of the
+// irregular grains).
+std::vector<Vec3> icosahedron_vertices();
 
 struct SolidMass {
   double volume = 0;

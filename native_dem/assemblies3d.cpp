@@ -60,12 +60,7 @@ Quat random_rotation(Rng& rng) {
 // centroid): the icosahedron's vertices moved by up to `irregularity` of the radius along and across
 // their directions, the whole stretched along three random axes by 1 +- up to `elongation`.
 Polyhedron irregular_hull(const AssemblySpec& a, double r, Rng& rng) {
-  const double phi = (1 + std::sqrt(5.0)) / 2;
-  std::vector<Vec3> ico;
-  for (const double s : {-1.0, 1.0})
-    for (const double t : {-1.0, 1.0})
-      ico.push_back(Vec3(0, s, t * phi).normalized()), ico.push_back(Vec3(s, t * phi, 0).normalized()),
-          ico.push_back(Vec3(t * phi, 0, s).normalized());
+  const std::vector<Vec3> ico = icosahedron_vertices();
   for (;;) {
     const Quat axes = random_rotation(rng);
     Vec3 stretch;

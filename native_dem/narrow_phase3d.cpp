@@ -3,8 +3,60 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace grainlab::dem {
+
+namespace {
+
+// Two doubles in one SSE2 register. Each lane does the scalar IEEE arithmetic of Eigen's 3-vector dot,
+// (a0 b0 + a1 b1) + a2 b2, so two at a time gives the bits of one at a time.
+typedef double Two __attribute__((vector_size(16)));
+typedef std::int64_t TwoMasks __attribute__((vector_size(16)));
+inline Two two(double v) {
+  return Two{v, v};
+}
+inline Two load_two(const double* p) {
+  Two t;
+  std::memcpy(&t, p, sizeof t);
+  return t;
+}
+// The lanes of a comparison (all ones or zero) as bits 0 and 1.
+inline unsigned signs(const TwoMasks& m) {
+#ifdef __SSE2__
+  return static_cast<unsigned>(_mm_movemask_pd(reinterpret_cast<__m128d>(m)));
+#else
+  return unsigned(m[0] & 1) | unsigned(m[1] & 1) << 1;
+#endif
+}
+// n . p for points p = (x[i], y[i], z[i]) and (x[i + 1], ...).
+inline Two dots(const Two& nx, const Two& ny, const Two& nz, const Placed3::Coordinates& c, std::size_t i) {
+  return (nx * load_two(&c.x[i]) + ny * load_two(&c.y[i])) + nz * load_two(&c.z[i]);
+}
+
+// Projection interval of a placed hull on axis n.
+void project(const Placed3& h, const Vec3& n, double& lo, double& hi) {
+  const Placed3::Coordinates& c = h.vertex_coordinates;
+  const std::size_t nv = c.x.size();
+  const Two nx = two(n.x()), ny = two(n.y()), nz = two(n.z());
+  Two lo2 = two(1e300), hi2 = two(-1e300);
+  std::size_t i = 0;
+  for (; i + 2 <= nv; i += 2) {
+    const Two s = dots(nx, ny, nz, c, i);
+    lo2 = s < lo2 ? s : lo2;  // std::min and std::max, lane by lane
+    hi2 = hi2 < s ? s : hi2;
+  }
+  lo = std::min(lo2[0], lo2[1]), hi = std::max(hi2[0], hi2[1]);
+  for (; i < nv; ++i) {
+    const double s = (n.x() * c.x[i] + n.y() * c.y[i]) + n.z() * c.z[i];
+    lo = std::min(lo, s), hi = std::max(hi, s);
+  }
+}
+
+}  // namespace
 
 void Placed3::place() {
   if (!hull) return;
@@ -17,6 +69,23 @@ void Placed3::place() {
     world_normals[f] = R * hull->normals[f];
     world_offsets[f] = world_normals[f].dot(world_vertices[hull->faces[f][0]]);
   }
+  vertex_coordinates.assign(world_vertices);
+  normal_coordinates.assign(world_normals);
+  world_arcs.resize(hull->edge_faces.size());
+  for (std::size_t i = 0; i < hull->edge_faces.size(); ++i) {
+    const auto [f1, f2] = hull->edge_faces[i];
+    world_arcs[i] = world_normals[f2].cross(world_normals[f1]);
+  }
+  arc_coordinates.assign(world_arcs);
+  face_lo.resize(world_normals.size()), face_hi.resize(world_normals.size());
+  for (std::size_t f = 0; f < world_normals.size(); ++f)
+    project(*this, world_normals[f], face_lo[f], face_hi[f]);
+}
+
+void Placed3::Coordinates::assign(const std::vector<Vec3>& points) {
+  x.resize(points.size()), y.resize(points.size()), z.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    x[i] = points[i].x(), y[i] = points[i].y(), z[i] = points[i].z();
 }
 
 int sphere_sphere(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out) {
@@ -77,12 +146,24 @@ Vec3 closest_on_face(const Placed3& h, int f, const Vec3& p) {
   return best;
 }
 
-// Projection interval of a placed hull on axis n.
-void project(const Placed3& h, const Vec3& n, double& lo, double& hi) {
-  lo = 1e300, hi = -1e300;
-  for (const Vec3& v : h.world_vertices) {
-    const double s = n.dot(v);
-    lo = std::min(lo, s), hi = std::max(hi, s);
+// Which of the vectors c lie strictly below the plane through 0 with normal `arc` (bit k of `below`) and
+// which strictly above (`above`): a hull's face normals against one of the other hull's arcs, or its arcs
+// against one of the other's face normals. Up to 64 vectors.
+[[gnu::always_inline]] inline void sides_of(const Vec3& arc, const Placed3::Coordinates& c,
+                                            std::uint64_t& below, std::uint64_t& above) {
+  const std::size_t nf = c.x.size();
+  const Two ax = two(arc.x()), ay = two(arc.y()), az = two(arc.z()), zero = two(0);
+  below = 0, above = 0;
+  std::size_t k = 0;
+  for (; k + 2 <= nf; k += 2) {
+    const Two side = dots(ax, ay, az, c, k);
+    below |= std::uint64_t(signs(side < zero)) << k;
+    above |= std::uint64_t(signs(side > zero)) << k;
+  }
+  for (; k < nf; ++k) {
+    const double side = (arc.x() * c.x[k] + arc.y() * c.y[k]) + arc.z() * c.z[k];
+    below |= std::uint64_t{side < 0} << k;
+    above |= std::uint64_t{side > 0} << k;
   }
 }
 
@@ -108,15 +189,29 @@ struct Axis {
 };
 
 // Overlap of A and B along unit axis n, oriented so that A lies on the positive side. false: separated.
-bool overlap_on(const Placed3& a, const Placed3& b, Vec3 n, Axis& best, int kind, int index, double bias) {
-  double alo, ahi, blo, bhi;
-  project(a, n, alo, ahi);
-  project(b, n, blo, bhi);
+bool overlap_of(double alo, double ahi, double blo, double bhi, Vec3 n, Axis& best, int kind, int index,
+                double bias) {
   if (ahi <= blo || bhi <= alo) return false;
   double ov = bhi - alo;  // A on the + side
   if (ahi - blo < ov) ov = ahi - blo, n = -n;
   if (ov * bias < best.overlap) best = {ov * bias, n, kind, index};
   return true;
+}
+bool overlap_on(const Placed3& a, const Placed3& b, const Vec3& n, Axis& best, int kind, int index,
+                double bias) {
+  double alo, ahi, blo, bhi;
+  project(a, n, alo, ahi);
+  project(b, n, blo, bhi);
+  return overlap_of(alo, ahi, blo, bhi, n, best, kind, index, bias);
+}
+// On a face normal of A (kind 0) or of B (kind 1), whose own projection place() has already taken.
+bool overlap_on_face(const Placed3& a, const Placed3& b, int kind, std::size_t f, Axis& best) {
+  const Placed3& owner = kind == 0 ? a : b;
+  const Vec3& n = owner.world_normals[f];
+  double lo, hi;
+  project(kind == 0 ? b : a, n, lo, hi);
+  return kind == 0 ? overlap_of(a.face_lo[f], a.face_hi[f], lo, hi, n, best, 0, static_cast<int>(f), 1.0)
+                   : overlap_of(lo, hi, b.face_lo[f], b.face_hi[f], n, best, 1, static_cast<int>(f), 1.0);
 }
 
 // Sutherland-Hodgman: keep the part of the polygon on the inner side of plane n.x <= d.
@@ -169,55 +264,62 @@ int face_contacts(const Placed3& ref, int rf, const Placed3& inc, bool ref_is_b,
 //
 // The test needs, for each edge, on which side of its arc's plane each face normal of the other body
 // lies: for A's edge i, bit k of neg_a[i] (pos_a[i]) is set when B's face normal k is strictly below
-// (above) it; the same for B's edges over A's faces. Bit masks keep the pair tests free of branches (up to
-// 64 faces a body; bodies with more, or without their edges' faces, have every pair tested).
+// (above) it; for B's edges the same over A's faces, stored the other way round: bit j of neg_b[k]
+// (pos_b[k]) when A's face normal k is below (above) B's edge j's arc. With B's edges grouped by their
+// faces (bit j of first_b[k] when k is B's edge j's first face, second_b[k] its second), all of B's
+// partners of A's edge i come out of a few dozen word operations (partners()), in the order of j, instead
+// of a test per pair. Up to 64 faces a body and 64 edges for B; larger bodies, or bodies without their
+// edges' faces, have every pair tested.
 class MinkowskiEdgePairs {
  public:
   MinkowskiEdgePairs(const Placed3& a, const Placed3& b)
       : a_(*a.hull),
         b_(*b.hull),
         usable_(a_.edge_faces.size() == a_.edges.size() && b_.edge_faces.size() == b_.edges.size() &&
-                a.world_normals.size() <= 64 && b.world_normals.size() <= 64) {
+                a.world_normals.size() <= 64 && b.world_normals.size() <= 64 && b_.edges.size() <= 64) {
     if (!usable_) return;
-    sides(a, b, neg_a_, pos_a_);
-    sides(b, a, neg_b_, pos_b_);
+    const std::size_t na = a_.edges.size();
+    neg_a_.assign(na, 0), pos_a_.assign(na, 0);
+    for (std::size_t i = 0; i < na; ++i)
+      sides_of(a.world_arcs[i], b.normal_coordinates, neg_a_[i], pos_a_[i]);
+    for (std::size_t k = 0; k < a.world_normals.size(); ++k)
+      sides_of(a.world_normals[k], b.arc_coordinates, neg_b_[k], pos_b_[k]);  // (n . arc = arc . n)
+    std::fill_n(first_b_, b.world_normals.size(), 0), std::fill_n(second_b_, b.world_normals.size(), 0);
+    for (std::size_t j = 0; j < b_.edges.size(); ++j) {
+      const std::uint64_t bit = std::uint64_t{1} << j;
+      first_b_[b_.edge_faces[j].first] |= bit;
+      second_b_[b_.edge_faces[j].second] |= bit;
+    }
   }
-  // The arcs a1 -> a2 (A's edge i) and -b1 -> -b2 (B's edge j) cross: each arc's great circle separates
-  // the other's ends (the products of their sides are negative), and they cross on the arcs, not
-  // opposite them.
-  bool forms_face(std::size_t i, std::size_t j) const {
-    if (!usable_) return true;
+  bool usable() const { return usable_; }
+  // The edges j of B whose arcs -b1 -> -b2 cross A's edge i's arc a1 -> a2 (bit j): each arc's great
+  // circle separates the other's ends (the products of their sides are negative), and they cross on the
+  // arcs, not opposite them. Only when usable().
+  std::uint64_t partners(std::size_t i) const {
     const auto [fa1, fa2] = a_.edge_faces[i];
-    const auto [fb1, fb2] = b_.edge_faces[j];
-    const std::uint64_t na = neg_a_[i], pa = pos_a_[i], nb = neg_b_[j], pb = pos_b_[j];
-    const bool straddle_a = ((na >> fb1) & (pa >> fb2) & 1) | ((pa >> fb1) & (na >> fb2) & 1);
-    const bool straddle_b = ((nb >> fa1) & (pb >> fa2) & 1) | ((pb >> fa1) & (nb >> fa2) & 1);
-    const bool on_arcs = ((na >> fb1) & (pb >> fa2) & 1) | ((pa >> fb1) & (nb >> fa2) & 1);
+    std::uint64_t below1 = 0, below2 = 0, above1 = 0, above2 = 0;  // B's edges whose face 1 (2) is below
+    for (std::uint64_t m = neg_a_[i]; m; m &= m - 1) {
+      const int k = __builtin_ctzll(m);
+      below1 |= first_b_[k], below2 |= second_b_[k];
+    }
+    for (std::uint64_t m = pos_a_[i]; m; m &= m - 1) {
+      const int k = __builtin_ctzll(m);
+      above1 |= first_b_[k], above2 |= second_b_[k];
+    }
+    const std::uint64_t straddle_a = (below1 & above2) | (above1 & below2);
+    const std::uint64_t straddle_b = (neg_b_[fa1] & pos_b_[fa2]) | (pos_b_[fa1] & neg_b_[fa2]);
+    const std::uint64_t on_arcs = (below1 & pos_b_[fa2]) | (above1 & neg_b_[fa2]);
     return straddle_a & straddle_b & on_arcs;
   }
 
  private:
-  static void sides(const Placed3& h, const Placed3& other, std::vector<std::uint64_t>& neg,
-                    std::vector<std::uint64_t>& pos) {
-    const std::size_t ne = h.hull->edges.size();
-    neg.assign(ne, 0), pos.assign(ne, 0);
-    for (std::size_t i = 0; i < ne; ++i) {
-      const auto [f1, f2] = h.hull->edge_faces[i];
-      const Vec3 arc = h.world_normals[f2].cross(h.world_normals[f1]);
-      for (std::size_t k = 0; k < other.world_normals.size(); ++k) {
-        const double side = other.world_normals[k].dot(arc);
-        neg[i] |= std::uint64_t{side < 0} << k;
-        pos[i] |= std::uint64_t{side > 0} << k;
-      }
-    }
-  }
   const Polyhedron &a_, &b_;
   bool usable_;
+  std::uint64_t neg_b_[64], pos_b_[64], first_b_[64], second_b_[64];
   // (Kept between calls: a bed asks this of thousands of pairs a step.)
-  static thread_local std::vector<std::uint64_t> neg_a_, pos_a_, neg_b_, pos_b_;
+  static thread_local std::vector<std::uint64_t> neg_a_, pos_a_;
 };
-thread_local std::vector<std::uint64_t> MinkowskiEdgePairs::neg_a_, MinkowskiEdgePairs::pos_a_,
-    MinkowskiEdgePairs::neg_b_, MinkowskiEdgePairs::pos_b_;
+thread_local std::vector<std::uint64_t> MinkowskiEdgePairs::neg_a_, MinkowskiEdgePairs::pos_a_;
 
 }  // namespace
 
@@ -250,25 +352,38 @@ int sphere_hull(const Placed3& s, const Placed3& h, bool sphere_is_a, std::vecto
 }
 
 int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out) {
-  if ((a.x - b.x).norm() >= a.radius + b.radius) return 0;
+  const Vec3 centres = a.x - b.x;
+  if (centres.norm() >= a.radius + b.radius) return 0;
   Axis best;
+  // The line of centres first: it separates most pairs that are apart (in a resting bed of irregular
+  // grains 59 % of those whose bounding spheres overlap), at the cost of one axis. It only finds sooner
+  // what the axes below would find; it does not enter `best`.
+  if (Axis unused; centres.squaredNorm() > 0 && !overlap_on(a, b, centres.normalized(), unused, 0, 0, 1.0))
+    return 0;
   for (std::size_t f = 0; f < a.world_normals.size(); ++f)
-    if (!overlap_on(a, b, a.world_normals[f], best, 0, static_cast<int>(f), 1.0)) return 0;
+    if (!overlap_on_face(a, b, 0, f, best)) return 0;
   for (std::size_t f = 0; f < b.world_normals.size(); ++f)
-    if (!overlap_on(a, b, b.world_normals[f], best, 1, static_cast<int>(f), 1.0)) return 0;
+    if (!overlap_on_face(a, b, 1, f, best)) return 0;
   const auto& ea = a.hull->edges;
   const auto& eb = b.hull->edges;
   const MinkowskiEdgePairs gauss(a, b);
   // Edge axes must beat the best face axis clearly, so resting face contacts do not flicker to edges.
+  // false: the pair's axis separates the bodies.
+  auto edge_axis = [&](std::size_t i, const Vec3& da, std::size_t j) {
+    const Vec3 db = b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first];
+    Vec3 n = da.cross(db);
+    if (n.squaredNorm() < 1e-12 * da.squaredNorm() * db.squaredNorm()) return true;  // parallel edges
+    n.normalize();
+    return overlap_on(a, b, n, best, 2, static_cast<int>(i * 4096 + j), 1.05);
+  };
   for (std::size_t i = 0; i < ea.size(); ++i) {
-    for (std::size_t j = 0; j < eb.size(); ++j) {
-      if (!gauss.forms_face(i, j)) continue;
-      const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
-      const Vec3 db = b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first];
-      Vec3 n = da.cross(db);
-      if (n.squaredNorm() < 1e-12 * da.squaredNorm() * db.squaredNorm()) continue;  // parallel edges
-      n.normalize();
-      if (!overlap_on(a, b, n, best, 2, static_cast<int>(i * 4096 + j), 1.05)) return 0;
+    const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
+    if (gauss.usable()) {
+      for (std::uint64_t m = gauss.partners(i); m; m &= m - 1)
+        if (!edge_axis(i, da, static_cast<std::size_t>(__builtin_ctzll(m)))) return 0;
+    } else {
+      for (std::size_t j = 0; j < eb.size(); ++j)
+        if (!edge_axis(i, da, j)) return 0;
     }
   }
   if (best.kind == 0) return face_contacts(a, best.index, b, false, out);

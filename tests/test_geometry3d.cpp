@@ -4,6 +4,7 @@
 
 #include "narrow_phase3d.hpp"
 #include "polyhedron.hpp"
+#include "rng.hpp"
 #include "scene.hpp"
 
 using namespace grainlab;
@@ -81,6 +82,74 @@ TEST(NarrowPhase3d, CrossedEdgesGiveOneEdgeContact) {
   EXPECT_NEAR(c[0].depth, 0.01, 1e-9);
   EXPECT_NEAR((c[0].normal - Vec3::UnitZ()).norm(), 0, 1e-9);
   EXPECT_NEAR((c[0].point - Vec3(0, 0, reach - 0.005)).norm(), 0, 1e-9);
+}
+
+namespace {
+// An icosahedron (unit circumradius) with every vertex moved by up to `wobble` in each coordinate: a
+// convex grain with 20 faces and 30 edges, as the poured irregular grains are.
+Polyhedron wobbly_icosahedron(Rng& rng, double wobble) {
+  const std::vector<Vec3> ico = icosahedron_vertices();
+  std::vector<std::vector<int>> faces;  // the triples of mutual neighbours, turned to face outward
+  const double edge = 4 / std::sqrt(10 + 2 * std::sqrt(5.0));  // circumradius 1
+  auto near = [&](int i, int j) { return std::abs((ico[i] - ico[j]).norm() - edge) < 1e-6; };
+  for (int i = 0; i < 12; ++i)
+    for (int j = i + 1; j < 12; ++j)
+      for (int k = j + 1; k < 12; ++k)
+        if (near(i, j) && near(j, k) && near(i, k)) {
+          const bool outward = (ico[j] - ico[i]).cross(ico[k] - ico[i]).dot(ico[i]) > 0;
+          faces.push_back(outward ? std::vector<int>{i, j, k} : std::vector<int>{i, k, j});
+        }
+  for (;;) {
+    std::vector<Vec3> v = ico;
+    for (Vec3& p : v)
+      for (int c = 0; c < 3; ++c) p[c] += rng.uniform(-wobble, wobble);
+    Polyhedron h;
+    if (make_polyhedron(v, faces, h).empty()) return h;
+  }
+}
+Quat random_turn(Rng& rng) {
+  return Quat(rng.normal(), rng.normal(), rng.normal(), rng.normal()).normalized();
+}
+}  // namespace
+
+// The separating-axis test projects only the edge pairs whose arcs cross on the Gauss map, picked with
+// bit masks; a hull without its edges' faces has every pair projected. On random close pairs of irregular
+// grains both must give the same contacts to the bit: the pairs left out can neither separate the grains
+// nor give the least overlap.
+TEST(NarrowPhase3d, EdgePairFilterChangesNoContact) {
+  Rng rng(7);
+  std::vector<Polyhedron> hulls, plain;
+  for (int k = 0; k < 8; ++k) {
+    hulls.push_back(wobbly_icosahedron(rng, 0.12));
+    ASSERT_EQ(hulls.back().edges.size(), 30u);
+    ASSERT_EQ(hulls.back().edge_faces.size(), 30u);
+    plain.push_back(hulls.back());
+    plain.back().edge_faces.clear();
+  }
+  int touching = 0, edge_contacts = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const int ia = trial % 8, ib = (trial / 8) % 8;
+    const Vec3 dir = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
+    const double reach = hulls[ia].bounding_radius() + hulls[ib].bounding_radius();
+    const Quat qa = random_turn(rng), qb = random_turn(rng);
+    const Vec3 xb = dir * reach * rng.uniform(0.55, 0.95);
+    const Placed3 a = placed_box(hulls[ia], Vec3::Zero(), qa), b = placed_box(hulls[ib], xb, qb);
+    const Placed3 pa = placed_box(plain[ia], Vec3::Zero(), qa), pb = placed_box(plain[ib], xb, qb);
+    std::vector<ContactPoint3> filtered, every;
+    ASSERT_EQ(hull_hull(a, b, filtered), hull_hull(pa, pb, every)) << trial;
+    for (std::size_t c = 0; c < filtered.size(); ++c) {
+      EXPECT_EQ(filtered[c].point, every[c].point) << trial;
+      EXPECT_EQ(filtered[c].normal, every[c].normal) << trial;
+      EXPECT_EQ(filtered[c].depth, every[c].depth) << trial;
+      EXPECT_EQ(filtered[c].feature, every[c].feature) << trial;
+    }
+    touching += !filtered.empty();
+    edge_contacts += filtered.size() == 1 && filtered[0].feature >= 200000;
+  }
+  // The trials cover separated pairs, face contacts and edge-edge contacts alike.
+  EXPECT_GT(touching, 800);
+  EXPECT_LT(touching, 3200);
+  EXPECT_GT(edge_contacts, 100);
 }
 
 TEST(NarrowPhase3d, SphereAgainstFaceEdgeAndCorner) {
