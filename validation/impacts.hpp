@@ -24,6 +24,9 @@ struct ImpactCase {
   double speed = 3000, alpha_deg = 15, mu = 0.5;
   std::string bed = "loose";
   double radius = 1.0;
+  // m_i / m_b where Table 3.1 fixes it (m_b / 4 for H and I, so that H has A's incident energy): a sphere
+  // standing in for a disc keeps the disc's mass ratio. 0: the incident grain has the bed's density.
+  double mass_ratio = 0;
 };
 const std::vector<ImpactCase>& impact_cases();
 // Throws InputError naming the allowed cases.

@@ -186,13 +186,13 @@ Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, con
   if (c.mu == 0) s.effects.set(Effect::friction, false);
   Body3Spec in;
   for (const Body3Spec& b : s.bodies3d) in.id = std::max(in.id, b.id + 1);
+  const double mb = sphere_mass(bed.spec.density, bed.spec.smallest_radius());
   in.radius = c.radius;
-  in.mass = sphere_mass(bed.spec.density, c.radius);
-  in.inertia = Mat3::Identity() * (0.4 * in.mass * c.radius * c.radius);
+  in.mass = c.mass_ratio > 0 ? mb * c.mass_ratio : sphere_mass(bed.spec.density, c.radius);
+  in.inertia = Mat3::Identity() * (0.4 * in.mass * c.radius * c.radius);  // (a uniform sphere of that mass)
   in.position = aim.release;
   in.velocity = Vec3(c.speed * std::cos(c.alpha_deg * kDeg), 0, -c.speed * std::sin(c.alpha_deg * kDeg));
   s.bodies3d.push_back(in);
-  const double mb = sphere_mass(bed.spec.density, bed.spec.smallest_radius());
   const double tc = std::min(contact_time(bed.spec.k_n, mb, mb), contact_time(bed.spec.k_n, mb, in.mass));
   s.accuracy.integrator = Integrator::VelocityVerlet;
   s.accuracy.dt = engine_capabilities(o.engine).soft_contacts ? tc / o.steps_per_contact : o.rigid_dt;

@@ -124,7 +124,7 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
   if (o.quick) spec.count = 700, spec.width = 30, spec.depth = 12;
   const std::size_t runs = o.quick ? 8 : 40;
   const std::vector<std::string> cases =
-      o.quick ? std::vector<std::string>{"A", "D"} : std::vector<std::string>{"A", "C", "D", "E"};
+      o.quick ? std::vector<std::string>{"A", "D"} : std::vector<std::string>{"A", "C", "D", "E", "H", "I"};
   if (o.log)
     o.log(fmt::format("impacts-3d: pouring {} spheres into {} x {} cm", spec.count, spec.width, spec.depth));
   const Bed3d bed = build_bed3d(spec);
