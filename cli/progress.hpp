@@ -1,6 +1,7 @@
 #pragma once
-// A progress bar on stderr for long runs: shown only on a terminal, only after the first second,
-// and redrawn at most ten times a second.
+// A progress bar on stderr for long runs: on a terminal, shown after the first second and redrawn at
+// most ten times a second; when stderr goes to a file (nohup, a batch job's log), one plain line a minute
+// from the first minute on, so a run of hours shows in its log how far it is.
 #include <unistd.h>
 
 #include <chrono>
@@ -13,7 +14,7 @@ class ProgressBar {
  public:
   // unit: "" shows done as a time in seconds; otherwise as a count ("runs").
   explicit ProgressBar(bool enabled, std::string unit = "")
-      : enabled_(enabled && ::isatty(STDERR_FILENO)), unit_(std::move(unit)) {}
+      : enabled_(enabled), terminal_(enabled && ::isatty(STDERR_FILENO)), unit_(std::move(unit)) {}
   ~ProgressBar() { finish(); }
 
   // A `done` below the last one starts a new task: the clock (and the estimate of time left) restarts.
@@ -22,7 +23,8 @@ class ProgressBar {
     if (done < last_done_) start_ = clock::now();
     last_done_ = done;
     const double elapsed = seconds_since(start_);
-    if (elapsed < 1.0 || seconds_since(last_) < 0.1) return;
+    const double every = terminal_ ? 0.1 : 60.0, first = terminal_ ? 1.0 : 60.0;
+    if (elapsed < first || seconds_since(last_) < every) return;
     last_ = clock::now();
     const double f = total > 0 ? std::min(1.0, done / total) : 1.0;
     const int width = 30, filled = static_cast<int>(f * width);
@@ -30,6 +32,11 @@ class ProgressBar {
     const std::string where = unit_.empty()
                                   ? fmt_number("t = %.4g s", done)
                                   : fmt_number("%.0f", done) + fmt_number(" of %.0f ", total) + unit_;
+    if (!terminal_) {
+      std::fprintf(stderr, "progress: %5.1f%%  %s  elapsed %s  left %s\n", 100 * f, where.c_str(),
+                   clock_text(elapsed).c_str(), clock_text(left).c_str());
+      return;
+    }
     std::fprintf(stderr, "\r[%s%s] %5.1f%%  %s  elapsed %s  left %s ", std::string(filled, '#').c_str(),
                  std::string(width - filled, '.').c_str(), 100 * f, where.c_str(),
                  clock_text(elapsed).c_str(), clock_text(left).c_str());
@@ -60,7 +67,7 @@ class ProgressBar {
       std::snprintf(buf, sizeof buf, "%dm%02ds", m, sec);
     return buf;
   }
-  bool enabled_;
+  bool enabled_, terminal_;
   std::string unit_;
   double last_done_ = 0;
   bool drawn_ = false;
