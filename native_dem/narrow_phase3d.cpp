@@ -71,12 +71,13 @@ void Placed3::place() {
   }
   vertex_coordinates.assign(world_vertices);
   normal_coordinates.assign(world_normals);
-  world_arcs.resize(hull->edge_faces.size());
-  for (std::size_t i = 0; i < hull->edge_faces.size(); ++i) {
+  const std::size_t ne = hull->edge_faces.size();
+  arcs.x.resize(ne), arcs.y.resize(ne), arcs.z.resize(ne);
+  for (std::size_t i = 0; i < ne; ++i) {
     const auto [f1, f2] = hull->edge_faces[i];
-    world_arcs[i] = world_normals[f2].cross(world_normals[f1]);
+    const Vec3 arc = world_normals[f2].cross(world_normals[f1]);
+    arcs.x[i] = arc.x(), arcs.y[i] = arc.y(), arcs.z[i] = arc.z();
   }
-  arc_coordinates.assign(world_arcs);
   face_lo.resize(world_normals.size()), face_hi.resize(world_normals.size());
   for (std::size_t f = 0; f < world_normals.size(); ++f)
     project(*this, world_normals[f], face_lo[f], face_hi[f]);
@@ -279,11 +280,10 @@ class MinkowskiEdgePairs {
                 a.world_normals.size() <= 64 && b.world_normals.size() <= 64 && b_.edges.size() <= 64) {
     if (!usable_) return;
     const std::size_t na = a_.edges.size();
-    neg_a_.assign(na, 0), pos_a_.assign(na, 0);
-    for (std::size_t i = 0; i < na; ++i)
-      sides_of(a.world_arcs[i], b.normal_coordinates, neg_a_[i], pos_a_[i]);
+    neg_a_.resize(na), pos_a_.resize(na);  // (sides_of sets every word)
+    for (std::size_t i = 0; i < na; ++i) sides_of(a.arcs[i], b.normal_coordinates, neg_a_[i], pos_a_[i]);
     for (std::size_t k = 0; k < a.world_normals.size(); ++k)
-      sides_of(a.world_normals[k], b.arc_coordinates, neg_b_[k], pos_b_[k]);  // (n . arc = arc . n)
+      sides_of(a.world_normals[k], b.arcs, neg_b_[k], pos_b_[k]);  // (n . arc = arc . n)
     std::fill_n(first_b_, b.world_normals.size(), 0), std::fill_n(second_b_, b.world_normals.size(), 0);
     for (std::size_t j = 0; j < b_.edges.size(); ++j) {
       const std::uint64_t bit = std::uint64_t{1} << j;

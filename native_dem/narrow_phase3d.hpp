@@ -15,8 +15,8 @@ struct ContactPoint3 {
   int feature = 0;
 };
 
-// A body placed in the world. For a polyhedron `world_vertices`, `world_normals` and `world_arcs` are
-// filled once per force evaluation (place()).
+// A body placed in the world. For a polyhedron `world_vertices`, `world_normals` and what the
+// separating-axis test needs of them are filled once per force evaluation (place()).
 struct Placed3 {
   Vec3 x = Vec3::Zero();
   Quat q = Quat::Identity();
@@ -24,15 +24,16 @@ struct Placed3 {
   const Polyhedron* hull = nullptr;  // nullptr: a sphere
   std::vector<Vec3> world_vertices, world_normals;
   std::vector<double> world_offsets;
-  // Per edge (when the hull knows its edges' faces), normal of the plane of the edge's arc on the Gauss
-  // map: n(f2) x n(f1). Placed once here rather than for every pair the body is in.
-  std::vector<Vec3> world_arcs;
-  // The vertices', the face normals' and the arcs' coordinates again as separate arrays (x of all, then y,
-  // then z), so the separating-axis test can project two at a time.
+  // Points or directions as separate arrays (x of all, then y, then z), so the separating-axis test can
+  // take two at a time.
   struct Coordinates {
     std::vector<double> x, y, z;
     void assign(const std::vector<Vec3>& points);
-  } vertex_coordinates, normal_coordinates, arc_coordinates;
+    Vec3 operator[](std::size_t i) const { return {x[i], y[i], z[i]}; }
+  } vertex_coordinates, normal_coordinates;
+  // Per edge (when the hull knows its edges' faces), the normal of the plane of the edge's arc on the
+  // Gauss map, n(f2) x n(f1): placed once here rather than for every pair the body is in.
+  Coordinates arcs;
   // The polyhedron's own extent along each of its face normals (what the separating-axis test would
   // otherwise project again for every pair).
   std::vector<double> face_lo, face_hi;

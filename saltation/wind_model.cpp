@@ -8,6 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "convergence.hpp"
 #include "fluid.hpp"
 
 namespace grainlab::saltation {

@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "convergence.hpp"
 #include "splash_file.hpp"
 
 namespace grainlab::saltation {

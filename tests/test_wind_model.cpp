@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "convergence.hpp"
 #include "wind_model.hpp"
 
 using namespace grainlab::saltation;

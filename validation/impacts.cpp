@@ -81,11 +81,11 @@ Scene impact_scene(const Bed& bed, const ImpactCase& c, const Aim& aim, const Im
 
 const std::vector<ImpactCase>& impact_cases() {
   static const std::vector<ImpactCase> cases = {
-      {"A", 3000, 15, 0.5, "loose", 1.0, 1.0},  {"B", 3000, 25, 0.5, "loose", 1.0, 1.0},
-      {"C", 3000, 70, 0.5, "loose", 1.0, 1.0},  {"D", 3000, 15, 0.0, "loose", 1.0, 1.0},
-      {"E", 1000, 15, 0.5, "loose", 1.0, 1.0},  {"F", 4000, 15, 0.5, "loose", 1.0, 1.0},
-      {"G", 3000, 15, 0.5, "dense", 1.0, 1.0},  {"H", 6000, 15, 0.5, "loose", 0.5, 0.25},
-      {"I", 8100, 15, 0.5, "loose", 0.5, 0.25},
+      {"A", 3000, 15, 0.5, "loose", 1.0, true}, {"B", 3000, 25, 0.5, "loose", 1.0, true},
+      {"C", 3000, 70, 0.5, "loose", 1.0, true}, {"D", 3000, 15, 0.0, "loose", 1.0, true},
+      {"E", 1000, 15, 0.5, "loose", 1.0, true}, {"F", 4000, 15, 0.5, "loose", 1.0, true},
+      {"G", 3000, 15, 0.5, "dense", 1.0, true}, {"H", 6000, 15, 0.5, "loose", 0.5, true},
+      {"I", 8100, 15, 0.5, "loose", 0.5, true},
   };
   return cases;
 }

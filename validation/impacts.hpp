@@ -24,9 +24,9 @@ struct ImpactCase {
   double speed = 3000, alpha_deg = 15, mu = 0.5;
   std::string bed = "loose";
   double radius = 1.0;
-  // m_i / m_b where Table 3.1 fixes it (m_b / 4 for H and I, so that H has A's incident energy): a sphere
-  // standing in for a disc keeps the disc's mass ratio. 0: the incident grain has the bed's density.
-  double mass_ratio = 0;
+  // Table 3.1's cases fix m_i / m_b as the discs' (r_i / r_b)^2 (m_b / 4 for H and I, so that H has A's
+  // incident energy): a sphere standing in for a disc keeps it. false: the grain has the bed's density.
+  bool disc_mass_ratio = false;
 };
 const std::vector<ImpactCase>& impact_cases();
 // Throws InputError naming the allowed cases.

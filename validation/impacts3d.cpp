@@ -186,9 +186,10 @@ Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, con
   if (c.mu == 0) s.effects.set(Effect::friction, false);
   Body3Spec in;
   for (const Body3Spec& b : s.bodies3d) in.id = std::max(in.id, b.id + 1);
-  const double mb = sphere_mass(bed.spec.density, bed.spec.smallest_radius());
+  const double rb = bed.spec.smallest_radius(), mb = sphere_mass(bed.spec.density, rb);
   in.radius = c.radius;
-  in.mass = c.mass_ratio > 0 ? mb * c.mass_ratio : sphere_mass(bed.spec.density, c.radius);
+  in.mass =
+      c.disc_mass_ratio ? mb * (c.radius / rb) * (c.radius / rb) : sphere_mass(bed.spec.density, c.radius);
   in.inertia = Mat3::Identity() * (0.4 * in.mass * c.radius * c.radius);  // (a uniform sphere of that mass)
   in.position = aim.release;
   in.velocity = Vec3(c.speed * std::cos(c.alpha_deg * kDeg), 0, -c.speed * std::sin(c.alpha_deg * kDeg));
