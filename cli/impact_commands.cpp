@@ -121,15 +121,14 @@ void add_quantities(nlohmann::json& j, const std::map<std::string, MeanInterval>
 int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   if (!a.bed_files.empty())
     throw InputError({"--bed", 0}, a.bed_files[0], "bed files are 2-D; 3-D beds are poured here");
-  if (c.bed != "loose")
-    throw InputError({"--case", 0}, c.name, "3-D beds are loose (poured with friction) only so far");
   const bool speak = !a.quiet && !a.impact_json && parallel::rank() == 0;
   Bed3dSpec spec;
   spec.count = a.spheres;
   spec.seed = a.bed_seed;
+  spec.preparation = c.bed;  // (CASE G's is dense: poured frictionless)
   if (speak)
-    fmt::print(stderr, "grainlab impact: pouring {} spheres into a {} x {} cm box...\n", spec.count,
-               spec.width, spec.depth);
+    fmt::print(stderr, "grainlab impact: pouring {} spheres into a {} x {} cm box ({} bed)...\n", spec.count,
+               spec.width, spec.depth, spec.preparation);
   const Bed3d bed = build_bed3d(spec);
   if (speak)
     fmt::print(stderr,
@@ -166,6 +165,7 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
                      {"runs", a.runs},
                      {"seed", a.seed},
                      {"spheres", spec.count},
+                     {"preparation", spec.preparation},
                      {"bed_top", bed.top},
                      {"packing_fraction", bed.packing_fraction},
                      {"spheres_removed", bed.removed},

@@ -78,6 +78,29 @@ TEST(Impacts3d, SpheresStruckAsCaseAGiveBackNoMoreEnergyThanTheyGet) {
 
 // A sand-gun checkpoint keeps the bed bit for bit and the impacts as they were: the bed read back gives the
 // same impact as the bed that was built, so a continued run computes what an unbroken one would.
+// CASE G's preparation: poured, stiffened and damped without friction, the spheres slide toward random
+// close packing (0.64 for equal spheres: Scott & Kilgour 1969, 0.6366; +- 0.03 for what the interior of
+// this small bed, a few dozen spheres' volume, samples), well above what the same pour with friction 0.5
+// locks into (0.55 here: random loose packing is no lower than 0.536, Song, Wang & Makse 2008). With its
+// friction back the bed must hold still as the loose one does (the 2-D limits: 0.05 cm, 1 cm/s over an
+// impact's 0.07 s), and a case for the other preparation is refused.
+TEST(Impacts3d, DensePreparationPacksTowardRandomClosePacking) {
+  Bed3dSpec spec = small_bed().spec;
+  spec.preparation = "dense";
+  const Bed3d dense = build_bed3d(spec);
+  RecordProperty("dense_packing", std::to_string(dense.packing_fraction));
+  RecordProperty("loose_packing", std::to_string(small_bed().packing_fraction));
+  EXPECT_GT(dense.packing_fraction, small_bed().packing_fraction + 0.02);
+  EXPECT_GT(dense.packing_fraction, 0.64 - 0.03);
+  EXPECT_LT(dense.packing_fraction, 0.64 + 0.03);
+  const BedHold h = hold_bed3d(dense, "native", 0.07, 1e-5);
+  EXPECT_LT(h.max_displacement, 0.05);
+  EXPECT_LT(h.max_speed, 1.0);
+  EXPECT_THROW(run_impact3d(dense, impact_case("A"), 1, 0, ImpactOptions{}), std::invalid_argument);
+  spec.preparation = "packed";
+  EXPECT_THROW(build_bed3d(spec), InputError);
+}
+
 TEST(SandGunCheckpoint, KeepsTheBedAndTheImpactsExactly) {
   const Bed3d& bed = small_bed();
   const ImpactCase& c = impact_case("A");

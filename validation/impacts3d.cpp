@@ -35,7 +35,7 @@ name = "3-D impact bed ({} spheres)"
 dimension = 3
 duration = {}
 seed = {}
-effects = ["gravity", "normal_contact", "friction", "rotation"]
+effects = ["gravity", "normal_contact", {}"rotation"]
 [accuracy]
 integrator = "verlet"
 dt = {}
@@ -65,8 +65,8 @@ type = "plane"
 point = [0.0, {}, 0.0]
 normal = [0.0, -1.0, 0.0]
 )toml",
-                                 s.count, duration, s.seed, contact_time(k_n, m, m) / 30, k_n, k_n, s.mu, e,
-                                 s.width, s.depth);
+                                 s.count, duration, s.seed, s.mu > 0 ? "\"friction\", " : "",
+                                 contact_time(k_n, m, m) / 30, k_n, k_n, s.mu, e, s.width, s.depth);
   if (!pour) return text;
   text += fmt::format(
       "[[assemblies]]\ntype = \"poured\"\ncount = {}\nwidth = {}\ndepth = {}\norigin = [0.0, 0.0, 0.0]\n"
@@ -214,6 +214,13 @@ constexpr int kPoured = 1, kStiffened = kPoured + kStiffeningSteps, kDamped = kS
 // of 10^0.2, so no grain is thrown; then relaxed with the bed's own material from rest.
 constexpr double kSoftening = 100, kPourRestitution = 0.3;
 
+// The bed as the pour, the stiffening and the damping see it: a dense bed without its friction.
+Bed3dSpec while_packing(const Bed3dSpec& spec) {
+  Bed3dSpec s = spec;
+  if (spec.dense()) s.mu = 0;
+  return s;
+}
+
 std::vector<Body3Spec> poured(const Bed3dSpec& spec) {
   const double pitch = 2.2 * spec.largest_radius();
   const double per_layer =
@@ -267,18 +274,18 @@ std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b) {
   const double ts = spec.time_scale;
   const int stage = b.stage++;
   if (stage == 0) {
-    b.bodies = poured(spec);
+    b.bodies = poured(while_packing(spec));
     return "poured and settled soft";
   }
   if (stage < kStiffened) {
     const double k = spec.k_n / kSoftening * std::pow(kSoftening, stage / double(kStiffeningSteps));
-    b.bodies = settled(spec, std::move(b.bodies), k, 0, 0.005 * ts);
+    b.bodies = settled(while_packing(spec), std::move(b.bodies), k, 0, 0.005 * ts);
     return fmt::format("stiffened to k_n {:.3g} dyn/cm", k);
   }
   // Critically damped at the bed's own stiffness until perched grains have found their places, then the
   // bed's own material from rest, as every impact will start.
   if (stage == kStiffened) {
-    b.bodies = settled(spec, std::move(b.bodies), spec.k_n, 0, 0.1 * ts);
+    b.bodies = settled(while_packing(spec), std::move(b.bodies), spec.k_n, 0, 0.1 * ts);
     return "damped";
   }
   if (stage == kDamped) {
@@ -294,6 +301,8 @@ std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b) {
 
 Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log, Bed3dBuild from,
                   const std::function<void(const Bed3dBuild&)>& after_stage) {
+  if (spec.preparation != "loose" && spec.preparation != "dense")
+    throw InputError({"preparation", 0}, spec.preparation, "must be \"loose\" or \"dense\"");
   Bed3dBuild b = std::move(from);
   while (!b.finished) {
     const auto start = std::chrono::steady_clock::now();
@@ -347,6 +356,9 @@ BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration,
 
 Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
                             const ImpactOptions& o) {
+  if (c.bed != bed.spec.preparation)
+    throw std::invalid_argument(fmt::format("3-D impact: CASE {} is for a {} bed, this one is {}", c.name,
+                                            c.bed, bed.spec.preparation));
   const auto start = std::chrono::steady_clock::now();
   Rng rng(seed, run);
   const Bed3dSpec& s = bed.spec;

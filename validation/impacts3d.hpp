@@ -19,6 +19,10 @@
 namespace grainlab::validation {
 
 struct Bed3dSpec {
+  // "loose": poured with the bed's friction, so spheres lock where they land; "dense": poured, stiffened
+  // and damped frictionless, so they slide toward close packing, then given their friction back for the
+  // relaxation (the 2-D beds' two preparations, impact_bed.hpp).
+  std::string preparation = "loose";
   std::uint64_t seed = 1;
   int count = 2000;                    // spheres
   double width = 67.3, depth = 20;     // the box along x (as the thesis's) and y
@@ -31,6 +35,7 @@ struct Bed3dSpec {
   // thesis-sized durations (0.005, 0.1, 0.05, 0.07 s for 1 cm grains) times this: grains of another size
   // fall and settle in times that scale as sqrt(r / g), so a sand bed takes sqrt(r / 1 cm) of them.
   double time_scale = 1;
+  bool dense() const { return preparation == "dense"; }
   double smallest_radius() const { return radius - radius_spread; }
   double largest_radius() const { return radius + radius_spread; }
 };

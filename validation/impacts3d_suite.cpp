@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "impact_bed.hpp"
 #include "impacts.hpp"
@@ -123,8 +124,9 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
   Bed3dSpec spec;
   if (o.quick) spec.count = 700, spec.width = 30, spec.depth = 12;
   const std::size_t runs = o.quick ? 8 : 40;
-  const std::vector<std::string> cases =
-      o.quick ? std::vector<std::string>{"A", "D"} : std::vector<std::string>{"A", "C", "D", "E", "H", "I"};
+  const std::vector<std::string> cases = o.quick
+                                             ? std::vector<std::string>{"A", "D"}
+                                             : std::vector<std::string>{"A", "C", "D", "E", "G", "H", "I"};
   if (o.log)
     o.log(fmt::format("impacts-3d: pouring {} spheres into {} x {} cm", spec.count, spec.width, spec.depth));
   const Bed3d bed = build_bed3d(spec);
@@ -184,10 +186,41 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
       {"ej_sideways", "ejecta mean abs(sin azimuth) (3-D)"},
       {"ej_backward", "ejecta thrown upwind (3-D)"}};
   ImpactOptions io;
+  // CASE G's dense beds, in both dimensions, made when a case first asks for them.
+  std::optional<Bed3d> dense_bed;
+  std::optional<Bed> dense_bed2;
+  auto beds_for = [&](const ImpactCase& c) -> std::pair<const Bed3d&, const Bed&> {
+    if (c.bed != "dense") return {bed, bed2};
+    if (!dense_bed) {
+      Bed3dSpec d = spec;
+      d.preparation = "dense";
+      if (o.log) o.log(fmt::format("impacts-3d: pouring {} spheres frictionless (dense bed)", d.count));
+      dense_bed = build_bed3d(d);
+      BedSpec d2 = spec2;
+      d2.preparation = "dense";
+      dense_bed2 = build_bed(d2);
+      const BedHold h = hold_bed3d(*dense_bed, "native", 0.07, io.rigid_dt);
+      r.expect_below("impacts-3d/dense-bed-at-rest", "native",
+                     std::max(h.max_displacement / 0.05, h.max_speed / 1.0), 1.0,
+                     fmt::format("the dense bed alone for 0.07 s: largest displacement {:.3g} cm, largest "
+                                 "speed {:.3g} cm/s (value: the larger of displacement / 0.05 cm and speed "
+                                 "/ 1 cm/s)",
+                                 h.max_displacement, h.max_speed));
+      md += fmt::format(
+          "CASE G's dense bed: the same {} spheres poured, stiffened and damped frictionless, then relaxed "
+          "with friction (top {:.2f} cm, solid fraction {:.3f} against the loose bed's {:.3f}, {} loose "
+          "spheres taken away); it moves at most {:.3g} cm at {:.3g} cm/s when left alone for 0.07 s. The "
+          "2-D column is grainlab's dense disc bed.\n\n",
+          d.count, dense_bed->top, dense_bed->packing_fraction, bed.packing_fraction, dense_bed->removed,
+          h.max_displacement, h.max_speed);
+    }
+    return {*dense_bed, *dense_bed2};
+  };
   for (const std::string& name : cases) {
     const ImpactCase& c = impact_case(name);
-    const std::vector<Impact3dResult> three = run_impact3d_ensemble(bed, c, 1, runs, io, o.progress);
-    const ImpactEnsemble two = run_impact_ensemble({bed2}, c, 1, runs, io, o.progress);
+    const auto [bed_c, bed2_c] = beds_for(c);
+    const std::vector<Impact3dResult> three = run_impact3d_ensemble(bed_c, c, 1, runs, io, o.progress);
+    const ImpactEnsemble two = run_impact_ensemble({bed2_c}, c, 1, runs, io, o.progress);
     const Impact3dSummary s3 = summarize_impacts3d(three);
     const ImpactSummary s2 = summarize_impacts(two.impacts, spec2.restitution);
     if (o.log)
@@ -224,7 +257,7 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
     // Quick: CASE A only, 4 impacts (ODE takes 7-8 s per impact on the 700-sphere bed, native 2-3 s).
     const std::vector<Impact3dSummary> peer = o.quick && name != "A"
                                                   ? std::vector<Impact3dSummary>{}
-                                                  : peer_impacts(r, o, bed, c, o.quick ? 4 : runs, peers);
+                                                  : peer_impacts(r, o, bed_c, c, o.quick ? 4 : runs, peers);
     md += fmt::format("**CASE {}** (v_i {} cm/s, alpha_i {} deg, mu {}): {} of {} rebounded with spheres\n\n",
                       name, c.speed, c.alpha_deg, c.mu, s3.rebounds, runs);
     md += "| quantity | thesis 2-D | grainlab 2-D discs | grainlab 3-D spheres |";
