@@ -121,17 +121,6 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
   pending_kick_ = false, moved_ = true, prediction_ = Prediction::unknown;
 }
 
-std::vector<SphereState> SphereBed::states() const {
-  std::vector<SphereState> out;
-  for (std::size_t k = 0; k < x_.size(); ++k) {
-    if (ghost(k)) continue;
-    SphereState& s = out.emplace_back();
-    s.id = id_[k], s.x = x_[k], s.v = v_[k], s.w = w_[k], s.f = f_[k], s.tq = tq_[k], s.q = q_[k];
-    s.m = m_[k], s.inv_i = inv_i_[k], s.r = r_[k], s.material = mat_[k];
-  }
-  return out;
-}
-
 std::size_t SphereBed::slot_of(std::int64_t id) const {
   const auto it = std::lower_bound(id_.begin(), id_.end(), id);
   if (it == id_.end() || *it != id) throw std::runtime_error(fmt::format("body {} is not in the bed", id));

@@ -76,8 +76,11 @@ class SphereBed {
   // id order, and all ranks rebuild on the same steps: the results are those of one process, bit for bit.
   void distribute(const Decomposition& decomposition);
   bool distributed() const { return domain_.has_value(); }
-  // The spheres' states, in slot (id) order, this rank's own only; only after finish().
-  std::vector<SphereState> states() const;
+  // Calls fn(const SphereState&) for this rank's own spheres in slot (id) order; only after finish().
+  // (A visitor, not a vector: a fresh 2 MB vector for 10,000 spheres cost 6-15 ms of page faults here,
+  // paid at every frame, against 0.25 s for 2,000 steps.)
+  template <class Fn>
+  void each_state(Fn&& fn) const;
   std::size_t size() const { return x_.size(); }
   bool ghost(std::size_t slot) const { return !ghost_.empty() && ghost_[slot]; }
   std::int64_t id(std::size_t slot) const { return id_[slot]; }
@@ -176,5 +179,16 @@ class SphereBed {
   std::uint64_t evaluations_ = 0;
   std::size_t contacts_ = 0;
 };
+
+template <class Fn>
+void SphereBed::each_state(Fn&& fn) const {
+  SphereState s;
+  for (std::size_t k = 0; k < x_.size(); ++k) {
+    if (ghost(k)) continue;
+    s.id = id_[k], s.x = x_[k], s.v = v_[k], s.w = w_[k], s.f = f_[k], s.tq = tq_[k], s.q = q_[k];
+    s.m = m_[k], s.inv_i = inv_i_[k], s.r = r_[k], s.material = mat_[k];
+    fn(static_cast<const SphereState&>(s));
+  }
+}
 
 }  // namespace grainlab::dem

@@ -66,10 +66,10 @@ void World3d::load_bed(bool spread) {
 // This rank's spheres back into the bodies; in a distributed world rank 0 gathers everyone's.
 void World3d::store_bed() {
   bed_.finish();
-  const std::vector<SphereState> s = bed_.states();
   bed_body_.clear();
   std::vector<double> mine;
-  for (const SphereState& st : s) {
+  if (distributed()) mine.reserve(20 * bed_.size());
+  bed_.each_state([&](const SphereState& st) {
     const std::size_t i = body_of_id(st.id);
     bed_body_.push_back(i);
     Body3& b = b_[i];
@@ -78,7 +78,7 @@ void World3d::store_bed() {
       mine.insert(mine.end(), {double(st.id), st.x.x(),  st.x.y(), st.x.z(), st.v.x(), st.v.y(), st.v.z(),
                                st.w.x(),      st.w.y(),  st.w.z(), st.f.x(), st.f.y(), st.f.z(), st.tq.x(),
                                st.tq.y(),     st.tq.z(), st.q.w(), st.q.x(), st.q.y(), st.q.z()});
-  }
+  });
   if (!distributed()) return;
   const std::vector<double> all = parallel::gather_to_root(mine);
   for (std::size_t k = 0; k + 20 <= all.size(); k += 20) {
