@@ -126,13 +126,15 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   spec.count = a.spheres;
   spec.seed = a.bed_seed;
   spec.preparation = c.bed;  // (CASE G's is dense: poured frictionless)
+  spec.polyhedra = a.grains == "polyhedron";
+  if (!a.box.empty()) spec.width = a.box[0], spec.depth = a.box[1];
   if (speak)
-    fmt::print(stderr, "grainlab impact: pouring {} spheres into a {} x {} cm box ({} bed)...\n", spec.count,
-               spec.width, spec.depth, spec.preparation);
+    fmt::print(stderr, "grainlab impact: pouring {} {} into a {} x {} cm box ({} bed)...\n", spec.count,
+               spec.polyhedra ? "irregular grains" : "spheres", spec.width, spec.depth, spec.preparation);
   const Bed3d bed = build_bed3d(spec);
   if (speak)
     fmt::print(stderr,
-               "grainlab impact: bed top {:.2f} cm, packing {:.3f}, {} loose spheres taken away ({:.1f} s); "
+               "grainlab impact: bed top {:.2f} cm, packing {:.3f}, {} loose grains taken away ({:.1f} s); "
                "CASE {} (v_i {} cm/s, alpha_i "
                "{} deg, mu {}, r_i {} cm), {} impacts\n",
                bed.top, bed.packing_fraction, bed.removed, bed.build_seconds, c.name, c.speed, c.alpha_deg,
@@ -165,6 +167,8 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
                      {"runs", a.runs},
                      {"seed", a.seed},
                      {"spheres", spec.count},
+                     {"grains", a.grains},
+                     {"box", {spec.width, spec.depth}},
                      {"preparation", spec.preparation},
                      {"bed_top", bed.top},
                      {"packing_fraction", bed.packing_fraction},
@@ -178,9 +182,10 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
     return 0;
   }
   fmt::print(
-      "CASE {} with spheres: {} impacts, {} rebounded, {} ejecta; median {:.2f} s per impact ({:.0f} "
+      "CASE {} with {}: {} impacts, {} rebounded, {} ejecta; median {:.2f} s per impact ({:.0f} "
       "steps)\n",
-      c.name, s.impacts, s.rebounds, s.ejecta, s.median_wall_seconds, s.mean_steps);
+      c.name, spec.polyhedra ? "irregular grains" : "spheres", s.impacts, s.rebounds, s.ejecta,
+      s.median_wall_seconds, s.mean_steps);
   print_quantities(s.q, thesis, "3-D mean", "thesis 2-D (spread)");
   return 0;
 }
@@ -418,6 +423,15 @@ void ImpactCommands::add(CLI::App& app) {
       ->default_val(2000)
       ->check(CLI::Range(100, 1000000));
   impact_cmd->add_option("--bed-seed", bed_seed, "--dimension 3: seed of the pour")->default_val(1);
+  impact_cmd
+      ->add_option("--grains", grains,
+                   "--dimension 3: sphere, or polyhedron (irregular convex grains of the spheres' volumes, "
+                   "on the general 3-D path: hundreds of times slower)")
+      ->default_val("sphere")
+      ->check(CLI::IsMember({"sphere", "polyhedron"}));
+  impact_cmd->add_option("--box", box, "--dimension 3: the box's x and y in cm (default 67.3 20)")
+      ->expected(2)
+      ->check(CLI::PositiveNumber);
   impact_cmd->add_flag(
       "--hold", hold,
       "--dimension 3: first run the bed alone for 0.07 s and report (and check) how far it moves "

@@ -25,6 +25,8 @@ struct ImpactCommands {
   bool impact_json = false, quiet = false, force = false;
   int dimension = 2, spheres = 2000;  // --dimension 3: spheres in the poured bed
   bool hold = false;                  // --dimension 3: report how far the bed moves alone
+  std::string grains = "sphere";      // --dimension 3: "sphere" or "polyhedron" (irregular grains)
+  std::vector<double> box;            // --dimension 3: the box's x and y (cm); empty: 67.3 x 20
   // grainlab rebound-model
   int model_case = 2;
   double alpha = 15, mass_ratio = -1, sigma = -2, spin = 0, gap = 0, radius_ratio = 1;

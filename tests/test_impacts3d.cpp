@@ -101,6 +101,33 @@ TEST(Impacts3d, DensePreparationPacksTowardRandomClosePacking) {
   EXPECT_THROW(build_bed3d(spec), InputError);
 }
 
+// A bed of polyhedra is measured by their shapes, not by their bounding spheres: cubes of side 2 on a
+// pitch of 3 fill 8 / 27 = 0.296 of the space (their bounding spheres, radius sqrt 3, would fill about
+// 0.7; spheres of radius 1, 0.155), and cubes turned 45 deg about x reach sqrt 2 above their centres.
+TEST(Impacts3d, PolyhedralBedsAreMeasuredByTheirShapes) {
+  Bed3dSpec spec;
+  spec.polyhedra = true;
+  spec.width = spec.depth = 30;
+  std::vector<Body3Spec> cubes;
+  const Quat turned(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX()));
+  for (int k = 0; k < 6; ++k)
+    for (int j = 0; j < 10; ++j)
+      for (int i = 0; i < 10; ++i) {
+        Body3Spec& b = cubes.emplace_back();
+        b.id = static_cast<std::int64_t>(cubes.size()) - 1;
+        b.shape = Body3Spec::Shape::Polyhedron;
+        b.hull = make_box(Vec3(1, 1, 1));
+        b.radius = b.hull.bounding_radius();
+        b.mass = 8, b.inertia = Mat3::Identity() * (8.0 / 6);
+        b.position = Vec3(1.5 + 3 * i, 1.5 + 3 * j, 1.5 + 3 * k);
+      }
+  const Bed3d upright = bed3d_from_bodies(spec, cubes);
+  EXPECT_DOUBLE_EQ(upright.top, 16.5 + 1);
+  EXPECT_NEAR(upright.packing_fraction, 8.0 / 27, 0.05);
+  for (Body3Spec& b : cubes) b.orientation = turned;
+  EXPECT_NEAR(bed3d_from_bodies(spec, cubes).top, 16.5 + std::sqrt(2.0), 1e-12);
+}
+
 TEST(SandGunCheckpoint, KeepsTheBedAndTheImpactsExactly) {
   const Bed3d& bed = small_bed();
   const ImpactCase& c = impact_case("A");

@@ -70,8 +70,8 @@ normal = [0.0, -1.0, 0.0]
   if (!pour) return text;
   text += fmt::format(
       "[[assemblies]]\ntype = \"poured\"\ncount = {}\nwidth = {}\ndepth = {}\norigin = [0.0, 0.0, 0.0]\n"
-      "density = {}\nsettle_time = {}\n",
-      s.count, s.width, s.depth, s.density, duration);
+      "density = {}\nsettle_time = {}\n{}",
+      s.count, s.width, s.depth, s.density, duration, s.polyhedra ? "shape = \"polyhedron\"\n" : "");
   if (s.radius_spread == 0) return text + fmt::format("radius = {}\n", s.radius);
   return text + fmt::format("[assemblies.radius_distribution]\nkind = \"uniform\"\nmin = {}\nmax = {}\n",
                             s.smallest_radius(), s.largest_radius());
@@ -92,6 +92,19 @@ std::vector<Body3Spec> settled(const Bed3dSpec& s, std::vector<Body3Spec> bodies
   return out;
 }
 
+// The highest point of a grain.
+double grain_top(const Body3Spec& g) {
+  if (g.shape == Body3Spec::Shape::Sphere) return g.position.z() + g.radius;
+  const Vec3 up = g.orientation.conjugate() * Vec3::UnitZ();  // (world up in the body's frame)
+  return g.position.z() + (g.orientation * g.hull.vertices[g.hull.support(up)]).z();
+}
+
+bool holds_point(const Body3Spec& g, const Vec3& p) {
+  const Vec3 d = p - g.position;
+  if (d.squaredNorm() >= g.radius * g.radius) return false;  // (a polyhedron's bounding sphere)
+  return g.shape == Body3Spec::Shape::Sphere || g.hull.contains(g.orientation.conjugate() * d);
+}
+
 // The exposed height of each 2 r x 2 r column in the middle 80 % of the box, and its 90th percentile.
 double bed_top(const std::vector<Body3Spec>& b, const Bed3dSpec& s) {
   const double cell = 2 * s.radius;
@@ -100,7 +113,7 @@ double bed_top(const std::vector<Body3Spec>& b, const Bed3dSpec& s) {
     const double x = g.position.x(), y = g.position.y();
     if (x < 0.1 * s.width || x > 0.9 * s.width || y < 0.1 * s.depth || y > 0.9 * s.depth) continue;
     double& h = column[{static_cast<long>(x / cell), static_cast<long>(y / cell)}];
-    h = std::max(h, g.position.z() + g.radius);
+    h = std::max(h, grain_top(g));
   }
   std::vector<double> h;
   for (const auto& [k, z] : column) h.push_back(z);
@@ -118,9 +131,7 @@ double solid_fraction(const std::vector<Body3Spec>& b, const Vec3& lo, const Vec
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k) {
         const Vec3 p = lo + (hi - lo).cwiseProduct(Vec3(i + 0.5, j + 0.5, k + 0.5) / n);
-        inside += std::any_of(b.begin(), b.end(), [&](const Body3Spec& s) {
-          return (p - s.position).squaredNorm() < s.radius * s.radius;
-        });
+        inside += std::any_of(b.begin(), b.end(), [&](const Body3Spec& s) { return holds_point(s, p); });
       }
   return double(inside) / (n * n * n);
 }
@@ -222,7 +233,9 @@ Bed3dSpec while_packing(const Bed3dSpec& spec) {
 }
 
 std::vector<Body3Spec> poured(const Bed3dSpec& spec) {
-  const double pitch = 2.2 * spec.largest_radius();
+  // (An irregular grain's bounding radius, which sets the pour's pitch, is up to about 1.6 times its
+  // sphere's: a taller column takes longer to fall.)
+  const double pitch = 2.2 * spec.largest_radius() * (spec.polyhedra ? 1.6 : 1.0);
   const double per_layer =
       std::max(1.0, std::floor(spec.width / pitch)) * std::max(1.0, std::floor(spec.depth / pitch));
   const double column_top = pitch * std::ceil(spec.count / per_layer) + spec.radius;

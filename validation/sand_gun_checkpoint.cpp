@@ -42,7 +42,8 @@ std::string fingerprint(const Bed3dSpec& s, std::uint64_t seed) {
              "{:.17g} k_n {:.17g} restitution {:.17g} mu {:.17g} settle {:.17g} time_scale {:.17g}",
              s.count, s.seed, seed, s.width, s.depth, s.radius, s.radius_spread, s.density, s.k_n,
              s.restitution, s.mu, s.settle_time, s.time_scale) +
-         (s.dense() ? " preparation dense" : "");  // (loose beds' checkpoints keep the fingerprint they had)
+         (s.dense() ? " preparation dense" : "") +
+         (s.polyhedra ? " polyhedra" : "");  // (loose beds' checkpoints keep the fingerprint they had)
 }
 
 std::vector<double> sphere_row(const Body3Spec& b) {
