@@ -131,7 +131,10 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   if (speak)
     fmt::print(stderr, "grainlab impact: pouring {} {} into a {} x {} cm box ({} bed)...\n", spec.count,
                spec.polyhedra ? "irregular grains" : "spheres", spec.width, spec.depth, spec.preparation);
-  const Bed3d bed = build_bed3d(spec);
+  // The build takes minutes (an hour for irregular grains): each stage is reported as it ends.
+  const Bed3d bed = build_bed3d(spec, [&](const std::string& stage) {
+    if (speak) fmt::print(stderr, "grainlab impact: {}\n", stage);
+  });
   if (speak)
     fmt::print(stderr,
                "grainlab impact: bed top {:.2f} cm, packing {:.3f}, {} loose grains taken away ({:.1f} s); "

@@ -321,7 +321,9 @@ Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::str
     const auto start = std::chrono::steady_clock::now();
     const std::string what = next_stage(spec, b);
     b.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (log) log(fmt::format("bed of {} spheres: {} ({:.0f} s)", spec.count, what, b.seconds));
+    if (log)
+      log(fmt::format("bed of {} {}: {} ({:.0f} s)", spec.count,
+                      spec.polyhedra ? "irregular grains" : "spheres", what, b.seconds));
     if (after_stage) after_stage(b);
   }
   Bed3d bed = bed3d_from_bodies(spec, std::move(b.bodies));
