@@ -301,9 +301,13 @@ BedStats measure_bed(const Scene& scene, const BedSpec& spec) {
   return st;
 }
 
+void check_preparation(const std::string& preparation, const std::string& key) {
+  if (preparation != "loose" && preparation != "dense")
+    throw InputError({key, 0}, preparation, "must be \"loose\" or \"dense\"");
+}
+
 Bed build_bed(const BedSpec& spec, const std::function<void(const std::string&)>& log) {
-  if (spec.preparation != "loose" && spec.preparation != "dense")
-    throw InputError({"--preparation", 0}, spec.preparation, "must be \"loose\" or \"dense\"");
+  check_preparation(spec.preparation, "--preparation");
   const auto start = std::chrono::steady_clock::now();
   Rng rng(spec.seed, 0);
   double column_top = 0;

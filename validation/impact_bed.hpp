@@ -55,6 +55,8 @@ struct Bed {
 
 // Pours and settles a bed (a few seconds of computing); `log` hears the stages.
 Bed build_bed(const BedSpec& spec, const std::function<void(const std::string&)>& log = {});
+// Throws InputError (under `key`) unless `preparation` is "loose" or "dense": the two of either dimension.
+void check_preparation(const std::string& preparation, const std::string& key);
 // The TOML scene text of a bed whose discs sit at `bodies`.
 std::string bed_scene_text(const BedSpec& spec, const std::vector<BodySpec>& bodies, double duration);
 BedStats measure_bed(const Scene& scene, const BedSpec& spec);

@@ -11,6 +11,7 @@
 
 #include "cell_grid.hpp"
 #include "engine.hpp"
+#include "impact_bed.hpp"
 #include "rng.hpp"
 #include "world3d.hpp"
 
@@ -233,8 +234,10 @@ Bed3dSpec while_packing(const Bed3dSpec& spec) {
 }
 
 std::vector<Body3Spec> poured(const Bed3dSpec& spec) {
-  // (An irregular grain's bounding radius, which sets the pour's pitch, is up to about 1.6 times its
-  // sphere's: a taller column takes longer to fall.)
+  // (The pour's pitch follows the grains' bounding radii: an irregular grain's, with the default 20 %
+  // irregularity and elongation rescaled to its sphere's volume, is up to about 1.7 times its sphere's
+  // radius. 1.6 only lengthens the fall allowed before the settling; the second of settling after it
+  // absorbs the difference.)
   const double pitch = 2.2 * spec.largest_radius() * (spec.polyhedra ? 1.6 : 1.0);
   const double per_layer =
       std::max(1.0, std::floor(spec.width / pitch)) * std::max(1.0, std::floor(spec.depth / pitch));
@@ -314,8 +317,7 @@ std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b) {
 
 Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log, Bed3dBuild from,
                   const std::function<void(const Bed3dBuild&)>& after_stage) {
-  if (spec.preparation != "loose" && spec.preparation != "dense")
-    throw InputError({"preparation", 0}, spec.preparation, "must be \"loose\" or \"dense\"");
+  check_preparation(spec.preparation, "preparation");
   Bed3dBuild b = std::move(from);
   while (!b.finished) {
     const auto start = std::chrono::steady_clock::now();

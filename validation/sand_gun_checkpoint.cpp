@@ -36,14 +36,15 @@ const std::vector<std::string> kEjectumColumns = {"impact", "id", "mass", "x0", 
 // Everything that decides the bed and the impacts: the bed's spec and the impacts' seed (not the rows or
 // the number of runs, which a continued run may change).
 std::string fingerprint(const Bed3dSpec& s, std::uint64_t seed) {
-  return fmt::format(
-             "spheres {} bed_seed {} seed {} width {:.17g} depth {:.17g} radius {:.17g} spread {:.17g} "
-             "density "
-             "{:.17g} k_n {:.17g} restitution {:.17g} mu {:.17g} settle {:.17g} time_scale {:.17g}",
-             s.count, s.seed, seed, s.width, s.depth, s.radius, s.radius_spread, s.density, s.k_n,
-             s.restitution, s.mu, s.settle_time, s.time_scale) +
-         (s.dense() ? " preparation dense" : "") +
-         (s.polyhedra ? " polyhedra" : "");  // (loose beds' checkpoints keep the fingerprint they had)
+  std::string f = fmt::format(
+      "spheres {} bed_seed {} seed {} width {:.17g} depth {:.17g} radius {:.17g} spread {:.17g} density "
+      "{:.17g} k_n {:.17g} restitution {:.17g} mu {:.17g} settle {:.17g} time_scale {:.17g}",
+      s.count, s.seed, seed, s.width, s.depth, s.radius, s.radius_spread, s.density, s.k_n, s.restitution,
+      s.mu, s.settle_time, s.time_scale);
+  // (Added only when set, so a loose sphere bed's checkpoint keeps the fingerprint it was written with.)
+  if (s.dense()) f += " preparation dense";
+  if (s.polyhedra) f += " polyhedra";
+  return f;
 }
 
 std::vector<double> sphere_row(const Body3Spec& b) {
