@@ -1,5 +1,6 @@
 #include "study.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -111,6 +112,26 @@ const std::vector<FluxLaw>& classic_flux_laws() {
        }},
   };
   return laws;
+}
+
+FluxGrowth flux_growth(const std::vector<double>& u_star, const std::vector<double>& q) {
+  const std::size_t n = u_star.size();
+  if (n < 3 || q.size() != n) throw std::invalid_argument("flux_growth needs three or more (u*, Q) points");
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double x = std::log(u_star[k]), y = std::log(std::max(q[k], 1e-300));
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  // The secant slope of f against u*^2 between points a and b.
+  auto slope = [&](auto f, std::size_t a, std::size_t b) {
+    return (f(b) - f(a)) / (u_star[b] * u_star[b] - u_star[a] * u_star[a]);
+  };
+  auto ratio = [&](auto f) { return slope(f, n - 2, n - 1) / slope(f, 0, 1); };
+  FluxGrowth g;
+  g.exponent = (double(n) * sxy - sx * sy) / (double(n) * sxx - sx * sx);
+  g.square_slope_ratio = ratio([&](std::size_t k) { return q[k]; });
+  g.cube_slope_ratio = ratio([&](std::size_t k) { return u_star[k] * u_star[k] * u_star[k]; });
+  return g;
 }
 
 }  // namespace grainlab::saltation

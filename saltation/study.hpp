@@ -42,4 +42,14 @@ struct FluxLaw {
 // each with its published coefficients (docs/saltation.md).
 const std::vector<FluxLaw>& classic_flux_laws();
 
+// How a flux grows with u*, from three or more (u*, Q) points in rising u*. `exponent`: the least-squares n
+// of Q ~ u*^n on log axes. `square_slope_ratio`: the slope dQ / d(u*^2) between the last two points over
+// that between the first two; it is 1 whenever Q is linear in u*^2, with or without a threshold (Ungar &
+// Haff's Q ~ u*^2 - u*_t^2, which the thesis cites), while a threshold makes `exponent` run far above 2
+// near it. `cube_slope_ratio`: the same ratio for Q ~ u*^3 at the same u*, the other law the thesis names.
+struct FluxGrowth {
+  double exponent = 0, square_slope_ratio = 0, cube_slope_ratio = 0;
+};
+FluxGrowth flux_growth(const std::vector<double>& u_star, const std::vector<double>& q);
+
 }  // namespace grainlab::saltation

@@ -17,14 +17,15 @@ TEST(SaltationSuite, QuickClaimsHold) {
   for (const Check& c : r.checks) {
     const bool claim =
         c.id.find("/conveyor/") != std::string::npos || c.id.find("/identity-") != std::string::npos ||
-        c.id.find("/converged") != std::string::npos || c.id.find("/decreasing") != std::string::npos;
+        c.id.find("/converged") != std::string::npos || c.id.find("/decreasing") != std::string::npos ||
+        c.id.find("/flux-square-law/") != std::string::npos;
     if (!claim) continue;
     ++claimed;
     EXPECT_TRUE(c.passed) << c.id << ": " << c.value << " against " << c.reference << " (" << c.note << ")";
   }
   // Conveyor: D in two orders (6), the closed form (2), Table 4.1 A and C (2); per wind cell (6):
-  // converged and two identities; the two cases' orderings.
-  EXPECT_EQ(claimed, 10 + 6 * 3 + 2);
+  // converged and two identities; the two cases' orderings and flux laws (Q linear in u*^2).
+  EXPECT_EQ(claimed, 10 + 6 * 3 + 2 + 2);
 }
 
 }  // namespace grainlab::validation

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "convergence.hpp"
+#include "study.hpp"
 #include "wind_model.hpp"
 
 using namespace grainlab::saltation;
@@ -231,4 +232,31 @@ TEST(WindModel, AStalledIterationIsToldFromASlowOne) {
   EXPECT_EQ(why_not_converged(slow, 1e-3).rfind("not converged in 400", 0), 0u)
       << why_not_converged(slow, 1e-3);
   EXPECT_EQ(why_not_converged({}, 1e-3), "no iterations");
+}
+
+// The flux-law measures on laws whose answers are known: a law linear in u*^2 has equal secant slopes
+// against u*^2 (ratio 1) with or without a threshold, though the threshold drives the log-log exponent far
+// above 2; Q ~ u*^3 gives the cube ratio and exponent 3; Owen's u* (u*^2 - u*_t^2) lies beyond the cube.
+TEST(FluxGrowth, TellsTheSquareLawFromTheCubeLawAtTheThesisWindSpeeds) {
+  using grainlab::saltation::flux_growth;
+  const std::vector<double> u = {35, 75, 125};
+  auto law = [&](auto f) {
+    std::vector<double> q;
+    for (double x : u) q.push_back(f(x));
+    return flux_growth(u, q);
+  };
+  const auto square = law([](double x) { return 1e-4 * x * x; });
+  EXPECT_NEAR(square.exponent, 2, 1e-12);
+  EXPECT_NEAR(square.square_slope_ratio, 1, 1e-12);
+  const auto threshold = law([](double x) { return 1e-4 * (x * x - 30.0 * 30.0); });
+  EXPECT_NEAR(threshold.square_slope_ratio, 1, 1e-12);
+  EXPECT_GT(threshold.exponent, 3);  // the log-log fit near a threshold says nothing about the law
+  const auto cube = law([](double x) { return 1e-6 * x * x * x; });
+  EXPECT_NEAR(cube.exponent, 3, 1e-12);
+  // (125^3 - 75^3) / (125^2 - 75^2) over (75^3 - 35^3) / (75^2 - 35^2) = 153.125 / 86.136...
+  EXPECT_NEAR(cube.square_slope_ratio, 153.125 / (379000.0 / 4400.0), 1e-12);
+  EXPECT_DOUBLE_EQ(cube.cube_slope_ratio, cube.square_slope_ratio);
+  const auto owen = law([](double x) { return 1e-6 * x * (x * x - 30.0 * 30.0); });
+  EXPECT_GT(owen.square_slope_ratio, cube.square_slope_ratio);
+  EXPECT_THROW(flux_growth({35, 75}, {1, 2}), std::invalid_argument);
 }

@@ -5,11 +5,13 @@
 // docs/saltation.md says what is known about why.
 #include <fmt/format.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 
 #include "conveyor.hpp"
 #include "splash_file.hpp"
+#include "study.hpp"
 #include "suites.hpp"
 #include "wind_model.hpp"
 
@@ -137,7 +139,46 @@ void identity_checks(Report& rep, const Cell& c) {
                    "Q = sum m F dv L equals m times the integral of the horizontal number-flux profile");
 }
 
+// The thesis: "consistent with the mass flux being related to the square of the wind-shear velocity, as
+// advocated by Ungar and Haff (1986) ... inconsistent with the cubic relations". Two readings are checked.
+// The issue's: Q ~ u*^n with n within 0.3 of 2 over the case's three u*. And Ungar & Haff's law,
+// Q ~ u*^2 - u*_t^2: Q linear in u*^2, its secant slopes' ratio nearer 1 than halfway (on log axes) to the
+// ratio Q ~ u*^3 gives at the same u*. Beside them, the exponent of the grain-borne stress
+// tau_g = rho (u*^2 - u*_eff^2) that the thesis's own Table 4.5 implies: Q / tau_g is the mean hop length
+// per unit of momentum a grain takes from the wind, nearly fixed by the steady state.
+void flux_law_checks(Report& rep, const std::array<const Cell*, 3>& run, std::string& md) {
+  std::vector<double> u, q, tau_thesis;
+  const int case_number = run[0]->case_number;
+  for (std::size_t k = 0; k < run.size(); ++k) {
+    u.push_back(run[k]->u_star), q.push_back(run[k]->r.mass_flux);
+    const double ue = kTable45[case_number - 1][k];
+    tau_thesis.push_back(u.back() * u.back() - ue * ue);
+  }
+  const FluxGrowth g = flux_growth(u, q), thesis = flux_growth(u, tau_thesis);
+  rep.expect_near(fmt::format("saltation/flux-exponent/case-{}", case_number), "wind-model", g.exponent, 2,
+                  0.3,
+                  "mass flux ~ u*^n over the case's three u*: n within 0.3 of 2 (the issue's reading; the "
+                  "thesis's own Table 4.5 implies more, docs/saltation.md)");
+  const double band = 0.5 * std::log(g.cube_slope_ratio);
+  rep.expect_below(
+      fmt::format("saltation/flux-square-law/case-{}", case_number), "wind-model",
+      std::abs(std::log(g.square_slope_ratio)), band,
+      fmt::format("Q linear in u*^2 (Ungar & Haff, which the thesis cites): |ln| of the ratio of "
+                  "the secant slopes dQ/d(u*^2) below half ln {:.2f}, the ratio of Q ~ u*^3",
+                  g.cube_slope_ratio));
+  const bool thesis_flux = tau_thesis[0] > 0;  // (CASE 3 at 35 cm/s: u*_eff = u*, no flux to take a log of)
+  md += fmt::format(
+      "| {} | {:g}, {:g}, {:g} | {:.2f} | {} | {:.2f} | {:.2f} | {:.2f} |\n", case_number, u[0], u[1], u[2],
+      g.exponent,
+      thesis_flux ? fmt::format("{:.2f}", thesis.exponent) : fmt::format("none: no flux at {:g}", u[0]),
+      g.square_slope_ratio, thesis.square_slope_ratio, g.cube_slope_ratio);
+}
+
 void table_checks(Report& rep, const std::vector<Cell>& cells, std::string& md) {
+  std::string flux_md =
+      "## The flux law\n\n| CASE | u* | exponent of Q | exponent of the thesis's tau_g (Table 4.5) | "
+      "dQ/d(u*^2) last / first | the same for the thesis's tau_g | for Q ~ u*^3 "
+      "|\n|---|---|---|---|---|---|---|\n";
   md +=
       "## Table 4.5: u*_eff (cm/s)\n\n| CASE | u* | thesis | grainlab | difference | iterations | wall (s) "
       "| Q (g/(cm s)) |\n|---|---|---|---|---|---|---|---|\n";
@@ -162,18 +203,17 @@ void table_checks(Report& rep, const std::vector<Cell>& cells, std::string& md) 
       const bool falls = states && a.r.u_star_eff > b.r.u_star_eff && b.r.u_star_eff > c.r.u_star_eff;
       rep.expect_below(fmt::format("saltation/table-4.5/case-{}/decreasing", c.case_number), "wind-model",
                        falls ? 0 : 1, 0, "u*_eff falls strictly as u* rises (the thesis, every case)");
-      // Q against u* on log axes: the thesis found Q ~ u*^2 for every splash.
-      double sx = 0, sy = 0, sxx = 0, sxy = 0;
-      for (const Cell* p : {&a, &b, &c}) {
-        const double x = std::log(p->u_star), y = std::log(std::max(p->r.mass_flux, 1e-300));
-        sx += x, sy += y, sxx += x * x, sxy += x * y;
+      if (states) {
+        flux_law_checks(rep, {&a, &b, &c}, flux_md);
+      } else {
+        for (const char* law : {"flux-exponent", "flux-square-law"})
+          rep.expect_below(fmt::format("saltation/{}/case-{}", law, c.case_number), "wind-model", 1, 0,
+                           "the flux law needs a steady state at all three u*");
       }
-      const double exponent = (3 * sxy - sx * sy) / (3 * sxx - sx * sx);
-      rep.expect_near(fmt::format("saltation/flux-exponent/case-{}", c.case_number), "wind-model", exponent,
-                      2, 0.3, "mass flux ~ u*^n over the case's three u*: n within 0.3 of 2 (the thesis)");
     }
   }
   md += fmt::format("\nAll {} runs took {:.1f} s on one core.\n\n", cells.size(), wall);
+  md += flux_md + "\n";
   md +=
       "## Table 4.4: peak heights (cm) of flux / kinetic-energy flux / drag\n\n| CASE | u* | thesis | "
       "grainlab "
