@@ -11,10 +11,19 @@
 
 namespace grainlab::dem::detail3d {
 
-// Orientation after turning at angular velocity w (world frame) for time dt.
+// Orientation after turning at angular velocity w (world frame) for time dt: the turn by the angle |w| dt
+// about w, (cos h, w sin(h) / |w|) with h = |w| dt / 2. A step turns a grain by a small angle, and there
+// cos h and sin(h) / h are summed as their series in h^2 = w.w dt^2 / 4, which needs neither the square
+// root nor sin and cos: in a bed of jostled spheres these were a tenth of the step. The series stop at
+// h^8: below h = 0.05 the next terms (h^10 / 10!) lie under the rounding of the sum.
 inline Quat turned(const Quat& q, const Vec3& w, double dt) {
   if (w.x() == 0 && w.y() == 0 && w.z() == 0) return q;  // the identity turn: q stays as it was
-  return (quat_from_rotation_vector(w * dt) * q).normalized();
+  const double h2 = w.squaredNorm() * (dt * dt / 4);
+  if (h2 >= 0.05 * 0.05) return (quat_from_rotation_vector(w * dt) * q).normalized();
+  const double cos_h = 1 - h2 / 2 * (1 - h2 / 12 * (1 - h2 / 30 * (1 - h2 / 56)));
+  const double sinc_h = 1 - h2 / 6 * (1 - h2 / 20 * (1 - h2 / 42 * (1 - h2 / 72)));
+  const Vec3 axis = w * (sinc_h * dt / 2);
+  return (Quat(cos_h, axis.x(), axis.y(), axis.z()) * q).normalized();
 }
 
 // Gravity as the effects give it: off, as given, or reduced by buoyancy.

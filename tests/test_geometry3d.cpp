@@ -6,6 +6,7 @@
 #include "polyhedron.hpp"
 #include "rng.hpp"
 #include "scene.hpp"
+#include "world3d_detail.hpp"
 
 using namespace grainlab;
 using namespace grainlab::dem;
@@ -225,4 +226,19 @@ TEST(Scene3d, BadBodiesNameTheProblem) {
   EXPECT_NE(scene3d_error("shape = \"sphere\"\nradius = 1.0\ndensity = 1.0\nposition = [0.0, 0.0]\n")
                 .find("expected 3 numbers"),
             std::string::npos);
+}
+
+// A step's turn summed as series agrees with the turn by sin and cos (Eigen's angle-axis) to rounding,
+// below the switch to sin and cos (h = |w| dt / 2 = 0.05) and at it, about skew axes.
+TEST(Turn, SeriesForASmallStepEqualsTheAngleAxisTurn) {
+  const grainlab::Quat q = grainlab::Quat(0.3, -0.5, 0.6, 0.2).normalized();
+  const grainlab::Vec3 axis = grainlab::Vec3(0.2, -0.7, 0.4).normalized();
+  for (double angle : {1e-9, 1e-4, 1e-2, 0.05, 0.0999, 0.1001, 0.5}) {
+    const double dt = 1e-6;
+    const grainlab::Vec3 w = axis * (angle / dt);
+    const grainlab::Quat want = (grainlab::Quat(Eigen::AngleAxisd(angle, axis)) * q).normalized();
+    const grainlab::Quat got = grainlab::dem::detail3d::turned(q, w, dt);
+    EXPECT_NEAR(got.angularDistance(want), 0, 4e-16 + 1e-15 * angle) << "angle " << angle;
+    EXPECT_NEAR(got.norm(), 1, 1e-15);
+  }
 }
