@@ -138,6 +138,7 @@ void write_wind_run(const std::string& path, const SaltationCommands& a, const W
       {"mass_flux", fmt::format("{:.17g}", r.mass_flux)},
       {"grain_diameter", fmt::format("{}", 2 * o.grain.radius)},
       {"reynolds_factor", fmt::format("{}", o.reynolds_factor)},
+      {"drag_smoothing_cm", fmt::format("{}", o.drag_smoothing)},
       {"converged", r.converged ? "true" : "false"},
       {"iterations", std::to_string(r.iterations)}};
   write_sample_tables(path, {wind, launch, conv}, meta);
@@ -162,6 +163,9 @@ int wind_command(const SaltationCommands& a) {
   if (!(a.flux_damping > 0 && a.flux_damping <= 1))
     throw InputError({"--flux-damping", 0}, fmt::format("{}", a.flux_damping), "must lie in (0, 1]");
   o.flux_damping = a.flux_damping;
+  if (!(a.drag_smoothing >= 0 && a.drag_smoothing <= 100))
+    throw InputError({"--drag-smoothing", 0}, fmt::format("{}", a.drag_smoothing), "must lie in [0, 100] cm");
+  o.drag_smoothing = a.drag_smoothing;
   // Another planet or gas: a preset, then any of g, air density and viscosity; buoyancy on. The analytic
   // splash is scaled by sqrt(g d) as in `saltation study` (a splash file is scaled by its own units).
   double splash_scale = 1;
@@ -292,6 +296,10 @@ void SaltationCommands::add(CLI::App& app) {
   wind->add_option("--re-factor", reynolds_factor,
                    "multiplies Re in eq. 4.31 (2: the diameter in place of r)")
       ->default_val(1);
+  wind->add_option("--drag-smoothing", drag_smoothing,
+                   "spread each height's grain drag over this many cm before the wind sees it (the thesis "
+                   "averaged it over the spacing of trajectory heights; 0: as taken)")
+      ->default_val(0);
   wind->add_option("--flux-damping", flux_damping,
                    "b in F(n+1) = (1 - b) F(n) + b [T] F(n); 1 is the thesis's undamped eq. 4.33")
       ->default_val(0.5);

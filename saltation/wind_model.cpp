@@ -112,6 +112,18 @@ void deposit(const std::vector<double>& edges, std::vector<double>& into, double
   }
 }
 
+// Each bin's drag spread evenly over `width` cm around the bin's middle, the window moved up to stay above
+// the bed: the total, and so the grain-borne stress, is kept.
+void smooth_drag(const std::vector<double>& edges, std::vector<double>& impulse, double width) {
+  std::vector<double> out(impulse.size(), 0.0);
+  for (std::size_t k = 0; k < impulse.size(); ++k) {
+    if (impulse[k] == 0) continue;
+    const double lo = std::max(0.0, 0.5 * (edges[k] + edges[k + 1]) - width / 2);
+    deposit(edges, out, lo, lo + width, impulse[k]);
+  }
+  impulse.swap(out);
+}
+
 double max_relative_change(const std::vector<double>& a, const std::vector<double>& b) {
   double scale = 0, d = 0;
   for (std::size_t i = 0; i < a.size(); ++i) scale = std::max(scale, std::abs(b[i]));
@@ -402,6 +414,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     for (std::size_t j = 0; j < S; ++j)
       if (!grid2d || F[j] > 0) flights[j] = fly(o, r.y, r.u, vox[j], voy[j], &edges, &impulse, F[j] * o.dv);
     ++r.trajectory_passes;
+    if (o.drag_smoothing > 0) smooth_drag(edges, impulse, o.drag_smoothing);
     tau_edge[H] = tau0;
     for (std::size_t k = H; k-- > 0;) tau_edge[k] = tau_edge[k + 1] - impulse[k];
     std::vector<double> u(H, 0.0);

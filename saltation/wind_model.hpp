@@ -55,6 +55,11 @@ struct WindModelOptions {
   // where the radius stands) brings Table 4.5 and the Ch. IV text numbers much closer (docs/saltation.md).
   double reynolds_factor = 1;
   double flux_damping = 0.5;  // F(n+1) = (1 - b) F(n) + b [T] F(n): damps the flux-wind overshoot
+  // The thesis averaged the grains' drag on the air "over a vertical distance of the order of the spacing
+  // of trajectory heights" without giving the kernel. > 0: each height bin's drag is spread evenly over
+  // this many cm around it (kept above the bed) before the wind sees it; the total is unchanged, so the
+  // identities hold. 0: the drag where the grains take it.
+  double drag_smoothing = 0;
   int profile_subdivisions = 16;
   // Each flight is integrated by Dormand-Prince 5(4) to this error per step, relative (and absolute in
   // grain diameters and sqrt(g d)), and its path is sampled for the height bins every sample_interval s.

@@ -260,3 +260,18 @@ TEST(FluxGrowth, TellsTheSquareLawFromTheCubeLawAtTheThesisWindSpeeds) {
   EXPECT_GT(owen.square_slope_ratio, cube.square_slope_ratio);
   EXPECT_THROW(flux_growth({35, 75}, {1, 2}), std::invalid_argument);
 }
+
+// Spreading the drag over heights (the thesis's unstated averaging) moves where the air loses momentum,
+// not how much: the identity u*_eff^2 = u*^2 - tau_g / rho still holds, and the steady state does change.
+TEST(WindModel, SmoothedDragKeepsTheStressIdentity) {
+  WindModelOptions o;
+  o.u_star = 75;
+  const WindModelResult plain = solve_wind_model(o, table_4_3(1));
+  o.drag_smoothing = 2;
+  const WindModelResult r = solve_wind_model(o, table_4_3(1));
+  ASSERT_TRUE(plain.converged && r.converged);
+  const double rho = o.fluid.density;
+  EXPECT_NEAR(r.u_star_eff * r.u_star_eff, o.u_star * o.u_star - r.grain_stress / rho,
+              1e-6 * o.u_star * o.u_star);
+  EXPECT_GT(std::abs(r.u_star_eff - plain.u_star_eff), 1e-3);
+}
