@@ -20,6 +20,7 @@ std::map<std::string, double> to_map(const dem::Diagnostics& d, std::size_t cont
   return {{"steps", double(d.steps)},
           {"rejected_steps", double(d.rejected_steps)},
           {"force_evaluations", double(d.force_evaluations)},
+          {"region_recuts", double(d.region_recuts)},
           {"contacts", double(contacts)},
           {"wall_seconds", d.wall_seconds},
           {"dt_min_used", d.dt_min_used},

@@ -71,7 +71,8 @@ int run_bed3d_bench(const Bed3dOptions& o) {
   // Under mpirun the bed is spread over the ranks (slabs along x); the time is the slowest rank's.
   const int ranks = parallel::size();
   const double dt = 1e-6, before = resident_bytes();
-  dem::World3d settled(scene, dem::Decomposition{ranks > 1, 0, 1});
+  // Balanced as `grainlab run` balances (its default --balance-every 1000, and re-cuts by measured speed).
+  dem::World3d settled(scene, dem::Decomposition{ranks > 1, 1000, 1});
   settled.advance_to(o.settle_steps * dt);
   std::vector<double> memory{resident_bytes() - before};
   parallel::sum_all(memory);

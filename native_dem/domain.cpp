@@ -42,8 +42,8 @@ void Domain::cut_evenly(const std::vector<double>& xy_w_id) {
     xs.insert(xs.end(), {xy_w_id[k], xy_w_id[k + 2], xy_w_id[k + 3]});
     ys.insert(ys.end(), {xy_w_id[k + 1], xy_w_id[k + 2], xy_w_id[k + 3]});
   }
-  xcut = weighted_cuts(xs, px);
-  ycut = weighted_cuts(ys, py);
+  xcut = weighted_cuts(xs, px, xshare);
+  ycut = weighted_cuts(ys, py, yshare);
 }
 
 namespace {
@@ -92,7 +92,8 @@ double wrapped(double x, double xmin, double period) {
 
 // Boundaries splitting weighted points (x, w) into `size` runs of equal weight; ties in x are
 // broken by id so every rank computes the same cuts from the same data.
-std::vector<double> weighted_cuts(const std::vector<double>& xw_id, int size) {
+std::vector<double> weighted_cuts(const std::vector<double>& xw_id, int size,
+                                  const std::vector<double>& shares) {
   if (size <= 1) return {};
   const std::size_t n = xw_id.size() / 3;
   std::vector<std::size_t> order(n);
@@ -105,8 +106,11 @@ std::vector<double> weighted_cuts(const std::vector<double>& xw_id, int size) {
   std::vector<double> cut;
   double acc = 0;
   std::size_t k = 0;
+  const bool shared = shares.size() == static_cast<std::size_t>(size);
+  double before = 0;  // the shares of the runs left of cut q
   for (int q = 1; q < size; ++q) {
-    const double target = total * q / size;
+    before += shared ? shares[q - 1] : 0.0;
+    const double target = shared ? total * before : total * q / size;
     while (k + 1 < n && acc + xw_id[3 * order[k] + 1] <= target) acc += xw_id[3 * order[k++] + 1];
     const double left = n ? xw_id[3 * order[k > 0 ? k - 1 : 0]] : 0.0, right = n ? xw_id[3 * order[k]] : 0.0;
     double c = 0.5 * (left + right);

@@ -14,6 +14,10 @@ struct Decomposition {
   std::uint64_t balance_every = 0;
   // Rows of the grid of ranks (cuts along y); the ranks must divide into them. 1: slabs along x.
   int ranks_y = 1;
+  // With balancing on (balance_every > 0), every this many steps the ranks compare how fast each worked
+  // through its load; if the shares that would even out their times differ by more than 5 % from the
+  // present ones, the regions are re-cut to them (sphere beds; docs/parallel.md).
+  std::uint64_t probe_every = 200;
 };
 
 struct Domain {
@@ -25,6 +29,8 @@ struct Domain {
   // ghosts found at a rebuild cover every pair until the next one.
   double halo = 0;
   std::vector<double> xcut, ycut;  // px - 1 and py - 1 ascending boundaries
+  // The share of the load each column (row) is cut to hold, summing to 1; empty: equal shares.
+  std::vector<double> xshare, yshare;
   std::uint64_t next_balance_step = 0;
   // Ghost plan, fixed between rebuilds: owned indices sent to rank to[k]; counts received from from[k].
   std::vector<int> to, from;
@@ -49,13 +55,16 @@ struct Domain {
   double distance_to_region(double x, double y, int q) const;
   // Distance from (x, y), inside this rank's region, to its nearest edge.
   double distance_to_own_edge(double x, double y) const;
-  // Cuts that split points (x, y, weight, id: 4 doubles each) into px columns and py rows of equal
-  // weight; every rank computes the same cuts from the same points.
+  // Cuts that split points (x, y, weight, id: 4 doubles each) into px columns and py rows holding the
+  // shares xshare and yshare of the weight (equal when empty); every rank computes the same cuts from the
+  // same points.
   void cut_evenly(const std::vector<double>& xy_w_id);
 };
 
-// Boundaries splitting points given as (value, weight, id) triples into `size` runs of equal weight;
-// ties are broken by id, so every rank computes the same cuts from the same data.
-std::vector<double> weighted_cuts(const std::vector<double>& vw_id, int size);
+// Boundaries splitting points given as (value, weight, id) triples into `size` runs of equal weight, or
+// of the given shares of it (`size` of them, summing to 1); ties are broken by id, so every rank computes
+// the same cuts from the same data.
+std::vector<double> weighted_cuts(const std::vector<double>& vw_id, int size,
+                                  const std::vector<double>& shares = {});
 
 }  // namespace grainlab::dem

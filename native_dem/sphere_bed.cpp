@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -390,6 +391,7 @@ void SphereBed::step(bool first, double t) {
   place_planes(t + s_.dt);
   const bool complete = pending_kick_;
   ++steps_;
+  if (recut_now_) prediction_ = Prediction::moves;  // a re-cut needs a rebuild: drift all, then rebuild
   with_kernel(s_.dt, [&](auto& k) {
     if (s_.contacts && prediction_ == Prediction::stays && sweep_allowed_) {
       pipelined(k, complete);
@@ -417,12 +419,17 @@ void SphereBed::pipelined(K& kernel, bool complete) {
     for (const auto& slots : send_slots_)
       for (std::uint32_t i : slots) complete ? k.template drift<true>(i) : k.template drift<false>(i);
     update_ghosts();
+    const auto t0 = std::chrono::steady_clock::now();
     complete ? sweep_distributed<true>(k, lag) : sweep_distributed<false>(k, lag);
+    if (own_load_ > 0)
+      sweep_cost_.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
+                            own_load_);
   } else {
     complete ? sweep<true>(k, lag) : sweep<false>(k, lag);
   }
   contacts_ = k.contacts;
   prediction_ = any_rank(k.moved > limit2()) ? Prediction::moves : Prediction::stays;
+  if (domain_) probe_balance();
 }
 
 // Drift sphere t, then the row of sphere t - lag, for every t.
@@ -487,7 +494,7 @@ void SphereBed::drift_all(K& kernel) {
   } else {
     for (std::size_t i = 0; i < n; ++i) k.template drift<Complete>(i);
   }
-  moved_ = any_rank(!k.x0 || k.moved > limit2());
+  moved_ = any_rank(!k.x0 || k.moved > limit2()) || recut_now_;
 }
 
 // The rows, after a rebuild if some sphere has moved half the skin since the last one.
@@ -569,6 +576,9 @@ void SphereBed::rebuild() {
     if (cells_.end(i) != cells_.begin(i)) lag_ = std::max<std::size_t>(lag_, *(cells_.end(i) - 1) - i);
   plain_runs_.clear();
   if (domain_) {
+    own_load_ = 0;  // as the re-cut weighs a sphere: 1 plus its listed pairs
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      if (!ghost_[i]) own_load_ += 1.0 + double(cells_.end(i) - cells_.begin(i));
     // Runs shorter than this are left to the tested loop: entering a run costs about as much as the
     // tests it saves on a few slots.
     constexpr std::size_t kShortest = 4;

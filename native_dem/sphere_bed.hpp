@@ -88,6 +88,8 @@ class SphereBed {
   std::uint64_t force_evaluations() const { return evaluations_; }
   std::size_t contacts() const { return contacts_; }
   std::uint64_t list_builds() const { return cells_.builds(); }
+  // Distributed: how often the regions were re-cut to the ranks' measured speeds.
+  std::uint64_t region_recuts() const { return recuts_; }
 
   // The elastic energy (normal and shear springs of pairs and planes) per sphere, half of each pair to
   // each partner, in slot order: the caller sums the shares in id order.
@@ -132,6 +134,8 @@ class SphereBed {
   void exchange_spheres(std::vector<SphereSpring>& held);
   void update_ghosts();
   void sort_slots();
+  // Every Decomposition::probe_every steps: the ranks' measured speeds, and a re-cut to them when due.
+  void probe_balance();
   bool any_rank(bool mine) const;
   std::size_t slot_of(std::int64_t id) const;
   double limit2() const { return 0.25 * skin_ * skin_; }
@@ -176,6 +180,15 @@ class SphereBed {
   std::vector<int> to_, from_;
   std::vector<std::vector<std::uint32_t>> send_slots_, recv_slots_;
   std::vector<std::vector<double>> send_buf_, recv_buf_;
+  // Balancing by measured time: this rank's load (its spheres plus their listed pairs, as the re-cut
+  // counts it), each sweep's seconds per unit of that load since the last probe, the step of the next
+  // probe, and whether the next step re-cuts (the same on every rank).
+  double own_load_ = 0;
+  std::vector<double> sweep_cost_;
+  std::vector<double> asked_;  // the shares the last probe asked for (column shares, then row shares)
+  std::uint64_t next_probe_ = 0;
+  bool recut_now_ = false;
+  std::uint64_t recuts_ = 0;
   std::uint64_t evaluations_ = 0;
   std::size_t contacts_ = 0;
 };

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <numeric>
 #include <stdexcept>
 
@@ -49,6 +50,8 @@ void SphereBed::distribute(const Decomposition& decomposition) {
                   {wrapped(x_[i].x(), s_.periodic_x), x_[i].y(), 1.0, static_cast<double>(id_[i])});
   d.cut_evenly(points);
   d.next_balance_step = decomposition.balance_every;
+  next_probe_ = decomposition.probe_every, recut_now_ = false;
+  sweep_cost_.clear(), asked_.clear();
   std::vector<std::uint32_t> keep;
   for (std::size_t i = 0; i < x_.size(); ++i)
     if (d.owner(wrapped(x_[i].x(), s_.periodic_x), x_[i].y()) == d.rank)
@@ -98,7 +101,7 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
     for (std::size_t i = 0; i < x_.size(); ++i)
       if (!ghost_[i]) own.push_back(static_cast<std::uint32_t>(i));
     std::vector<double> load;  // for a re-cut: (x, y, 1 + listed pairs, id) per sphere of this rank
-    const bool recut = decomposition_.balance_every > 0 && steps_ >= d.next_balance_step;
+    const bool recut = recut_now_ || (decomposition_.balance_every > 0 && steps_ >= d.next_balance_step);
     if (recut)
       for (std::uint32_t i : own) {
         const double pairs =
@@ -108,6 +111,8 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
     if (recut) {
       d.cut_evenly(parallel::gather_all(load));
       d.next_balance_step = steps_ + decomposition_.balance_every;
+      recuts_ += recut_now_ ? 1 : 0;
+      recut_now_ = false;
     }
     auto pick = [&](auto& a) {
       std::remove_reference_t<decltype(a)> out;
@@ -249,6 +254,92 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
   send_buf_.assign(to_.size(), {});
   recv_buf_.assign(from_.size(), {});
   for (std::size_t k = 0; k < from_.size(); ++k) recv_buf_[k].resize(kUpdate * recv_slots_[k].size());
+}
+
+namespace {
+// Test hook: GRAINLAB_RANK_SPEEDS="1,3" makes the ranks report these speeds instead of measuring them,
+// so a re-cut can be forced at a known step (tests/CMakeLists.txt). Empty when unset or malformed.
+std::vector<double> rank_speeds_from_environment(int ranks) {
+  const char* text = std::getenv("GRAINLAB_RANK_SPEEDS");
+  std::vector<double> speeds;
+  if (!text) return speeds;
+  for (const char* p = text; *p;) {
+    char* end = nullptr;
+    const double v = std::strtod(p, &end);
+    if (end == p || !(v > 0)) return {};
+    speeds.push_back(v);
+    p = *end == ',' ? end + 1 : end;
+    if (*end && *end != ',') return {};
+  }
+  return speeds.size() == static_cast<std::size_t>(ranks) ? speeds : std::vector<double>{};
+}
+
+// Each column's (or row's) share of the speeds: rank q is column q % px, row q / px.
+std::vector<double> shares_of(const std::vector<double>& speed, int n, bool columns, int px) {
+  std::vector<double> share(static_cast<std::size_t>(n), 0.0);
+  double total = 0;
+  for (std::size_t q = 0; q < speed.size(); ++q) {
+    const int at = columns ? static_cast<int>(q) % px : static_cast<int>(q) / px;
+    share[static_cast<std::size_t>(at)] += speed[q], total += speed[q];
+  }
+  for (double& s : share) s /= total;
+  return share;
+}
+
+// The largest relative difference between two share vectors (an empty one is equal shares).
+double share_change(const std::vector<double>& now, const std::vector<double>& next) {
+  double most = 0;
+  for (std::size_t k = 0; k < next.size(); ++k) {
+    const double was = now.empty() ? 1.0 / double(next.size()) : now[k];
+    most = std::max(most, std::abs(next[k] / was - 1));
+  }
+  return most;
+}
+}  // namespace
+
+// A rank's speed is the load it sweeps per second: the inverse of the median over the steps since the
+// last probe of a sweep's seconds per unit of load (the median, because a shared machine now and then
+// takes a core away for a whole step). Cutting the regions to the speeds' shares evens out the ranks'
+// times; the results do not depend on the cuts. The speeds are gathered, so every rank decides alike.
+// A re-cut needs a rebuild. A periodic bed waits for its next due rebuild instead: wrapping happens at
+// rebuilds, and an extra one would move the wrap off the serial run's steps (and so change the bits).
+void SphereBed::probe_balance() {
+  if (decomposition_.balance_every == 0 || decomposition_.probe_every == 0 || steps_ < next_probe_) return;
+  next_probe_ = steps_ + decomposition_.probe_every;
+  Domain& d = *domain_;
+  double cost = 0;
+  if (!sweep_cost_.empty()) {
+    auto middle = sweep_cost_.begin() + static_cast<std::ptrdiff_t>(sweep_cost_.size() / 2);
+    std::nth_element(sweep_cost_.begin(), middle, sweep_cost_.end());
+    cost = *middle;
+  }
+  sweep_cost_.clear();
+  std::vector<double> speed = rank_speeds_from_environment(d.size);
+  const std::vector<double> all = parallel::gather_all({cost});
+  if (speed.empty()) {
+    for (double c : all) {
+      if (!(c > 0)) return;  // a rank without a measured sweep (no load, or no sweep since the last probe)
+      speed.push_back(1 / c);
+    }
+  }
+  std::vector<double> xshare = shares_of(speed, d.px, true, d.px),
+                      yshare = shares_of(speed, d.py, false, d.px);
+  // A re-cut costs a rebuild, and one probe can be a passing disturbance: cut only when two probes in a
+  // row ask for shares more than 5 % from the present ones, to their mean.
+  constexpr double kWorthACut = 0.05;
+  const bool wanted = std::max(share_change(d.xshare, xshare), share_change(d.yshare, yshare)) > kWorthACut;
+  if (!wanted || asked_.empty()) {
+    asked_.clear();
+    if (wanted)
+      asked_.insert(asked_.end(), xshare.begin(), xshare.end()),
+          asked_.insert(asked_.end(), yshare.begin(), yshare.end());
+    return;
+  }
+  for (std::size_t k = 0; k < xshare.size(); ++k) xshare[k] = 0.5 * (xshare[k] + asked_[k]);
+  for (std::size_t k = 0; k < yshare.size(); ++k) yshare[k] = 0.5 * (yshare[k] + asked_[xshare.size() + k]);
+  asked_.clear();
+  d.xshare = std::move(xshare), d.yshare = std::move(yshare);
+  recut_now_ = !s_.periodic_x && !s_.periodic_y;
 }
 
 void SphereBed::update_ghosts() {

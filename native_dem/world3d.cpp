@@ -218,6 +218,7 @@ void World3d::step() {
     bed_.step(diag_.force_evaluations == 0, t_);
     t_ += dt_;
     diag_.force_evaluations += bed_.force_evaluations() - before_evaluations;
+    diag_.region_recuts = bed_.region_recuts();
     contacts_now_ = bed_.contacts();
   } else if (scene_.accuracy.integrator == Integrator::VelocityVerlet)
     step_verlet();

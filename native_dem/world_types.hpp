@@ -28,6 +28,7 @@ inline void trapezoid_impulses(const PairForces& at_start, const PairForces& at_
 
 struct Diagnostics {
   std::uint64_t steps = 0, rejected_steps = 0, force_evaluations = 0, neighbor_rebuilds = 0;
+  std::uint64_t region_recuts = 0;  // distributed sphere beds: re-cuts to the ranks' measured speeds
   std::size_t contacts = 0, max_contacts = 0;
   double wall_seconds = 0;
   double dt_last = 0, dt_min_used = 0, dt_max_used = 0;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "domain.hpp"
 #include "rng.hpp"
 #include "sphere_cells.hpp"
 
@@ -41,3 +42,16 @@ TEST(SphereCells, CandidatesHoldEveryOverlappingPairInAscendingOrder) {
 }
 
 }  // namespace grainlab::dem
+
+// Cuts by shares: ten points of weight 1 at x = 0..9 split 0.3 / 0.7 fall between the third and fourth
+// point, and equal shares give the equal cut; ties in x are broken by id, the same on every rank.
+TEST(WeightedCuts, SplitTheWeightInTheGivenShares) {
+  std::vector<double> points;
+  for (int i = 0; i < 10; ++i) points.insert(points.end(), {double(i), 1.0, double(i)});
+  EXPECT_EQ(grainlab::dem::weighted_cuts(points, 2), std::vector<double>{4.5});
+  EXPECT_EQ(grainlab::dem::weighted_cuts(points, 2, {0.5, 0.5}), std::vector<double>{4.5});
+  EXPECT_EQ(grainlab::dem::weighted_cuts(points, 2, {0.3, 0.7}), std::vector<double>{2.5});
+  EXPECT_EQ(grainlab::dem::weighted_cuts(points, 3, {0.2, 0.5, 0.3}), (std::vector<double>{1.5, 6.5}));
+  // Shares of the wrong length are ignored: equal shares.
+  EXPECT_EQ(grainlab::dem::weighted_cuts(points, 2, {1.0}), std::vector<double>{4.5});
+}
