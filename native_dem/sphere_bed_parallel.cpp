@@ -328,11 +328,12 @@ void SphereBed::probe_balance() {
   // row ask for shares more than 5 % from the present ones, to their mean.
   constexpr double kWorthACut = 0.05;
   const bool wanted = std::max(share_change(d.xshare, xshare), share_change(d.yshare, yshare)) > kWorthACut;
-  if (!wanted || asked_.empty()) {
+  if (!wanted || asked_.empty()) {  // the first probe to ask: remember what it asked for
     asked_.clear();
-    if (wanted)
-      asked_.insert(asked_.end(), xshare.begin(), xshare.end()),
-          asked_.insert(asked_.end(), yshare.begin(), yshare.end());
+    if (wanted) {
+      asked_ = xshare;
+      asked_.insert(asked_.end(), yshare.begin(), yshare.end());
+    }
     return;
   }
   for (std::size_t k = 0; k < xshare.size(); ++k) xshare[k] = 0.5 * (xshare[k] + asked_[k]);
