@@ -419,9 +419,11 @@ void SphereBed::pipelined(K& kernel, bool complete) {
     for (const auto& slots : send_slots_)
       for (std::uint32_t i : slots) complete ? k.template drift<true>(i) : k.template drift<false>(i);
     update_ghosts();
-    const auto t0 = std::chrono::steady_clock::now();
+    // Timed only when balancing by time is on: otherwise no probe would ever read (and clear) the costs.
+    const bool timed = balancing_by_time() && own_load_ > 0;
+    const auto t0 = timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
     complete ? sweep_distributed<true>(k, lag) : sweep_distributed<false>(k, lag);
-    if (own_load_ > 0)
+    if (timed)
       sweep_cost_.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
                             own_load_);
   } else {

@@ -136,6 +136,9 @@ class SphereBed {
   void sort_slots();
   // Every Decomposition::probe_every steps: the ranks' measured speeds, and a re-cut to them when due.
   void probe_balance();
+  bool balancing_by_time() const {
+    return decomposition_.balance_every > 0 && decomposition_.probe_every > 0;
+  }
   bool any_rank(bool mine) const;
   std::size_t slot_of(std::int64_t id) const;
   double limit2() const { return 0.25 * skin_ * skin_; }

@@ -304,7 +304,7 @@ double share_change(const std::vector<double>& now, const std::vector<double>& n
 // A re-cut needs a rebuild. A periodic bed waits for its next due rebuild instead: wrapping happens at
 // rebuilds, and an extra one would move the wrap off the serial run's steps (and so change the bits).
 void SphereBed::probe_balance() {
-  if (decomposition_.balance_every == 0 || decomposition_.probe_every == 0 || steps_ < next_probe_) return;
+  if (!balancing_by_time() || steps_ < next_probe_) return;
   next_probe_ = steps_ + decomposition_.probe_every;
   Domain& d = *domain_;
   double cost = 0;
