@@ -150,7 +150,7 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
     const BedHold h = hold_bed3d(bed, a.engine, o.duration, o.rigid_dt);
     report_bed_held(h, a.engine, o.duration, speak);
   }
-  ProgressBar bar(speak, "impacts");
+  ProgressBar bar(!a.quiet && parallel::rank() == 0, "impacts");  // (stderr: kept with --json)
   const auto results = run_impact3d_ensemble(bed, c, a.seed, a.runs, o, [&](std::size_t d, std::size_t t) {
     bar.update(static_cast<double>(d), static_cast<double>(t));
   });
@@ -209,7 +209,7 @@ int impact_command(const ImpactCommands& a) {
     const BedHold h = hold_bed(beds[0], a.engine, o.duration, o.rigid_dt);
     report_bed_held(h, a.engine, o.duration, speak);
   }
-  ProgressBar bar(speak, "impacts");
+  ProgressBar bar(!a.quiet && parallel::rank() == 0, "impacts");  // (stderr: kept with --json)
   if (speak)
     fmt::print(stderr,
                "grainlab impact: CASE {} (v_i {} cm/s, alpha_i {} deg, mu {}, r_i {} cm), {} impacts on "
@@ -322,7 +322,7 @@ int splash_command(const ImpactCommands& a) {
         saltation::write_splash_file(checkpoint, partial, true);
       };
     o.stop_after_cells = a.splash_stop_after;
-    ProgressBar bar(speak, "impacts");
+    ProgressBar bar(!a.splash_quiet && parallel::rank() == 0, "impacts");  // (stderr: kept with --json)
     if (speak)
       o.log = [&](const std::string& line) {
         bar.finish(), fmt::print(stderr, "grainlab splash: {}\n", line);

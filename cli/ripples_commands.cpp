@@ -375,7 +375,7 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_flux->add_flag("--quiet", quiet, "no progress bar");
   hybrid_ripples = group->add_subcommand(
       "hybrid", "the 3-D hybrid model's ripple run over an erodible bed (Huo et al. 2021): --config FILE");
-  hybrid_ripples->add_option("--config", config, "a [hybrid] config (ripples/presets/huo2021_ripples.toml)")
+  hybrid_ripples->add_option("--config", config, "a [hybrid] config (scenes/ripples/huo2021_ripples.toml)")
       ->required();
   hybrid_ripples->add_option("--out", out,
                              "bed history: HDF5 frames + XDMF sidecar, history and flux tables");

@@ -49,7 +49,8 @@ int hybrid_flux_command(const RipplesCommands& a) {
   attach_recorded_splash(run);
   run.distributed = parallel::size() > 1;  // the ranks share the domain; the first one reports
   refuse_too_many_ranks(run, "--length", "");
-  ProgressBar bar(!a.quiet && !a.json && parallel::rank() == 0);
+  // (The bar is on stderr, so it stays with --json: a scripted run of hours still shows in its log.)
+  ProgressBar bar(!a.quiet && parallel::rank() == 0);
   run.progress = [&](double t, double total) { bar.update(t, total); };
   const ripples::hybrid::FluxResult r = ripples::hybrid::run_flux(run);
   bar.finish();
@@ -248,7 +249,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
         "u* = {} cm/s, splash {}\n",
         o.length, o.width, bed.nx(), bed.ny(), dx, run.transport().density_ratio(), run.transport().galileo(),
         run.transport().shields(), o.u_star, o.splash);
-  ProgressBar bar(talk, "t*");
+  ProgressBar bar(!a.quiet && first, "t*");  // (stderr: kept with --json, as above)
   std::vector<BedFrame> frames;
   std::vector<std::vector<double>> written;  // the frames' heights, kept only for checkpoints
   const bool keep = out && !a.hybrid_checkpoint.empty();

@@ -97,15 +97,11 @@ void SandGunCommand::add(CLI::App& app) {
 
 int SandGunCommand::dispatch() const {
   if (!cmd || !*cmd) return -1;
-  // The checkpoint is first written after the bed is built, tens of minutes in: a folder that is not
-  // there must stop the run now, not then.
-  if (const auto dir = std::filesystem::path(checkpoint).parent_path();
-      !checkpoint.empty() && !dir.empty() && !std::filesystem::is_directory(dir))
-    throw InputError({"--checkpoint", 0}, checkpoint, "its folder does not exist");
+  require_folder_of("--checkpoint", checkpoint);
   const bool speak = !quiet && !json && parallel::rank() == 0;
   Bed3dSpec spec = sand_gun_bed_spec(spheres, stiffness);
   spec.seed = bed_seed;
-  ProgressBar bar(speak, "impacts");
+  ProgressBar bar(!quiet && parallel::rank() == 0, "impacts");  // (stderr: kept with --json)
   SandGunRun run = run_sand_gun(
       spec, rows, runs, seed,
       [&](const std::string& line) {

@@ -60,11 +60,9 @@ std::size_t failures(const Report& r) {
 
 // The suites one after the other in this process (under mpirun every rank runs them and the ranks share
 // each ensemble; rank 0 speaks).
-Report run_here(const std::vector<const Suite*>& chosen, const std::string& out, bool quick, bool speak) {
+Report run_here(const std::vector<const Suite*>& chosen, const validation::SuiteOptions& base, bool speak) {
   Report report;
-  validation::SuiteOptions opt;
-  opt.quick = quick;
-  opt.out_dir = out;
+  validation::SuiteOptions opt = base;
   ProgressBar bar(speak, "runs");
   if (speak) {
     opt.log = [&bar](const std::string& line) {
@@ -107,14 +105,22 @@ struct Child {
 };
 
 // Starts `grainlab validate --suite NAME --part FILE` with its output going to `log`.
-pid_t spawn_suite(const Suite& s, const std::string& out, bool quick, const fs::path& part,
+pid_t spawn_suite(const Suite& s, const validation::SuiteOptions& base, const fs::path& part,
                   const fs::path& log) {
   // /proc/self/exe runs this very program even when its file has been replaced since it started (a
   // rebuild during a long validation left "grainlab (deleted)", and no suite could start).
   const std::string exe = "/proc/self/exe";
-  std::vector<std::string> args = {
-      fs::read_symlink(exe).string(), "validate", "--suite", s.name, "--out", out, "--part", part.string()};
-  if (quick) args.push_back("--quick");
+  std::vector<std::string> args = {fs::read_symlink(exe).string(),
+                                   "validate",
+                                   "--suite",
+                                   s.name,
+                                   "--out",
+                                   base.out_dir,
+                                   "--part",
+                                   part.string()};
+  if (base.quick) args.push_back("--quick");
+  if (!base.sand_gun_checkpoint.empty())
+    args.insert(args.end(), {"--sand-gun-checkpoint", base.sand_gun_checkpoint});
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -141,9 +147,9 @@ Report lost_suite(const Suite& s, int status, const fs::path& log) {
 }
 
 // The suites in `jobs` processes at once, longest first; the parts are put together in the chosen order.
-Report run_in_processes(const std::vector<const Suite*>& chosen, const std::string& out, bool quick,
+Report run_in_processes(const std::vector<const Suite*>& chosen, const validation::SuiteOptions& base,
                         bool speak, std::size_t jobs) {
-  const fs::path parts = fs::path(out) / ".parts", logs = fs::path(out) / "logs";
+  const fs::path parts = fs::path(base.out_dir) / ".parts", logs = fs::path(base.out_dir) / "logs";
   fs::create_directories(parts), fs::create_directories(logs);
   std::vector<std::size_t> queue(chosen.size());
   for (std::size_t k = 0; k < queue.size(); ++k) queue[k] = k;
@@ -161,7 +167,7 @@ Report run_in_processes(const std::vector<const Suite*>& chosen, const std::stri
     while (running.size() < jobs && next < queue.size()) {
       const std::size_t k = queue[next++];
       const Suite& s = *chosen[k];
-      const pid_t pid = spawn_suite(s, out, quick, parts / (s.name + ".json"), logs / (s.name + ".log"));
+      const pid_t pid = spawn_suite(s, base, parts / (s.name + ".json"), logs / (s.name + ".log"));
       running[pid] = {pid, k, Clock::now()};
     }
     int status = 0;
@@ -211,6 +217,10 @@ void ValidateCommand::add(CLI::App& app) {
                   "suites run at once, each in its own process (0: one per core; under mpirun always 1)")
       ->default_val(0)
       ->check(CLI::Range(0, 256));
+  cmd->add_option("--sand-gun-checkpoint", sand_gun_checkpoint,
+                  "impacts-3d (full): keep the 20,000-sphere sand-gun bed and its impacts in this HDF5 file, "
+                  "as `grainlab sand-gun --runs 10 --checkpoint FILE` does; a file that command filled is "
+                  "reused, so the hours of its bed and 90 impacts are not spent again");
   // Internal: how a --jobs parent asks a child for its part of the report.
   cmd->add_option("--part", part, "")->group("");
 }
@@ -218,16 +228,19 @@ void ValidateCommand::add(CLI::App& app) {
 int ValidateCommand::dispatch() const {
   if (!*cmd) return -1;
   const std::vector<const Suite*> chosen = chosen_suites(suites);
+  require_folder_of("--sand-gun-checkpoint", sand_gun_checkpoint);
   if (parallel::rank() == 0) fs::create_directories(out);
   const bool speak = !quiet && parallel::rank() == 0;
+  validation::SuiteOptions base;
+  base.quick = quick, base.out_dir = out, base.sand_gun_checkpoint = sand_gun_checkpoint;
   if (!part.empty()) {
-    const Report r = run_here(chosen, out, quick, speak);
+    const Report r = run_here(chosen, base, speak);
     if (parallel::rank() == 0) write_file_atomically(part, validation::report_part_json(r));
     return r.passed() ? 0 : 1;
   }
   const std::size_t processes = job_count(jobs, chosen.size());
-  const Report report = processes > 1 ? run_in_processes(chosen, out, quick, speak, processes)
-                                      : run_here(chosen, out, quick, speak);
+  const Report report =
+      processes > 1 ? run_in_processes(chosen, base, speak, processes) : run_here(chosen, base, speak);
   if (parallel::rank() != 0) return report.passed() ? 0 : 1;
   validation::write_report(report, out);
   const std::size_t failed = failures(report), limited = static_cast<std::size_t>(std::count_if(

@@ -12,6 +12,7 @@ struct ValidateCommand {
   std::vector<std::string> suites;
   std::string out = "report";
   std::string part;  // internal: write this process's part of the report here instead of the report
+  std::string sand_gun_checkpoint;  // impacts-3d: the sand gun's bed and impacts, kept and reused
   bool quick = false, quiet = false;
   int jobs = 0;  // 0: one per core (1 under mpirun, where the ranks share each suite's ensembles)
 

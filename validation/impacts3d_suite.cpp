@@ -55,10 +55,11 @@ Check& expect_bed_at_rest(Report& r, const std::string& name, const std::string&
 // Full suite only: 20,000 spheres, all nine rows, 10 impacts each (hours on one core). A bed small enough
 // for the quick suite is too small for the rebound: on 500 spheres (0.79 x 0.40 cm, walls five grains from
 // the impacts) rebounds left at 23 +- 19 deg from the vertical, on 5,000 at 54. ctest exercises the sand
-// bed at rest and the command instead.
+// bed at rest and the command instead. `validate --sand-gun-checkpoint FILE` keeps the bed and the impacts in
+// FILE, or reuses those `grainlab sand-gun --runs 10 --checkpoint FILE` kept (the same bed, seed and aim).
 void sand_gun_section(Report& r, const SuiteOptions& o) {
   const Bed3dSpec spec = sand_gun_bed_spec(20000);
-  const SandGunRun run = run_sand_gun(spec, {}, 10, 1, o.log, o.progress);
+  const SandGunRun run = run_sand_gun(spec, {}, 10, 1, o.log, o.progress, o.sand_gun_checkpoint);
   // The sand bed must hold still as the thesis-sized one must, its limits scaled to the grain: 2.5 % of a
   // diameter, and 1 cm/s times sqrt(r / 1 cm) (speeds of a bed settling under gravity scale so).
   const BedHold h = hold_bed3d(run.bed, "native", sand_gun_options(spec).duration, ImpactOptions{}.rigid_dt);

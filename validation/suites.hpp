@@ -14,6 +14,8 @@ struct SuiteOptions {
   std::function<void(const std::string&)> log;                        // progress lines
   std::function<void(std::size_t done, std::size_t total)> progress;  // runs of an ensemble
   std::string out_dir;  // the report folder: suites may write example run files there (rank 0)
+  // impacts-3d (full): the sand gun's checkpoint file (empty: none), so its hours are spent once
+  std::string sand_gun_checkpoint;
 };
 
 struct Suite {
