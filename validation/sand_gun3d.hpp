@@ -10,7 +10,7 @@
 // - quartz, 2.65 g/cm^3; friction 0.5; pair restitution 0.85 (the thesis's grains);
 // - k_n = k_s = 2e7 dyn/cm: a head-on pair at the fastest shot (1200 cm/s) overlaps 6 % of a diameter,
 //   inside the 3-9 % of the thesis's own cases; quartz (Hertz, E = 70 GPa) would overlap 0.6 % and cost
-//   10x the steps. The full suite repeats two rows at 4x the stiffness.
+//   10x the steps. `grainlab sand-gun --stiffness 4` measures what the stiffness changes (docs/impacts.md).
 #include <cstdint>
 #include <functional>
 #include <map>
