@@ -103,6 +103,9 @@ struct BedHold {
   double max_displacement = 0;  // cm, largest of any disc
   double max_speed = 0;         // cm/s, largest of any disc at the end
   double kinetic_energy = 0;    // erg at the end
+  // 3-D beds (hold_bed3d), per body in the scene's order: displacement (cm), speed at the end (cm/s) and
+  // how deep its centre sits below the bed's top (cm), so a report can say which grains moved and where.
+  std::vector<double> displacement, speed, depth;
 };
 BedHold hold_bed(const Bed& bed, const std::string& engine, double duration, double rigid_dt);
 // Throws InputError (a capability error) when the bed moved: a disc faster than 1 cm/s (it would rise

@@ -364,8 +364,11 @@ BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration,
     const Vec3 v(f.velocity[3 * i], f.velocity[3 * i + 1], f.velocity[3 * i + 2]);
     const Vec3 w(f.angular_velocity[3 * i], f.angular_velocity[3 * i + 1], f.angular_velocity[3 * i + 2]);
     const Vec3 x(f.position[3 * i], f.position[3 * i + 1], f.position[3 * i + 2]);
-    h.max_displacement = std::max(h.max_displacement, (x - b.position).norm());
-    h.max_speed = std::max(h.max_speed, v.norm());
+    h.displacement.push_back((x - b.position).norm());
+    h.speed.push_back(v.norm());
+    h.depth.push_back(bed.top - b.position.z());
+    h.max_displacement = std::max(h.max_displacement, h.displacement.back());
+    h.max_speed = std::max(h.max_speed, h.speed.back());
     h.kinetic_energy += 0.5 * b.mass * v.squaredNorm() + 0.5 * w.dot(b.inertia * w);
   }
   return h;
