@@ -12,6 +12,8 @@
 #include "impacts3d.hpp"
 #include "input_error.hpp"
 #include "sand_gun3d.hpp"
+#include "scene.hpp"
+#include "world3d.hpp"
 
 namespace grainlab::validation {
 
@@ -226,6 +228,82 @@ TEST(SandGunCheckpoint, RandomByteFlipsNeverCrash) {
       ASSERT_TRUE(r);
       EXPECT_EQ((r->build.finished ? r->bed.scene.bodies3d : r->build.bodies).size(),
                 bed.scene.bodies3d.size());
+    } catch (const InputError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 0);
+}
+
+// A bed of irregular grains mid-build (its shapes from a random pour) comes back from a checkpoint with
+// every hull exactly; corrupted hulls are refused with InputError, never a crash.
+TEST(SandGunCheckpoint, KeepsIrregularGrainsHulls) {
+  const Scene pour = parse_scene(R"toml(
+[scene]
+name = "irregular sand"
+dimension = 3
+duration = 0.01
+seed = 7
+effects = ["gravity", "normal_contact", "friction", "rotation"]
+[accuracy]
+integrator = "verlet"
+dt = 2e-5
+[materials.sand]
+k_n = 1e6
+k_s = 1e6
+mu = 0.5
+restitution = 0.2
+[[walls]]
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+[[assemblies]]
+type = "poured"
+count = 12
+width = 4.0
+depth = 4.0
+origin = [0.0, 0.0, 0.0]
+density = 2.65
+settle_time = 0.1
+shape = "polyhedron"
+radius = 0.4
+)toml",
+                                 "<irregular sand>");
+  SandGunProgress p;
+  p.bed.spec.polyhedra = true;
+  p.build.stage = 1;
+  p.build.bodies = dem::expanded_bodies3d(pour);
+  ASSERT_EQ(p.build.bodies.size(), 12u);
+  TempFile f;
+  write_sand_gun_checkpoint(f.path.string(), p, 2);
+  const std::optional<SandGunProgress> back = read_sand_gun_checkpoint(f.path.string(), p.bed.spec, 2);
+  ASSERT_TRUE(back);
+  ASSERT_EQ(back->build.bodies.size(), 12u);
+  for (std::size_t i = 0; i < 12; ++i) {
+    const Polyhedron &a = p.build.bodies[i].hull, &b = back->build.bodies[i].hull;
+    EXPECT_EQ(back->build.bodies[i].shape, Body3Spec::Shape::Polyhedron);
+    EXPECT_EQ(a.vertices, b.vertices) << "grain " << i;
+    EXPECT_EQ(a.faces, b.faces);
+    EXPECT_EQ(a.normals, b.normals);
+    EXPECT_EQ(a.offsets, b.offsets);
+    EXPECT_EQ(a.edge_faces, b.edge_faces);
+  }
+  // A sphere bed's reading of the same file is refused (another bed), and corruption is refused.
+  EXPECT_THROW(read_sand_gun_checkpoint(f.path.string(), Bed3dSpec{}, 2), InputError);
+  std::ifstream in(f.path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  in.close();
+  std::mt19937_64 rng(2032);
+  int refused = 0;
+  for (int k = 0; k < 120; ++k) {
+    std::string m = bytes;
+    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e)
+      m[rng() % m.size()] ^= static_cast<char>(1 + rng() % 255);
+    std::ofstream(f.path, std::ios::binary) << m;
+    try {
+      const std::optional<SandGunProgress> r = read_sand_gun_checkpoint(f.path.string(), p.bed.spec, 2);
+      ASSERT_TRUE(r);
+      for (const Body3Spec& b : r->build.bodies) EXPECT_FALSE(b.hull.faces.empty());
     } catch (const InputError&) {
       ++refused;
     }

@@ -3,13 +3,18 @@
 // 20,000-sphere bed takes an hour or more and each impact on it a minute or two, so a long run keeps both
 // and continues from them. Impact i of a row depends only on the bed, the row and (seed, i),
 // so impacts found in the file are the ones the run would compute: a continued run gives the same numbers
-// as one that never stopped, and may ask for more runs or other rows than the first did.
+// as one that never stopped, and may ask for more runs or other rows than the first did. A bed of irregular
+// grains also keeps each grain's hull (vertices in its body frame, and faces), since its shapes came from
+// a random pour.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
+#include <string>
+#include <vector>
 
 #include "h5_input.hpp"
 #include "h5_output.hpp"
@@ -24,6 +29,9 @@ constexpr const char* kKind = "grainlab-sand-gun-checkpoint/2";
 const std::vector<std::string> kSphereColumns = {"id",  "radius", "mass", "i00", "i01", "i02",     "i10",
                                                  "i11", "i12",    "i20",  "i21", "i22", "x",       "y",
                                                  "z",   "qw",     "qx",   "qy",  "qz",  "material"};
+// Irregular grains' hulls: a row per vertex, and a row per corner of each face, in order.
+const std::vector<std::string> kHullVertexColumns = {"grain", "x", "y", "z"};
+const std::vector<std::string> kHullFaceColumns = {"grain", "face", "vertex"};
 const std::vector<std::string> kBuildColumns = {"removed",       "probes", "deep_movers",
                                                 "build_seconds", "stage",  "finished"};
 const std::vector<std::string> kImpactColumns = {
@@ -68,6 +76,56 @@ Body3Spec sphere_of(const std::vector<double>& r) {
   return b;
 }
 
+// The hulls of a bed's irregular grains, as rows of the two hull tables.
+void add_hulls(const std::vector<Body3Spec>& bodies, SampleTable& vertices, SampleTable& faces) {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const Body3Spec& b = bodies[i];
+    if (b.shape != Body3Spec::Shape::Polyhedron) continue;
+    const double grain = static_cast<double>(i);
+    for (const Vec3& v : b.hull.vertices) vertices.rows.push_back({grain, v.x(), v.y(), v.z()});
+    for (std::size_t f = 0; f < b.hull.faces.size(); ++f)
+      for (int v : b.hull.faces[f])
+        faces.rows.push_back({grain, static_cast<double>(f), static_cast<double>(v)});
+  }
+}
+
+// Gives every body its hull back from the two tables (every grain of an irregular bed has one); an empty
+// string, or what is wrong with them.
+std::string put_hulls(const TableFile& file, std::vector<Body3Spec>& bodies) {
+  const std::size_t n = bodies.size();
+  auto index = [](double v, std::size_t limit) {  // a whole number below limit, or limit (bad)
+    return std::isfinite(v) && v >= 0 && v == std::floor(v) && v < static_cast<double>(limit)
+               ? static_cast<std::size_t>(v)
+               : limit;
+  };
+  std::vector<std::vector<Vec3>> vertices(n);
+  std::vector<std::vector<std::vector<int>>> faces(n);
+  for (const auto& r : file.tables.at("bed/hull_vertices").rows) {
+    const std::size_t g = index(r[0], n);
+    if (g == n || !std::all_of(r.begin() + 1, r.end(), [](double v) { return std::isfinite(v); }))
+      return "a hull vertex of no grain, or not a number";
+    vertices[g].emplace_back(r[1], r[2], r[3]);
+  }
+  for (const auto& r : file.tables.at("bed/hull_faces").rows) {
+    const std::size_t g = index(r[0], n);
+    if (g == n) return "a hull face of no grain";
+    std::vector<std::vector<int>>& f = faces[g];
+    const std::size_t face = index(r[1], f.size() + 1), vertex = index(r[2], vertices[g].size());
+    if (face == f.size() + 1 || vertex == vertices[g].size() || face + 1 < f.size())
+      return fmt::format("grain {} has a face corner out of order or of no vertex", g);
+    if (face == f.size()) f.emplace_back();
+    f.back().push_back(static_cast<int>(vertex));
+  }
+  for (std::size_t g = 0; g < n; ++g) {
+    Polyhedron hull;
+    if (const std::string why = make_polyhedron(vertices[g], faces[g], hull); !why.empty())
+      return fmt::format("grain {}: {}", g, why);
+    bodies[g].shape = Body3Spec::Shape::Polyhedron;
+    bodies[g].hull = std::move(hull);
+  }
+  return "";
+}
+
 }  // namespace
 
 void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed) {
@@ -100,8 +158,21 @@ void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p
       ejecta.rows.push_back(std::move(row));
     }
   }
+  std::vector<SampleTable> tables = {spheres, build, impacts, ejecta};
+  if (p.bed.spec.polyhedra) {
+    SampleTable vertices{"bed/hull_vertices",
+                         "each irregular grain's hull: its vertices in its body frame (cm)",
+                         kHullVertexColumns,
+                         {}};
+    SampleTable faces{"bed/hull_faces",
+                      "each irregular grain's hull: the corners of each face, in order",
+                      kHullFaceColumns,
+                      {}};
+    add_hulls(built ? p.bed.scene.bodies3d : p.build.bodies, vertices, faces);
+    tables.push_back(std::move(vertices)), tables.push_back(std::move(faces));
+  }
   write_sample_tables(
-      path, {spheres, build, impacts, ejecta},
+      path, tables,
       {{"kind", kKind}, {"grainlab_version", GRAINLAB_VERSION}, {"options", fingerprint(p.bed.spec, seed)}});
 }
 
@@ -111,10 +182,13 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--checkpoint", why); };
   TableFile file;
   try {
-    file = read_sample_tables(path, {{"bed/spheres", kSphereColumns},
-                                     {"bed/build", kBuildColumns},
-                                     {"impacts", kImpactColumns},
-                                     {"ejecta", kEjectumColumns}});
+    std::map<std::string, std::vector<std::string>> wanted = {{"bed/spheres", kSphereColumns},
+                                                              {"bed/build", kBuildColumns},
+                                                              {"impacts", kImpactColumns},
+                                                              {"ejecta", kEjectumColumns}};
+    if (spec.polyhedra)
+      wanted.insert({{"bed/hull_vertices", kHullVertexColumns}, {"bed/hull_faces", kHullFaceColumns}});
+    file = read_sample_tables(path, wanted);
     require_checkpoint(file, path, kKind, "sand-gun checkpoint", fingerprint(spec, seed),
                        "was written for another bed or seed (--spheres, --bed-seed, --stiffness, --seed): "
                        "pass the ones it was started with, or another --checkpoint");
@@ -131,6 +205,8 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
       refuse(fmt::format("bed sphere {} is damaged", bodies.size() - 1));
   }
   if (bodies.empty()) refuse("holds no bed");
+  if (spec.polyhedra)
+    if (const std::string why = put_hulls(file, bodies); !why.empty()) refuse("holds a damaged hull: " + why);
   const auto& build = file.tables.at("bed/build").rows;
   if (build.size() != 1 || !std::all_of(build[0].begin(), build[0].end(), [](double v) { return v >= 0; }) ||
       (build[0][5] != 0 && build[0][5] != 1) || build[0][4] != std::floor(build[0][4]) || build[0][4] > 1000)
