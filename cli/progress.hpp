@@ -18,7 +18,9 @@ class ProgressBar {
   ~ProgressBar() { finish(); }
 
   // A `done` below the last one starts a new task: the clock (and the estimate of time left) restarts.
-  void update(double done, double total) {
+  // `extra`: a few words on the state of the run, shown after the estimate (e.g. "5120 grains airborne");
+  // on a terminal the rest of the line is cleared, since the words may get shorter.
+  void update(double done, double total, const std::string& extra = "") {
     if (!enabled_) return;
     if (done < last_done_) start_ = clock::now();
     last_done_ = done;
@@ -33,13 +35,15 @@ class ProgressBar {
                                   ? fmt_number("t = %.4g s", done)
                                   : fmt_number("%.0f", done) + fmt_number(" of %.0f ", total) + unit_;
     if (!terminal_) {
-      std::fprintf(stderr, "progress: %5.1f%%  %s  elapsed %s  left %s\n", 100 * f, where.c_str(),
-                   clock_text(elapsed).c_str(), clock_text(left).c_str());
+      std::fprintf(stderr, "progress: %5.1f%%  %s  elapsed %s  left %s%s%s\n", 100 * f, where.c_str(),
+                   clock_text(elapsed).c_str(), clock_text(left).c_str(), extra.empty() ? "" : "  ",
+                   extra.c_str());
       return;
     }
-    std::fprintf(stderr, "\r[%s%s] %5.1f%%  %s  elapsed %s  left %s ", std::string(filled, '#').c_str(),
-                 std::string(width - filled, '.').c_str(), 100 * f, where.c_str(),
-                 clock_text(elapsed).c_str(), clock_text(left).c_str());
+    std::fprintf(stderr, "\r[%s%s] %5.1f%%  %s  elapsed %s  left %s %s\x1b[K",
+                 std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), 100 * f,
+                 where.c_str(), clock_text(elapsed).c_str(), clock_text(left).c_str(),
+                 extra.empty() ? "" : (extra + " ").c_str());
     drawn_ = true;
   }
   void finish() {

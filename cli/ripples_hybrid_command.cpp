@@ -275,7 +275,9 @@ int hybrid_ripples_command(const RipplesCommands& a) {
       (std::floor(frames.back().t_star / a.checkpoint_every + 1e-9) + 1) * a.checkpoint_every;
   for (std::size_t k = frames.size(); k <= last_frame; ++k) {
     const double t = static_cast<double>(k) * o.frame_every;
-    run.advance_to(t, [&](double now) { bar.update(now, o.duration); });
+    run.advance_to(t, [&](double now) {
+      bar.update(now, o.duration, fmt::format("{} grains airborne", run.transport().airborne()));
+    });
     take();
     const bool stop = a.stop_at > 0 && t >= a.stop_at * (1 - 1e-12);
     if (!a.hybrid_checkpoint.empty() && (t >= next_checkpoint * (1 - 1e-12) || stop)) {
