@@ -12,6 +12,7 @@
 #include "impacts3d.hpp"
 #include "input_error.hpp"
 #include "sand_gun3d.hpp"
+#include "sand_spheres3d.hpp"
 #include "scene.hpp"
 #include "world3d.hpp"
 
@@ -35,6 +36,27 @@ struct TempFile {
       std::filesystem::temp_directory_path() / ("grainlab-ck-" + std::to_string(::getpid()) + ".h5");
   ~TempFile() { std::filesystem::remove(path); }
 };
+
+// Writes 120 seeded corruptions (1-3 flipped bytes each) of `bytes` to `path` and hands each to `read`,
+// which must either read it (and check what it got) or throw InputError; returns how many were refused.
+template <class Read>
+int refused_corruptions(const std::string& bytes, const std::filesystem::path& path, std::uint64_t seed,
+                        Read read) {
+  std::mt19937_64 rng(seed);
+  int refused = 0;
+  for (int k = 0; k < 120; ++k) {
+    std::string m = bytes;
+    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e)
+      m[rng() % m.size()] ^= static_cast<char>(1 + rng() % 255);
+    std::ofstream(path, std::ios::binary) << m;
+    try {
+      read();
+    } catch (const InputError&) {
+      ++refused;
+    }
+  }
+  return refused;
+}
 
 void expect_same_impact(const Impact3dResult& a, const Impact3dResult& b) {
   EXPECT_EQ(a.rebounded, b.rebounded);
@@ -216,48 +238,21 @@ TEST(SandGunCheckpoint, RandomByteFlipsNeverCrash) {
   write_sand_gun_checkpoint(good.path.string(), p, 5);
   std::ifstream in(good.path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), {});
-  std::mt19937_64 rng(2031);
-  int refused = 0;
-  for (int k = 0; k < 120; ++k) {
-    std::string s = bytes;
-    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e)
-      s[rng() % s.size()] ^= static_cast<char>(1 + rng() % 255);
-    std::ofstream(mutant.path, std::ios::binary) << s;
-    try {
-      const std::optional<SandGunProgress> r = read_sand_gun_checkpoint(mutant.path.string(), bed.spec, 5);
-      ASSERT_TRUE(r);
-      EXPECT_EQ((r->build.finished ? r->bed.scene.bodies3d : r->build.bodies).size(),
-                bed.scene.bodies3d.size());
-    } catch (const InputError&) {
-      ++refused;
-    }
-  }
+  const int refused = refused_corruptions(bytes, mutant.path, 2031, [&] {
+    const std::optional<SandGunProgress> r = read_sand_gun_checkpoint(mutant.path.string(), bed.spec, 5);
+    ASSERT_TRUE(r);
+    EXPECT_EQ((r->build.finished ? r->bed.scene.bodies3d : r->build.bodies).size(),
+              bed.scene.bodies3d.size());
+  });
   EXPECT_GT(refused, 0);
 }
 
 // A bed of irregular grains mid-build (its shapes from a random pour) comes back from a checkpoint with
 // every hull exactly; corrupted hulls are refused with InputError, never a crash.
 TEST(SandGunCheckpoint, KeepsIrregularGrainsHulls) {
-  const Scene pour = parse_scene(R"toml(
-[scene]
-name = "irregular sand"
-dimension = 3
-duration = 0.01
-seed = 7
-effects = ["gravity", "normal_contact", "friction", "rotation"]
-[accuracy]
-integrator = "verlet"
-dt = 2e-5
-[materials.sand]
-k_n = 1e6
-k_s = 1e6
-mu = 0.5
-restitution = 0.2
-[[walls]]
-type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-[[assemblies]]
+  const Scene pour = parse_scene(std::string("[scene]\nname = \"irregular sand\"\ndimension = 3\nduration = "
+                                             "0.01\nseed = 7\n") +
+                                     kSandSpheres3dOnAFloor + R"toml([[assemblies]]
 type = "poured"
 count = 12
 width = 4.0
@@ -293,21 +288,11 @@ radius = 0.4
   std::ifstream in(f.path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), {});
   in.close();
-  std::mt19937_64 rng(2032);
-  int refused = 0;
-  for (int k = 0; k < 120; ++k) {
-    std::string m = bytes;
-    for (int e = 0; e < 1 + static_cast<int>(rng() % 3); ++e)
-      m[rng() % m.size()] ^= static_cast<char>(1 + rng() % 255);
-    std::ofstream(f.path, std::ios::binary) << m;
-    try {
-      const std::optional<SandGunProgress> r = read_sand_gun_checkpoint(f.path.string(), p.bed.spec, 2);
-      ASSERT_TRUE(r);
-      for (const Body3Spec& b : r->build.bodies) EXPECT_FALSE(b.hull.faces.empty());
-    } catch (const InputError&) {
-      ++refused;
-    }
-  }
+  const int refused = refused_corruptions(bytes, f.path, 2032, [&] {
+    const std::optional<SandGunProgress> r = read_sand_gun_checkpoint(f.path.string(), p.bed.spec, 2);
+    ASSERT_TRUE(r);
+    for (const Body3Spec& b : r->build.bodies) EXPECT_FALSE(b.hull.faces.empty());
+  });
   EXPECT_GT(refused, 0);
 }
 

@@ -40,9 +40,8 @@ double largest_energy_out(const std::vector<Impact3dResult>& impacts) {
 
 // A bed left alone must hold still, or "ejecta" would be the bed moving: its largest displacement and
 // speed over `duration` against the limits (value: the larger of the two ratios).
-// The note says how many grains broke a limit and how deep the shallowest of them sits: a few rattlers
-// deep in a large bed (loose in their cages once the bed starts again without its shear springs) cannot
-// rise to the ejection height, a moving surface could.
+// The note says how many grains broke a limit and how deep the shallowest of them sits: a few spheres
+// still settling deep in a large bed cannot rise to the ejection height, a moving surface could.
 Check& expect_bed_at_rest(Report& r, const std::string& name, const std::string& engine, const BedHold& h,
                           const std::string& what, double duration, double d_limit, double v_limit) {
   std::size_t moved = 0;
