@@ -121,7 +121,7 @@ void add_quantities(nlohmann::json& j, const std::map<std::string, MeanInterval>
 int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   if (!a.bed_files.empty())
     throw InputError({"--bed", 0}, a.bed_files[0], "bed files are 2-D; 3-D beds are poured here");
-  const bool speak = !a.quiet && !a.impact_json && parallel::rank() == 0;
+  const bool speak = !a.quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   Bed3dSpec spec;
   spec.count = a.spheres;
   spec.seed = a.bed_seed;
@@ -199,7 +199,7 @@ int impact_command(const ImpactCommands& a) {
   if (!a.record.empty() && !a.force && fs::exists(a.record))
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
   if (a.dimension == 3) return impact3d_command(a, c);
-  const bool speak = !a.quiet && !a.impact_json && parallel::rank() == 0;
+  const bool speak = !a.quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   const std::vector<Bed> beds = beds_for(a, c, speak);
   ImpactOptions o;
   o.engine = a.engine;
@@ -293,7 +293,7 @@ int rebound_command(const ImpactCommands& a) {
 int splash_command(const ImpactCommands& a) {
   if (!a.splash_force && fs::exists(a.splash_out))
     throw InputError({"--out", 0}, a.splash_out, "exists; pass --force to overwrite it");
-  const bool speak = !a.splash_quiet && !a.splash_json && parallel::rank() == 0;
+  const bool speak = !a.splash_quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   saltation::SplashFile f;
   if (a.sand_gun) {
     f = saltation::sand_gun_splash();

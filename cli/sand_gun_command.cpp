@@ -55,6 +55,9 @@ nlohmann::json run_json(const SandGunCommand& a, const SandGunRun& run) {
           {"bed_top", run.bed.top},
           {"packing_fraction", run.bed.packing_fraction},
           {"bed_seconds", run.bed.build_seconds},
+          {"bed_probes", run.bed.probes},
+          {"bed_holds", build_holds(run.bed)},
+          {"bed_still_moving", run.bed.deep_movers},
           {"k_n", s.k_n},
           {"grains", s.polyhedra ? "polyhedron" : "sphere"},
           {"seed", a.seed},
@@ -104,7 +107,7 @@ void SandGunCommand::add(CLI::App& app) {
 int SandGunCommand::dispatch() const {
   if (!cmd || !*cmd) return -1;
   require_folder_of("--checkpoint", checkpoint);
-  const bool speak = !quiet && !json && parallel::rank() == 0;
+  const bool speak = !quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   Bed3dSpec spec = sand_gun_bed_spec(spheres, stiffness);
   spec.seed = bed_seed;
   spec.polyhedra = grains == "polyhedron";

@@ -53,14 +53,28 @@ struct Bed3d {
   double top = 0;
   double packing_fraction = 0;  // in the interior (2 diameters from walls, floor and top)
   double build_seconds = 0;
-  std::size_t removed = 0;      // spheres that would not come to rest on the surface, taken away
-  std::size_t probes = 0;       // times the bed was left alone to find spheres still moving
-  std::size_t deep_movers = 0;  // spheres below others still moving at the last probe (0: at rest)
-  int build_stages = 0;         // stages its build took (Bed3dBuild::stage when it finished)
+  std::size_t removed = 0;  // spheres that would not come to rest on the surface, taken away
+  std::size_t probes = 0;   // times the bed was left alone to find spheres still moving
+  // Spheres still moving at the build's last look: at the last probe, deep spheres that moved over 2.5 %
+  // of their radius; after holds (build_holds > 0), spheres over the at-rest limits. 0: at rest.
+  std::size_t deep_movers = 0;
+  int build_stages = 0;  // stages its build took (Bed3dBuild::stage when it finished)
 };
 
+// How still a bed left alone for an impact's duration must hold, or "ejecta" would be the bed moving: no
+// grain may move more than 2.5 % of a diameter, nor be faster than 1 cm/s times sqrt(r / 1 cm) (speeds
+// of a bed settling under gravity scale so). The thesis-sized bed's: 0.05 cm and 1 cm/s, the 2-D limits.
+struct AtRestLimits {
+  double displacement = 0, speed = 0;
+};
+AtRestLimits at_rest_limits(const Bed3dSpec& spec);
+
+// The times the build held a bed still settling after its last probe (see build_bed3d).
+int build_holds(const Bed3d& bed);
+
 // A bed part-way through its build: the spheres at rest after the first `stage` of build_bed3d's stages
-// (the pour, ten stiffening steps, damping, relaxing, then up to eight probes for spheres still moving)
+// (the pour, ten stiffening steps, damping, relaxing, up to eight probes for spheres still moving, then
+// if the probes ran out, up to four holds)
 // and the build's counts so far. Each stage starts from spheres at rest, so a build continued from here
 // makes, bit for bit, the bed a build that never stopped would.
 struct Bed3dBuild {
@@ -78,8 +92,9 @@ Bed3dBuild build_record(const Bed3d& bed);
 
 // Pours and settles a bed (seconds to a minute of computing for the thesis's beds; an hour or more for a
 // 20,000-sphere sand bed). `log`, when given, hears of each stage as it ends (pour, stiffening, damping,
-// each probe for spheres still moving), with the time so far. The build starts from `from` (a fresh one:
-// the pour) and hands its state to `after_stage` after every stage, so a long build can be checkpointed.
+// each probe for spheres still moving, each hold), with the time so far. The build starts from `from` (a
+// fresh one: the pour) and hands its state to `after_stage` after every stage, so a long build can be
+// checkpointed.
 Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log = {},
                   Bed3dBuild from = {}, const std::function<void(const Bed3dBuild&)>& after_stage = {});
 // The bed build_bed3d makes around `bodies` (its spheres at rest), without the build's statistics: the

@@ -227,9 +227,9 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
   if (log)
     log(
         fmt::format("sand gun: bed top {:.3f} cm, packing {:.3f}, {} loose spheres taken away, {} probes, "
-                    "{} deep spheres still moving ({:.0f} s)",
+                    "{} holds, {} spheres still moving at the last ({:.0f} s)",
                     out.bed.top, out.bed.packing_fraction, out.bed.removed, out.bed.probes,
-                    out.bed.deep_movers, out.bed.build_seconds));
+                    build_holds(out.bed), out.bed.deep_movers, out.bed.build_seconds));
   const ImpactOptions o = sand_gun_options(spec);
   for (const SandGunRow& row : out.rows) {
     out.impacts.push_back(checkpoint.empty()
