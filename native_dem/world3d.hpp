@@ -133,6 +133,10 @@ class World3d {
   std::vector<ContactPoint3> scratch_;
   SphereCells cells_;
   std::vector<Vec3> centres_;  // bin_bodies' scratch, kept so no step allocates
+  // Per entry of cells_'s lists, the axis that last separated the pair (hull_hull), and the build of the
+  // lists they belong to.
+  std::vector<SeparatingHint> separating_;
+  std::size_t separating_build_ = 0;
   PairForces impulses_, step_force_, end_force_;
   double t_ = 0, dt_ = 0, dt_prev_ = 0;
   bool have_prev_ = false;
