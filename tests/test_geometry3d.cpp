@@ -111,6 +111,21 @@ Polyhedron wobbly_icosahedron(Rng& rng, double wobble) {
 Quat random_turn(Rng& rng) {
   return Quat(rng.normal(), rng.normal(), rng.normal(), rng.normal()).normalized();
 }
+// Trial k's pair of eight hulls: A at the origin, B in a random direction 0.55-0.95 of their bounding
+// reach away, both turned at random (as often touching as apart).
+struct ClosePair {
+  std::size_t ia, ib;
+  Quat qa, qb;
+  Vec3 xb;
+};
+ClosePair close_pair(Rng& rng, const std::vector<Polyhedron>& hulls, int k) {
+  ClosePair p{static_cast<std::size_t>(k % 8), static_cast<std::size_t>((k / 8) % 8), {}, {}, {}};
+  const Vec3 dir = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
+  const double reach = hulls[p.ia].bounding_radius() + hulls[p.ib].bounding_radius();
+  p.qa = random_turn(rng), p.qb = random_turn(rng);
+  p.xb = dir * reach * rng.uniform(0.55, 0.95);
+  return p;
+}
 }  // namespace
 
 // The separating-axis test projects only the edge pairs whose arcs cross on the Gauss map, picked with
@@ -129,13 +144,9 @@ TEST(NarrowPhase3d, EdgePairFilterChangesNoContact) {
   }
   int touching = 0, edge_contacts = 0;
   for (int trial = 0; trial < 4000; ++trial) {
-    const int ia = trial % 8, ib = (trial / 8) % 8;
-    const Vec3 dir = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
-    const double reach = hulls[ia].bounding_radius() + hulls[ib].bounding_radius();
-    const Quat qa = random_turn(rng), qb = random_turn(rng);
-    const Vec3 xb = dir * reach * rng.uniform(0.55, 0.95);
-    const Placed3 a = placed_box(hulls[ia], Vec3::Zero(), qa), b = placed_box(hulls[ib], xb, qb);
-    const Placed3 pa = placed_box(plain[ia], Vec3::Zero(), qa), pb = placed_box(plain[ib], xb, qb);
+    const ClosePair p = close_pair(rng, hulls, trial);
+    const Placed3 a = placed_box(hulls[p.ia], Vec3::Zero(), p.qa), b = placed_box(hulls[p.ib], p.xb, p.qb);
+    const Placed3 pa = placed_box(plain[p.ia], Vec3::Zero(), p.qa), pb = placed_box(plain[p.ib], p.xb, p.qb);
     std::vector<ContactPoint3> filtered, every;
     ASSERT_EQ(hull_hull(a, b, filtered), hull_hull(pa, pb, every)) << trial;
     for (std::size_t c = 0; c < filtered.size(); ++c) {
@@ -163,12 +174,8 @@ TEST(NarrowPhase3d, SeparatingHintChangesNoContact) {
   SeparatingHint carried = kNoHint;  // the last pair's: usually a stranger to this one
   int apart = 0, hinted_apart = 0;
   for (int trial = 0; trial < 4000; ++trial) {
-    const int ia = trial % 8, ib = (trial / 8) % 8;
-    const Vec3 dir = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
-    const double reach = hulls[ia].bounding_radius() + hulls[ib].bounding_radius();
-    const Quat qa = random_turn(rng), qb = random_turn(rng);
-    const Vec3 xb = dir * reach * rng.uniform(0.55, 0.95);
-    const Placed3 a = placed_box(hulls[ia], Vec3::Zero(), qa), b = placed_box(hulls[ib], xb, qb);
+    const ClosePair p = close_pair(rng, hulls, trial);
+    const Placed3 a = placed_box(hulls[p.ia], Vec3::Zero(), p.qa), b = placed_box(hulls[p.ib], p.xb, p.qb);
     std::vector<ContactPoint3> plain, hinted, bogus;
     const int n = hull_hull(a, b, plain);
     SeparatingHint odd = static_cast<SeparatingHint>(rng.uniform(0, 4e6));  // any kind, any index
