@@ -229,7 +229,7 @@ Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, con
 namespace {
 
 // build_bed3d's stages, by the number done when each ends.
-constexpr int kStiffeningSteps = 10, kMaxProbes = 8, kMaxHolds = 4;
+constexpr int kStiffeningSteps = 10, kMaxHolds = 4;
 constexpr int kPoured = 1, kStiffened = kPoured + kStiffeningSteps, kDamped = kStiffened + 1,
               kRelaxed = kDamped + 1;
 
@@ -312,7 +312,7 @@ std::string hold(const Bed3dSpec& spec, Bed3dBuild& b) {
     over += (moved[i].position - b.bodies[i].position).norm() > limits.displacement ||
             moved[i].velocity.norm() > limits.speed;
   b.deep_movers = over;
-  const int holds = b.stage - (kRelaxed + kMaxProbes);  // this one included
+  const int holds = b.stage - (kRelaxed + spec.max_probes);  // this one included
   const std::string line = fmt::format("hold {}: {} spheres over the at-rest limits", holds, over);
   if (over == 0 || holds == kMaxHolds) {
     b.finished = true;
@@ -345,7 +345,7 @@ std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b) {
     b.bodies = settled(spec, std::move(b.bodies), spec.k_n, spec.restitution, 0.05 * ts);
     return "relaxed";
   }
-  return b.probes < kMaxProbes ? probe(spec, b) : hold(spec, b);
+  return static_cast<int>(b.probes) < spec.max_probes ? probe(spec, b) : hold(spec, b);
 }
 
 }  // namespace
@@ -373,7 +373,7 @@ AtRestLimits at_rest_limits(const Bed3dSpec& spec) {
 }
 
 int build_holds(const Bed3d& bed) {
-  return std::max(0, bed.build_stages - (kRelaxed + kMaxProbes));
+  return std::max(0, bed.build_stages - (kRelaxed + bed.spec.max_probes));
 }
 
 void keep_build_record(Bed3d& bed, const Bed3dBuild& b) {

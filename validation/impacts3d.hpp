@@ -39,6 +39,8 @@ struct Bed3dSpec {
   // thesis-sized durations (0.005, 0.1, 0.05, 0.07 s for 1 cm grains) times this: grains of another size
   // fall and settle in times that scale as sqrt(r / g), so a sand bed takes sqrt(r / 1 cm) of them.
   double time_scale = 1;
+  // The probes for spheres still moving before the build holds the bed instead (build_bed3d).
+  int max_probes = 8;
   bool dense() const { return preparation == "dense"; }
   double smallest_radius() const { return radius - radius_spread; }
   double largest_radius() const { return radius + radius_spread; }

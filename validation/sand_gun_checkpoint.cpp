@@ -52,6 +52,7 @@ std::string fingerprint(const Bed3dSpec& s, std::uint64_t seed) {
   // (Added only when set, so a loose sphere bed's checkpoint keeps the fingerprint it was written with.)
   if (s.dense()) f += " preparation dense";
   if (s.polyhedra) f += " polyhedra";
+  if (s.max_probes != Bed3dSpec{}.max_probes) f += fmt::format(" max_probes {}", s.max_probes);
   return f;
 }
 
