@@ -25,6 +25,7 @@ struct ImpactCommands {
   bool impact_json = false, quiet = false, force = false;
   int dimension = 2, spheres = 2000;  // --dimension 3: spheres in the poured bed
   bool hold = false;                  // --dimension 3: report how far the bed moves alone
+  bool settle_on_engine = false;      // --dimension 3: settle the bed on --engine before its impacts
   std::string grains = "sphere";      // --dimension 3: "sphere" or "polyhedron" (irregular grains)
   std::vector<double> box;            // --dimension 3: the box's x and y (cm); empty: 67.3 x 20
   // grainlab rebound-model

@@ -417,6 +417,29 @@ BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration,
   return h;
 }
 
+EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double settle, int rounds,
+                           double duration, double rigid_dt) {
+  const AtRestLimits limits = at_rest_limits(bed.spec);
+  auto at_rest = [&](const BedHold& h) {
+    return std::max(h.max_displacement / limits.displacement, h.max_speed / limits.speed) < 1;
+  };
+  EngineBed e{bed, hold_bed3d(bed, engine, duration, rigid_dt), 0};
+  while (!at_rest(e.hold) && e.settles < rounds) {
+    const Frame f = bed_left_alone(e.bed.scene, engine, settle, rigid_dt);  // by id: the scene's order
+    std::vector<Body3Spec> b = e.bed.scene.bodies3d;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      b[i].position = Vec3(f.position[3 * i], f.position[3 * i + 1], f.position[3 * i + 2]);
+      b[i].orientation = Quat(f.orientation[4 * i], f.orientation[4 * i + 1], f.orientation[4 * i + 2],
+                              f.orientation[4 * i + 3]);
+      b[i].velocity = Vec3::Zero(), b[i].spin = Vec3::Zero();
+    }
+    e.bed = bed3d_from_bodies(bed.spec, std::move(b));
+    ++e.settles;
+    e.hold = hold_bed3d(e.bed, engine, duration, rigid_dt);
+  }
+  return e;
+}
+
 Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
                             const ImpactOptions& o) {
   if (c.bed != bed.spec.preparation)
