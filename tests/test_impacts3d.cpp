@@ -233,9 +233,7 @@ TEST(Impacts3d, ABedStillSettlingIsHeldUntilAtRest) {
     const int holds = build_holds(bed);
     const BedHold h = hold_bed3d(bed, "native", sand_gun_options(spec).duration, 1e-5);
     const AtRestLimits limits = at_rest_limits(spec);
-    std::size_t over = 0;
-    for (std::size_t i = 0; i < h.speed.size(); ++i)
-      over += h.displacement[i] > limits.displacement || h.speed[i] > limits.speed;
+    const std::size_t over = grains_over(h, limits);
     EXPECT_EQ(over, bed.deep_movers) << probes << " probes";
     EXPECT_GE(holds, 1) << probes << " probes";
     EXPECT_LE(holds, 4) << probes << " probes";

@@ -78,8 +78,7 @@ normal = [0.0, -1.0, 0.0]
                             s.smallest_radius(), s.largest_radius());
 }
 
-// The bed after `duration` more of `k_n` and `e`, from `bodies` at rest; velocities zeroed.
-// The bodies after `duration` left alone, as they are then (moving or not).
+// The bodies after `duration` more of `k_n` and `e` (from rest), as they are then (moving or not).
 std::vector<Body3Spec> left_alone(const Bed3dSpec& s, std::vector<Body3Spec> bodies, double k_n, double e,
                                   double duration) {
   Scene scene = parse_scene(bed3d_text(s, k_n, e, duration, false), "3-D impact bed");
@@ -309,8 +308,7 @@ std::string hold(const Bed3dSpec& spec, Bed3dBuild& b) {
       left_alone(spec, b.bodies, spec.k_n, spec.restitution, 0.07 * spec.time_scale);
   std::size_t over = 0;
   for (std::size_t i = 0; i < moved.size(); ++i)
-    over += (moved[i].position - b.bodies[i].position).norm() > limits.displacement ||
-            moved[i].velocity.norm() > limits.speed;
+    over += limits.broken_by((moved[i].position - b.bodies[i].position).norm(), moved[i].velocity.norm());
   b.deep_movers = over;
   const int holds = b.stage - (kRelaxed + spec.max_probes);  // this one included
   const std::string line = fmt::format("hold {}: {} spheres over the at-rest limits", holds, over);
@@ -420,11 +418,8 @@ BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration,
 EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double settle, int rounds,
                            double duration, double rigid_dt) {
   const AtRestLimits limits = at_rest_limits(bed.spec);
-  auto at_rest = [&](const BedHold& h) {
-    return std::max(h.max_displacement / limits.displacement, h.max_speed / limits.speed) < 1;
-  };
   EngineBed e{bed, hold_bed3d(bed, engine, duration, rigid_dt), 0};
-  while (!at_rest(e.hold) && e.settles < rounds) {
+  while (grains_over(e.hold, limits) > 0 && e.settles < rounds) {
     const Frame f = bed_left_alone(e.bed.scene, engine, settle, rigid_dt);  // by id: the scene's order
     std::vector<Body3Spec> b = e.bed.scene.bodies3d;
     for (std::size_t i = 0; i < b.size(); ++i) {
@@ -438,6 +433,12 @@ EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double s
     e.hold = hold_bed3d(e.bed, engine, duration, rigid_dt);
   }
   return e;
+}
+
+std::size_t grains_over(const BedHold& h, const AtRestLimits& limits) {
+  std::size_t over = 0;
+  for (std::size_t i = 0; i < h.speed.size(); ++i) over += limits.broken_by(h.displacement[i], h.speed[i]);
+  return over;
 }
 
 Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,

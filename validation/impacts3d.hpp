@@ -68,6 +68,8 @@ struct Bed3d {
 // of a bed settling under gravity scale so). The thesis-sized bed's: 0.05 cm and 1 cm/s, the 2-D limits.
 struct AtRestLimits {
   double displacement = 0, speed = 0;
+  // Whether a grain that moved `moved` and ends at `speed_now` breaks a limit (the checks pass at a limit).
+  bool broken_by(double moved, double speed_now) const { return moved > displacement || speed_now > speed; }
 };
 AtRestLimits at_rest_limits(const Bed3dSpec& spec);
 
@@ -135,6 +137,9 @@ struct EngineBed {
 };
 EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double settle, int rounds,
                            double duration, double rigid_dt);
+
+// The grains of a hold that break a limit (0: the bed is at rest).
+std::size_t grains_over(const BedHold& h, const AtRestLimits& limits);
 
 // Impact number `run` of case `c` on `bed` on o.engine (an impulse engine steps at o.rigid_dt): the point is
 // drawn from Rng(seed, run).

@@ -50,7 +50,7 @@ Check& expect_bed_at_rest(Report& r, const std::string& name, const std::string&
   std::size_t moved = 0;
   double shallowest = 0;
   for (std::size_t i = 0; i < h.speed.size(); ++i)
-    if (h.speed[i] > v_limit || h.displacement[i] > d_limit)
+    if (limits.broken_by(h.displacement[i], h.speed[i]))
       shallowest = moved++ == 0 ? h.depth[i] : std::min(shallowest, h.depth[i]);
   const std::string which =
       moved == 0 ? ""
