@@ -148,7 +148,10 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   int settles = 0;
   if (a.settle_on_engine) {
     // The engine's own bed: an impulse engine squeezes the bed built here further (docs/impacts.md).
-    EngineBed own = settle_on_engine(bed, a.engine, 0.2, 4, o.duration, o.rigid_dt);
+    EngineBed own =
+        settle_on_engine(bed, a.engine, 0.2, 4, o.duration, o.rigid_dt, [&](const std::string& line) {
+          if (speak) fmt::print(stderr, "grainlab impact: {}\n", line);
+        });
     bed = std::move(own.bed), settles = own.settles;
     if (speak) fmt::print(stderr, "grainlab impact: settled the bed on {} {} x 0.2 s\n", a.engine, settles);
     report_bed_held(own.hold, a.engine, o.duration, speak);

@@ -416,9 +416,19 @@ BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration,
 }
 
 EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double settle, int rounds,
-                           double duration, double rigid_dt) {
+                           double duration, double rigid_dt,
+                           const std::function<void(const std::string&)>& log) {
   const AtRestLimits limits = at_rest_limits(bed.spec);
+  auto say = [&](const EngineBed& e) {
+    if (log)
+      log(fmt::format(
+          "{} after {} settles of {} s: the bed moves {:.3g} cm at {:.3g} cm/s in {} s, {} spheres over "
+          "a limit",
+          engine, e.settles, settle, e.hold.max_displacement, e.hold.max_speed, duration,
+          grains_over(e.hold, limits)));
+  };
   EngineBed e{bed, hold_bed3d(bed, engine, duration, rigid_dt), 0};
+  say(e);
   while (grains_over(e.hold, limits) > 0 && e.settles < rounds) {
     const Frame f = bed_left_alone(e.bed.scene, engine, settle, rigid_dt);  // by id: the scene's order
     std::vector<Body3Spec> b = e.bed.scene.bodies3d;
@@ -431,6 +441,7 @@ EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double s
     e.bed = bed3d_from_bodies(bed.spec, std::move(b));
     ++e.settles;
     e.hold = hold_bed3d(e.bed, engine, duration, rigid_dt);
+    say(e);
   }
   return e;
 }

@@ -130,13 +130,15 @@ BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration,
 // engine its own way, so the bed sinks further on it (the 2,000-sphere thesis bed 0.1-0.13 cm on ODE and
 // Bullet). Left alone on the engine for `settle` s from rest and stopped where it is, up to `rounds`
 // times, until a hold of `duration` s passes at_rest_limits, the bed becomes that engine's own bed at rest.
+// `log` (if set) hears a line per hold: each takes minutes on a bed of thousands of spheres.
 struct EngineBed {
   Bed3d bed;
   BedHold hold;     // the last hold, on the engine
   int settles = 0;  // 0: the bed was at rest on the engine as built
 };
 EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double settle, int rounds,
-                           double duration, double rigid_dt);
+                           double duration, double rigid_dt,
+                           const std::function<void(const std::string&)>& log = {});
 
 // The grains of a hold that break a limit (0: the bed is at rest).
 std::size_t grains_over(const BedHold& h, const AtRestLimits& limits);

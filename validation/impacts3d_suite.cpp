@@ -178,7 +178,10 @@ std::optional<Peer> own_bed_peer(Report& r, const SuiteOptions& o, const Bed3d& 
   }
   if (o.log) o.log(fmt::format("impacts-3d: settling the bed on {} itself", engine));
   const auto t0 = std::chrono::steady_clock::now();
-  EngineBed own = settle_on_engine(bed, engine, 0.2, 4, 0.07, ImpactOptions{}.rigid_dt);
+  EngineBed own =
+      settle_on_engine(bed, engine, 0.2, 4, 0.07, ImpactOptions{}.rigid_dt, [&](const std::string& line) {
+        if (o.log) o.log("impacts-3d: " + line);
+      });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   Check& k = expect_bed_at_rest(r, "impacts-3d/own-bed-at-rest", engine, own.hold,
                                 fmt::format("the bed settled on {} ({} x 0.2 s)", engine, own.settles), 0.07,
