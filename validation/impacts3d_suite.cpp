@@ -160,10 +160,10 @@ std::vector<std::pair<std::string, Impact3dSummary>> peer_impacts(Report& r, con
 // bed on the engine itself (settle_on_engine: 0.2 s at a time, at most 4 times) and, if that bed passes the
 // same at-rest test, runs the loose-bed cases on it. Only for an engine that held the bed for 0.07 s at most
 // kSlowerThanNative times as long as native did (both timed in this run, so the machine's load cancels): a
-// settle round costs about four holds, and each impact about one. Measured on the 2,000 spheres
-// (2026-11-27): native about 5 s, ODE about 40 s (an impact 28 s; two rounds settle it), Bullet about
-// 140 s (a round 9 min, still not at rest after one): ODE is cross-checked in about half an hour, Bullet
-// would take hours.
+// settle round costs about four holds, and each impact about one; an engine much slower than that would
+// take hours. Measured on the 2,000 spheres in one full run (2026-11-27, docs/impacts.md): native held the
+// bed in 7 s, ODE in 35 s (two rounds, 338 s, bring its own bed to rest; then 20-56 s per impact), Bullet
+// in 52 s (four rounds, 1,119 s, leave it moving faster than before: 7.8 cm/s, so it cross-checks nothing).
 constexpr double kSlowerThanNative = 15;
 
 std::optional<Peer> own_bed_peer(Report& r, const SuiteOptions& o, const Bed3d& bed,
