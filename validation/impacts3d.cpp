@@ -418,16 +418,22 @@ BedHold hold_bed3d(const Bed3d& bed, const std::string& engine, double duration,
 EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double settle, int rounds,
                            double duration, double rigid_dt,
                            const std::function<void(const std::string&)>& log) {
-  const AtRestLimits limits = at_rest_limits(bed.spec);
-  auto say = [&](const EngineBed& e) {
+  return settle_on_engine(EngineBed{bed, hold_bed3d(bed, engine, duration, rigid_dt), 0}, engine, settle,
+                          rounds, duration, rigid_dt, log);
+}
+
+EngineBed settle_on_engine(EngineBed e, const std::string& engine, double settle, int rounds, double duration,
+                           double rigid_dt, const std::function<void(const std::string&)>& log) {
+  const Bed3dSpec spec = e.bed.spec;  // (a copy: e.bed is replaced below)
+  const AtRestLimits limits = at_rest_limits(spec);
+  auto say = [&](const EngineBed& now) {
     if (log)
       log(fmt::format(
           "{} after {} settles of {} s: the bed moves {:.3g} cm at {:.3g} cm/s in {} s, {} spheres over "
           "a limit",
-          engine, e.settles, settle, e.hold.max_displacement, e.hold.max_speed, duration,
-          grains_over(e.hold, limits)));
+          engine, now.settles, settle, now.hold.max_displacement, now.hold.max_speed, duration,
+          grains_over(now.hold, limits)));
   };
-  EngineBed e{bed, hold_bed3d(bed, engine, duration, rigid_dt), 0};
   say(e);
   while (grains_over(e.hold, limits) > 0 && e.settles < rounds) {
     const Frame f = bed_left_alone(e.bed.scene, engine, settle, rigid_dt);  // by id: the scene's order
@@ -438,7 +444,7 @@ EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double s
                               f.orientation[4 * i + 3]);
       b[i].velocity = Vec3::Zero(), b[i].spin = Vec3::Zero();
     }
-    e.bed = bed3d_from_bodies(bed.spec, std::move(b));
+    e.bed = bed3d_from_bodies(spec, std::move(b));
     ++e.settles;
     e.hold = hold_bed3d(e.bed, engine, duration, rigid_dt);
     say(e);

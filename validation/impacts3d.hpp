@@ -139,6 +139,11 @@ struct EngineBed {
 EngineBed settle_on_engine(const Bed3d& bed, const std::string& engine, double settle, int rounds,
                            double duration, double rigid_dt,
                            const std::function<void(const std::string&)>& log = {});
+// The same from a bed whose hold on the engine is already known (`start.hold`, `start.settles` = 0), so
+// that hold is not run twice.
+EngineBed settle_on_engine(EngineBed start, const std::string& engine, double settle, int rounds,
+                           double duration, double rigid_dt,
+                           const std::function<void(const std::string&)>& log = {});
 
 // The grains of a hold that break a limit (0: the bed is at rest).
 std::size_t grains_over(const BedHold& h, const AtRestLimits& limits);

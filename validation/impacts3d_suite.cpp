@@ -117,13 +117,11 @@ void sand_gun_section(Report& r, const SuiteOptions& o) {
                        sand_gun_markdown(run) + "\n");
 }
 
-// An impulse engine that runs the impacts beside native's, on `bed`: the native bed when the engine held
-// it as built, or the engine's own bed settled from it (`settles` > 0), which serves the loose-bed cases
-// only.
+// An impulse engine that runs the impacts beside native's: on the native beds when it held the bed as
+// built, or on its own bed settled from it (`own_bed`), which serves the loose-bed cases only.
 struct Peer {
   std::string engine;
-  Bed3d bed;
-  int settles = 0;
+  std::optional<Bed3d> own_bed;
 };
 
 // The same impacts (same seed, same aim rule) on each peer, as the 2-D impacts suite does: their numbers go
@@ -135,13 +133,13 @@ std::vector<std::pair<std::string, Impact3dSummary>> peer_impacts(Report& r, con
                                                                   const std::vector<Peer>& peers) {
   std::vector<std::pair<std::string, Impact3dSummary>> out;
   for (const Peer& p : peers) {
-    if (p.settles > 0 && c.bed != p.bed.spec.preparation) continue;
-    const Bed3d& on = p.settles > 0 ? p.bed : bed;
+    if (p.own_bed && c.bed != p.own_bed->spec.preparation) continue;
+    const Bed3d& on = p.own_bed ? *p.own_bed : bed;
     ImpactOptions io;
     io.engine = p.engine;
     if (o.log)
       o.log(fmt::format("impacts-3d: CASE {} on {}{} ({} impacts)", c.name, p.engine,
-                        p.settles > 0 ? "'s own bed" : "", runs));
+                        p.own_bed ? "'s own bed" : "", runs));
     const std::vector<Impact3dResult> e = run_impact3d_ensemble(on, c, 1, runs, io, o.progress);
     const double most = largest_energy_out(e);
     Check& k = r.expect_below(fmt::format("impacts-3d/{}/energy", c.name), p.engine, most, 1 + 2e-4,
@@ -150,7 +148,7 @@ std::vector<std::pair<std::string, Impact3dSummary>> peer_impacts(Report& r, con
     if (!k.passed)
       k.known_limitation(
           fmt::format("{} created energy in a sphere-bed impact: {:.4f} of the incident's", p.engine, most));
-    out.emplace_back(p.settles > 0 ? p.engine + " (own bed)" : p.engine, summarize_impacts3d(e));
+    out.emplace_back(p.own_bed ? p.engine + " (own bed)" : p.engine, summarize_impacts3d(e));
   }
   return out;
 }
@@ -166,9 +164,10 @@ std::vector<std::pair<std::string, Impact3dSummary>> peer_impacts(Report& r, con
 // in 52 s (four rounds, 1,119 s, leave it moving faster than before: 7.8 cm/s, so it cross-checks nothing).
 constexpr double kSlowerThanNative = 15;
 
+// `as_built`: the engine's hold of the native bed, already run (it is where the settling starts).
 std::optional<Peer> own_bed_peer(Report& r, const SuiteOptions& o, const Bed3d& bed,
-                                 const std::string& engine, double hold_seconds, double native_seconds,
-                                 std::string& notes) {
+                                 const std::string& engine, const BedHold& as_built, double hold_seconds,
+                                 double native_seconds, std::string& notes) {
   if (hold_seconds > kSlowerThanNative * native_seconds) {
     notes += fmt::format(
         "\n{} took {:.0f} s to hold the bed for 0.07 s, native {:.1f} s (more than {:.0f} times as long), so "
@@ -178,10 +177,10 @@ std::optional<Peer> own_bed_peer(Report& r, const SuiteOptions& o, const Bed3d& 
   }
   if (o.log) o.log(fmt::format("impacts-3d: settling the bed on {} itself", engine));
   const auto t0 = std::chrono::steady_clock::now();
-  EngineBed own =
-      settle_on_engine(bed, engine, 0.2, 4, 0.07, ImpactOptions{}.rigid_dt, [&](const std::string& line) {
-        if (o.log) o.log("impacts-3d: " + line);
-      });
+  EngineBed own = settle_on_engine(EngineBed{bed, as_built, 0}, engine, 0.2, 4, 0.07,
+                                   ImpactOptions{}.rigid_dt, [&](const std::string& line) {
+                                     if (o.log) o.log("impacts-3d: " + line);
+                                   });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   Check& k = expect_bed_at_rest(r, "impacts-3d/own-bed-at-rest", engine, own.hold,
                                 fmt::format("the bed settled on {} ({} x 0.2 s)", engine, own.settles), 0.07,
@@ -196,7 +195,7 @@ std::optional<Peer> own_bed_peer(Report& r, const SuiteOptions& o, const Bed3d& 
         fmt::format("{} did not bring the bed to rest in {} settles of 0.2 s", engine, own.settles));
     return std::nullopt;
   }
-  return Peer{engine, std::move(own.bed), own.settles};
+  return Peer{engine, std::move(own.bed)};
 }
 
 }  // namespace
@@ -239,14 +238,14 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
       continue;
     }
     if (c.passed) {
-      peers.push_back({engine, bed, 0});
+      peers.push_back({engine, std::nullopt});
       continue;
     }
     c.known_limitation(
         "an impulse engine at dt 1e-5 s lets the sphere bed settle further under its own weight (measured "
         "above), so 3-D impacts are not cross-checked on it as built");
     if (!o.quick)
-      if (std::optional<Peer> p = own_bed_peer(r, o, bed, engine, hold_seconds, native_seconds, notes))
+      if (std::optional<Peer> p = own_bed_peer(r, o, bed, engine, h, hold_seconds, native_seconds, notes))
         peers.push_back(std::move(*p));
   }
   std::string md = fmt::format(
@@ -341,7 +340,7 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
                       k, m.mean, widen * m.half_width(), 2 * cases.size(), m.n));
     }
     // Quick: CASE A only, 4 impacts (ODE takes 7-8 s per impact on the 700-sphere bed, native 2-3 s).
-    // Full: 10 impacts per case (about 20 s each on ODE's own 2,000-sphere bed).
+    // Full: 10 impacts per case (20-56 s each on ODE's own 2,000-sphere bed, measured 2026-11-27).
     const std::vector<std::pair<std::string, Impact3dSummary>> peer =
         o.quick && name != "A" ? std::vector<std::pair<std::string, Impact3dSummary>>{}
                                : peer_impacts(r, o, bed_c, c, o.quick ? 4 : 10, peers);
