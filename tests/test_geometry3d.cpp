@@ -290,3 +290,31 @@ TEST(Turn, SeriesForASmallStepEqualsTheAngleAxisTurn) {
     EXPECT_NEAR(got.norm(), 1, 1e-15);
   }
 }
+
+// A slow spin (h^2 < 1e-16) skips the series, whose sums round to exactly 1 there: the turn is the bits
+// the summed series gives, at spins from a resting bed's up to past the switch.
+TEST(Turn, ASlowSpinSkipsTheSeriesWithTheSameBits) {
+  auto summed = [](const grainlab::Quat& q, const grainlab::Vec3& w, double dt) {
+    const double h2 = w.squaredNorm() * (dt * dt / 4);
+    const double cos_h = 1 - h2 / 2 * (1 - h2 / 12 * (1 - h2 / 30 * (1 - h2 / 56)));
+    const double sinc_h = 1 - h2 / 6 * (1 - h2 / 20 * (1 - h2 / 42 * (1 - h2 / 72)));
+    const grainlab::Vec3 axis = w * (sinc_h * dt / 2);
+    return (grainlab::Quat(cos_h, axis.x(), axis.y(), axis.z()) * q).normalized();
+  };
+  grainlab::Rng rng(11, 0);
+  int slow = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const grainlab::Quat q =
+        grainlab::Quat(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))
+            .normalized();
+    const grainlab::Vec3 axis =
+        grainlab::Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized();
+    const double dt = 1e-6, h = std::pow(10.0, rng.uniform(-11, -6));  // h^2 from 1e-22 to 1e-12
+    const grainlab::Vec3 w = axis * (2 * h / dt);
+    slow += w.squaredNorm() * (dt * dt / 4) < 1e-16;
+    const grainlab::Quat got = grainlab::dem::detail3d::turned(q, w, dt), want = summed(q, w, dt);
+    ASSERT_EQ(got.coeffs(), want.coeffs()) << "h " << h;
+  }
+  EXPECT_GT(slow, 5000);  // both branches were taken
+  EXPECT_LT(slow, 15000);
+}
