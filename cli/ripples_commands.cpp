@@ -370,6 +370,13 @@ void RipplesCommands::add(CLI::App& app) {
                    "a rebound or ejectum whose centre cannot rise this many diameters settles")
       ->default_val(1.0)
       ->check(CLI::Range(0.0, 10.0));
+  hybrid_flux->add_flag("--swept", flux.swept,
+                        "find mid-air collisions along the grains' paths over a step and trace impacts back "
+                        "to the bed's surface, so that --travel may exceed 0.5");
+  hybrid_flux
+      ->add_option("--travel", flux.travel, "the most a grain moves in a step, d (0.2; 1.5 with --swept)")
+      ->default_val(0.2)
+      ->check(CLI::Range(0.01, 4.0));
   hybrid_flux->add_option("--seed", flux.seed, "seed")->default_val(2021);
   hybrid_flux->add_flag("--json", json, "print the result as JSON");
   hybrid_flux->add_flag("--quiet", quiet, "no progress bar");

@@ -45,6 +45,9 @@ int hybrid_flux_command(const RipplesCommands& a) {
   if (!(o.average_from < o.duration))
     throw InputError({"--average-from", 0}, fmt::format("{}", o.average_from),
                      fmt::format("must be before the end of the run (--duration {})", o.duration));
+  if (o.travel > 0.5 && !o.swept)
+    throw InputError({"--travel", 0}, fmt::format("{}", o.travel),
+                     "above 0.5 d grains can pass through each other unseen: add --swept");
   ripples::hybrid::FluxOptions run = o;
   attach_recorded_splash(run);
   run.distributed = parallel::size() > 1;  // the ranks share the domain; the first one reports
@@ -74,6 +77,8 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"collisions", r.collisions},
                            {"splash", o.splash},
                            {"wind_loosened", o.wind_loosened},
+                           {"swept", o.swept},
+                           {"travel", o.travel},
                            {"grain_steps", r.grain_steps},
                            {"steps", r.steps},
                            {"grain_steps_per_second", rate},  // all ranks together
@@ -365,6 +370,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"splash", o.splash},
                            {"wind_follows_bed", o.wind_follows_bed},
                            {"wind_loosened", o.wind_loosened},
+                           {"swept", o.swept},
+                           {"travel", o.travel},
                            {"sizes", o.sizes},
                            {"fractions", o.fractions},
                            {"size_crest", number_or_null(last.size_crest)},

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 
@@ -580,28 +581,33 @@ TEST(HybridGrains, RemovalAndMergingKeepTheIdsAscending) {
 // The collisions of a domain split as MPI ranks split it (each part collides its own grains, then each
 // boundary between the parts is collided from both sides' edge columns) give the bits of the whole
 // domain collided at once, because pairs across block boundaries always come last and in the same order.
-TEST(HybridCollision, ASplitDomainCollidesToTheSameBits) {
+// Swept pairs too: their shifts wait until every pair is done, so the columns do not move under the pass.
+void expect_split_domain_collides_to_the_same_bits(double span, double cell) {
   const double d = 0.025;
   const grainlab::ripples::hybrid::CollisionLaw law{0.9, 0.4};
-  CollisionGrid whole_grid(40 * d, 6 * d, d);
-  whole_grid.set_blocks(8);
+  CollisionGrid whole_grid(40 * d, 6 * d, d, cell);
+  whole_grid.set_blocks(8), whole_grid.set_sweep(span);
   ASSERT_EQ(whole_grid.blocks(), 8);
   Grains whole = crowd(7, d);
   const std::uint64_t hits = whole_grid.collide_all(whole, 1.0, law);
+  whole_grid.apply_shifts(whole);
   ASSERT_GT(hits, 100u);
   // Not a test that cannot fail: with the straddling pairs done in the order they are met, the result
   // differs.
   for (long parts : {2L, 3L, 8L}) {
     Grains all = crowd(7, d);
-    CollisionGrid grid(40 * d, 6 * d, d);
-    grid.set_blocks(8);
+    CollisionGrid grid(40 * d, 6 * d, d, cell);
+    grid.set_blocks(8), grid.set_sweep(span);
+    std::vector<CollisionGrid> grids(static_cast<std::size_t>(parts), grid);  // one per rank
     auto part_of = [&](double x) { return grid.block_of(grid.column_x(x)) * parts / 8; };
     std::vector<Grains> part(static_cast<std::size_t>(parts));
     for (std::size_t i = 0; i < all.size(); ++i)
       part[static_cast<std::size_t>(part_of(all.x[i]))].add(all.x[i], all.y[i], all.z[i], all.vx[i],
                                                             all.vy[i], all.vz[i], 0, all.id[i]);
     std::uint64_t split_hits = 0;
-    for (Grains& p : part) split_hits += grid.collide_all(p, 1.0, law);
+    for (long p = 0; p < parts; ++p)
+      split_hits +=
+          grids[static_cast<std::size_t>(p)].collide_all(part[static_cast<std::size_t>(p)], 1.0, law);
     // Each part's first and last column; boundary k lies between part k and part k + 1 (periodic).
     std::vector<long> first(static_cast<std::size_t>(parts), -1), last(static_cast<std::size_t>(parts), -1);
     for (long x = 0; x < grid.columns_x(); ++x) {
@@ -614,6 +620,7 @@ TEST(HybridCollision, ASplitDomainCollidesToTheSameBits) {
       const long next = (k + 1) % parts;
       for (long side : {k, next}) {  // both sides do the boundary, each keeping its own grains' results
         Grains& own = part[static_cast<std::size_t>(side)];
+        CollisionGrid& own_grid = grids[static_cast<std::size_t>(side)];
         const std::size_t n = own.size();
         const Grains& other = before[static_cast<std::size_t>(side == k ? next : k)];
         std::vector<std::uint32_t> mine, ghosts;
@@ -629,16 +636,77 @@ TEST(HybridCollision, ASplitDomainCollidesToTheSameBits) {
             own.add(other.x[i], other.y[i], other.z[i], other.vx[i], other.vy[i], other.vz[i], 0,
                     other.id[i]);
           }
-        split_hits += side == k ? grid.collide_across(own, mine, ghosts, 1.0, law, true)
-                                : grid.collide_across(own, ghosts, mine, 1.0, law, false);
+        split_hits += side == k ? own_grid.collide_across(own, mine, ghosts, 1.0, law, true)
+                                : own_grid.collide_across(own, ghosts, mine, 1.0, law, false);
         own.truncate(n);
       }
     }
     Grains joined;
-    for (const Grains& p : part) joined.merge(p);
+    for (long p = 0; p < parts; ++p) {
+      grids[static_cast<std::size_t>(p)].apply_shifts(part[static_cast<std::size_t>(p)]);
+      joined.merge(part[static_cast<std::size_t>(p)]);
+    }
     EXPECT_EQ(by_id(joined), by_id(whole)) << parts << " parts";
     EXPECT_EQ(split_hits, hits) << parts << " parts";
   }
+}
+
+TEST(HybridCollision, ASplitDomainCollidesToTheSameBits) {
+  expect_split_domain_collides_to_the_same_bits(0, 0);
+}
+
+// Grains of the crowd move up to 87 cm/s, 0.7 d in 2e-4 s: columns of d + 1.4 d hold every pair that
+// can meet.
+TEST(HybridCollision, ASplitDomainCollidesSweptPairsToTheSameBits) {
+  expect_split_domain_collides_to_the_same_bits(2e-4, 2.4 * 0.025);
+}
+
+// Two grains head on, 3.2 d apart, closing at 6 d per step: in one step they pass through each other.
+// Overlaps at the step's end miss them; swept pairs collide them where they touched, at 2.2 d / 6 d of
+// the step, and then move them apart at the new velocities (equal masses, eps 0.9: -0.9 v and +0.9 v).
+TEST(HybridCollision, SweptPairsCatchGrainsThatPassThroughEachOther) {
+  const double d = 0.025, v = 100, dt = 3 * d / v;
+  const grainlab::ripples::hybrid::CollisionLaw law{0.9, 0.4};
+  auto after_one_step = [&](double span, Grains& g) {  // ends of the free flights, then the collisions
+    g = {};
+    g.add(10 * d + v * dt, 3 * d, 5 * d, v, 0, 0, 0, 1);
+    g.add(13.2 * d - v * dt, 3 * d, 5 * d, -v, 0, 0, 0, 2);
+    CollisionGrid grid(40 * d, 6 * d, d, d + 2 * v * dt);
+    grid.set_sweep(span);
+    const std::uint64_t hits = grid.collide_all(g, 1.0, law);
+    grid.apply_shifts(g);
+    return hits;
+  };
+  Grains g;
+  EXPECT_EQ(after_one_step(0, g), 0u);  // ended 2.8 d apart: unseen
+  ASSERT_EQ(after_one_step(dt, g), 1u);
+  const double contact = 2.2 * d / (2 * v), rest = dt - contact;
+  EXPECT_NEAR(g.vx[0], -0.9 * v, 1e-9);
+  EXPECT_NEAR(g.vx[1], 0.9 * v, 1e-9);
+  EXPECT_NEAR(g.x[0], 10 * d + v * contact - 0.9 * v * rest, 1e-12);
+  EXPECT_NEAR(g.x[1], 13.2 * d - v * contact + 0.9 * v * rest, 1e-12);
+  EXPECT_NEAR(g.x[1] - g.x[0], d + 1.8 * v * rest, 1e-12);  // apart, and separating
+  // Grains that only pass by (3 d apart across the wind) stay untouched.
+  Grains by;
+  by.add(10 * d + v * dt, 3 * d, 5 * d, v, 0, 0, 0, 1);
+  by.add(13.2 * d - v * dt, 3 * d, 8 * d, -v, 0, 0, 0, 2);
+  CollisionGrid grid(40 * d, 6 * d, d, d + 2 * v * dt);
+  grid.set_sweep(dt);
+  EXPECT_EQ(grid.collide_all(by, 1.0, law), 0u);
+}
+
+// An impact traced back along a straight path to a sloping surface z = 0.3 x: the first point of the
+// path whose bottom touches it, b = (z - r - 0.3 x) / (v_z - 0.3 v_x) seconds back.
+TEST(HybridFlux, ImpactsAreTracedBackToTheSurface) {
+  using grainlab::ripples::hybrid::time_since_crossing;
+  auto slope = [](double x, double) { return 0.3 * x; };
+  const double r = 0.0125;
+  const std::array<double, 3> p{1.0, 0.2, 0.29}, v{300, 10, -60};  // bottom 0.0225 below the surface
+  const double exact = (p[2] - r - 0.3 * p[0]) / (v[2] - 0.3 * v[0]);
+  EXPECT_NEAR(time_since_crossing(p, v, r, 1e-3, slope), exact, 1e-12);
+  EXPECT_GT(exact, 0);
+  EXPECT_EQ(time_since_crossing(p, v, r, 0.5 * exact, slope), 0);       // below the surface a span ago too
+  EXPECT_EQ(time_since_crossing(p, {300, 10, 60}, r, 1e-3, slope), 0);  // rising: not an impact
 }
 
 // On one process the grain count the transport keeps from its splashes is the grains it holds.

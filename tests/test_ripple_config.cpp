@@ -182,6 +182,9 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   EXPECT_NE(error_of("[hybrid]\nejecta_launch = \"up\"\n").find("ejecta_launch"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nwind_follows_bed = 1\n").find("wind_follows_bed"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nwidth = 5\ncell = 2\n").find("cell"), std::string::npos);
+  EXPECT_NE(error_of("[hybrid]\ntravel = 1.5\n").find("travel"), std::string::npos);  // needs swept
+  EXPECT_NE(error_of("[hybrid]\nswept = true\ntravel = 5\n").find("travel"), std::string::npos);
+  EXPECT_EQ(parse_hybrid_config(good + "swept = true\ntravel = 1.5\n", "h.toml").options.travel, 1.5);
   EXPECT_NE(error_of("[hybrid]\nduration = 10\nframe_every = 20\n").find("frame_every"), std::string::npos);
   EXPECT_NE(error_of("[bins]\nbins = 20\n").find("[hybrid]"), std::string::npos);
   // Beds of several sizes: one fraction per size, summing to 1; a cell wide enough for the largest grain.

@@ -62,9 +62,9 @@ void unpack_grains(const double* v, std::size_t count, Grains& into) {
     into.add(v[1], v[2], v[3], v[4], v[5], v[6], static_cast<int>(v[7]), static_cast<std::uint64_t>(v[0]));
 }
 
-CollisionGrid::CollisionGrid(double length, double width, double d)
-    : nx_(std::max(3L, static_cast<long>(length / d))),
-      ny_(std::max(3L, static_cast<long>(width / d))),
+CollisionGrid::CollisionGrid(double length, double width, double d, double cell)
+    : nx_(std::max(3L, static_cast<long>(length / std::max(d, cell)))),
+      ny_(std::max(3L, static_cast<long>(width / std::max(d, cell)))),
       inv_hx_(static_cast<double>(nx_) / length),
       inv_hy_(static_cast<double>(ny_) / width),
       d_(d),
@@ -94,6 +94,7 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
   const std::size_t n = g.size();
   if (head_.empty()) head_.assign(static_cast<std::size_t>(nx_ * ny_), kNone);
   next_.resize(n), column_.resize(n);
+  if (sweep_ > 0) shift_.assign(3 * n, 0.0);
   for (std::uint32_t i = 0; i < n; ++i) {
     const long ix = std::min(nx_ - 1, static_cast<long>(g.x[i] * inv_hx_));
     const long iy = std::min(ny_ - 1, static_cast<long>(g.y[i] * inv_hy_));
@@ -112,8 +113,8 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
       for (std::uint32_t j = head_[o]; j != kNone; j = next_[j])
         if (!edge || off[0] == 0)
           hits += pair<kMixed>(g, i, j, m, law);
-        else if (Separation s; overlap<kMixed>(g, i, j, s))  // across a block boundary: after all within
-          across_.emplace_back(i, j);
+        else if (Separation s; sweep_ > 0 || overlap<kMixed>(g, i, j, s))  // across a block boundary:
+          across_.emplace_back(i, j);  // after all within (swept: every candidate, as velocities change)
     }
   }
   for (std::uint32_t i = 0; i < n; ++i) head_[column_[i]] = kNone;
@@ -141,25 +142,65 @@ std::uint64_t CollisionGrid::collide_across(Grains& g, const std::vector<std::ui
 
 template <bool kMixed>
 bool CollisionGrid::overlap(const Grains& g, std::size_t i, std::size_t j, Separation& s) const {
+  double reach = d_;
+  if constexpr (kMixed) reach = 0.5 * (diameters_[g.kind[i]] + diameters_[g.kind[j]]);
+  if (sweep_ > 0) return swept_contact<kMixed>(g, i, j, reach, s);
   s.dz = g.z[j] - g.z[i];
   if (s.dz >= d_ || s.dz <= -d_) return false;
   s.dx = nearest(g.x[j] - g.x[i], length_), s.dy = nearest(g.y[j] - g.y[i], width_);
   s.r2 = s.dx * s.dx + s.dy * s.dy + s.dz * s.dz;
-  double reach = d_;
-  if constexpr (kMixed) reach = 0.5 * (diameters_[g.kind[i]] + diameters_[g.kind[j]]);
   return s.r2 < reach * reach && s.r2 > 0;
 }
 
+// The separation b seconds ago is r - w b (r now, w the relative velocity): they touch where
+// a b^2 - 2 B b + c = 0 (a = w.w, B = r.w, c = r.r - reach^2); the first contact is the larger root.
 template <bool kMixed>
-bool CollisionGrid::pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) const {
+bool CollisionGrid::swept_contact(const Grains& g, std::size_t i, std::size_t j, double reach,
+                                  Separation& s) const {
+  const double wz = g.vz[j] - g.vz[i], dz = g.z[j] - g.z[i], dz_start = dz - wz * sweep_;
+  if ((dz >= reach && dz_start >= reach) || (dz <= -reach && dz_start <= -reach)) return false;
+  const double dx = nearest(g.x[j] - g.x[i], length_), dy = nearest(g.y[j] - g.y[i], width_);
+  const double wx = g.vx[j] - g.vx[i], wy = g.vy[j] - g.vy[i];
+  const double a = wx * wx + wy * wy + wz * wz, b = dx * wx + dy * wy + dz * wz;
+  const double c = dx * dx + dy * dy + dz * dz - reach * reach;
+  if (c >= 0) {                            // apart now: were they closer than reach within the span?
+    if (!(a > 0) || b <= 0) return false;  // nearest now
+    const double nearest_at = std::min(b / a, sweep_);
+    if (c - nearest_at * (2 * b - a * nearest_at) >= 0) return false;
+  }
+  const double root = a > 0 ? (b + std::sqrt(std::max(0.0, b * b - a * c))) / a : 0;
+  s.back = std::min(root, sweep_);
+  s.dx = dx - wx * s.back, s.dy = dy - wy * s.back, s.dz = dz - wz * s.back;
+  s.r2 = s.dx * s.dx + s.dy * s.dy + s.dz * s.dz;
+  return s.r2 > 0;
+}
+
+template <bool kMixed>
+bool CollisionGrid::pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) {
   Separation s;
   if (!overlap<kMixed>(g, i, j, s)) return false;
   double mi = m, mj = m;
   if constexpr (kMixed) mi = masses_[g.kind[i]], mj = masses_[g.kind[j]];
   Vec3 v1{g.vx[i], g.vy[i], g.vz[i]}, v2{g.vx[j], g.vy[j], g.vz[j]};
+  const Vec3 u1 = v1, u2 = v2;
   if (!collide(v1, v2, mi, mj, Vec3{s.dx, s.dy, s.dz} / std::sqrt(s.r2), law)) return false;
   g.vx[i] = v1.x(), g.vy[i] = v1.y(), g.vz[i] = v1.z(), g.vx[j] = v2.x(), g.vy[j] = v2.y(), g.vz[j] = v2.z();
+  if (s.back > 0) {  // swept: since the contact they have moved at their new velocities
+    if (shift_.size() < 3 * (std::max(i, j) + 1)) shift_.resize(3 * (std::max(i, j) + 1), 0.0);
+    for (int k = 0; k < 3; ++k) {
+      shift_[3 * i + k] += s.back * (v1[k] - u1[k]);
+      shift_[3 * j + k] += s.back * (v2[k] - u2[k]);
+    }
+  }
   return true;
+}
+
+void CollisionGrid::apply_shifts(Grains& g) {
+  for (std::size_t i = 0; i < g.size() && 3 * i + 2 < shift_.size(); ++i) {
+    g.x[i] = into(g.x[i] + shift_[3 * i], length_), g.y[i] = into(g.y[i] + shift_[3 * i + 1], width_);
+    g.z[i] += shift_[3 * i + 2];
+  }
+  shift_.clear();
 }
 
 }  // namespace grainlab::ripples::hybrid

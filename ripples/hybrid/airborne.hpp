@@ -55,8 +55,9 @@ inline double into(double x, double period) {
 // holds a grain or two whose z test rejects most pairs.
 class CollisionGrid {
  public:
-  // d: the largest grain diameter (the columns' width).
-  CollisionGrid(double length, double width, double d);
+  // d: the largest grain diameter; cell: the columns' width, at least d (wider when pairs are swept over
+  // a step, so that two grains that meet within it are in neighbouring columns at its end).
+  CollisionGrid(double length, double width, double d, double cell = 0);
   // Grains of several sizes: diameter and mass per size class (Grains::kind); without, all grains are
   // equal, of diameter d and the mass collide_all is given.
   void set_sizes(std::vector<double> diameters, std::vector<double> masses);
@@ -68,6 +69,19 @@ class CollisionGrid {
   long column_x(double x) const { return std::min(nx_ - 1, static_cast<long>(x * inv_hx_)); }
   long column_y(double y) const { return std::min(ny_ - 1, static_cast<long>(y * inv_hy_)); }
   long block_of(long column_x) const { return column_x * blocks_ / nx_; }
+  // Swept pairs (`span` > 0): two grains collide if their straight paths over the last `span` seconds
+  // (back from where they are, at their present velocities) brought them into contact, however far they
+  // passed through each other; they are collided at the first contact. Since then they have moved at
+  // their new velocities: the shift in position that makes is kept per grain and applied by
+  // apply_shifts once every pair is done, so that the columns, and with them which pairs straddle
+  // which boundary, stay as they were when the pass began, on any split of the domain. `span` 0: they
+  // collide only if they overlap now (the paper's rule, for steps over which no grain moves more than a
+  // fraction of a diameter). The columns must be at least d plus the largest relative travel over the
+  // span wide.
+  void set_sweep(double span) { sweep_ = span; }
+  // Swept pairs: moves the first g.size() grains by the shifts their collisions gave them, and forgets
+  // the shifts (those of ghost grains appended for collide_across and removed since).
+  void apply_shifts(Grains& g);
   // Collides every overlapping, approaching pair of g's grains: those within a block, then those across
   // block boundaries; returns how many collided.
   std::uint64_t collide_all(Grains& g, double m, const CollisionLaw& law);
@@ -82,21 +96,26 @@ class CollisionGrid {
   template <bool kMixed>
   std::uint64_t collide_as(Grains& g, double m, const CollisionLaw& law);
   struct Separation {
-    double dx, dy, dz, r2;  // from grain i to grain j (nearest periodic image)
+    double dx, dy, dz, r2;  // from grain i to grain j (nearest periodic image), at contact
+    double back = 0;        // swept: how long before now they touched
   };
-  // Whether grains i and j overlap (and are apart at all); `s` gets their separation.
+  // Whether grains i and j overlap (swept: touched within the span) and are apart at all; `s` gets
+  // their separation at contact.
   template <bool kMixed>
   bool overlap(const Grains& g, std::size_t i, std::size_t j, Separation& s) const;
   template <bool kMixed>
-  bool pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) const;
+  bool pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law);
   long nx_, ny_, blocks_ = 1;
   std::vector<char> edge_;  // per x column: the last of its block (its pairs ahead in x cross a boundary)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> across_;  // straddling pairs, in order, to do last
-  double inv_hx_, inv_hy_, d_, length_, width_;
+  template <bool kMixed>
+  bool swept_contact(const Grains& g, std::size_t i, std::size_t j, double reach, Separation& s) const;
+  double inv_hx_, inv_hy_, d_, length_, width_, sweep_ = 0;
   std::vector<double> diameters_, masses_;
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};
   std::vector<std::uint32_t> head_;           // per column: the last grain chained into it, or kNone
   std::vector<std::uint32_t> next_, column_;  // per grain: the grain chained before it, its column
+  std::vector<double> shift_;                 // swept: per grain, x y z to move once the pass is done
 };
 
 }  // namespace grainlab::ripples::hybrid

@@ -93,6 +93,10 @@ void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
   o.collision_friction = r.number_or("collision_friction", o.collision_friction, Range::non_negative());
   o.triggers = static_cast<int>(r.integer_or("triggers", o.triggers, 1, 10000000));
   o.dt_max = r.number_or("dt_max", o.dt_max, Range{0, 1, true});
+  o.swept = r.boolean_or("swept", o.swept);
+  o.travel = r.number_or("travel", o.travel, Range{0, 4, true});
+  if (!o.swept && o.travel > 0.5)
+    r.fail("travel", "above 0.5 d grains can pass through each other unseen: set swept = true with it");
   o.duration = r.number_or("duration", o.duration, Range{0, 1e9, true});
   o.frame_every = r.number_or("frame_every", o.frame_every, Range{0, 1e9, true});
   o.sample_every = r.number_or("sample_every", o.sample_every, Range{0, 1e9, true});

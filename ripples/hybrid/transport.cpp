@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <stdexcept>
 
@@ -18,6 +19,10 @@ void check_transport_options(const TransportOptions& o) {
     if (!(v > 0) || !std::isfinite(v))
       throw std::invalid_argument("every size, density, speed and time of the hybrid model must be positive");
   if (o.triggers < 1) throw std::invalid_argument("triggers must be at least 1");
+  if (!(o.travel > 0) || !(o.travel <= 4)) throw std::invalid_argument("travel must be in (0, 4] diameters");
+  if (!o.swept && o.travel > 0.5)
+    throw std::invalid_argument(
+        "a travel above 0.5 d lets grains pass through each other unseen: it needs swept = true");
   if (!(o.loosened_floor > 0) || !(o.loosened_floor <= 1))
     throw std::invalid_argument("loosened_floor must be in (0, 1]");
   if (o.sizes.size() != o.fractions.size() || o.sizes.size() > 8)
@@ -48,10 +53,16 @@ WindColumnParams wind_params(const TransportOptions& o) {
 double largest_size(const TransportOptions& o) {
   return o.sizes.empty() ? 1.0 : *std::max_element(o.sizes.begin(), o.sizes.end());
 }
+// The collision grid's column width, cm: the largest grain, and with swept pairs also the most two
+// grains can close on each other in a step (each moves at most `travel`).
+double collision_cell(const TransportOptions& o) {
+  return o.diameter * (largest_size(o) + (o.swept ? 2 * o.travel : 0));
+}
 }  // namespace
 
 long max_ranks(const TransportOptions& o) {
-  CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o));
+  CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o),
+                     collision_cell(o));
   grid.set_blocks(kCollisionBlocks);  // (fewer where the domain is short)
   return grid.blocks();
 }
@@ -62,7 +73,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
       splash_(LammelParameters::named(o.recorded ? "paper2021" : o.splash)),
       wind_(wind_params(o)),
       rng_(o.seed),
-      grid_(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o)),
+      grid_(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o), collision_cell(o)),
       law_{o.collision_restitution, o.collision_friction} {
   d_ = o.diameter, s_ = o.grain_density / o.fluid_density, g_hat_ = (1 - 1 / s_) * o.g;
   t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
@@ -170,12 +181,14 @@ double Transport::tau_threshold() const {
 }
 
 void Transport::step() {
-  // The step: no grain moves more than 0.2 d (the fastest of the last step's grains and of any launched
-  // since, by the splash's bound) and no more than dt_max sqrt(d / g).
+  // The step: no grain moves more than `travel` d (the fastest of the last step's grains and of any
+  // launched since, by the splash's bound) and no more than dt_max sqrt(d / g).
   const double v2max = std::max(v2_next_, v2_launch_);
   v2_next_ = 0, v2_launch_ = 0;
   const double dt =
-      std::min(o_.dt_max * std::sqrt(d_ / o_.g), v2max > 0 ? 0.2 * d_ / std::sqrt(v2max) : 1e300);
+      std::min(o_.dt_max * std::sqrt(d_ / o_.g), v2max > 0 ? o_.travel * d_ / std::sqrt(v2max) : 1e300);
+  dt_ = dt;
+  grid_.set_sweep(o_.swept ? dt : 0);
   move_grains(dt);
   grain_steps += airborne_, ++steps;
   if (ranks_ > 1) migrate();
@@ -272,6 +285,7 @@ void Transport::move_grains_as(double dt) {
 void Transport::collide() {
   collisions += grid_.collide_all(grains_, m_, law_);
   if (ranks_ > 1) collide_rank_edges();
+  if (o_.swept) grid_.apply_shifts(grains_);
 }
 
 // The block boundaries between this rank and its neighbours: each side sends the grains of its edge
@@ -319,10 +333,31 @@ void Transport::launch(double x, double y, double bed_height, double vx, double 
   v2_launch_ = std::max(v2_launch_, vx * vx + vy * vy + vz * vz);
 }
 
-void Transport::rebound(const Hit& h, double z, double vx, double vy, double vz) {
+void Transport::rebound(const Hit& h, double x, double y, double z, double vx, double vy, double vz) {
   if (h.local < 0) return;
   const auto i = static_cast<std::size_t>(h.local);
-  grains_.z[i] = z, grains_.vx[i] = vx, grains_.vy[i] = vy, grains_.vz[i] = vz;
+  grains_.x[i] = x, grains_.y[i] = y, grains_.z[i] = z;
+  grains_.vx[i] = vx, grains_.vy[i] = vy, grains_.vz[i] = vz;
+}
+
+double time_since_crossing(const std::array<double, 3>& p, const std::array<double, 3>& v, double r,
+                           double span, const std::function<double(double, double)>& height) {
+  auto above = [&](double back) {  // the bottom's height over the surface, `back` seconds ago
+    return p[2] - v[2] * back - r - height(p[0] - v[0] * back, p[1] - v[1] * back);
+  };
+  if (!(v[2] < 0) || above(span) <= 0) return 0;
+  double lo = 0, hi = span;  // below at lo, above at hi
+  for (int k = 0; k < 50 && hi - lo > 1e-12 * span; ++k)
+    (above(0.5 * (lo + hi)) > 0 ? hi : lo) = 0.5 * (lo + hi);
+  return hi;
+}
+
+// Where a grain that ends the step with its bottom (radius r) below the bed crossed the bed's surface.
+void Transport::crossing(const Hit& h, double r, double& x, double& y) const {
+  const double back = time_since_crossing(
+      {h.x, h.y, h.z}, {h.vx, h.vy, h.vz}, r, dt_,
+      [&](double px, double py) { return bed_ ? bed_->height(into(px, length_), into(py, width_)) : 0.0; });
+  x = into(h.x - h.vx * back, length_), y = into(h.y - h.vy * back, width_);
 }
 
 // (remove_marked reads only the flags it has: grains past them, launched in this step, stay.)
@@ -388,7 +423,11 @@ void Transport::splash(Hit& h) {
   const SizeClass& c1 = classes_[static_cast<std::size_t>(k1)];
   const double r = 0.5 * c1.d, bottom = h.z - r;
   if (bed_ && bottom > bed_->height(h.x, h.y)) return;  // the splashes before this one lowered the bed
-  const BedPoint b = bed_ ? bed_->at(h.x, h.y) : BedPoint{0, 0, 0, 1};
+  // Where it met the bed: where it is, or (swept steps, long enough to carry a grain a diameter or two
+  // into the bed) where its path crossed the surface.
+  double px = h.x, py = h.y;
+  if (o_.swept) crossing(h, r, px, py);
+  const BedPoint b = bed_ ? bed_->at(px, py) : BedPoint{0, 0, 0, 1};
   const double vn = h.vx * b.nx + h.vy * b.ny + h.vz * b.nz;
   if (vn >= 0) {  // leaving the bed; buried only if the bed rose over it
     if (bed_ && bottom < b.h - c1.d) bed_->deposit(h.x, h.y, k1), settle(h);
@@ -402,11 +441,11 @@ void Transport::splash(Hit& h) {
     const double k = 1 / std::hypot(b.nz, b.nx);
     tx = b.nz * k, ty = 0, tz = -b.nx * k;
   }
-  const double theta = std::atan2(-vn, vt), px = h.x, py = h.y;
+  const double theta = std::atan2(-vn, vt);
   tally.impacts += 1, tally.speed_sum += speed, tally.angle_sum += theta;
   tally.bed_px += h.vx, tally.bed_pz -= h.vz;
   if (o_.recorded) {
-    recorded_splash(h, b, {tx, ty, tz}, speed, theta);
+    recorded_splash(h, px, py, b, {tx, ty, tz}, speed, theta);
     return;
   }
   // The bed grain it meets (its size is d2 of the splash; the ejecta are of its size).
@@ -419,7 +458,7 @@ void Transport::splash(Hit& h) {
   const double along = speed_out * std::cos(up), off = speed_out * std::sin(up);
   const double ux = along * tx + off * b.nx, uy = along * ty + off * b.ny, uz = along * tz + off * b.nz;
   if (up > 0 && uz > 0 && uz * uz > c1.rise2) {
-    rebound(h, b.h + r, ux, uy, uz);
+    rebound(h, px, py, b.h + r, ux, uy, uz);
     v2_launch_ = std::max(v2_launch_, speed_out * speed_out);
     tally.bed_px -= ux, tally.bed_pz += uz;
   } else {  // dead: it settles
@@ -457,9 +496,9 @@ void Transport::splash(Hit& h) {
 // of the triangle hit), its rebound scaled by the speed over the cell's, its ejecta launched as recorded
 // from where they sat. Frame: t along the incident motion in the bed plane, n the bed's normal, a = n x t.
 // The same rules as the Lammel splash: a rebound or ejectum that cannot rise a diameter stays.
-void Transport::recorded_splash(Hit& h, const BedPoint& b, const std::array<double, 3>& t, double speed,
-                                double theta) {
-  const double scale = std::sqrt(o_.g * d_), rise2 = rise2_, px = h.x, py = h.y;
+void Transport::recorded_splash(Hit& h, double px, double py, const BedPoint& b,
+                                const std::array<double, 3>& t, double speed, double theta) {
+  const double scale = std::sqrt(o_.g * d_), rise2 = rise2_;
   const std::array<double, 3> n{b.nx, b.ny, b.nz};
   const std::array<double, 3> a{n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
                                 n[0] * t[1] - n[1] * t[0]};
@@ -472,7 +511,7 @@ void Transport::recorded_splash(Hit& h, const BedPoint& b, const std::array<doub
   const double uz = world(hit.rebound, k, 2);
   if (hit.rebounded && uz > 0 && uz * uz > rise2) {
     const double ux = world(hit.rebound, k, 0), uy = world(hit.rebound, k, 1);
-    rebound(h, b.h + 0.5 * d_, ux, uy, uz);
+    rebound(h, px, py, b.h + 0.5 * d_, ux, uy, uz);
     v2_launch_ = std::max(v2_launch_, ux * ux + uy * uy + uz * uz);
     tally.bed_px -= ux, tally.bed_pz += uz;
   } else {  // dead: it settles

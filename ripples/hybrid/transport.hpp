@@ -7,6 +7,7 @@
 // that the grains that settle and leave change (the ripple runs).
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -31,9 +32,15 @@ struct TransportOptions {
   double u_star = 40;                              // cm/s
   double length = 400, width = 10, height = 1200;  // domain in diameters (x streamwise, y, wind column)
   int triggers = 40;                               // grains thrown at the start (random places, 20 d/s up)
-  double dt_max = 0.02;                            // in sqrt(d / g); also |v| dt < 0.2 d
-  double wind_interval = 1;                        // t* between wind updates
-  double wind_memory = 20;                         // t*: the grains' drag is a running mean over this
+  double dt_max = 0.02;                            // in sqrt(d / g); also |v| dt < travel d
+  // The most a grain moves in a step, d. The paper's bound, 0.2, keeps mid-air collisions found by
+  // overlaps at the steps' ends. With `swept`, pairs are found by their paths over the step and impacts
+  // are traced back to where the grain crossed the bed, so a grain may move further (1.5: the step of
+  // dt_max for grains up to 75 sqrt(g d), about seven times fewer steps per t*; docs/ripples.md).
+  double travel = 0.2;
+  bool swept = false;
+  double wind_interval = 1;  // t* between wind updates
+  double wind_memory = 20;   // t*: the grains' drag is a running mean over this
   bool collisions = true;
   double collision_restitution = 0.9, collision_friction = 0.4;
   std::string splash = "paper2021";  // LammelParameters::named; with `recorded`, the file's name
@@ -81,6 +88,13 @@ std::vector<double> grid_values(const SampleTable& t);
 
 // Throws std::invalid_argument for options that cannot run.
 void check_transport_options(const TransportOptions& o);
+
+// How long before now a grain at p moving straight at v had its bottom (radius r) on the surface
+// height(x, y): the first point of its path back from p that touches the surface, searched to `span`
+// seconds back (gravity bends a step's path by only g dt^2 ~ 4e-4 d). 0 when it is not descending or
+// was below the surface `span` ago too. Swept steps trace impacts back with it.
+double time_since_crossing(const std::array<double, 3>& p, const std::array<double, 3>& v, double r,
+                           double span, const std::function<double(double, double)>& height);
 
 // Impacts counted since the caller last cleared them.
 struct ImpactTally {
@@ -148,11 +162,13 @@ class Transport {
   std::vector<Hit> hits();  // every rank's, in ascending id
   void impacts();
   void splash(Hit& h);
-  void rebound(const Hit& h, double z, double vx, double vy, double vz);
+  void rebound(const Hit& h, double x, double y, double z, double vx, double vy, double vz);
+  void crossing(const Hit& h, double r, double& x, double& y) const;
   void settle(const Hit& h);
   void launch(double x, double y, double bed_height, double vx, double vy, double vz, int kind);
   int bed_kind(double x, double y);  // the size class of the bed grain an impact at (x, y) meets
-  void recorded_splash(Hit& h, const BedPoint& b, const std::array<double, 3>& t, double speed, double theta);
+  void recorded_splash(Hit& h, double px, double py, const BedPoint& b, const std::array<double, 3>& t,
+                       double speed, double theta);
   bool mine(double x) const { return owner_[static_cast<std::size_t>(grid_.column_x(x))] == rank_; }
   std::vector<std::int64_t> summed(const std::vector<std::int64_t>& v) const;  // over the ranks, exactly
   void update_wind();
@@ -190,7 +206,7 @@ class Transport {
   Grains grains_;
   CollisionGrid grid_;
   CollisionLaw law_;
-  double t_ = 0, next_wind_ = 0, since_wind_ = 0, v2_next_ = 0, v2_launch_ = 0;
+  double t_ = 0, next_wind_ = 0, since_wind_ = 0, v2_next_ = 0, v2_launch_ = 0, dt_ = 0;
 };
 
 }  // namespace grainlab::ripples::hybrid
