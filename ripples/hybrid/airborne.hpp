@@ -102,14 +102,17 @@ class CollisionGrid {
   // Whether grains i and j overlap (swept: touched within the span) and are apart at all; `s` gets
   // their separation at contact.
   template <bool kMixed>
-  bool overlap(const Grains& g, std::size_t i, std::size_t j, Separation& s) const;
+  [[gnu::always_inline]] inline bool overlap(const Grains& g, std::size_t i, std::size_t j,
+                                             Separation& s) const;
   template <bool kMixed>
-  bool pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law);
+  [[gnu::always_inline]] inline bool pair(Grains& g, std::size_t i, std::size_t j, double m,
+                                          const CollisionLaw& law);
   long nx_, ny_, blocks_ = 1;
   std::vector<char> edge_;  // per x column: the last of its block (its pairs ahead in x cross a boundary)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> across_;  // straddling pairs, in order, to do last
   template <bool kMixed>
-  bool swept_contact(const Grains& g, std::size_t i, std::size_t j, double reach, Separation& s) const;
+  [[gnu::always_inline]] inline bool swept_contact(const Grains& g, std::size_t i, std::size_t j,
+                                                   double reach, Separation& s) const;
   double inv_hx_, inv_hy_, d_, length_, width_, sweep_ = 0;
   std::vector<double> diameters_, masses_;
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};
