@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "collision.hpp"
 #include "ensemble.hpp"
@@ -125,8 +126,8 @@ double fit_threshold(std::vector<FluxResult> runs) {
 }
 
 // Returns u_d*, the u* at the measured S_d (cm/s).
-double flux_checks(Report& rep, const FluxOptions& base, bool quick, const SuiteOptions& so,
-                   std::string& md) {
+double flux_checks(Report& rep, const FluxOptions& base, bool quick, const SuiteOptions& so, std::string& md,
+                   std::map<double, FluxResult>& by_ustar) {
   const std::vector<double> ustars =
       quick ? std::vector<double>{26, 30, 40, 50} : std::vector<double>{24, 26, 30, 35, 40, 50, 60, 70};
   std::vector<FluxResult> runs;
@@ -135,6 +136,7 @@ double flux_checks(Report& rep, const FluxOptions& base, bool quick, const Suite
     o.u_star = u;
     if (so.log) so.log(fmt::format("hybrid flux run: u* = {} cm/s, {} t*", u, o.duration));
     runs.push_back(run_flux(o));
+    by_ustar[u] = runs.back();
   }
   std::vector<FluxResult> moving;
   for (const FluxResult& r : runs)
@@ -176,6 +178,40 @@ double flux_checks(Report& rep, const FluxOptions& base, bool quick, const Suite
   rep.plots.push_back(plot);
   md += "\n";
   return ustars.front() * std::sqrt(sd / runs.front().shields);  // S goes as u*^2
+}
+
+// Swept steps (1.5 d per step, pairs found along their paths, impacts traced back to the bed) against
+// the paper's 0.2 d steps on the same flat-bed flux runs: the same flux and impacts at a fraction of the
+// steps. The band, 10 %: on these 400 d x 10 d runs Q* moves by up to 6 % from one seed to another
+// (docs/ripples.md, "Swept steps").
+void swept_checks(Report& rep, const FluxOptions& base, const SuiteOptions& so, std::string& md,
+                  const std::map<double, FluxResult>& paper_steps) {
+  md +=
+      "Swept steps (`swept = true`, `travel = 1.5`) against the paper's 0.2 d steps, same runs:\n\n| u* "
+      "(cm/s) | "
+      "Q* 0.2 d / swept | impact speed (cm/s) | mid-air collisions | steps | wall (s) "
+      "|\n|---|---|---|---|---|---|\n";
+  for (double u : {40.0, 50.0}) {
+    const auto it = paper_steps.find(u);
+    if (it == paper_steps.end()) continue;
+    FluxOptions o = base;
+    o.u_star = u, o.swept = true, o.travel = 1.5;
+    if (so.log) so.log(fmt::format("hybrid flux run, swept steps: u* = {} cm/s, {} t*", u, o.duration));
+    const FluxResult r = run_flux(o), &p = it->second;
+    md += fmt::format("| {:g} | {:.5f} / {:.5f} | {:.1f} / {:.1f} | {} / {} | {} / {} | {:.1f} / {:.1f} |\n",
+                      u, p.mass_flux_star, r.mass_flux_star, p.mean_impact_speed, r.mean_impact_speed,
+                      p.collisions, r.collisions, p.steps, r.steps, p.wall_seconds, r.wall_seconds);
+    rep.expect_near(fmt::format("hybrid/swept/flux/u*={:g}", u), "hybrid",
+                    r.mass_flux_star / p.mass_flux_star, 1, 0.1,
+                    "Q* with swept 1.5 d steps over Q* with the paper's 0.2 d steps");
+    rep.expect_near(fmt::format("hybrid/swept/impact-speed/u*={:g}", u), "hybrid",
+                    r.mean_impact_speed / p.mean_impact_speed, 1, 0.05,
+                    "mean impact speed, swept steps over the paper's steps");
+    rep.expect_below(fmt::format("hybrid/swept/steps/u*={:g}", u), "hybrid",
+                     static_cast<double>(r.steps) / static_cast<double>(p.steps), 0.2,
+                     "steps per t*, swept over the paper's: at least five times fewer");
+  }
+  md += "\n";
 }
 
 // The largest height difference between neighbouring key points, in key-point spacings.
@@ -462,7 +498,9 @@ void run_hybrid_suite(Report& rep, const SuiteOptions& so) {
   FluxOptions base;
   base.duration = so.quick ? 1200 : 6000, base.average_from = so.quick ? 600 : 2000;
   wind_checks(rep, base);
-  const double u_d = flux_checks(rep, base, so.quick, so, md);
+  std::map<double, FluxResult> by_ustar;
+  const double u_d = flux_checks(rep, base, so.quick, so, md, by_ustar);
+  swept_checks(rep, base, so, md, by_ustar);
   ripple_checks(rep, so.quick, so, md);
   if (!so.quick) initial_wavelength_checks(rep, u_d, so, md);
   if (so.log) so.log("hybrid seeded wave: 200 d x 8 d, 4000 t*, two winds");
