@@ -246,6 +246,7 @@ void Transport::move_grains(double dt) {
 template <bool kFollowsBed, bool kMixed>
 void Transport::move_grains_as(double dt) {
   const double base = base_, g_hat = g_hat_;
+  const bool swept = o_.swept;
   double drag_a = drag_a_, drag_b = drag_b_;
   // Per grain-step, in the fixed-point units: the drag is this times (f1 + f2); the volume is constant.
   double drag_unit = m_ * 0.5 * dt * drag_scale_;
@@ -264,19 +265,27 @@ void Transport::move_grains_as(double dt) {
       drag_a = c.drag_a, drag_b = c.drag_b, drag_unit = c.m * 0.5 * dt * drag_scale_;
       volume_step = static_cast<std::int64_t>(c.volume * dt * volume_scale_);
     }
-    // The wind column's origin under this grain: the mean bed level, or the bed beneath it.
-    double shift = 0;
-    if constexpr (kFollowsBed) shift = bed_->height(g.x[i], g.y[i]) - base;
+    // The wind column's origin under this grain: the mean bed level, or the bed beneath it. A swept step
+    // carries a grain over 1.5 d of bed, whose height changes by a tenth of a diameter or more on a
+    // ripple's flank, where the wind near the bed changes fast with height: there the second stage reads
+    // the wind over the bed where that stage stands.
+    double shift = 0, shift2 = 0;
+    if constexpr (kFollowsBed) {
+      shift = bed_->height(g.x[i], g.y[i]) - base, shift2 = shift;
+      if (swept)
+        shift2 =
+            bed_->height(into(g.x[i] + dt * g.vx[i], length_), into(g.y[i] + dt * g.vy[i], width_)) - base;
+    }
     const double z = g.z[i] - shift;
     const double f1 = accel(z, g.vx[i], g.vy[i], g.vz[i], ax, ay, az);
     const double wx = g.vx[i] + dt * ax, wy = g.vy[i] + dt * ay, wz = g.vz[i] + dt * az;
-    const double f2 = accel(z + dt * g.vz[i], wx, wy, wz, bx, by, bz);
+    const double f2 = accel(z + dt * g.vz[i] - (shift2 - shift), wx, wy, wz, bx, by, bz);  // (- 0: same bits)
     g.x[i] += 0.5 * dt * (g.vx[i] + wx), g.y[i] += 0.5 * dt * (g.vy[i] + wy),
         g.z[i] += 0.5 * dt * (g.vz[i] + wz);
     g.vx[i] += 0.5 * dt * (ax + bx), g.vy[i] += 0.5 * dt * (ay + by), g.vz[i] += 0.5 * dt * (az + bz);
     g.x[i] = into(g.x[i], length_), g.y[i] = into(g.y[i], width_);
     v2_next_ = std::max(v2_next_, g.vx[i] * g.vx[i] + g.vy[i] * g.vy[i] + g.vz[i] * g.vz[i]);
-    const std::size_t k = wind_.bin(g.z[i] - shift - base);
+    const std::size_t k = wind_.bin(g.z[i] - shift2 - base);
     drag_now_[k] += static_cast<std::int64_t>(drag_unit * (f1 + f2));
     volume_now_[k] += volume_step;
   }
