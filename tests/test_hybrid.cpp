@@ -601,7 +601,7 @@ TEST(HybridGrains, RemovalAndMergingKeepTheIdsAscending) {
 void expect_split_domain_collides_to_the_same_bits(double span, double cell) {
   const double d = 0.025;
   const grainlab::ripples::hybrid::CollisionLaw law{0.9, 0.4};
-  CollisionGrid whole_grid(40 * d, 6 * d, d, cell);
+  CollisionGrid whole_grid(40 * d, 6 * d, d, cell, cell);
   whole_grid.set_blocks(8), whole_grid.set_sweep(span);
   ASSERT_EQ(whole_grid.blocks(), 8);
   Grains whole = crowd(7, d);
@@ -612,7 +612,7 @@ void expect_split_domain_collides_to_the_same_bits(double span, double cell) {
   // differs.
   for (long parts : {2L, 3L, 8L}) {
     Grains all = crowd(7, d);
-    CollisionGrid grid(40 * d, 6 * d, d, cell);
+    CollisionGrid grid(40 * d, 6 * d, d, cell, cell);
     grid.set_blocks(8), grid.set_sweep(span);
     std::vector<CollisionGrid> grids(static_cast<std::size_t>(parts), grid);  // one per rank
     auto part_of = [&](double x) { return grid.block_of(grid.column_x(x)) * parts / 8; };

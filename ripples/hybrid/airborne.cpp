@@ -62,9 +62,9 @@ void unpack_grains(const double* v, std::size_t count, Grains& into) {
     into.add(v[1], v[2], v[3], v[4], v[5], v[6], static_cast<int>(v[7]), static_cast<std::uint64_t>(v[0]));
 }
 
-CollisionGrid::CollisionGrid(double length, double width, double d, double cell)
-    : nx_(std::max(3L, static_cast<long>(length / std::max(d, cell)))),
-      ny_(std::max(3L, static_cast<long>(width / std::max(d, cell)))),
+CollisionGrid::CollisionGrid(double length, double width, double d, double cell_x, double cell_y)
+    : nx_(std::max(3L, static_cast<long>(length / std::max(d, cell_x)))),
+      ny_(std::max(3L, static_cast<long>(width / std::max(d, cell_y)))),
       inv_hx_(static_cast<double>(nx_) / length),
       inv_hy_(static_cast<double>(ny_) / width),
       d_(d),

@@ -55,9 +55,9 @@ inline double into(double x, double period) {
 // holds a grain or two whose z test rejects most pairs.
 class CollisionGrid {
  public:
-  // d: the largest grain diameter; cell: the columns' width, at least d (wider when pairs are swept over
-  // a step, so that two grains that meet within it are in neighbouring columns at its end).
-  CollisionGrid(double length, double width, double d, double cell = 0);
+  // d: the largest grain diameter; cell_x, cell_y: the columns' widths, at least d (wider when pairs are
+  // swept over a step, so that two grains that meet within it are in neighbouring columns at its end).
+  CollisionGrid(double length, double width, double d, double cell_x = 0, double cell_y = 0);
   // Grains of several sizes: diameter and mass per size class (Grains::kind); without, all grains are
   // equal, of diameter d and the mass collide_all is given.
   void set_sizes(std::vector<double> diameters, std::vector<double> masses);
@@ -68,6 +68,8 @@ class CollisionGrid {
   long columns_y() const { return ny_; }
   long column_x(double x) const { return std::min(nx_ - 1, static_cast<long>(x * inv_hx_)); }
   long column_y(double y) const { return std::min(ny_ - 1, static_cast<long>(y * inv_hy_)); }
+  double cell_x() const { return 1 / inv_hx_; }  // cm
+  double cell_y() const { return 1 / inv_hy_; }
   long block_of(long column_x) const { return column_x * blocks_ / nx_; }
   // Swept pairs (`span` > 0): two grains collide if their straight paths over the last `span` seconds
   // (back from where they are, at their present velocities) brought them into contact, however far they

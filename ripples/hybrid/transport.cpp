@@ -53,16 +53,18 @@ WindColumnParams wind_params(const TransportOptions& o) {
 double largest_size(const TransportOptions& o) {
   return o.sizes.empty() ? 1.0 : *std::max_element(o.sizes.begin(), o.sizes.end());
 }
-// The collision grid's column width, cm: the largest grain, and with swept pairs also the most two
-// grains can close on each other in a step (each moves at most `travel`).
-double collision_cell(const TransportOptions& o) {
-  return o.diameter * (largest_size(o) + (o.swept ? 2 * o.travel : 0));
+// The collision grid's column widths in x and y, cm: the largest grain, and with swept pairs also the
+// most two grains may close on each other in a step (TransportOptions::travel).
+std::array<double, 2> collision_cells(const TransportOptions& o) {
+  const double widest = largest_size(o), travel = o.swept ? o.travel : 0;
+  return {o.diameter * (widest + 4.0 / 3.0 * travel), o.diameter * (widest + 2.0 / 3.0 * travel)};
 }
 }  // namespace
 
 long max_ranks(const TransportOptions& o) {
-  CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o),
-                     collision_cell(o));
+  const std::array<double, 2> cells = collision_cells(o);
+  CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o), cells[0],
+                     cells[1]);
   grid.set_blocks(kCollisionBlocks);  // (fewer where the domain is short)
   return grid.blocks();
 }
@@ -73,7 +75,8 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
       splash_(LammelParameters::named(o.recorded ? "paper2021" : o.splash)),
       wind_(wind_params(o)),
       rng_(o.seed),
-      grid_(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o), collision_cell(o)),
+      grid_(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o), collision_cells(o)[0],
+            collision_cells(o)[1]),
       law_{o.collision_restitution, o.collision_friction} {
   d_ = o.diameter, s_ = o.grain_density / o.fluid_density, g_hat_ = (1 - 1 / s_) * o.g;
   t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
@@ -123,6 +126,10 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
     while (r + 1 < ranks_ && (r + 1) * grid_.blocks() / ranks_ <= grid_.block_of(x)) ++r;
     owner_.push_back(r);
   }
+  // Swept steps: a grid of three columns across holds every pair in neighbouring columns, whatever the
+  // step.
+  if (o.swept && grid_.columns_x() > 3) reach_x_ = grid_.cell_x() - 2 * r_max_;
+  if (o.swept && grid_.columns_y() > 3) reach_y_ = grid_.cell_y() - 2 * r_max_;
   first_x_ = std::find(owner_.begin(), owner_.end(), rank_) - owner_.begin();
   last_x_ = std::find(owner_.rbegin(), owner_.rend(), rank_).base() - owner_.begin() - 1;
   const double lift = 20 * std::sqrt(o.g * d_);
@@ -135,6 +142,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   }
   airborne_ = next_id_;
   v2_launch_ = lift * lift;
+  spread_by(0, 0);
   next_wind_ = o.wind_interval * t_unit_;
 }
 
@@ -187,16 +195,27 @@ void Transport::step() {
   v2_next_ = 0, v2_launch_ = 0;
   const double dt =
       std::min(o_.dt_max * std::sqrt(d_ / o_.g), v2max > 0 ? o_.travel * d_ / std::sqrt(v2max) : 1e300);
-  dt_ = dt;
-  grid_.set_sweep(o_.swept ? dt : 0);
-  move_grains(dt);
+  dt_ = o_.swept ? swept_step(dt) : dt;
+  spread_ = {1e300, -1e300, 1e300, -1e300};
+  grid_.set_sweep(o_.swept ? dt_ : 0);
+  move_grains(dt_);
   grain_steps += airborne_, ++steps;
   if (ranks_ > 1) migrate();
   if (o_.collisions) collide();
   impacts();
-  t_ += dt, since_wind_ += dt;
+  t_ += dt_, since_wind_ += dt_;
   finish_step();
   if (t_ >= next_wind_) update_wind();
+}
+
+// A swept step no longer than lets two grains close on each other by the collision columns' margins,
+// from the spread of the velocities it starts with, widened by what drag and gravity can change in a
+// step (under 0.1 sqrt(g d) each at dt_max: 2 sqrt(g d) in all is ample).
+double Transport::swept_step(double dt) const {
+  const double margin = 2 * std::sqrt(o_.g * d_);
+  if (spread_[1] >= spread_[0]) dt = std::min(dt, reach_x_ / (spread_[1] - spread_[0] + margin));
+  if (spread_[3] >= spread_[2]) dt = std::min(dt, reach_y_ / (spread_[3] - spread_[2] + margin));
+  return dt;
 }
 
 // The grains in flight on all ranks: every rank did every splash, so each knows how many were launched
@@ -336,6 +355,7 @@ void Transport::collide_rank_edges() {
 void Transport::launch(double x, double y, double bed_height, double vx, double vy, double vz, int kind) {
   const std::uint64_t id = next_id_++;
   ++launched_;
+  spread_by(vx, vy);
   if (mine(x))
     grains_.add(x, y, bed_height + 0.5 * classes_[static_cast<std::size_t>(kind)].d, vx, vy, vz, kind, id);
   tally.bed_px -= vx, tally.bed_pz += vz;
@@ -343,6 +363,7 @@ void Transport::launch(double x, double y, double bed_height, double vx, double 
 }
 
 void Transport::rebound(const Hit& h, double x, double y, double z, double vx, double vy, double vz) {
+  spread_by(vx, vy);  // (on every rank: each does every splash)
   if (h.local < 0) return;
   const auto i = static_cast<std::size_t>(h.local);
   grains_.x[i] = x, grains_.y[i] = y, grains_.z[i] = z;
@@ -384,16 +405,20 @@ std::vector<Transport::Hit> Transport::hits() {
   const double top = bed_ ? bed_->top() : 0, r_max = r_max_;
   const Grains& g = grains_;
   std::vector<Hit> out;
+  const bool swept = o_.swept;
   for (std::size_t i = 0; i < g.size(); ++i) {
-    if (g.z[i] - r_max > top) continue;  // most grains, at the cost of one test
+    if (swept) spread_by(g.vx[i], g.vy[i]);  // every grain as collided: the next step starts from these
+    if (g.z[i] - r_max > top) continue;      // most grains, at the cost of one test
     const double bottom = g.z[i] - 0.5 * classes_[g.kind[i]].d;
     if (bottom > top || (bed_ && bottom > bed_->height(g.x[i], g.y[i]))) continue;
     out.push_back(
         {g.id[i], g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], static_cast<long>(i)});
   }
   if (ranks_ == 1) return out;
-  // Each rank's message: its fastest grain (the next step's size), how many hits, then each hit.
-  std::vector<double> mine{v2_next_, static_cast<double>(out.size())};
+  // Each rank's message: its fastest grain and its grains' spread of velocities (the next step's size),
+  // how many hits, then each hit.
+  std::vector<double> mine{v2_next_,   spread_[0], spread_[1],
+                           spread_[2], spread_[3], static_cast<double>(out.size())};
   for (const Hit& h : out) {
     mine.insert(mine.end(), {static_cast<double>(h.id), h.x, h.y, h.z, h.vx, h.vy, h.vz,
                              static_cast<double>(h.kind), static_cast<double>(h.local)});
@@ -402,8 +427,9 @@ std::vector<Transport::Hit> Transport::hits() {
   out.clear();
   for (std::size_t k = 0, r = 0; k < all.size(); ++r) {
     v2_next_ = std::max(v2_next_, all[k]);
-    const auto count = static_cast<std::size_t>(all[k + 1]);
-    k += 2;
+    spread_by(all[k + 1], all[k + 3]), spread_by(all[k + 2], all[k + 4]);
+    const auto count = static_cast<std::size_t>(all[k + 5]);
+    k += 6;
     for (std::size_t n = 0; n < count; ++n, k += 9) {
       const double* v = &all[k];
       const long local = static_cast<int>(r) == rank_ ? static_cast<long>(v[8]) : -1;
@@ -561,6 +587,7 @@ const std::vector<std::string> kClockColumns = {
     "t",         "next_wind", "since_wind", "v2_next",     "v2_launch", "base",
     "loosening", "rng_high",  "rng_low",    "grain_steps", "steps",     "collisions",
     "impacts",   "speed_sum", "angle_sum",  "deaths",      "ejecta"};
+const std::vector<std::string> kSpreadColumns = {"vx_least", "vx_most", "vy_least", "vy_most"};
 
 }  // namespace
 
@@ -618,10 +645,17 @@ std::vector<SampleTable> Transport::save(const std::string& prefix) const {
         static_cast<double>(rng & 0xffffffffull), static_cast<double>(grain_steps),
         static_cast<double>(steps), static_cast<double>(total_collisions()), tally.impacts, tally.speed_sum,
         tally.angle_sum, static_cast<double>(tally.deaths), static_cast<double>(tally.ejecta)}}};
-  if (!mixed_) return {grains, ids, wind, clock};
+  std::vector<SampleTable> out{grains, ids, wind, clock};
+  if (o_.swept)
+    out.push_back({prefix + "spread",
+                   "swept steps: the least and most v_x and v_y the next step starts from, cm/s",
+                   kSpreadColumns,
+                   {{spread_[0], spread_[1], spread_[2], spread_[3]}}});
+  if (!mixed_) return out;
   SampleTable kinds{prefix + "kinds", "airborne grains' size classes, in the order of grains", {"kind"}, {}};
   for (auto k : all.kind) kinds.rows.push_back({static_cast<double>(k)});
-  return {grains, ids, wind, clock, kinds};
+  out.push_back(kinds);
+  return out;
 }
 
 void Transport::restore(const std::map<std::string, SampleTable>& tables, const std::string& prefix) {
@@ -677,6 +711,12 @@ void Transport::restore(const std::map<std::string, SampleTable>& tables, const 
   grain_steps = static_cast<std::uint64_t>(c[9]), steps = static_cast<std::uint64_t>(c[10]);
   collisions = rank_ == 0 ? static_cast<std::uint64_t>(c[11]) : 0;
   tally = {c[12], c[13], c[14], static_cast<std::uint64_t>(c[15]), static_cast<std::uint64_t>(c[16])};
+  if (o_.swept) {
+    const SampleTable& spread = checkpoint_table(tables, prefix + "spread", kSpreadColumns.size());
+    if (spread.rows.size() != 1)
+      throw std::invalid_argument("the checkpoint's velocity spread is not one row");
+    for (std::size_t k = 0; k < 4; ++k) spread_[k] = spread.rows[0][k];
+  }
   // The wind as it was: solved from the same running means at the last update.
   wind_.solve(drag_mean_, volume_mean_, area_);
 }

@@ -36,7 +36,10 @@ struct TransportOptions {
   // The most a grain moves in a step, d. The paper's bound, 0.2, keeps mid-air collisions found by
   // overlaps at the steps' ends. With `swept`, pairs are found by their paths over the step and impacts
   // are traced back to where the grain crossed the bed, so a grain may move further (1.5: the step of
-  // dt_max for grains up to 75 sqrt(g d), about seven times fewer steps per t*; docs/ripples.md).
+  // dt_max for grains up to 75 sqrt(g d), about seven times fewer steps per t*; docs/ripples.md). Swept
+  // steps are also kept short enough that no two grains close on each other by more than (4/3) travel
+  // downwind or (2/3) travel across it, the collision columns' margins (grains differ in speed across the
+  // wind about half as much as along it).
   double travel = 0.2;
   bool swept = false;
   double wind_interval = 1;  // t* between wind updates
@@ -164,6 +167,12 @@ class Transport {
   void splash(Hit& h);
   void rebound(const Hit& h, double x, double y, double z, double vx, double vy, double vz);
   void crossing(const Hit& h, double r, double& x, double& y) const;
+  // Swept steps: widens the range of the grains' horizontal velocities the next step starts from.
+  void spread_by(double vx, double vy) {
+    spread_[0] = std::min(spread_[0], vx), spread_[1] = std::max(spread_[1], vx);
+    spread_[2] = std::min(spread_[2], vy), spread_[3] = std::max(spread_[3], vy);
+  }
+  double swept_step(double dt) const;
   void settle(const Hit& h);
   void launch(double x, double y, double bed_height, double vx, double vy, double vz, int kind);
   int bed_kind(double x, double y);  // the size class of the bed grain an impact at (x, y) meets
@@ -207,6 +216,10 @@ class Transport {
   CollisionGrid grid_;
   CollisionLaw law_;
   double t_ = 0, next_wind_ = 0, since_wind_ = 0, v2_next_ = 0, v2_launch_ = 0, dt_ = 0;
+  // Swept steps: the least and most v_x and v_y of the grains as the next step starts (cm/s), and how far
+  // two grains may close on each other along x and y in a step (cm): the collision columns' margins.
+  std::array<double, 4> spread_{1e300, -1e300, 1e300, -1e300};
+  double reach_x_ = 1e300, reach_y_ = 1e300;
 };
 
 }  // namespace grainlab::ripples::hybrid
