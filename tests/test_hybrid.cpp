@@ -177,7 +177,7 @@ TEST(HybridFlux, SameSeedSameRunAndTransportNeedsWind) {
 
 // Swept steps of 1.5 d carry the same saturated flux and impacts as the paper's 0.2 d steps, in at least
 // five times fewer steps (u* = 40 cm/s, 400 d x 10 d, 1200 t*; the seed-to-seed spread of Q* on these
-// runs is up to 6 %, of the impact speed under 2 %). A travel above 0.5 d without them is refused.
+// runs is 1-3 % at u* = 40-60, of the impact speed under 2 %). A travel above 0.5 d without them is refused.
 TEST(HybridFlux, SweptStepsCarryThePaperStepsFlux) {
   FluxOptions o;
   o.duration = 1200, o.average_from = 600;

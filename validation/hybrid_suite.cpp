@@ -182,8 +182,8 @@ double flux_checks(Report& rep, const FluxOptions& base, bool quick, const Suite
 
 // Swept steps (1.5 d per step, pairs found along their paths, impacts traced back to the bed) against
 // the paper's 0.2 d steps on the same flat-bed flux runs: the same flux and impacts at a fraction of the
-// steps. The band, 10 %: on these 400 d x 10 d runs Q* moves by up to 6 % from one seed to another
-// (docs/ripples.md, "Swept steps").
+// steps. The band, 10 %: on these 400 d x 10 d runs Q* moves by 1-3 % from one seed to another at
+// u* = 40-60 (docs/ripples.md, "Swept steps").
 void swept_checks(Report& rep, const FluxOptions& base, const SuiteOptions& so, std::string& md,
                   const std::map<double, FluxResult>& paper_steps) {
   md +=
