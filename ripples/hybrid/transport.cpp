@@ -53,20 +53,20 @@ WindColumnParams wind_params(const TransportOptions& o) {
 double largest_size(const TransportOptions& o) {
   return o.sizes.empty() ? 1.0 : *std::max_element(o.sizes.begin(), o.sizes.end());
 }
-// The collision grid's column widths in x and y, cm: the largest grain, and with swept pairs also the
-// most two grains may close on each other in a step (TransportOptions::travel).
-std::array<double, 2> collision_cells(const TransportOptions& o) {
+// The collision grid's column widths in x and y: the largest grain, and with swept pairs also the most
+// two grains may close on each other in a step (TransportOptions::travel).
+// The grid of a run's options, its x columns grouped into blocks (fewer where the domain is short).
+CollisionGrid collision_grid(const TransportOptions& o) {
   const double widest = largest_size(o), travel = o.swept ? o.travel : 0;
-  return {o.diameter * (widest + 4.0 / 3.0 * travel), o.diameter * (widest + 2.0 / 3.0 * travel)};
+  CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * widest,
+                     o.diameter * (widest + 4.0 / 3.0 * travel), o.diameter * (widest + 2.0 / 3.0 * travel));
+  grid.set_blocks(kCollisionBlocks);
+  return grid;
 }
 }  // namespace
 
 long max_ranks(const TransportOptions& o) {
-  const std::array<double, 2> cells = collision_cells(o);
-  CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o), cells[0],
-                     cells[1]);
-  grid.set_blocks(kCollisionBlocks);  // (fewer where the domain is short)
-  return grid.blocks();
+  return collision_grid(o).blocks();
 }
 
 Transport::Transport(const TransportOptions& o, HeightField* bed)
@@ -75,8 +75,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
       splash_(LammelParameters::named(o.recorded ? "paper2021" : o.splash)),
       wind_(wind_params(o)),
       rng_(o.seed),
-      grid_(o.length * o.diameter, o.width * o.diameter, o.diameter * largest_size(o), collision_cells(o)[0],
-            collision_cells(o)[1]),
+      grid_(collision_grid(o)),
       law_{o.collision_restitution, o.collision_friction} {
   d_ = o.diameter, s_ = o.grain_density / o.fluid_density, g_hat_ = (1 - 1 / s_) * o.g;
   t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
@@ -115,7 +114,6 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   const double dt_cap = o.dt_max * std::sqrt(d_ / o.g);
   drag_scale_ = 0x1p16 / (m_ * o.g * dt_cap), volume_scale_ = 0x1p16 / (volume_ * dt_cap);
   flux_scale_ = 0x1p32 / (m_ * std::sqrt(o.g * d_));
-  grid_.set_blocks(kCollisionBlocks);  // (fewer where the domain is short: max_ranks)
   if (o.distributed) rank_ = parallel::rank(), ranks_ = parallel::size();
   if (ranks_ > grid_.blocks())
     throw std::invalid_argument(fmt::format("a domain {} d long splits over at most {} MPI ranks, not {}",
