@@ -93,20 +93,21 @@ template <bool kMixed>
 std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw& law) {
   const std::size_t n = g.size();
   if (head_.empty()) head_.assign(static_cast<std::size_t>(nx_ * ny_), kNone);
-  next_.resize(n), column_.resize(n);
+  next_.resize(n), column_.resize(n), column_x_.resize(n), column_y_.resize(n);
   if (sweep_ > 0) shift_.assign(3 * n, 0.0);
   for (std::uint32_t i = 0; i < n; ++i) {
     const long ix = std::min(nx_ - 1, static_cast<long>(g.x[i] * inv_hx_));
     const long iy = std::min(ny_ - 1, static_cast<long>(g.y[i] * inv_hy_));
     const auto c = static_cast<std::uint32_t>(ix * ny_ + iy);
     column_[i] = c, next_[i] = head_[c], head_[c] = i;
+    column_x_[i] = static_cast<std::uint32_t>(ix), column_y_[i] = static_cast<std::uint32_t>(iy);
   }
   std::uint64_t hits = 0;
   static constexpr long kAhead[4][2] = {{1, -1}, {1, 0}, {1, 1}, {0, 1}};
   across_.clear();
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::uint32_t j = next_[i]; j != kNone; j = next_[j]) hits += pair<kMixed>(g, i, j, m, law);
-    const long ix = static_cast<long>(column_[i]) / ny_, iy = static_cast<long>(column_[i]) % ny_;
+    const long ix = column_x_[i], iy = column_y_[i];
     const bool edge = edge_[static_cast<std::size_t>(ix)];
     for (const auto& off : kAhead) {
       const auto o = static_cast<std::size_t>(wrap(ix + off[0], nx_) * ny_ + wrap(iy + off[1], ny_));

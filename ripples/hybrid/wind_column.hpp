@@ -44,12 +44,13 @@ class WindColumn {
 
  private:
   static constexpr double kBinHeight = 0.1;  // diameters
-  double mesh_at(double z) const;
+  double mesh_at(double z, std::size_t node) const;
   WindColumnParams p_;
   fluid::WindProfileInput in_;
   double h_ = 1, inv_h_ = 1, bed_stress_ = 0;
   std::size_t bins_ = 0;
   std::vector<double> z_, u_, clean_, table_;
+  std::vector<std::size_t> bin_cell_, bin_node_;  // per table bin: its mesh cell (drag), its node below
 };
 
 }  // namespace grainlab::ripples::hybrid
