@@ -93,21 +93,21 @@ template <bool kMixed>
 std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw& law) {
   const std::size_t n = g.size();
   if (head_.empty()) head_.assign(static_cast<std::size_t>(nx_ * ny_), kNone);
-  next_.resize(n), column_.resize(n), column_x_.resize(n), column_y_.resize(n);
+  next_.resize(n), column_x_.resize(n), column_y_.resize(n);
   if (sweep_ > 0) shift_.assign(3 * n, 0.0);
   for (std::uint32_t i = 0; i < n; ++i) {
     const long ix = std::min(nx_ - 1, static_cast<long>(g.x[i] * inv_hx_));
     const long iy = std::min(ny_ - 1, static_cast<long>(g.y[i] * inv_hy_));
-    column_[i] = static_cast<std::uint32_t>(ix * ny_ + iy);
     column_x_[i] = static_cast<std::uint32_t>(ix), column_y_[i] = static_cast<std::uint32_t>(iy);
   }
   // The grains come in id order, not in order of place: on a wide bed the chain heads are then read from
   // all over an array larger than the cache. Each grain's heads are fetched a few grains ahead.
   constexpr std::uint32_t kAheadOf = 8;
   const std::size_t heads = head_.size();
+  auto column = [&](std::uint32_t i) { return static_cast<std::size_t>(column_x_[i]) * ny_ + column_y_[i]; };
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (i + kAheadOf < n) __builtin_prefetch(&head_[column_[i + kAheadOf]], 1);
-    const std::uint32_t c = column_[i];
+    if (i + kAheadOf < n) __builtin_prefetch(&head_[column(i + kAheadOf)], 1);
+    const std::size_t c = column(i);
     next_[i] = head_[c], head_[c] = i;
   }
   std::uint64_t hits = 0;
@@ -115,7 +115,7 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
   across_.clear();
   for (std::uint32_t i = 0; i < n; ++i) {
     if (i + kAheadOf < n) {  // its own column's line and the next x row's (the four columns ahead)
-      const std::size_t c = column_[i + kAheadOf];
+      const std::size_t c = column(i + kAheadOf);
       __builtin_prefetch(&head_[c]), __builtin_prefetch(&head_[std::min(heads - 1, c + ny_)]);
     }
     for (std::uint32_t j = next_[i]; j != kNone; j = next_[j]) hits += pair<kMixed>(g, i, j, m, law);
@@ -130,7 +130,7 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
           across_.emplace_back(i, j);  // after all within (swept: every candidate, as velocities change)
     }
   }
-  for (std::uint32_t i = 0; i < n; ++i) head_[column_[i]] = kNone;
+  for (std::uint32_t i = 0; i < n; ++i) head_[column(i)] = kNone;
   for (const auto& [i, j] : across_) hits += pair<kMixed>(g, i, j, m, law);
   return hits;
 }

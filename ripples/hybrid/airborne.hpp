@@ -119,8 +119,8 @@ class CollisionGrid {
   std::vector<double> diameters_, masses_;
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};
   std::vector<std::uint32_t> head_;                 // per column: the last grain chained into it, or kNone
-  std::vector<std::uint32_t> next_, column_;        // per grain: the grain chained before it, its column
-  std::vector<std::uint32_t> column_x_, column_y_;  // per grain: its column's x and y (no division)
+  std::vector<std::uint32_t> next_;                 // per grain: the grain chained before it
+  std::vector<std::uint32_t> column_x_, column_y_;  // per grain: its column's x and y
   std::vector<double> shift_;                       // swept: per grain, x y z to move once the pass is done
 };
 

@@ -57,9 +57,9 @@ WindColumnParams wind_params(const TransportOptions& o) {
 double largest_size(const TransportOptions& o) {
   return o.sizes.empty() ? 1.0 : *std::max_element(o.sizes.begin(), o.sizes.end());
 }
-// The collision grid's column widths in x and y: the largest grain, and with swept pairs also the most
-// two grains may close on each other in a step (TransportOptions::travel).
-// The grid of a run's options, its x columns grouped into blocks (fewer where the domain is short).
+// The grid of a run's options: columns as wide as the largest grain, and with swept pairs also the most
+// two grains may close on each other in a step (TransportOptions::travel); its x columns grouped into
+// blocks (fewer where the domain is short).
 CollisionGrid collision_grid(const TransportOptions& o) {
   const double widest = largest_size(o), travel = o.swept ? o.travel : 0;
   CollisionGrid grid(o.length * o.diameter, o.width * o.diameter, o.diameter * widest,
@@ -274,6 +274,7 @@ struct Lanes;
 template <>
 struct Lanes<1> {
   using V = double;
+  static constexpr int kCount = 1;
   static V all(double a) { return a; }
   static V load(const std::vector<double>& a, std::size_t i) { return a[i]; }
   static V sqrt(V v) { return std::sqrt(v); }
@@ -286,6 +287,7 @@ struct Lanes<1> {
 template <>
 struct Lanes<2> {
   using V = double __attribute__((vector_size(16)));
+  static constexpr int kCount = 2;
   static V all(double a) { return V{a, a}; }
   static V load(const std::vector<double>& a, std::size_t i) { return V{a[i], a[i + 1]}; }
 #ifdef __SSE2__
@@ -323,7 +325,7 @@ void Transport::move_grains_as(double dt) {
     const SizeClass* c[kLanes] = {};
     V drag_a = L::all(drag_a_), drag_b = L::all(drag_b_);
     if constexpr (kMixed) {
-      for (int k = 0; k < static_cast<int>(sizeof(V) / sizeof(double)); ++k) c[k] = &classes_[g.kind[i + k]];
+      for (int k = 0; k < L::kCount; ++k) c[k] = &classes_[g.kind[i + k]];
       drag_a = L::each([&](int k) { return c[k]->drag_a; }),
       drag_b = L::each([&](int k) { return c[k]->drag_b; });
     }
@@ -359,7 +361,7 @@ void Transport::move_grains_as(double dt) {
     const V nx = x + 0.5 * dt * (vx + wx), ny = y + 0.5 * dt * (vy + wy), nz = z0 + 0.5 * dt * (vz + wz);
     const V ux = vx + 0.5 * dt * (ax + bx), uy = vy + 0.5 * dt * (ay + by), uz = vz + 0.5 * dt * (az + bz);
     const V f = f1 + f2;
-    for (int k = 0; k < static_cast<int>(sizeof(V) / sizeof(double)); ++k) {
+    for (int k = 0; k < L::kCount; ++k) {
       const std::size_t j = i + static_cast<std::size_t>(k);
       g.x[j] = into(L::lane(nx, k), length_), g.y[j] = into(L::lane(ny, k), width_), g.z[j] = L::lane(nz, k);
       g.vx[j] = L::lane(ux, k), g.vy[j] = L::lane(uy, k), g.vz[j] = L::lane(uz, k);
