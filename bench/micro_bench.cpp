@@ -1,9 +1,13 @@
 // Google Benchmark: the cost of the friction effect (the same settled bed with and without the
 // friction effect; the frictionless kernel stores no shear history and does no tangential work), and the
 // lattice-bed ripple model's impacts (issue #16's 10-million-per-second target) on a flat and a rippled bed,
-// and the per-step turn of a spinning sphere's orientation at a resting bed's spin and at an impact's.
+// the per-step turn of a spinning sphere's orientation at a resting bed's spin and at an impact's, and
+// the 3-D hybrid model's mid-air collision pass on a dilute saltation layer.
 #include <benchmark/benchmark.h>
 
+#include <random>
+
+#include "airborne.hpp"
 #include "bed_benchmark.hpp"
 #include "lattice_model.hpp"
 #include "scene.hpp"
@@ -61,8 +65,36 @@ void BM_Turn(benchmark::State& state) {
   state.counters["turns_per_s"] = benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The hybrid model's collision pass over range(2) grains on a bed of range(0) x range(1) diameters
+// (d = 1), spread as a saltation layer: uniform over the bed, heights exponential with a mean of 5 d,
+// moving downwind. 400 x 10 with 165 grains is `grainlab bench hybrid`'s flux run at u* = 40 cm/s;
+// 2000 x 100 with 9,000 a wide ripple run's. Few pairs touch: what is timed is finding that out.
+void BM_HybridCollisions(benchmark::State& state) {
+  const double length = static_cast<double>(state.range(0)), width = static_cast<double>(state.range(1));
+  const auto n = static_cast<std::size_t>(state.range(2));
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> along(0, length), across(0, width), jitter(-1, 1);
+  std::exponential_distribution<double> height(1.0 / 5);
+  ripples::hybrid::Grains g;
+  for (std::size_t i = 0; i < n; ++i)
+    g.add(along(rng), across(rng), 0.5 + height(rng), 20 + 5 * jitter(rng), jitter(rng), 5 * jitter(rng), 0,
+          i);
+  ripples::hybrid::CollisionGrid grid(length, width, 1.0);
+  grid.set_blocks(8);
+  const ripples::hybrid::CollisionLaw law;
+  for (auto _ : state) benchmark::DoNotOptimize(grid.collide_all(g, 1.0, law));
+  state.counters["grains_per_s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 }  // namespace
 
+BENCHMARK(BM_HybridCollisions)
+    ->Args({400, 10, 165})
+    ->Args({2000, 100, 9000})
+    ->Unit(benchmark::kMicrosecond)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true);
 BENCHMARK(BM_Turn)
     ->Arg(3)
     ->Arg(30000)

@@ -711,6 +711,71 @@ TEST(HybridCollision, SweptPairsCatchGrainsThatPassThroughEachOther) {
   EXPECT_EQ(grid.collide_all(by, 1.0, law), 0u);
 }
 
+// Every overlapping, approaching pair is found wherever it lies: in one column, across any of the four
+// neighbour directions, across the periodic wraps in x and y (both at once too), and across block
+// boundaries; grains that do not touch are never collided. Isolated head-on pairs (each grain's only
+// partner within 2 d) are dropped at random on small grids of 3-7 columns a side, where most columns are
+// an edge, so the count of collisions must equal the count of pairs exactly.
+TEST(HybridCollision, FindsEveryTouchingPairAcrossColumnsAndWraps) {
+  const double d = 1;
+  const grainlab::ripples::hybrid::CollisionLaw law{0.9, 0.4};
+  grainlab::Rng rng(11);
+  long pairs_total = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const double length = (3 + trial % 5) * d, width = (3 + trial / 5 % 5) * d;
+    auto gap = [&](double a, double b, double period) {
+      const double s = std::fmod(std::abs(a - b), period);
+      return std::min(s, period - s);
+    };
+    std::vector<std::array<double, 6>> placed;  // x, y, z, vx, vy, vz
+    const int wanted = 1 + trial % 3;
+    for (int attempt = 0; attempt < 50 && static_cast<int>(placed.size()) < 2 * wanted; ++attempt) {
+      const double cx = rng.uniform(0, length), cy = rng.uniform(0, width), cz = rng.uniform(0, 3 * d);
+      double ux = rng.uniform(-1, 1), uy = rng.uniform(-1, 1), uz = rng.uniform(-1, 1);
+      const double norm = std::sqrt(ux * ux + uy * uy + uz * uz);
+      if (norm < 0.1) continue;
+      ux /= norm, uy /= norm, uz /= norm;
+      const double half = 0.45 * d;  // 0.9 d apart: touching
+      const std::array<double, 6> a{std::fmod(cx - half * ux + length, length),
+                                    std::fmod(cy - half * uy + width, width),
+                                    cz - half * uz,
+                                    5 * ux,
+                                    5 * uy,
+                                    5 * uz};
+      const std::array<double, 6> b{std::fmod(cx + half * ux + length, length),
+                                    std::fmod(cy + half * uy + width, width),
+                                    cz + half * uz,
+                                    -5 * ux,
+                                    -5 * uy,
+                                    -5 * uz};
+      bool clear = true;
+      for (const auto& q : placed)
+        for (const auto* p : {&a, &b})
+          if (gap((*p)[0], q[0], length) < 2 * d && gap((*p)[1], q[1], width) < 2 * d &&
+              std::abs((*p)[2] - q[2]) < 2 * d)
+            clear = false;
+      if (clear) placed.push_back(a), placed.push_back(b);
+    }
+    // Shuffled into id order, so partners are not neighbours in the list.
+    std::vector<std::size_t> order(placed.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    for (std::size_t k = order.size(); k > 1; --k)
+      std::swap(order[k - 1], order[static_cast<std::size_t>(rng.uniform(0, static_cast<double>(k) - 1e-9))]);
+    Grains g;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const auto& q = placed[order[k]];
+      g.add(q[0], q[1], q[2], q[3], q[4], q[5], 0, k);
+    }
+    CollisionGrid grid(length, width, d);
+    grid.set_blocks(trial % 2 + 1);
+    const auto pairs = static_cast<std::uint64_t>(placed.size() / 2);
+    ASSERT_EQ(grid.collide_all(g, 1.0, law), pairs) << "trial " << trial;
+    EXPECT_EQ(grid.collide_all(g, 1.0, law), 0u) << "trial " << trial;  // now separating
+    pairs_total += static_cast<long>(pairs);
+  }
+  EXPECT_GT(pairs_total, 4000);
+}
+
 // An impact traced back along a straight path to a sloping surface z = 0.3 x: the first point of the
 // path whose bottom touches it, b = (z - r - 0.3 x) / (v_z - 0.3 v_x) seconds back.
 TEST(HybridFlux, ImpactsAreTracedBackToTheSurface) {

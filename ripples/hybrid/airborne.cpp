@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace grainlab::ripples::hybrid {
 
@@ -71,6 +72,29 @@ CollisionGrid::CollisionGrid(double length, double width, double d, double cell_
       length_(length),
       width_(width) {
   set_blocks(1);
+  bit_row_ = static_cast<std::size_t>(ny_ + 2);
+  occupied_.assign((static_cast<std::size_t>(nx_ + 1) * bit_row_ + 7) / 8 + sizeof(std::uint64_t), 0);
+}
+
+void CollisionGrid::mark(long ix, long iy, bool on) {
+  auto put = [&](std::size_t bit) {
+    const auto mask = static_cast<std::uint8_t>(1u << (bit % 8));
+    on ? occupied_[bit / 8] |= mask : occupied_[bit / 8] &= static_cast<std::uint8_t>(~mask);
+  };
+  auto row = [&](long x) {
+    const std::size_t at = static_cast<std::size_t>(x) * bit_row_;
+    put(at + static_cast<std::size_t>(iy) + 1);
+    if (iy == 0) put(at + static_cast<std::size_t>(ny_) + 1);
+    if (iy == ny_ - 1) put(at);
+  };
+  row(ix);
+  if (ix == 0) row(nx_);
+}
+
+std::uint64_t CollisionGrid::bits_at(std::size_t bit) const {
+  std::uint64_t word;
+  std::memcpy(&word, occupied_.data() + bit / 8, sizeof word);
+  return word >> (bit % 8);
 }
 
 void CollisionGrid::set_blocks(long blocks) {
@@ -100,28 +124,35 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
     const long iy = std::min(ny_ - 1, static_cast<long>(g.y[i] * inv_hy_));
     column_x_[i] = static_cast<std::uint32_t>(ix), column_y_[i] = static_cast<std::uint32_t>(iy);
   }
-  // The grains come in id order, not in order of place: on a wide bed the chain heads are then read from
-  // all over an array larger than the cache. Each grain's heads are fetched a few grains ahead.
+  // The grains come in id order, not in order of place: on a wide bed the chain heads are then written
+  // all over an array larger than the cache. Each grain's head is fetched a few grains ahead. (The
+  // search below reads a head only where the bits say a column is occupied: fetching those ahead, too,
+  // measured slower.)
   constexpr std::uint32_t kAheadOf = 8;
-  const std::size_t heads = head_.size();
   auto column = [&](std::uint32_t i) { return static_cast<std::size_t>(column_x_[i]) * ny_ + column_y_[i]; };
   for (std::uint32_t i = 0; i < n; ++i) {
     if (i + kAheadOf < n) __builtin_prefetch(&head_[column(i + kAheadOf)], 1);
     const std::size_t c = column(i);
-    next_[i] = head_[c], head_[c] = i;
+    const long ix = column_x_[i], iy = column_y_[i];
+    next_[i] = bits_at(static_cast<std::size_t>(ix) * bit_row_ + static_cast<std::size_t>(iy) + 1) & 1
+                   ? head_[c]
+                   : kNone;
+    head_[c] = i;
+    mark(ix, iy, true);
   }
   std::uint64_t hits = 0;
   static constexpr long kAhead[4][2] = {{1, -1}, {1, 0}, {1, 1}, {0, 1}};
   across_.clear();
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (i + kAheadOf < n) {  // its own column's line and the next x row's (the four columns ahead)
-      const std::size_t c = column(i + kAheadOf);
-      __builtin_prefetch(&head_[c]), __builtin_prefetch(&head_[std::min(heads - 1, c + ny_)]);
-    }
     for (std::uint32_t j = next_[i]; j != kNone; j = next_[j]) hits += pair<kMixed>(g, i, j, m, law);
     const long ix = column_x_[i], iy = column_y_[i];
+    const std::size_t row = static_cast<std::size_t>(ix) * bit_row_ + static_cast<std::size_t>(iy);
+    const std::uint64_t ahead = (bits_at(row + bit_row_) & 7) | (bits_at(row + 2) & 1) << 3;
+    if (ahead == 0) continue;  // kAhead's four columns are empty (the usual case)
     const bool edge = edge_[static_cast<std::size_t>(ix)];
-    for (const auto& off : kAhead) {
+    for (int k = 0; k < 4; ++k) {
+      if (!(ahead >> k & 1)) continue;  // an empty column's head is stale: not cleared after a pass
+      const auto& off = kAhead[k];
       const auto o = static_cast<std::size_t>(wrap(ix + off[0], nx_) * ny_ + wrap(iy + off[1], ny_));
       for (std::uint32_t j = head_[o]; j != kNone; j = next_[j])
         if (!edge || off[0] == 0)
@@ -130,7 +161,12 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
           across_.emplace_back(i, j);  // after all within (swept: every candidate, as velocities change)
     }
   }
-  for (std::uint32_t i = 0; i < n; ++i) head_[column(i)] = kNone;
+  // Whichever is less work: a bit array of up to 64 bytes per grain is cleared whole (one pass of
+  // stores), a larger one (a nearly empty bed) grain by grain.
+  if (occupied_.size() <= 64 * n)
+    std::fill(occupied_.begin(), occupied_.end(), std::uint8_t{0});
+  else
+    for (std::uint32_t i = 0; i < n; ++i) mark(column_x_[i], column_y_[i], false);
   for (const auto& [i, j] : across_) hits += pair<kMixed>(g, i, j, m, law);
   return hits;
 }

@@ -51,8 +51,8 @@ inline double into(double x, double period) {
 // at least two columns wide, so no grain is in the pairs of two block boundaries: each boundary can be
 // done by whichever rank(s) see both sides, and gives the same bits. Saltation is dilute: most
 // columns are empty (the bed has tens of columns per airborne grain), so the work per step touches only
-// the grains' columns (the chain heads are cleared grain by grain, never column by column), and a column
-// holds a grain or two whose z test rejects most pairs.
+// the grains' columns and a bit per column (the chain heads are never cleared), and a column holds a
+// grain or two whose z test rejects most pairs.
 class CollisionGrid {
  public:
   // d: the largest grain diameter; cell_x, cell_y: the columns' widths, at least d (wider when pairs are
@@ -118,7 +118,18 @@ class CollisionGrid {
   double inv_hx_, inv_hy_, d_, length_, width_, sweep_ = 0;
   std::vector<double> diameters_, masses_;
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};
-  std::vector<std::uint32_t> head_;                 // per column: the last grain chained into it, or kNone
+  std::vector<std::uint32_t> head_;  // per occupied column: the last grain chained into it
+  // One bit per column, whether it holds a grain: most grains have no neighbour in the four columns ahead,
+  // and two loads of these bits say so where four chain heads, 32 times as large, would be read. The bits
+  // also say which heads hold this pass's chains: head_ is never cleared.
+  // Rows of ny_ + 2 bits: row ix's bit iy + 1 is column (ix, iy), and its bits 0 and ny_ + 1 repeat
+  // columns ny_ - 1 and 0 (the periodic wrap in y); row nx_ repeats row 0 (the wrap in x). So the
+  // columns ahead of (ix, iy) are bits iy .. iy + 2 of row ix + 1 and bit iy + 2 of row ix, whatever
+  // the column. Stored as bytes, with a word of padding, so any three bits are one unaligned load.
+  std::vector<std::uint8_t> occupied_;
+  std::size_t bit_row_ = 0;
+  [[gnu::always_inline]] inline void mark(long ix, long iy, bool on);
+  [[gnu::always_inline]] inline std::uint64_t bits_at(std::size_t bit) const;
   std::vector<std::uint32_t> next_;                 // per grain: the grain chained before it
   std::vector<std::uint32_t> column_x_, column_y_;  // per grain: its column's x and y
   std::vector<double> shift_;                       // swept: per grain, x y z to move once the pass is done
