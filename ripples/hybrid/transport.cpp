@@ -319,6 +319,10 @@ void Transport::move_grains_as(double dt) {
   const double drag_unit = m_ * 0.5 * dt * drag_scale_;
   const auto volume_step = static_cast<std::int64_t>(volume_ * dt * volume_scale_);
   Grains& g = grains_;
+  // The fastest grain's speed squared, in a local: as a member, every store to the grains' arrays (which
+  // may alias it, as far as the compiler knows) would force it back to memory each grain.
+  double v2 = v2_next_;
+  const WindTable wind = wind_.table();
   auto advance = [&](auto lanes, std::size_t i) {
     using L = decltype(lanes);
     using V = typename L::V;
@@ -330,7 +334,7 @@ void Transport::move_grains_as(double dt) {
       drag_b = L::each([&](int k) { return c[k]->drag_b; });
     }
     auto accel = [&](V z, V vx, V vy, V vz, V& ax, V& ay, V& az) {
-      const V rx = vx - L::each([&](int k) { return wind_.at(L::lane(z, k) - base); });
+      const V rx = vx - L::each([&](int k) { return wind.at(L::lane(z, k) - base); });
       const V speed = L::sqrt(rx * rx + vy * vy + vz * vz);
       const V root = L::sqrt(0.5 * speed) + drag_b, cd = drag_a * root * root;
       ax = -cd * rx, ay = -cd * vy, az = -cd * vz - g_hat;
@@ -365,8 +369,9 @@ void Transport::move_grains_as(double dt) {
       const std::size_t j = i + static_cast<std::size_t>(k);
       g.x[j] = into(L::lane(nx, k), length_), g.y[j] = into(L::lane(ny, k), width_), g.z[j] = L::lane(nz, k);
       g.vx[j] = L::lane(ux, k), g.vy[j] = L::lane(uy, k), g.vz[j] = L::lane(uz, k);
-      v2_next_ = std::max(v2_next_, g.vx[j] * g.vx[j] + g.vy[j] * g.vy[j] + g.vz[j] * g.vz[j]);
-      const std::size_t bin = wind_.bin(g.z[j] - L::lane(shift2, k) - base);
+      const double u = L::lane(ux, k), v = L::lane(uy, k), w = L::lane(uz, k);
+      v2 = std::max(v2, u * u + v * v + w * w);
+      const std::size_t bin = wind.bin(g.z[j] - L::lane(shift2, k) - base);
       if constexpr (kMixed) {
         drag_now_[bin] += static_cast<std::int64_t>(c[k]->m * 0.5 * dt * drag_scale_ * L::lane(f, k));
         volume_now_[bin] += static_cast<std::int64_t>(c[k]->volume * dt * volume_scale_);
@@ -379,6 +384,7 @@ void Transport::move_grains_as(double dt) {
   std::size_t i = 0;
   for (; i + kLanes <= g.size(); i += kLanes) advance(Lanes<kLanes>{}, i);
   for (; i < g.size(); ++i) advance(Lanes<1>{}, i);
+  v2_next_ = v2;
 }
 
 void Transport::collide() {

@@ -17,23 +17,36 @@ struct WindColumnParams {
   double top = 30;                                                                   // cm
 };
 
-class WindColumn {
- public:
+// The wind table as the grains read it, by value: a hot loop that holds a copy keeps these numbers in
+// registers, where the column's own members might be changed (as far as the compiler knows) by every
+// store the loop makes to a double.
+struct WindTable {
   static constexpr double kKappa = 0.42;
-  explicit WindColumn(const WindColumnParams& p);
-  std::size_t bins() const { return bins_; }
+  const double* u;
+  double inv_h, u_star, top;
+  std::size_t bins;
   // The table's bin at height z (the top bin takes everything above).
   std::size_t bin(double z) const {
-    const double s = std::max(z, 0.0) * inv_h_;
-    return s < static_cast<double>(bins_ - 1) ? static_cast<std::size_t>(s) : bins_ - 1;
+    const double s = std::max(z, 0.0) * inv_h;
+    return s < static_cast<double>(bins - 1) ? static_cast<std::size_t>(s) : bins - 1;
   }
   double at(double z) const {
-    const double s = std::max(z, 0.0) * inv_h_;
-    if (s >= static_cast<double>(bins_ - 1)) return table_.back() + p_.u_star / kKappa * std::log(z / p_.top);
+    const double s = std::max(z, 0.0) * inv_h;
+    if (s >= static_cast<double>(bins - 1)) return u[bins - 1] + u_star / kKappa * std::log(z / top);
     const auto k = static_cast<std::size_t>(s);
     const double a = s - static_cast<double>(k);
-    return table_[k] + a * (table_[k + 1] - table_[k]);
+    return u[k] + a * (u[k + 1] - u[k]);
   }
+};
+
+class WindColumn {
+ public:
+  static constexpr double kKappa = WindTable::kKappa;
+  explicit WindColumn(const WindColumnParams& p);
+  std::size_t bins() const { return bins_; }
+  WindTable table() const { return {table_.data(), inv_h_, p_.u_star, p_.top, bins_}; }  // valid until solve
+  std::size_t bin(double z) const { return table().bin(z); }
+  double at(double z) const { return table().at(z); }
   // Solves the steady column for the grains' drag (dyn) and solid volume (cm^3) per table bin over the bed
   // area: each node's stress is u*^2 less the drag above it, over 1 - phi.
   void solve(const std::vector<double>& drag, const std::vector<double>& volume, double area);
