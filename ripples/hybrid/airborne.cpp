@@ -76,25 +76,25 @@ CollisionGrid::CollisionGrid(double length, double width, double d, double cell_
   occupied_.assign((static_cast<std::size_t>(nx_ + 1) * bit_row_ + 7) / 8 + sizeof(std::uint64_t), 0);
 }
 
-void CollisionGrid::mark(long ix, long iy, bool on) {
-  auto put = [&](std::size_t bit) {
-    const auto mask = static_cast<std::uint8_t>(1u << (bit % 8));
-    on ? occupied_[bit / 8] |= mask : occupied_[bit / 8] &= static_cast<std::uint8_t>(~mask);
+inline void CollisionGrid::Occupancy::mark(long ix, long iy, bool on) const {
+  auto put = [&](std::size_t at) {
+    const auto mask = static_cast<std::uint8_t>(1u << (at % 8));
+    on ? bytes[at / 8] |= mask : bytes[at / 8] &= static_cast<std::uint8_t>(~mask);
   };
-  auto row = [&](long x) {
-    const std::size_t at = static_cast<std::size_t>(x) * bit_row_;
-    put(at + static_cast<std::size_t>(iy) + 1);
-    if (iy == 0) put(at + static_cast<std::size_t>(ny_) + 1);
-    if (iy == ny_ - 1) put(at);
+  auto in_row = [&](long x) {
+    const std::size_t at = bit(x, iy) + 1;
+    put(at);
+    if (iy == 0) put(at + static_cast<std::size_t>(ny));
+    if (iy == ny - 1) put(at - static_cast<std::size_t>(ny));
   };
-  row(ix);
-  if (ix == 0) row(nx_);
+  in_row(ix);
+  if (ix == 0) in_row(nx);
 }
 
-std::uint64_t CollisionGrid::bits_at(std::size_t bit) const {
+inline std::uint64_t CollisionGrid::Occupancy::from(std::size_t at) const {
   std::uint64_t word;
-  std::memcpy(&word, occupied_.data() + bit / 8, sizeof word);
-  return word >> (bit % 8);
+  std::memcpy(&word, bytes + at / 8, sizeof word);
+  return word >> (at % 8);
 }
 
 void CollisionGrid::set_blocks(long blocks) {
@@ -129,32 +129,36 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
   // search below reads a head only where the bits say a column is occupied: fetching those ahead, too,
   // measured slower.)
   constexpr std::uint32_t kAheadOf = 8;
-  auto column = [&](std::uint32_t i) { return static_cast<std::size_t>(column_x_[i]) * ny_ + column_y_[i]; };
+  const Occupancy bits = occupancy();
+  std::uint32_t* const head = head_.data();
+  std::uint32_t* const next = next_.data();
+  const std::uint32_t *const column_x = column_x_.data(), *const column_y = column_y_.data();
+  const long nx = nx_, ny = ny_;
+  auto column = [&](std::uint32_t i) { return static_cast<std::size_t>(column_x[i]) * ny + column_y[i]; };
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (i + kAheadOf < n) __builtin_prefetch(&head_[column(i + kAheadOf)], 1);
+    if (i + kAheadOf < n) __builtin_prefetch(&head[column(i + kAheadOf)], 1);
     const std::size_t c = column(i);
-    const long ix = column_x_[i], iy = column_y_[i];
-    next_[i] = bits_at(static_cast<std::size_t>(ix) * bit_row_ + static_cast<std::size_t>(iy) + 1) & 1
-                   ? head_[c]
-                   : kNone;
-    head_[c] = i;
-    mark(ix, iy, true);
+    const long ix = column_x[i], iy = column_y[i];
+    next[i] = bits.from(bits.bit(ix, iy) + 1) & 1 ? head[c] : kNone;
+    head[c] = i;
+    bits.mark(ix, iy, true);
   }
   std::uint64_t hits = 0;
   static constexpr long kAhead[4][2] = {{1, -1}, {1, 0}, {1, 1}, {0, 1}};
   across_.clear();
   for (std::uint32_t i = 0; i < n; ++i) {
-    for (std::uint32_t j = next_[i]; j != kNone; j = next_[j]) hits += pair<kMixed>(g, i, j, m, law);
-    const long ix = column_x_[i], iy = column_y_[i];
-    const std::size_t row = static_cast<std::size_t>(ix) * bit_row_ + static_cast<std::size_t>(iy);
-    const std::uint64_t ahead = (bits_at(row + bit_row_) & 7) | (bits_at(row + 2) & 1) << 3;
-    if (ahead == 0) continue;  // kAhead's four columns are empty (the usual case)
+    for (std::uint32_t j = next[i]; j != kNone; j = next[j]) hits += pair<kMixed>(g, i, j, m, law);
+    const long ix = column_x[i], iy = column_y[i];
+    // kAhead's four columns: bits iy .. iy + 2 of row ix + 1, and bit iy + 2 of row ix.
+    const std::size_t at = bits.bit(ix, iy);
+    const std::uint64_t ahead = (bits.from(at + bits.row) & 7) | (bits.from(at + 2) & 1) << 3;
+    if (ahead == 0) continue;  // all four are empty (the usual case)
     const bool edge = edge_[static_cast<std::size_t>(ix)];
     for (int k = 0; k < 4; ++k) {
       if (!(ahead >> k & 1)) continue;  // an empty column's head is stale: not cleared after a pass
       const auto& off = kAhead[k];
-      const auto o = static_cast<std::size_t>(wrap(ix + off[0], nx_) * ny_ + wrap(iy + off[1], ny_));
-      for (std::uint32_t j = head_[o]; j != kNone; j = next_[j])
+      const auto o = static_cast<std::size_t>(wrap(ix + off[0], nx) * ny + wrap(iy + off[1], ny));
+      for (std::uint32_t j = head[o]; j != kNone; j = next[j])
         if (!edge || off[0] == 0)
           hits += pair<kMixed>(g, i, j, m, law);
         else if (Separation s; sweep_ > 0 || overlap<kMixed>(g, i, j, s))  // across a block boundary:
@@ -166,7 +170,7 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
   if (occupied_.size() <= 64 * n)
     std::fill(occupied_.begin(), occupied_.end(), std::uint8_t{0});
   else
-    for (std::uint32_t i = 0; i < n; ++i) mark(column_x_[i], column_y_[i], false);
+    for (std::uint32_t i = 0; i < n; ++i) bits.mark(column_x[i], column_y[i], false);
   for (const auto& [i, j] : across_) hits += pair<kMixed>(g, i, j, m, law);
   return hits;
 }

@@ -128,8 +128,19 @@ class CollisionGrid {
   // the column. Stored as bytes, with a word of padding, so any three bits are one unaligned load.
   std::vector<std::uint8_t> occupied_;
   std::size_t bit_row_ = 0;
-  [[gnu::always_inline]] inline void mark(long ix, long iy, bool on);
-  [[gnu::always_inline]] inline std::uint64_t bits_at(std::size_t bit) const;
+  // The bits as the pass works on them, by value: byte stores may alias anything, so the pass keeps this
+  // copy in registers instead of reloading the grid's members after every store.
+  struct Occupancy {
+    std::uint8_t* bytes;
+    std::size_t row;  // bits per row, ny + 2
+    long nx, ny;
+    std::size_t bit(long ix, long iy) const {  // the bit before column (ix, iy)'s own
+      return static_cast<std::size_t>(ix) * row + static_cast<std::size_t>(iy);
+    }
+    void mark(long ix, long iy, bool on) const;
+    std::uint64_t from(std::size_t bit) const;  // the bits from `bit` on, in the low ones of a word
+  };
+  Occupancy occupancy() { return {occupied_.data(), bit_row_, nx_, ny_}; }
   std::vector<std::uint32_t> next_;                 // per grain: the grain chained before it
   std::vector<std::uint32_t> column_x_, column_y_;  // per grain: its column's x and y
   std::vector<double> shift_;                       // swept: per grain, x y z to move once the pass is done
