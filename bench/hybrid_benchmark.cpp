@@ -57,11 +57,13 @@ int run_hybrid_bench(const HybridBenchOptions& o) {
   // Memory: six doubles and an 8-byte id per airborne grain, two 4-byte indices (chain and column) in
   // the collision grid, and one 4-byte chain head per column of the grid (length x width / d^2 of them);
   // swept steps add three doubles of shift per grain and use columns (1 + 2 travel)^2 = 16 d^2 wide.
-  const double per_grain = 6 * 8 + 8 + 2 * 4 + 1, per_column = 4;  // state, id; chain; size class
+  // Per grain: state, id, size class, and the collision grid's chain link and column x and y; per
+  // one-diameter column of bed: the grid's chain head and its occupancy bit.
+  const double per_grain = 6 * 8 + 8 + 1 + 3 * 4, per_column = 4 + 1.0 / 8;
   fmt::print(
       "hybrid model, {} d x {} d, u* = {} cm/s, {} t*, median of {}: {:.3g} grain-steps/s ({:.0f} grains "
       "airborne, {:.3g} t*/s); without mid-air collisions {:.3g} grain-steps/s (collisions cost {:.0f} %); "
-      "memory {:.0f} bytes per airborne grain + {:.0f} per d^2 of bed\n",
+      "memory {:.0f} bytes per airborne grain + {:.2f} per d^2 of bed\n",
       o.length, o.width, o.u_star, o.duration, o.repeats, full.grain_steps_per_second, full.airborne,
       full.t_star_per_second, without.grain_steps_per_second,
       100 * (without.grain_steps_per_second / full.grain_steps_per_second - 1), per_grain, per_column);
