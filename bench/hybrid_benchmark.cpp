@@ -54,11 +54,10 @@ int run_hybrid_bench(const HybridBenchOptions& o) {
   // What the swept steps give per t*, as the grain-steps per second the paper's steps would need to
   // keep up: swept t* per second times the paper's grain-steps per t*.
   const double equivalent = long_steps.t_star_per_second * full.grain_steps_per_t_star;
-  // Memory: six doubles and an 8-byte id per airborne grain, two 4-byte indices (chain and column) in
-  // the collision grid, and one 4-byte chain head per column of the grid (length x width / d^2 of them);
-  // swept steps add three doubles of shift per grain and use columns (1 + 2 travel)^2 = 16 d^2 wide.
-  // Per grain: state, id, size class, and the collision grid's chain link and column x and y; per
-  // one-diameter column of bed: the grid's chain head and its occupancy bit.
+  // Memory: per airborne grain six doubles of state, an 8-byte id, a 1-byte size class, and three 4-byte
+  // indices in the collision grid (chain link, column x and y); per one-diameter column of the grid
+  // (length x width / d^2 of them) a 4-byte chain head and an occupancy bit. Swept steps add three
+  // doubles of shift per grain and use columns (1 + 2 travel)^2 = 16 d^2 wide.
   const double per_grain = 6 * 8 + 8 + 1 + 3 * 4, per_column = 4 + 1.0 / 8;
   fmt::print(
       "hybrid model, {} d x {} d, u* = {} cm/s, {} t*, median of {}: {:.3g} grain-steps/s ({:.0f} grains "

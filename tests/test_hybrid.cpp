@@ -745,19 +745,16 @@ TEST(HybridCollision, FindsEveryTouchingPairAcrossColumnsAndWraps) {
       const double norm = std::sqrt(ux * ux + uy * uy + uz * uz);
       if (norm < 0.1) continue;
       ux /= norm, uy /= norm, uz /= norm;
-      const double half = 0.45 * d;  // 0.9 d apart: touching
-      const std::array<double, 6> a{std::fmod(cx - half * ux + length, length),
-                                    std::fmod(cy - half * uy + width, width),
-                                    cz - half * uz,
-                                    5 * ux,
-                                    5 * uy,
-                                    5 * uz};
-      const std::array<double, 6> b{std::fmod(cx + half * ux + length, length),
-                                    std::fmod(cy + half * uy + width, width),
-                                    cz + half * uz,
-                                    -5 * ux,
-                                    -5 * uy,
-                                    -5 * uz};
+      const double half = 0.45 * d;    // 0.9 d apart: touching
+      auto grain = [&](double side) {  // side -1 or +1 of the centre, moving towards it
+        return std::array<double, 6>{std::fmod(cx + side * half * ux + length, length),
+                                     std::fmod(cy + side * half * uy + width, width),
+                                     cz + side * half * uz,
+                                     -side * 5 * ux,
+                                     -side * 5 * uy,
+                                     -side * 5 * uz};
+      };
+      const std::array<double, 6> a = grain(-1), b = grain(1);
       bool clear = true;
       for (const auto& q : placed)
         for (const auto* p : {&a, &b})
