@@ -5,12 +5,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <numeric>
 #include <stdexcept>
 
 #ifdef __SSE2__
-#include <emmintrin.h>
+#include <immintrin.h>
 #endif
 
 #include "parallel.hpp"
@@ -263,20 +264,68 @@ void Transport::move_grains(double dt) {
 }
 
 namespace {
-// One grain, or two grains in the lanes of one SSE2 register. A grain's step is a chain of square roots
-// (its speed through the air, then that speed's root in the drag law, at both Heun stages) that leaves one
-// grain mostly waiting; two lanes wait once for both. Each lane takes the same IEEE operations as one
-// grain alone, so the results are the same to the last bit. (Four lanes in two registers measured slower:
-// the longer loop body spills.)
+// One grain, or several in the lanes of one vector register: two in SSE2's, four in AVX's. A grain's step
+// is a chain of square roots (its speed through the air, then that speed's root in the drag law, at both
+// Heun stages) that leaves one grain mostly waiting; the lanes wait once for all. Each lane takes the same
+// IEEE operations as one grain alone (no fused multiply-adds), so the results are the same to the last
+// bit whatever the width. (Four lanes in two SSE2 registers measured slower: the longer loop body spills.)
+#ifdef __AVX__
+constexpr int kLanes = 4;
+#else
 constexpr int kLanes = 2;
+#endif
 template <int N>
-struct Lanes;
+struct Vector;  // N doubles in one register
+template <>
+struct Vector<2> {
+  using type = double __attribute__((vector_size(16)));
+};
+template <>
+struct Vector<4> {
+  using type = double __attribute__((vector_size(32)));
+};
+#ifdef __SSE2__
+inline Vector<2>::type root(Vector<2>::type v) {
+  return _mm_sqrt_pd(v);
+}
+#endif
+#ifdef __AVX__
+inline Vector<4>::type root(Vector<4>::type v) {
+  return _mm256_sqrt_pd(v);
+}
+#endif
+template <class V>
+V root(V v) {  // without SSE2: lane by lane
+  for (std::size_t k = 0; k < sizeof v / sizeof(double); ++k) v[k] = std::sqrt(v[k]);
+  return v;
+}
+template <int N>
+struct Lanes {
+  using V = typename Vector<N>::type;
+  static constexpr int kCount = N;
+  static V all(double a) { return V{} + a; }
+  static V load(const std::vector<double>& a, std::size_t i) {
+    V v;
+    std::memcpy(&v, &a[i], sizeof v);
+    return v;
+  }
+  static void store(std::vector<double>& a, std::size_t i, V v) { std::memcpy(&a[i], &v, sizeof v); }
+  static V sqrt(V v) { return root(v); }
+  static double lane(V v, int k) { return v[k]; }
+  template <class F>
+  static V each(F f) {
+    V v;
+    for (int k = 0; k < N; ++k) v[k] = f(k);
+    return v;
+  }
+};
 template <>
 struct Lanes<1> {
   using V = double;
   static constexpr int kCount = 1;
   static V all(double a) { return a; }
   static V load(const std::vector<double>& a, std::size_t i) { return a[i]; }
+  static void store(std::vector<double>& a, std::size_t i, V v) { a[i] = v; }
   static V sqrt(V v) { return std::sqrt(v); }
   static double lane(V v, int) { return v; }
   template <class F>
@@ -284,33 +333,16 @@ struct Lanes<1> {
     return f(0);
   }
 };
-template <>
-struct Lanes<2> {
-  using V = double __attribute__((vector_size(16)));
-  static constexpr int kCount = 2;
-  static V all(double a) { return V{a, a}; }
-  static V load(const std::vector<double>& a, std::size_t i) { return V{a[i], a[i + 1]}; }
-#ifdef __SSE2__
-  static V sqrt(V v) {
-    return _mm_sqrt_pd(v);
-  }
-#else
-  static V sqrt(V v) {
-    return V{std::sqrt(v[0]), std::sqrt(v[1])};
-  }
-#endif
-  static double lane(V v, int k) {
-    return v[k];
-  }
-  template <class F>
-  static V each(F f) {
-    return V{f(0), f(1)};
-  }
-};
+// x taken into [0, period) in every lane, as `into` takes one number.
+template <class V>
+V into_lanes(V x, double period) {
+  return x < V{} ? x + period : (x >= V{} + period ? x - period : x);
+}
 }  // namespace
 
 // The loop once per wind reading and per bed (one size or several), so the column on the mean level (the
-// flux runs) pays nothing for the bed lookup and one size nothing for the classes; grains go two at a time.
+// flux runs) pays nothing for the bed lookup and one size nothing for the classes; grains go a register's
+// lanes at a time.
 template <bool kFollowsBed, bool kMixed>
 void Transport::move_grains_as(double dt) {
   const double base = base_, g_hat = g_hat_;
@@ -365,13 +397,12 @@ void Transport::move_grains_as(double dt) {
     const V nx = x + 0.5 * dt * (vx + wx), ny = y + 0.5 * dt * (vy + wy), nz = z0 + 0.5 * dt * (vz + wz);
     const V ux = vx + 0.5 * dt * (ax + bx), uy = vy + 0.5 * dt * (ay + by), uz = vz + 0.5 * dt * (az + bz);
     const V f = f1 + f2;
+    L::store(g.x, i, into_lanes(nx, length_)), L::store(g.y, i, into_lanes(ny, width_)), L::store(g.z, i, nz);
+    L::store(g.vx, i, ux), L::store(g.vy, i, uy), L::store(g.vz, i, uz);
+    const V speed2 = ux * ux + uy * uy + uz * uz, height = nz - shift2 - base;
     for (int k = 0; k < L::kCount; ++k) {
-      const std::size_t j = i + static_cast<std::size_t>(k);
-      g.x[j] = into(L::lane(nx, k), length_), g.y[j] = into(L::lane(ny, k), width_), g.z[j] = L::lane(nz, k);
-      g.vx[j] = L::lane(ux, k), g.vy[j] = L::lane(uy, k), g.vz[j] = L::lane(uz, k);
-      const double u = L::lane(ux, k), v = L::lane(uy, k), w = L::lane(uz, k);
-      v2 = std::max(v2, u * u + v * v + w * w);
-      const std::size_t bin = wind.bin(g.z[j] - L::lane(shift2, k) - base);
+      v2 = std::max(v2, L::lane(speed2, k));
+      const std::size_t bin = wind.bin(L::lane(height, k));
       if constexpr (kMixed) {
         drag_now_[bin] += static_cast<std::int64_t>(c[k]->m * 0.5 * dt * drag_scale_ * L::lane(f, k));
         volume_now_[bin] += static_cast<std::int64_t>(c[k]->volume * dt * volume_scale_);
