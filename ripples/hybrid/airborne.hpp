@@ -139,6 +139,9 @@ class CollisionGrid {
     }
     void mark(long ix, long iy, bool on) const;
     std::uint64_t from(std::size_t bit) const;  // the bits from `bit` on, in the low ones of a word
+    // One bit, read as a byte: a word read just after the pass's byte stores nearby cannot take its
+    // value from them and waits for them to reach the cache.
+    bool test(std::size_t bit) const { return bytes[bit / 8] >> (bit % 8) & 1; }
   };
   Occupancy occupancy() { return {occupied_.data(), bit_row_, nx_, ny_}; }
   std::vector<std::uint32_t> next_;                 // per grain: the grain chained before it
