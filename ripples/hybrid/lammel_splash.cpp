@@ -14,11 +14,15 @@ double normal_tail(double x) {
 
 // x with P(Z > x) = q, by bisection on erfc (accurate in the far tail, where ejecta energies come from):
 // ejecta are drawn rarely enough that accuracy matters more than speed here.
+// The halving stops once a step leaves both ends where they were (about 60 steps in, when they are
+// neighbouring doubles or one): every later step would do the same, so the answer is the 100 steps'.
 double tail_quantile(double q) {
   double lo = -40, hi = 40;
   for (int k = 0; k < 100; ++k) {
     const double mid = 0.5 * (lo + hi);
-    (normal_tail(mid) > q ? lo : hi) = mid;
+    double& end = normal_tail(mid) > q ? lo : hi;
+    if (end == mid) break;
+    end = mid;
   }
   return 0.5 * (lo + hi);
 }
