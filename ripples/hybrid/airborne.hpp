@@ -35,9 +35,11 @@ inline constexpr std::size_t kGrainValues = 8;
 void pack_grain(const Grains& g, std::size_t i, std::vector<double>& out);
 void unpack_grains(const double* values, std::size_t count, Grains& into);
 
-// x taken into [0, period) (a grain moves far less than a period per step).
-inline double into(double x, double period) {
-  return x < 0 ? x + period : (x >= period ? x - period : x);
+// x taken into [0, period) (a grain moves far less than a period per step): one number, or each lane of
+// a vector of them (GCC's vector extensions, whose ?: picks lane by lane: the move loop's registers).
+template <class V>
+V into(V x, double period) {
+  return x < V{} ? x + period : (x >= V{} + period ? x - period : x);
 }
 
 // Mid-air collisions: grains chained into vertical columns one diameter square (periodic in x and y), each

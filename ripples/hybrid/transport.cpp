@@ -342,11 +342,6 @@ bool all_above(const double* z, double r_max, double top) {
   for (int k = 0; k < kLanes; ++k) all &= above[k];
   return all != 0;
 }
-// x taken into [0, period) in every lane, as `into` takes one number.
-template <class V>
-V into_lanes(V x, double period) {
-  return x < V{} ? x + period : (x >= V{} + period ? x - period : x);
-}
 }  // namespace
 
 // The loop once per wind reading and per bed (one size or several), so the column on the mean level (the
@@ -406,7 +401,7 @@ void Transport::move_grains_as(double dt) {
     const V nx = x + 0.5 * dt * (vx + wx), ny = y + 0.5 * dt * (vy + wy), nz = z0 + 0.5 * dt * (vz + wz);
     const V ux = vx + 0.5 * dt * (ax + bx), uy = vy + 0.5 * dt * (ay + by), uz = vz + 0.5 * dt * (az + bz);
     const V f = f1 + f2;
-    L::store(g.x, i, into_lanes(nx, length_)), L::store(g.y, i, into_lanes(ny, width_)), L::store(g.z, i, nz);
+    L::store(g.x, i, into(nx, length_)), L::store(g.y, i, into(ny, width_)), L::store(g.z, i, nz);
     L::store(g.vx, i, ux), L::store(g.vy, i, uy), L::store(g.vz, i, uz);
     const V speed2 = ux * ux + uy * uy + uz * uz, height = nz - shift2 - base;
     for (int k = 0; k < L::kCount; ++k) {
