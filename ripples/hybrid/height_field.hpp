@@ -47,6 +47,9 @@ class HeightField {
   // The surface at (x, y), inside the box: its height alone (cheap), or with the normal.
   double height(double x, double y) const;
   BedPoint at(double x, double y) const;
+  // Asks the cache for the rows of key points around (x, y), changing nothing: callers that visit
+  // places in no order (grains by id) fetch a few ahead on a bed larger than the cache.
+  void prefetch(double x, double y) const;
   // A grain settles at (x, y) / leaves from (x, y); erode returns false (and changes nothing) where the
   // erodible layer is used up. `kind` is its size class (0 on a bed of one size).
   void deposit(double x, double y, int kind = 0);
@@ -111,6 +114,12 @@ inline HeightField::Cell HeightField::cell_at(double x, double y) const {
 inline HeightField::Corner HeightField::corner(double x, double y) const {
   const Cell c = cell_at(x, y);
   return {h_[c.k[0]], h_[c.k[1]], h_[c.k[2]], h_[c.k[3]], c.fx, c.fy};
+}
+
+inline void HeightField::prefetch(double x, double y) const {
+  const Cell c = cell_at(x, y);
+  __builtin_prefetch(&h_[c.k[0]]);
+  __builtin_prefetch(&h_[c.k[2]]);
 }
 
 inline double HeightField::height(double x, double y) const {

@@ -416,8 +416,19 @@ void Transport::move_grains_as(double dt) {
       }
     }
   };
+  // Grains come in id order, not by place: on a bed larger than the cache's second level each bed lookup
+  // would wait on memory, so the rows under the grains kFetchAhead on are asked for while these move.
+  constexpr std::size_t kFetchAhead = 16;
+  std::size_t fetched = 0;
+  if constexpr (kFollowsBed)
+    fetched = bed_->heights().size() * sizeof(double) > (std::size_t{1} << 18) ? g.size() : 0;
   std::size_t i = 0;
-  for (; i + kLanes <= g.size(); i += kLanes) advance(Lanes<kLanes>{}, i);
+  for (; i + kLanes <= g.size(); i += kLanes) {
+    if constexpr (kFollowsBed)
+      for (std::size_t k = i + kFetchAhead; k < i + kFetchAhead + kLanes && k < fetched; ++k)
+        bed_->prefetch(g.x[k], g.y[k]);
+    advance(Lanes<kLanes>{}, i);
+  }
   for (; i < g.size(); ++i) advance(Lanes<1>{}, i);
   v2_next_ = v2;
 }
