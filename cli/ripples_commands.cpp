@@ -395,8 +395,9 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   hybrid_ripples->add_option("--stop-at", stop_at, "stop after the frame at this t* (needs --checkpoint)")
       ->check(CLI::PositiveNumber);
-  hybrid_ripples->add_option("--restart", hybrid_restart,
-                             "continue a run from its checkpoint (same config and --duration)");
+  hybrid_ripples->add_option(
+      "--restart", hybrid_restart,
+      "continue a run from its checkpoint (same config; --duration may differ, to go on past the end)");
   hybrid_ripples->add_flag("--force", force, "overwrite --out");
   hybrid_ripples->add_flag("--json", json, "print the result as JSON");
   hybrid_ripples->add_flag("--quiet", quiet, "no progress bar");

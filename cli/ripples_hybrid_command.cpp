@@ -148,9 +148,24 @@ SampleTable size_profiles(const std::vector<BedFrame>& frames, std::size_t nx) {
 
 constexpr const char* kCheckpointKind = "grainlab-hybrid-ripples-checkpoint/1";
 
-// What a continued run must match: the config as read and the duration it runs to.
+// What a continued run must match: the config as read. The duration it runs to is kept beside it, but a
+// run may be continued to another one (`--duration`), since where a run stops changes nothing before.
+constexpr const char* kDurationMark = "\n# duration ";
 std::string fingerprint(const ripples::hybrid::HybridConfig& c) {
-  return fmt::format("{}\n# duration {:.17g}", c.text, c.options.duration);
+  return fmt::format("{}{}{:.17g}", c.text, kDurationMark, c.options.duration);
+}
+
+// The checkpoint's fingerprint if it is this config's with another duration (any duration passes; the
+// frames it holds are checked against the new one after reading), else this run's own, which it then
+// fails to match.
+std::string continued_fingerprint(const TableFile& file, const ripples::hybrid::HybridConfig& c) {
+  const auto it = file.metadata.find("options");
+  if (it == file.metadata.end()) return fingerprint(c);
+  const std::string& theirs = it->second;
+  const auto at = theirs.rfind(kDurationMark);
+  return at != std::string::npos && theirs.compare(0, at, c.text) == 0 && at == c.text.size()
+             ? theirs
+             : fingerprint(c);
 }
 
 // The run's state, the frames taken so far (their statistics and profiles) and, when the bed history is
@@ -192,8 +207,8 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
   for (const SampleTable& t : run.save("run/")) wanted[t.name] = t.columns;  // the tables a run writes
   if (!c.options.sizes.empty()) wanted["cli/size_profiles"] = {};
   const TableFile file = read_sample_tables(path, wanted);
-  require_checkpoint(file, path, kCheckpointKind, "hybrid ripple checkpoint", fingerprint(c),
-                     "was written for another config or duration: pass the ones it was started with");
+  require_checkpoint(file, path, kCheckpointKind, "hybrid ripple checkpoint", continued_fingerprint(file, c),
+                     "was written for another config: pass the one it was started with");
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
   try {
     run.restore(file.tables, "run/");
@@ -201,6 +216,16 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
     const auto& profiles =
         ripples::hybrid::checkpoint_table(file.tables, "cli/profiles", run.bed().nx()).rows;
     if (history.empty() || profiles.size() != history.size()) refuse("has no frames, or profiles missing");
+    // Frames are taken every frame_every t* (each within a step after its time). A run shorter than its
+    // config's interval took its frames at its end, and those do not continue on another duration's grid.
+    const double every = c.options.frame_every, last = history.back().at(0);
+    if (last > c.options.duration + 0.1 * every)
+      refuse(
+          fmt::format("is at t* = {:.0f}, past the duration asked for ({:g}): give a --duration of at "
+                      "least that",
+                      last, c.options.duration));
+    if (std::abs(last - static_cast<double>(history.size() - 1) * every) > 0.1 * every)
+      refuse(fmt::format("has frames off this run's grid of one every {:g} t*", every));
     for (std::size_t k = 0; k < history.size(); ++k) {
       frames.push_back(frame_of_row(history[k]));
       frames.back().profile = profiles[k], frames.back().dx = run.bed().cell() / c.options.diameter;
