@@ -216,16 +216,19 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
     const auto& profiles =
         ripples::hybrid::checkpoint_table(file.tables, "cli/profiles", run.bed().nx()).rows;
     if (history.empty() || profiles.size() != history.size()) refuse("has no frames, or profiles missing");
-    // Frames are taken every frame_every t* (each within a step after its time). A run shorter than its
-    // config's interval took its frames at its end, and those do not continue on another duration's grid.
+    // Frames are taken at frame_times (each within a step after its time). A run whose duration is not a
+    // whole number of intervals took its last frame at its end, off the grid another duration continues on.
     const double every = c.options.frame_every, last = history.back().at(0);
     if (last > c.options.duration + 0.1 * every)
       refuse(
           fmt::format("is at t* = {:.0f}, past the duration asked for ({:g}): give a --duration of at "
                       "least that",
                       last, c.options.duration));
-    if (std::abs(last - static_cast<double>(history.size() - 1) * every) > 0.1 * every)
-      refuse(fmt::format("has frames off this run's grid of one every {:g} t*", every));
+    const std::vector<double> times = ripples::hybrid::frame_times(c.options.duration, every);
+    if (history.size() > times.size() || std::abs(last - times[history.size() - 1]) > 0.1 * every)
+      refuse(fmt::format("has its last frame at t* = {:.0f}, off this run's frames (one every {:g} t*, and "
+                         "one at the end): a run that ended between two frames cannot be continued",
+                         last, every));
     for (std::size_t k = 0; k < history.size(); ++k) {
       frames.push_back(frame_of_row(history[k]));
       frames.back().profile = profiles[k], frames.back().dx = run.bed().cell() / c.options.diameter;
@@ -300,17 +303,18 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   if (frames.empty()) take();
   const auto start = std::chrono::steady_clock::now();
   const std::uint64_t steps_before = run.transport().grain_steps;
-  const auto last_frame = static_cast<std::size_t>(std::floor(o.duration / o.frame_every + 1e-9));
+  const std::vector<double> times = ripples::hybrid::frame_times(o.duration, o.frame_every);
   double next_checkpoint =
       (std::floor(frames.back().t_star / a.checkpoint_every + 1e-9) + 1) * a.checkpoint_every;
-  for (std::size_t k = frames.size(); k <= last_frame; ++k) {
-    const double t = static_cast<double>(k) * o.frame_every;
+  for (std::size_t k = frames.size(); k < times.size(); ++k) {
+    const double t = times[k];
     run.advance_to(t, [&](double now) {
       bar.update(now, o.duration, fmt::format("{} grains airborne", run.transport().airborne()));
     });
     take();
-    const bool stop = a.stop_at > 0 && t >= a.stop_at * (1 - 1e-12);
-    if (!a.hybrid_checkpoint.empty() && (t >= next_checkpoint * (1 - 1e-12) || stop)) {
+    const bool stop = a.stop_at > 0 && t >= a.stop_at * (1 - 1e-12), end = k + 1 == times.size();
+    // (And at the end, so that a finished run can be taken further with --restart and a longer --duration.)
+    if (!a.hybrid_checkpoint.empty() && (t >= next_checkpoint * (1 - 1e-12) || stop || end)) {
       write_hybrid_checkpoint(a.hybrid_checkpoint, config, run, frames, written);
       next_checkpoint += a.checkpoint_every;
     }

@@ -230,8 +230,9 @@ double steepest_step(const HeightField& bed) {
 // Every frame of a run from its start to o.duration.
 std::vector<BedFrame> run_frames(RippleRun& run, const RippleOptions& o) {
   std::vector<BedFrame> frames{run.frame()};
-  for (double t = o.frame_every; t <= o.duration * (1 + 1e-12); t += o.frame_every) {
-    run.advance_to(t);
+  const std::vector<double> times = frame_times(o.duration, o.frame_every);
+  for (std::size_t k = 1; k < times.size(); ++k) {
+    run.advance_to(times[k]);
     frames.push_back(run.frame());
   }
   return frames;

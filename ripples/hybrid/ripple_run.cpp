@@ -35,6 +35,15 @@ std::string cell_too_small(const RippleOptions& o) {
       1.01 * s * std::cbrt(M_PI / (6 * o.packing * std::tan(o.repose_deg * M_PI / 180))));
 }
 
+std::vector<double> frame_times(double duration, double every) {
+  const auto whole = static_cast<std::size_t>(std::floor(duration / every + 1e-9));
+  std::vector<double> t;
+  for (std::size_t k = 0; k <= whole; ++k) t.push_back(static_cast<double>(k) * every);
+  // (A remainder under a millionth of an interval is the division's rounding, not a shorter interval.)
+  if (duration - t.back() > 1e-6 * every) t.push_back(duration);
+  return t;
+}
+
 void check_ripple_options(const RippleOptions& o) {
   check_transport_options(o);
   for (double v : {o.cell, o.packing, o.duration, o.frame_every, o.sample_every, o.affectable_depth})

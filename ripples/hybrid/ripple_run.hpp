@@ -33,6 +33,9 @@ struct RippleOptions : TransportOptions {
 void check_ripple_options(const RippleOptions& o);  // throws std::invalid_argument
 // Why the key-point spacing cannot carry the largest grain size (empty when it can, or for one size).
 std::string cell_too_small(const RippleOptions& o);
+// The frames' times in t*: 0, every, 2 every, ... up to the duration, and the duration itself when it is
+// not a whole number of intervals (the last one is then shorter), so that a run always reaches it.
+std::vector<double> frame_times(double duration, double every);
 
 // One bed frame: heights in grain diameters relative to the initial surface, x fastest.
 struct BedFrame {
