@@ -226,9 +226,10 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
                       last, c.options.duration));
     const std::vector<double> times = ripples::hybrid::frame_times(c.options.duration, every);
     if (history.size() > times.size() || std::abs(last - times[history.size() - 1]) > 0.1 * every)
-      refuse(fmt::format("has its last frame at t* = {:.0f}, off this run's frames (one every {:g} t*, and "
-                         "one at the end): a run that ended between two frames cannot be continued",
-                         last, every));
+      refuse(
+          fmt::format("has its last frame at t* = {:.0f}, off this run's frames (one every {:g} t*, and "
+                      "one at the end): a run that ended between two frames cannot be continued",
+                      last, every));
     for (std::size_t k = 0; k < history.size(); ++k) {
       frames.push_back(frame_of_row(history[k]));
       frames.back().profile = profiles[k], frames.back().dx = run.bed().cell() / c.options.diameter;
