@@ -252,6 +252,52 @@ TEST(HybridBed, KeepsEveryGrainsVolumeAndTheAngleOfRepose) {
   }
 }
 
+// The tile bounds the impact search trusts: the surface nowhere rises above its tile's bound (the bound
+// kept by each settling grain, then recomputed), and after refresh() a tile's bound is its cells' highest
+// corner. Piles poured across tile edges and the periodic seam; both ways of settling.
+TEST(HybridBed, ATilesBoundIsNeverBelowTheSurfaceInIt) {
+  for (const bool bilinear : {false, true}) {
+    SCOPED_TRACE(bilinear ? "bilinear" : "nearest");
+    HeightFieldParams p = small_bed();  // 40 x 20 key points: tiles of 8 cells, the last ones short in y
+    p.bilinear = bilinear;
+    HeightField bed(p);
+    Rng rng(9);
+    const std::vector<std::pair<double, double>> piles{{0.8, 0.4}, {0.0, 0.0}, {1.98, 0.99}, {1.2, 0.8}};
+    auto check = [&](const char* when) {
+      SCOPED_TRACE(when);
+      double worst = -1e300;  // the most the surface stands above its tile's bound (negative: below it)
+      for (int k = 0; k < 20000; ++k) {
+        const double x = rng.uniform(0, 2.0), y = rng.uniform(0, 1.0);
+        worst = std::max(worst, bed.height(x, y) - bed.tile_top(x, y));
+      }
+      EXPECT_LE(worst, 1e-15);
+    };
+    for (int k = 0; k < 6000; ++k) {
+      const auto& [x, y] = piles[static_cast<std::size_t>(k) % piles.size()];
+      bed.deposit(std::fmod(x + 2.0 + 0.02 * rng.normal(), 2.0),
+                  std::fmod(y + 1.0 + 0.02 * rng.normal(), 1.0));
+      if (k % 3 == 0) bed.erode(rng.uniform(0, 2.0), rng.uniform(0, 1.0));
+    }
+    check("as raised");
+    bed.refresh();
+    check("refreshed");
+    // Exact now: each tile's bound is the highest corner of its cells, computed here cell by cell.
+    const std::size_t t = HeightField::kTile, nx = bed.nx(), ny = bed.ny(), tx = (nx + t - 1) / t,
+                      ty = (ny + t - 1) / t;
+    std::vector<double> highest(tx * ty, -1e300);
+    const auto& h = bed.heights();
+    for (std::size_t j = 0; j < ny; ++j)
+      for (std::size_t i = 0; i < nx; ++i) {
+        double& m = highest[j / t * tx + i / t];
+        for (const std::size_t b : {j, (j + 1) % ny})
+          for (const std::size_t a : {i, (i + 1) % nx}) m = std::max(m, h[b * nx + a]);
+      }
+    for (std::size_t j = 0; j < ny; ++j)
+      for (std::size_t i = 0; i < nx; ++i)
+        EXPECT_EQ(bed.tile_top((i + 0.5) * bed.cell(), (j + 0.5) * bed.cell()), highest[j / t * tx + i / t]);
+  }
+}
+
 TEST(HybridBed, ErosionStopsAtTheBottomOfTheErodibleLayer) {
   for (const bool bilinear : {false, true}) {
     HeightFieldParams p = small_bed();

@@ -24,6 +24,27 @@ HeightField::HeightField(const HeightFieldParams& p) : p_(p) {
   step_ = M_PI / 6 * p.diameter * p.diameter * p.diameter / (p.packing * cell_ * cell_);
   slope_drop_ = std::tan(p.repose_deg * M_PI / 180) * cell_;
   h_.assign(nx_ * ny_, 0.0);
+  tiles_x_ = (nx_ + kTile - 1) / kTile, tiles_y_ = (ny_ + kTile - 1) / kTile;
+  tile_top_.assign(tiles_x_ * tiles_y_, 0.0);
+}
+
+void HeightField::raise(std::size_t k) {
+  const double h = h_[k];
+  top_ = std::max(top_, h);
+  const std::size_t i = k % nx_, j = k / nx_;
+  // Corner of the cells i - 1 and i along x (periodic), j - 1 and j along y.
+  const std::size_t tx[2] = {i / kTile, (i == 0 ? nx_ - 1 : i - 1) / kTile};
+  const std::size_t ty[2] = {j / kTile, (j == 0 ? ny_ - 1 : j - 1) / kTile};
+  for (std::size_t b : ty)
+    for (std::size_t a : tx) {
+      double& t = tile_top_[b * tiles_x_ + a];
+      t = std::max(t, h);
+    }
+}
+
+void HeightField::refresh_tiles() {
+  std::fill(tile_top_.begin(), tile_top_.end(), -1e300);
+  for (std::size_t k = 0; k < h_.size(); ++k) raise(k);
 }
 
 std::size_t HeightField::nearest(double x, double y) const {
@@ -53,7 +74,7 @@ bool HeightField::share(double x, double y, double dh) {
   const double w[4] = {(1 - c.fx) * (1 - c.fy), c.fx * (1 - c.fy), (1 - c.fx) * c.fy, c.fx * c.fy};
   for (int q = 0; q < 4; ++q)
     if (h_[c.k[q]] + dh * w[q] < -p_.erodible) return false;
-  for (int q = 0; q < 4; ++q) h_[c.k[q]] += dh * w[q], top_ = std::max(top_, h_[c.k[q]]);
+  for (int q = 0; q < 4; ++q) h_[c.k[q]] += dh * w[q], raise(c.k[q]);
   sum_ += dh;
   return true;
 }
@@ -107,7 +128,7 @@ void HeightField::deposit(double x, double y, int kind) {
     return;
   }
   h_[k] += dh, sum_ += dh;
-  top_ = std::max(top_, h_[k]);
+  raise(k);
 }
 
 bool HeightField::erode(double x, double y, int kind) {
@@ -128,11 +149,14 @@ bool HeightField::erode(double x, double y, int kind) {
 void HeightField::restore(const std::vector<double>& heights, const std::array<std::int64_t, 4>& counters,
                           double sum, double top) {
   if (heights.size() != h_.size()) throw std::invalid_argument("the checkpoint's bed has another size");
-  h_ = heights, sum_ = sum, top_ = top;
+  h_ = heights, sum_ = sum;
+  refresh_tiles();
+  top_ = top;  // (the checkpoint's bound, which the tiles' may undercut: either holds)
   deposited = counters[0], eroded = counters[1], rolled = counters[2], pit_taken = counters[3];
 }
 
 void HeightField::refresh() {
+  refresh_tiles();
   top_ = *std::max_element(h_.begin(), h_.end());
   sum_ = 0;
   for (double v : h_) sum_ += v;

@@ -43,7 +43,7 @@ class HeightField {
   double step() const { return step_; }  // height change per grain, cm
   // Heights of the key points, x fastest (index j * nx + i is the point at (i cell, j cell)).
   const std::vector<double>& heights() const { return h_; }
-  std::vector<double>& heights() { return h_; }
+  std::vector<double>& heights() { return h_; }  // (then refresh(): the bounds below follow the heights)
   // The surface at (x, y), inside the box: its height alone (cheap), or with the normal.
   double height(double x, double y) const;
   BedPoint at(double x, double y) const;
@@ -66,6 +66,12 @@ class HeightField {
   double mean() const { return sum_ / static_cast<double>(h_.size()); }
   // An upper bound of the highest key point (exact after refresh()).
   double top() const { return top_; }
+  // An upper bound of the surface anywhere in the tile of kTile x kTile cells that holds (x, y) (inside
+  // the box), kept as top() is: raised as grains settle, exact after refresh(). Most grains near a
+  // rippled bed are below its highest crest but above their own tile's: one load from a table that
+  // stays in cache tells them apart, where height() reads the bed all over memory.
+  double tile_top(double x, double y) const;
+  static constexpr std::size_t kTile = 8;
   void refresh();
   // Sets every height and the counters (a checkpoint's); throws std::invalid_argument for a wrong size.
   void restore(const std::vector<double>& heights, const std::array<std::int64_t, 4>& counters, double sum,
@@ -91,10 +97,17 @@ class HeightField {
   std::size_t nearest(double x, double y) const;
   std::size_t repose_walk(double x, double y, double sign, double dh, std::int64_t& moves) const;
   std::size_t neighbour(std::size_t k, int which) const;  // 0..3: -x, +x, -y, +y
+  // Key point k now stands at h: raises the bounds of the (up to four) tiles whose cells it is a corner
+  // of, and top().
+  void raise(std::size_t k);
+  void refresh_tiles();
   HeightFieldParams p_;
   std::size_t nx_, ny_;
   double cell_, inv_cell_, step_, slope_drop_, sum_ = 0, top_ = 0;
   std::vector<double> h_;
+  // Per tile (x fastest), the highest key point among its cells' corners (one past its edge each way).
+  std::size_t tiles_x_ = 0, tiles_y_ = 0;
+  std::vector<double> tile_top_;
   std::optional<SurfaceLayer> layer_;
   std::vector<double> volumes_{1.0};  // per size class, in grains of one diameter
 };
@@ -120,6 +133,11 @@ inline void HeightField::prefetch(double x, double y) const {
   const Cell c = cell_at(x, y);
   __builtin_prefetch(&h_[c.k[0]]);
   __builtin_prefetch(&h_[c.k[2]]);
+}
+
+inline double HeightField::tile_top(double x, double y) const {
+  const Cell c = cell_at(x, y);
+  return tile_top_[c.k[0] / nx_ / kTile * tiles_x_ + c.k[0] % nx_ / kTile];
 }
 
 inline double HeightField::height(double x, double y) const {

@@ -85,7 +85,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   d_ = o.diameter, s_ = o.grain_density / o.fluid_density, g_hat_ = (1 - 1 / s_) * o.g;
   t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
   mixed_ = !o.sizes.empty(), local_ejecta_ = mixed_ && o.ejecta_size == "local";
-  r_max_ = 0.5 * largest_size(o) * d_;
+  r_max_ = 0.5 * largest_size(o) * d_, tile_slack_ = 1e-9 * d_;
   // A class of grains `size` reference diameters across. The huo2021 drag written out for the hot loop:
   // the acceleration is c (u - v) with c = 3/4 (rho_f / (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) +
   // sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
@@ -540,7 +540,12 @@ std::vector<Transport::Hit> Transport::hits() {
     }
     if (g.z[i] - r_max > top) continue;
     const double bottom = g.z[i] - 0.5 * classes_[g.kind[i]].d;
-    if (bottom > top || (bed_ && bottom > bed_->height(g.x[i], g.y[i]))) continue;
+    if (bottom > top) continue;
+    // Above its tile's highest key point, by more than the interpolation's rounding could raise the
+    // surface: above the bed beneath it too, as the exact test would find.
+    if (bed_ &&
+        (bottom > bed_->tile_top(g.x[i], g.y[i]) + tile_slack_ || bottom > bed_->height(g.x[i], g.y[i])))
+      continue;
     out.push_back(
         {g.id[i], g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], static_cast<long>(i)});
   }
