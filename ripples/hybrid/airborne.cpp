@@ -120,7 +120,7 @@ std::uint64_t CollisionGrid::collide_as(Grains& g, double m, const CollisionLaw&
   const std::size_t n = g.size();
   if (head_.empty()) head_.assign(static_cast<std::size_t>(nx_ * ny_), kNone);
   next_.resize(n), column_x_.resize(n), column_y_.resize(n);
-  if (sweep_ > 0) shift_.assign(3 * n, 0.0);
+  forget_shifts();  // (left by a pass whose shifts were not applied)
   for (std::uint32_t i = 0; i < n; ++i) {
     const long ix = std::min(nx_ - 1, static_cast<long>(g.x[i] * inv_hx_));
     const long iy = std::min(ny_ - 1, static_cast<long>(g.y[i] * inv_hy_));
@@ -244,21 +244,40 @@ bool CollisionGrid::pair(Grains& g, std::size_t i, std::size_t j, double m, cons
   if (!collide(v1, v2, mi, mj, Vec3{s.dx, s.dy, s.dz} / std::sqrt(s.r2), law)) return false;
   g.vx[i] = v1.x(), g.vy[i] = v1.y(), g.vz[i] = v1.z(), g.vx[j] = v2.x(), g.vy[j] = v2.y(), g.vz[j] = v2.z();
   if (s.back > 0) {  // swept: since the contact they have moved at their new velocities
-    if (shift_.size() < 3 * (std::max(i, j) + 1)) shift_.resize(3 * (std::max(i, j) + 1), 0.0);
+    const std::size_t a = 3 * shift_slot(i), b = 3 * shift_slot(j);
     for (int k = 0; k < 3; ++k) {
-      shift_[3 * i + k] += s.back * (v1[k] - u1[k]);
-      shift_[3 * j + k] += s.back * (v2[k] - u2[k]);
+      shift_[a + static_cast<std::size_t>(k)] += s.back * (v1[k] - u1[k]);
+      shift_[b + static_cast<std::size_t>(k)] += s.back * (v2[k] - u2[k]);
     }
   }
   return true;
 }
 
-void CollisionGrid::apply_shifts(Grains& g) {
-  for (std::size_t i = 0; i < g.size() && 3 * i + 2 < shift_.size(); ++i) {
-    g.x[i] = into(g.x[i] + shift_[3 * i], length_), g.y[i] = into(g.y[i] + shift_[3 * i + 1], width_);
-    g.z[i] += shift_[3 * i + 2];
+std::size_t CollisionGrid::shift_slot(std::size_t i) {
+  if (slot_.size() <= i) slot_.resize(i + 1, kNone);
+  if (slot_[i] == kNone) {
+    slot_[i] = static_cast<std::uint32_t>(shifted_.size());
+    shifted_.push_back(static_cast<std::uint32_t>(i));
+    shift_.insert(shift_.end(), {0.0, 0.0, 0.0});
   }
-  shift_.clear();
+  return slot_[i];
+}
+
+void CollisionGrid::forget_shifts() {
+  for (const std::uint32_t i : shifted_) slot_[i] = kNone;
+  shifted_.clear(), shift_.clear();
+}
+
+// Only the grains that collided: the others would move by zero.
+void CollisionGrid::apply_shifts(Grains& g) {
+  for (std::size_t n = 0; n < shifted_.size(); ++n) {
+    const std::size_t i = shifted_[n];
+    if (i >= g.size()) continue;  // a ghost's, gone since
+    const double* const d = &shift_[3 * n];
+    g.x[i] = into(g.x[i] + d[0], length_), g.y[i] = into(g.y[i] + d[1], width_);
+    g.z[i] += d[2];
+  }
+  forget_shifts();
 }
 
 }  // namespace grainlab::ripples::hybrid

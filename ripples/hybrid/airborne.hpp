@@ -148,7 +148,13 @@ class CollisionGrid {
   Occupancy occupancy() { return {occupied_.data(), bit_row_, nx_, ny_}; }
   std::vector<std::uint32_t> next_;                 // per grain: the grain chained before it
   std::vector<std::uint32_t> column_x_, column_y_;  // per grain: its column's x and y
-  std::vector<double> shift_;                       // swept: per grain, x y z to move once the pass is done
+  // Swept: the grains whose collisions shifted them (in the order they first collided), x y z each, and
+  // per grain its place in that list (kNone: not shifted). Few grains collide in a step: a list spares
+  // clearing and reading three numbers for every grain.
+  std::vector<std::uint32_t> shifted_, slot_;
+  std::vector<double> shift_;
+  std::size_t shift_slot(std::size_t i);  // grain i's place in the list (added, with a zero shift, if new)
+  void forget_shifts();
 };
 
 }  // namespace grainlab::ripples::hybrid
