@@ -89,6 +89,12 @@ class HeightField {
     std::size_t k[4];  // key points 00, 10, 01, 11
     double fx, fy;
   };
+  // The cell's grid indices and the position in it (x and y inside the periodic box, so no division).
+  struct Place {
+    std::size_t i0, j0;
+    double fx, fy;
+  };
+  Place place(double x, double y) const;
   Cell cell_at(double x, double y) const;
   Corner corner(double x, double y) const;
   // Adds dh x (bilinear weight) to the four key points around (x, y); false (nothing changed) if one of
@@ -114,12 +120,17 @@ class HeightField {
 
 // Inline: every airborne grain asks for the bed beneath it every step (the wind column stands on it).
 // The grid cell holding (x, y) and the position in it (x and y inside the periodic box, so no division).
-inline HeightField::Cell HeightField::cell_at(double x, double y) const {
+inline HeightField::Place HeightField::place(double x, double y) const {
   const double sx = x * inv_cell_, sy = y * inv_cell_;
   auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
   const double fx = sx - static_cast<double>(i0), fy = sy - static_cast<double>(j0);
   if (i0 >= nx_) i0 -= nx_;
   if (j0 >= ny_) j0 -= ny_;
+  return {i0, j0, fx, fy};
+}
+
+inline HeightField::Cell HeightField::cell_at(double x, double y) const {
+  const auto [i0, j0, fx, fy] = place(x, y);
   const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
   return {{j0 * nx_ + i0, j0 * nx_ + i1, j1 * nx_ + i0, j1 * nx_ + i1}, fx, fy};
 }
@@ -136,8 +147,8 @@ inline void HeightField::prefetch(double x, double y) const {
 }
 
 inline double HeightField::tile_top(double x, double y) const {
-  const Cell c = cell_at(x, y);
-  return tile_top_[c.k[0] / nx_ / kTile * tiles_x_ + c.k[0] % nx_ / kTile];
+  const Place p = place(x, y);
+  return tile_top_[p.j0 / kTile * tiles_x_ + p.i0 / kTile];
 }
 
 inline double HeightField::height(double x, double y) const {

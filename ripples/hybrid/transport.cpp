@@ -85,7 +85,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   d_ = o.diameter, s_ = o.grain_density / o.fluid_density, g_hat_ = (1 - 1 / s_) * o.g;
   t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
   mixed_ = !o.sizes.empty(), local_ejecta_ = mixed_ && o.ejecta_size == "local";
-  r_max_ = 0.5 * largest_size(o) * d_, tile_slack_ = 1e-9 * d_;
+  r_max_ = 0.5 * largest_size(o) * d_;
   // A class of grains `size` reference diameters across. The huo2021 drag written out for the hot loop:
   // the acceleration is c (u - v) with c = 3/4 (rho_f / (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) +
   // sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
@@ -527,6 +527,7 @@ void Transport::settle(const Hit& h) {
 // rank's, or (distributed) every rank's, in ascending id, which is the order the splashes are done in.
 std::vector<Transport::Hit> Transport::hits() {
   const double top = bed_ ? bed_->top() : 0, r_max = r_max_;
+  const double slack = 1e-9 * d_;  // more than rounding can lift height() above the key points around it
   const Grains& g = grains_;
   std::vector<Hit> out;
   const bool swept = o_.swept;
@@ -543,8 +544,7 @@ std::vector<Transport::Hit> Transport::hits() {
     if (bottom > top) continue;
     // Above its tile's highest key point, by more than the interpolation's rounding could raise the
     // surface: above the bed beneath it too, as the exact test would find.
-    if (bed_ &&
-        (bottom > bed_->tile_top(g.x[i], g.y[i]) + tile_slack_ || bottom > bed_->height(g.x[i], g.y[i])))
+    if (bed_ && (bottom > bed_->tile_top(g.x[i], g.y[i]) + slack || bottom > bed_->height(g.x[i], g.y[i])))
       continue;
     out.push_back(
         {g.id[i], g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], static_cast<long>(i)});

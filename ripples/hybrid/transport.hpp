@@ -196,7 +196,6 @@ class Transport {
   double d_, s_, g_hat_, t_unit_, length_, width_, area_, m_, volume_;
   double drag_a_, drag_b_, base_ = 0, loosening_ = 1;
   double r_max_;  // the largest grain's radius, cm: no grain whose centre is higher above the top touches
-  double tile_slack_ = 0;  // cm: more than rounding can lift height() above the key points around it
   double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
   WindColumn wind_;
   std::vector<double> drag_mean_, volume_mean_;
