@@ -357,8 +357,11 @@ int hybrid_ripples_command(const RipplesCommands& a) {
         tables, {{"grainlab_version", GRAINLAB_VERSION},
                  {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},
                  {"config", config.text},
-                 {"wind", o.wind_follows_bed ? "column on the bed beneath each grain (wind_follows_bed)"
-                                             : "column on the mean bed level"},
+                 {"wind", !o.wind_follows_bed ? "column on the mean bed level"
+                          : o.wind_relief_fades
+                              ? "column on the bed's relief as it fades with height in potential flow "
+                                "(wind_relief_fades)"
+                              : "column on the bed beneath each grain (wind_follows_bed)"},
                  {"units",
                   "frames: bed height in grain diameters above the initial surface, x and y in "
                   "grain diameters (x downwind); time t* = t / sqrt(d / g^)"},
@@ -399,6 +402,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"shields", tr.shields()},
                            {"splash", o.splash},
                            {"wind_follows_bed", o.wind_follows_bed},
+                           {"wind_relief_fades", o.wind_relief_fades},
                            {"wind_loosened", o.wind_loosened},
                            {"swept", o.swept},
                            {"travel", o.travel},

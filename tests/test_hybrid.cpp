@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 
+#include "bed_relief.hpp"
 #include "bed_statistics.hpp"
 #include "collision.hpp"
 #include "flux_model.hpp"
@@ -860,3 +861,44 @@ TEST(HybridFlux, AirborneCountFollowsTheSplashes) {
   EXPECT_GT(most, 10u);  // grains were launched, and some settled
   EXPECT_GT(t.tally.deaths, 0u);
 }
+
+namespace grainlab::ripples::hybrid {
+
+// Potential flow over a bed h = a cos(k x) + b cos(q y) lifts its streamlines at height s by
+// a e^(-k s) cos(k x) + b e^(-q s) cos(q y): each layer must hold exactly that (to the FFT's rounding),
+// the short wave fading faster than the long one, and the mean level must not enter.
+TEST(BedRelief, EachModeFadesAsPotentialFlowOverTheBedSays) {
+  const std::size_t nx = 64, ny = 16;
+  const double cell = 0.05, d = 0.025, mean = 3.0, a = 0.04, b = 0.01;
+  const double k = 2 * M_PI / (16 * cell), q = 2 * M_PI / (ny * cell);  // a 16-cell wave along x
+  std::vector<double> h(nx * ny);
+  for (std::size_t j = 0; j < ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i)
+      h[j * nx + i] = mean + a * std::cos(k * i * cell) + b * std::cos(q * j * cell);
+  BedRelief relief(nx, ny, cell, d);
+  relief.refresh(h, mean);
+  ASSERT_GE(relief.heights().size(), 5u);
+  for (std::size_t l = 0; l < relief.heights().size(); ++l) {
+    const double s = relief.heights()[l];
+    double worst = 0;
+    for (std::size_t j = 0; j < ny; ++j)
+      for (std::size_t i = 0; i < nx; ++i) {
+        const double want =
+            a * std::exp(-k * s) * std::cos(k * i * cell) + b * std::exp(-q * s) * std::cos(q * j * cell);
+        worst = std::max(worst, std::abs(relief.layer(l)[j * nx + i] - want));
+      }
+    EXPECT_LT(worst, 1e-12) << "layer " << l << " at " << s / d << " d";
+  }
+  // Read between key points and layers: the bed's own relief at s = 0, the layers' values at theirs,
+  // and nothing far above the bed.
+  const double x = 3 * cell, y = 5 * cell, at_bed = 0.123;
+  EXPECT_EQ(relief.at(x, y, 0, at_bed), at_bed);
+  EXPECT_NEAR(relief.at(x, y, relief.heights()[2], at_bed), relief.layer(2)[5 * nx + 3], 1e-15);
+  EXPECT_EQ(relief.at(x, y, 1e6 * d, at_bed), 0.0);
+  // A flat bed has no relief at any height.
+  relief.refresh(std::vector<double>(nx * ny, mean), mean);
+  for (std::size_t l = 0; l < relief.heights().size(); ++l)
+    EXPECT_EQ(*std::max_element(relief.layer(l).begin(), relief.layer(l).end()), 0.0);
+}
+
+}  // namespace grainlab::ripples::hybrid

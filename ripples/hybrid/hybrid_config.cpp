@@ -86,6 +86,7 @@ void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
     r.fail("ejecta_launch", "must be \"normal\" (to the local bed) or \"vertical\"");
   o.ejecta_vertical = launch == "vertical";
   o.wind_follows_bed = r.boolean_or("wind_follows_bed", o.wind_follows_bed);
+  o.wind_relief_fades = r.boolean_or("wind_relief_fades", o.wind_relief_fades);
   o.dead_rise = r.number_or("dead_rise", o.dead_rise, Range{0, 10, false});
   o.loosened_floor = r.number_or("loosened_floor", o.loosened_floor, Range{0, 1, true});
   o.collisions = r.boolean_or("collisions", o.collisions);

@@ -86,6 +86,11 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   t_unit_ = std::sqrt(d_ / g_hat_), length_ = o.length * d_, width_ = o.width * d_, area_ = length_ * width_;
   mixed_ = !o.sizes.empty(), local_ejecta_ = mixed_ && o.ejecta_size == "local";
   r_max_ = 0.5 * largest_size(o) * d_;
+  if (bed && o.wind_follows_bed && o.wind_relief_fades) {
+    relief_.emplace(bed->nx(), bed->ny(), bed->cell(), d_);
+    relief_bed_ = bed->heights();
+    relief_->refresh(relief_bed_, bed->mean());
+  }
   // A class of grains `size` reference diameters across. The huo2021 drag written out for the hot loop:
   // the acceleration is c (u - v) with c = 3/4 (rho_f / (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) +
   // sqrt(24 nu / d))^2 (fluid::drag_rate, tested equal).
@@ -392,6 +397,18 @@ void Transport::move_grains_as(double dt) {
                               into(L::lane(y, k) + dt * L::lane(vy, k), width_)) -
                  base;
         });
+      if (relief_) {
+        auto felt = [&](V relief, V px, V py, V z_at) {
+          return L::each([&](int k) {
+            const double r = L::lane(relief, k);
+            return relief_->at(L::lane(px, k), L::lane(py, k), L::lane(z_at, k) - base - r, r);
+          });
+        };
+        const V x2 = L::each([&](int k) { return into(L::lane(x, k) + dt * L::lane(vx, k), length_); });
+        const V y2 = L::each([&](int k) { return into(L::lane(y, k) + dt * L::lane(vy, k), width_); });
+        const V s1 = felt(shift, x, y, z0), s2 = felt(shift2, swept ? x2 : x, swept ? y2 : y, z0 + dt * vz);
+        shift = s1, shift2 = s2;
+      }
     }
     V ax, ay, az, bx, by, bz;
     const V z = z0 - shift;
@@ -712,6 +729,7 @@ void Transport::update_wind() {
   wind_.solve(drag_mean_, volume_mean_, area_);
   if (o_.wind_loosened) loosening_ = std::max(o_.loosened_floor, 1 - wind_.bed_stress() / tau_threshold());
   if (bed_) bed_->refresh(), base_ = bed_->mean();
+  if (relief_) relief_bed_ = bed_->heights(), relief_->refresh(relief_bed_, base_);
   next_wind_ = t_ + o_.wind_interval * t_unit_, since_wind_ = 0;
 }
 
@@ -786,6 +804,9 @@ std::vector<SampleTable> Transport::save(const std::string& prefix) const {
                    "swept steps: the least and most v_x and v_y the next step starts from, cm/s",
                    kSpreadColumns,
                    {{spread_[0], spread_[1], spread_[2], spread_[3]}}});
+  if (relief_)  // (the layers are the relief of the bed as it stood then, not as it stands now)
+    out.push_back(grid_table(prefix + "relief_bed", "key-point heights at the last wind update (cm)",
+                             relief_bed_, bed_->nx()));
   if (!mixed_) return out;
   SampleTable kinds{prefix + "kinds", "airborne grains' size classes, in the order of grains", {"kind"}, {}};
   for (auto k : all.kind) kinds.rows.push_back({static_cast<double>(k)});
@@ -854,6 +875,12 @@ void Transport::restore(const std::map<std::string, SampleTable>& tables, const 
   }
   // The wind as it was: solved from the same running means at the last update.
   wind_.solve(drag_mean_, volume_mean_, area_);
+  if (relief_) {
+    relief_bed_ = grid_values(checkpoint_table(tables, prefix + "relief_bed", bed_->nx()));
+    if (relief_bed_.size() != bed_->heights().size())
+      throw std::invalid_argument("the checkpoint's relief_bed does not fit this bed");
+    relief_->refresh(relief_bed_, base_);
+  }
 }
 
 }  // namespace grainlab::ripples::hybrid

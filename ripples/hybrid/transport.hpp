@@ -10,10 +10,12 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "airborne.hpp"
+#include "bed_relief.hpp"
 #include "h5_output.hpp"
 #include "height_field.hpp"
 #include "lammel_splash.hpp"
@@ -59,6 +61,10 @@ struct TransportOptions {
   // column), or from the bed right beneath each grain, so that the near-bed wind follows the topography
   // (crests do not reach into faster wind than troughs).
   bool wind_follows_bed = false;
+  // With wind_follows_bed: the column stands on the bed's relief (its height less the mean level) as it
+  // fades with the height s above the bed in potential flow, each Fourier mode as exp(-|k| s)
+  // (bed_relief.hpp), instead of on the whole relief at every height.
+  bool wind_relief_fades = false;
   // A rebound or ejectum is dead (it settles) when its centre cannot rise this many diameters above where
   // it leaves: the paper's "particles which cannot jump higher than 1d" (eq. 31's flux depends on it).
   double dead_rise = 1;
@@ -195,6 +201,8 @@ class Transport {
   bool mixed_ = false, local_ejecta_ = false;
   double d_, s_, g_hat_, t_unit_, length_, width_, area_, m_, volume_;
   double drag_a_, drag_b_, base_ = 0, loosening_ = 1;
+  std::optional<BedRelief> relief_;  // wind_relief_fades
+  std::vector<double> relief_bed_;   // the bed it was last refreshed from (a checkpoint keeps it)
   double r_max_;  // the largest grain's radius, cm: no grain whose centre is higher above the top touches
   double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
   WindColumn wind_;

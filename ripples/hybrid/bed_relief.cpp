@@ -1,0 +1,88 @@
+#include "bed_relief.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <unsupported/Eigen/FFT>
+
+namespace grainlab::ripples::hybrid {
+
+namespace {
+// Heights of the layers above the bed, d: doubling from half a diameter, up past the saltation layer.
+constexpr std::array<double, 10> kLayers = {0.5, 1, 2, 4, 8, 16, 32, 64, 128, 256};
+
+// A signed frequency index: 0, 1, ..., n/2, then the negative ones.
+double wavenumber(std::size_t m, std::size_t n, double period) {
+  const double k = m <= n / 2 ? static_cast<double>(m) : static_cast<double>(m) - static_cast<double>(n);
+  return 2 * std::numbers::pi * k / period;
+}
+
+// The 2-D transform of a grid (x fastest), forward or inverse (scaled), as 1-D transforms of its rows
+// and then of its columns.
+void transform(std::vector<std::complex<double>>& a, std::size_t nx, std::size_t ny, bool forward) {
+  Eigen::FFT<double> fft;
+  std::vector<std::complex<double>> in, out;
+  in.resize(nx);
+  for (std::size_t j = 0; j < ny; ++j) {
+    std::copy_n(a.begin() + static_cast<long>(j * nx), nx, in.begin());
+    forward ? fft.fwd(out, in) : fft.inv(out, in);
+    std::copy_n(out.begin(), nx, a.begin() + static_cast<long>(j * nx));
+  }
+  in.resize(ny);
+  for (std::size_t i = 0; i < nx; ++i) {
+    for (std::size_t j = 0; j < ny; ++j) in[j] = a[j * nx + i];
+    forward ? fft.fwd(out, in) : fft.inv(out, in);
+    for (std::size_t j = 0; j < ny; ++j) a[j * nx + i] = out[j];
+  }
+}
+}  // namespace
+
+BedRelief::BedRelief(std::size_t nx, std::size_t ny, double cell, double d)
+    : nx_(nx), ny_(ny), cell_(cell), inv_cell_(1 / cell) {
+  if (nx < 2 || ny < 2 || !(cell > 0) || !(d > 0)) throw std::invalid_argument("BedRelief: an empty grid");
+  for (double z : kLayers) z_.push_back(z * d);
+  layers_.assign(z_.size(), std::vector<double>(nx * ny, 0.0));
+}
+
+void BedRelief::refresh(const std::vector<double>& heights, double mean) {
+  if (heights.size() != nx_ * ny_) throw std::invalid_argument("BedRelief: heights of another grid");
+  modes_.resize(heights.size());
+  for (std::size_t k = 0; k < heights.size(); ++k) modes_[k] = heights[k] - mean;
+  transform(modes_, nx_, ny_, true);
+  const double length = static_cast<double>(nx_) * cell_, width = static_cast<double>(ny_) * cell_;
+  std::vector<double> k_abs(modes_.size());
+  for (std::size_t j = 0; j < ny_; ++j)
+    for (std::size_t i = 0; i < nx_; ++i)
+      k_abs[j * nx_ + i] = std::hypot(wavenumber(i, nx_, length), wavenumber(j, ny_, width));
+  std::vector<std::complex<double>> faded(modes_.size());
+  for (std::size_t l = 0; l < z_.size(); ++l) {
+    for (std::size_t k = 0; k < modes_.size(); ++k) faded[k] = modes_[k] * std::exp(-k_abs[k] * z_[l]);
+    transform(faded, nx_, ny_, false);
+    for (std::size_t k = 0; k < faded.size(); ++k) layers_[l][k] = faded[k].real();
+  }
+}
+
+double BedRelief::layer_at(std::size_t l, double x, double y) const {
+  const double sx = x * inv_cell_, sy = y * inv_cell_;
+  auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
+  const double fx = sx - static_cast<double>(i0), fy = sy - static_cast<double>(j0);
+  i0 = std::min(i0, nx_ - 1), j0 = std::min(j0, ny_ - 1);
+  const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
+  const std::vector<double>& v = layers_[l];
+  const double lo = v[j0 * nx_ + i0] + fx * (v[j0 * nx_ + i1] - v[j0 * nx_ + i0]);
+  const double hi = v[j1 * nx_ + i0] + fx * (v[j1 * nx_ + i1] - v[j1 * nx_ + i0]);
+  return lo + fy * (hi - lo);
+}
+
+double BedRelief::at(double x, double y, double s, double relief_at_bed) const {
+  s = std::max(s, 0.0);
+  if (s < z_.front()) return relief_at_bed + s / z_.front() * (layer_at(0, x, y) - relief_at_bed);
+  const std::size_t top = z_.size() - 1;
+  if (s >= z_[top]) return s >= 2 * z_[top] ? 0 : layer_at(top, x, y) * (2 - s / z_[top]);
+  const auto l = static_cast<std::size_t>(std::upper_bound(z_.begin(), z_.end(), s) - z_.begin()) - 1;
+  const double a = layer_at(l, x, y), b = layer_at(l + 1, x, y);
+  return a + (s - z_[l]) / (z_[l + 1] - z_[l]) * (b - a);
+}
+
+}  // namespace grainlab::ripples::hybrid
