@@ -880,12 +880,13 @@ TEST(BedRelief, EachModeFadesAsPotentialFlowOverTheBedSays) {
   ASSERT_GE(relief.heights().size(), 5u);
   for (std::size_t l = 0; l < relief.heights().size(); ++l) {
     const double s = relief.heights()[l];
+    const std::vector<double> layer = relief.layer(l);
     double worst = 0;
     for (std::size_t j = 0; j < ny; ++j)
       for (std::size_t i = 0; i < nx; ++i) {
         const double want =
             a * std::exp(-k * s) * std::cos(k * i * cell) + b * std::exp(-q * s) * std::cos(q * j * cell);
-        worst = std::max(worst, std::abs(relief.layer(l)[j * nx + i] - want));
+        worst = std::max(worst, std::abs(layer[j * nx + i] - want));
       }
     EXPECT_LT(worst, 1e-12) << "layer " << l << " at " << s / d << " d";
   }
@@ -895,10 +896,18 @@ TEST(BedRelief, EachModeFadesAsPotentialFlowOverTheBedSays) {
   EXPECT_EQ(relief.at(x, y, 0, at_bed), at_bed);
   EXPECT_NEAR(relief.at(x, y, relief.heights()[2], at_bed), relief.layer(2)[5 * nx + 3], 1e-15);
   EXPECT_EQ(relief.at(x, y, 1e6 * d, at_bed), 0.0);
+  // Between two layers, linear in the height; and continuous across every layer's height.
+  const double z3 = relief.heights()[3], z4 = relief.heights()[4];
+  const double v3 = relief.layer(3)[5 * nx + 3], v4 = relief.layer(4)[5 * nx + 3];
+  EXPECT_NEAR(relief.at(x, y, 0.25 * z3 + 0.75 * z4, at_bed), 0.25 * v3 + 0.75 * v4, 1e-15);
+  for (double z : relief.heights())
+    EXPECT_NEAR(relief.at(x, y, z * (1 - 1e-12), at_bed), relief.at(x, y, z * (1 + 1e-12), at_bed), 1e-12);
   // A flat bed has no relief at any height.
   relief.refresh(std::vector<double>(nx * ny, mean), mean);
-  for (std::size_t l = 0; l < relief.heights().size(); ++l)
-    EXPECT_EQ(*std::max_element(relief.layer(l).begin(), relief.layer(l).end()), 0.0);
+  for (std::size_t l = 0; l < relief.heights().size(); ++l) {
+    const std::vector<double> layer = relief.layer(l);
+    EXPECT_EQ(*std::max_element(layer.begin(), layer.end()), 0.0);
+  }
 }
 
 }  // namespace grainlab::ripples::hybrid

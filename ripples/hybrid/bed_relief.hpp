@@ -22,16 +22,20 @@ class BedRelief {
   // there (at s = 0, where the surface is followed exactly): linear in s between the layers, bilinear
   // between key points, fading to zero over the top layer's height above it.
   double at(double x, double y, double s, double relief_at_bed) const;
-  // The layers' heights above the bed (cm) and a layer's values (x fastest): for tests and plots.
+  // The layers' heights above the bed (cm) and a layer's values (x fastest; a copy, valid until the
+  // next call): for tests and plots.
   const std::vector<double>& heights() const { return z_; }
-  const std::vector<double>& layer(std::size_t j) const { return layers_[j]; }
+  const std::vector<double>& layer(std::size_t l) const;
 
  private:
-  double layer_at(std::size_t j, double x, double y) const;
+  std::array<double, 2> pair_at(std::size_t l, double x, double y) const;
   std::size_t nx_, ny_;
   double cell_, inv_cell_;
-  std::vector<double> z_;                    // above the bed, cm, ascending (the first > 0)
-  std::vector<std::vector<double>> layers_;  // per height, the faded relief on the grid
+  std::vector<double> z_;  // above the bed, cm, ascending (the first > 0)
+  // Per key point (x fastest), the faded relief at every height in turn: a grain reads two heights at
+  // four key points, 16 bytes at each.
+  std::vector<double> values_;
+  mutable std::vector<double> column_;       // layer()'s copy
   std::vector<std::complex<double>> modes_;  // scratch: the relief's spectrum
 };
 

@@ -88,8 +88,8 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   r_max_ = 0.5 * largest_size(o) * d_;
   if (bed && o.wind_follows_bed && o.wind_relief_fades) {
     relief_.emplace(bed->nx(), bed->ny(), bed->cell(), d_);
-    relief_bed_ = bed->heights();
-    relief_->refresh(relief_bed_, bed->mean());
+    relief_bed_ = bed->heights(), relief_mean_ = bed->mean();
+    relief_->refresh(relief_bed_, relief_mean_);
   }
   // A class of grains `size` reference diameters across. The huo2021 drag written out for the hot loop:
   // the acceleration is c (u - v) with c = 3/4 (rho_f / (rho_p d)) C_d |v| and C_d |v| = (sqrt(|v| / 2) +
@@ -729,7 +729,11 @@ void Transport::update_wind() {
   wind_.solve(drag_mean_, volume_mean_, area_);
   if (o_.wind_loosened) loosening_ = std::max(o_.loosened_floor, 1 - wind_.bed_stress() / tau_threshold());
   if (bed_) bed_->refresh(), base_ = bed_->mean();
-  if (relief_) relief_bed_ = bed_->heights(), relief_->refresh(relief_bed_, base_);
+  // The relief moves with the ripples, a few hundredths of a diameter in ten updates; its transform on a
+  // wide bed costs more than the update itself, so it is taken every kReliefEvery updates.
+  if (relief_ && ++winds_since_relief_ >= kReliefEvery)
+    winds_since_relief_ = 0, relief_bed_ = bed_->heights(), relief_mean_ = base_,
+    relief_->refresh(relief_bed_, relief_mean_);
   next_wind_ = t_ + o_.wind_interval * t_unit_, since_wind_ = 0;
 }
 
@@ -804,9 +808,14 @@ std::vector<SampleTable> Transport::save(const std::string& prefix) const {
                    "swept steps: the least and most v_x and v_y the next step starts from, cm/s",
                    kSpreadColumns,
                    {{spread_[0], spread_[1], spread_[2], spread_[3]}}});
-  if (relief_)  // (the layers are the relief of the bed as it stood then, not as it stands now)
-    out.push_back(grid_table(prefix + "relief_bed", "key-point heights at the last wind update (cm)",
+  if (relief_) {  // (the layers are the relief of the bed as it stood then, not as it stands now)
+    out.push_back(grid_table(prefix + "relief_bed", "key-point heights when the relief was last taken (cm)",
                              relief_bed_, bed_->nx()));
+    out.push_back({prefix + "relief_clock",
+                   "wind updates since the relief was taken, and its bed's mean level (cm)",
+                   {"updates", "mean"},
+                   {{static_cast<double>(winds_since_relief_), relief_mean_}}});
+  }
   if (!mixed_) return out;
   SampleTable kinds{prefix + "kinds", "airborne grains' size classes, in the order of grains", {"kind"}, {}};
   for (auto k : all.kind) kinds.rows.push_back({static_cast<double>(k)});
@@ -877,9 +886,11 @@ void Transport::restore(const std::map<std::string, SampleTable>& tables, const 
   wind_.solve(drag_mean_, volume_mean_, area_);
   if (relief_) {
     relief_bed_ = grid_values(checkpoint_table(tables, prefix + "relief_bed", bed_->nx()));
-    if (relief_bed_.size() != bed_->heights().size())
-      throw std::invalid_argument("the checkpoint's relief_bed does not fit this bed");
-    relief_->refresh(relief_bed_, base_);
+    const SampleTable& clock = checkpoint_table(tables, prefix + "relief_clock", 2);
+    if (relief_bed_.size() != bed_->heights().size() || clock.rows.size() != 1)
+      throw std::invalid_argument("the checkpoint's relief_bed or relief_clock does not fit this bed");
+    winds_since_relief_ = static_cast<int>(clock.rows[0][0]), relief_mean_ = clock.rows[0][1];
+    relief_->refresh(relief_bed_, relief_mean_);
   }
 }
 

@@ -202,7 +202,10 @@ class Transport {
   double d_, s_, g_hat_, t_unit_, length_, width_, area_, m_, volume_;
   double drag_a_, drag_b_, base_ = 0, loosening_ = 1;
   std::optional<BedRelief> relief_;  // wind_relief_fades
-  std::vector<double> relief_bed_;   // the bed it was last refreshed from (a checkpoint keeps it)
+  std::vector<double> relief_bed_;   // the bed it was last taken from, and its mean (a checkpoint keeps them)
+  double relief_mean_ = 0;
+  int winds_since_relief_ = 0;
+  static constexpr int kReliefEvery = 10;  // wind updates
   double r_max_;  // the largest grain's radius, cm: no grain whose centre is higher above the top touches
   double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
   WindColumn wind_;
