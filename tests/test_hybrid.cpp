@@ -902,6 +902,16 @@ TEST(BedRelief, EachModeFadesAsPotentialFlowOverTheBedSays) {
   EXPECT_NEAR(relief.at(x, y, 0.25 * z3 + 0.75 * z4, at_bed), 0.25 * v3 + 0.75 * v4, 1e-15);
   for (double z : relief.heights())
     EXPECT_NEAR(relief.at(x, y, z * (1 - 1e-12), at_bed), relief.at(x, y, z * (1 + 1e-12), at_bed), 1e-12);
+  // At any height between the lowest and the top layer: linear between the two layers around it (found
+  // here by search, where at() reads them from the height's binary exponent).
+  const auto& z = relief.heights();
+  for (int n = 0; n < 2000; ++n) {
+    const double h = z.front() * std::pow(z.back() / z.front(), n / 2000.0) * (1 + 1e-13 * (n % 3 - 1));
+    if (h < z.front() || h >= z.back()) continue;  // (below the lowest layer the bed's own relief enters)
+    const auto l = static_cast<std::size_t>(std::upper_bound(z.begin(), z.end(), h) - z.begin()) - 1;
+    const double lo = relief.layer(l)[5 * nx + 3], hi = relief.layer(l + 1)[5 * nx + 3];
+    EXPECT_NEAR(relief.at(x, y, h, at_bed), lo + (h - z[l]) / (z[l + 1] - z[l]) * (hi - lo), 1e-14) << h / d;
+  }
   // A flat bed has no relief at any height.
   relief.refresh(std::vector<double>(nx * ny, mean), mean);
   for (std::size_t l = 0; l < relief.heights().size(); ++l) {

@@ -42,6 +42,8 @@ BedRelief::BedRelief(std::size_t nx, std::size_t ny, double cell, double d)
     : nx_(nx), ny_(ny), cell_(cell), inv_cell_(1 / cell) {
   if (nx < 2 || ny < 2 || !(cell > 0) || !(d > 0)) throw std::invalid_argument("BedRelief: an empty grid");
   for (double z : kLayers) z_.push_back(z * d);
+  inv_z0_ = 1 / z_.front();
+  for (std::size_t l = 0; l + 1 < z_.size(); ++l) inv_gap_.push_back(1 / (z_[l + 1] - z_[l]));
   values_.assign(nx * ny * z_.size(), 0.0);
 }
 
@@ -61,38 +63,6 @@ void BedRelief::refresh(const std::vector<double>& heights, double mean) {
     transform(faded, nx_, ny_, false);
     for (std::size_t k = 0; k < faded.size(); ++k) values_[k * z_.size() + l] = faded[k].real();
   }
-}
-
-// Layers l and l + 1 at (x, y), bilinear between the key points around it.
-std::array<double, 2> BedRelief::pair_at(std::size_t l, double x, double y) const {
-  const double sx = x * inv_cell_, sy = y * inv_cell_;
-  auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
-  const double fx = sx - static_cast<double>(i0), fy = sy - static_cast<double>(j0);
-  i0 = std::min(i0, nx_ - 1), j0 = std::min(j0, ny_ - 1);
-  const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
-  const std::size_t n = z_.size();
-  const double *p00 = &values_[(j0 * nx_ + i0) * n + l], *p10 = &values_[(j0 * nx_ + i1) * n + l],
-               *p01 = &values_[(j1 * nx_ + i0) * n + l], *p11 = &values_[(j1 * nx_ + i1) * n + l];
-  std::array<double, 2> out{};
-  for (std::size_t k = 0; k < 2 && l + k < n; ++k) {
-    const double lo = p00[k] + fx * (p10[k] - p00[k]), hi = p01[k] + fx * (p11[k] - p01[k]);
-    out[k] = lo + fy * (hi - lo);
-  }
-  return out;
-}
-
-double BedRelief::at(double x, double y, double s, double relief_at_bed) const {
-  s = std::max(s, 0.0);
-  const std::size_t top = z_.size() - 1;
-  if (s < z_.front()) return relief_at_bed + s / z_.front() * (pair_at(0, x, y)[0] - relief_at_bed);
-  if (s >= z_[top]) return s >= 2 * z_[top] ? 0 : pair_at(top, x, y)[0] * (2 - s / z_[top]);
-  // The layers double in height: s / z_0 = m 2^e with m in [0.5, 1) lies between layers e - 1 and e.
-  int e = 0;
-  std::frexp(s / z_.front(), &e);
-  std::size_t l = std::min(static_cast<std::size_t>(e - 1), top - 1);
-  if (s < z_[l]) --l;  // (s / z_0 rounded up onto a layer's height)
-  const auto [a, b] = pair_at(l, x, y);
-  return a + (s - z_[l]) / (z_[l + 1] - z_[l]) * (b - a);
 }
 
 const std::vector<double>& BedRelief::layer(std::size_t l) const {

@@ -5,9 +5,12 @@
 // then stands, at height s, on the bed's relief as it has faded there (the column on the mean level and
 // the column on the bed beneath each grain are the limits k -> infinity and k -> 0). Computed once per
 // wind update on a few heights (an FFT of the key points' grid) and read per grain by interpolation.
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <complex>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace grainlab::ripples::hybrid {
@@ -28,15 +31,55 @@ class BedRelief {
   const std::vector<double>& layer(std::size_t l) const;
 
  private:
+  // Layer l at (x, y) and, unless it is the top one, layer l + 1: bilinear between the key points.
+  template <bool kBoth>
   std::array<double, 2> pair_at(std::size_t l, double x, double y) const;
   std::size_t nx_, ny_;
-  double cell_, inv_cell_;
-  std::vector<double> z_;  // above the bed, cm, ascending (the first > 0)
+  double cell_, inv_cell_, inv_z0_ = 0;
+  std::vector<double> inv_gap_;  // 1 / (z_[l + 1] - z_[l])
+  std::vector<double> z_;        // above the bed, cm, ascending (the first > 0)
   // Per key point (x fastest), the faded relief at every height in turn: a grain reads two heights at
   // four key points, 16 bytes at each.
   std::vector<double> values_;
   mutable std::vector<double> column_;       // layer()'s copy
   std::vector<std::complex<double>> modes_;  // scratch: the relief's spectrum
 };
+
+// Inline: every airborne grain reads the relief twice a step.
+template <bool kBoth>
+inline std::array<double, 2> BedRelief::pair_at(std::size_t l, double x, double y) const {
+  const double sx = x * inv_cell_, sy = y * inv_cell_;
+  auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
+  const double fx = sx - static_cast<double>(i0), fy = sy - static_cast<double>(j0);
+  i0 = std::min(i0, nx_ - 1), j0 = std::min(j0, ny_ - 1);
+  const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
+  const std::size_t n = z_.size();
+  const double *p00 = &values_[(j0 * nx_ + i0) * n + l], *p10 = &values_[(j0 * nx_ + i1) * n + l],
+               *p01 = &values_[(j1 * nx_ + i0) * n + l], *p11 = &values_[(j1 * nx_ + i1) * n + l];
+  std::array<double, 2> out{};
+  for (std::size_t k = 0; k < (kBoth ? 2u : 1u); ++k) {
+    const double lo = p00[k] + fx * (p10[k] - p00[k]), hi = p01[k] + fx * (p11[k] - p01[k]);
+    out[k] = lo + fy * (hi - lo);
+  }
+  return out;
+}
+
+inline double BedRelief::at(double x, double y, double s, double relief_at_bed) const {
+  s = std::max(s, 0.0);
+  const std::size_t top = z_.size() - 1;
+  if (s < z_.front()) return relief_at_bed + s * inv_z0_ * (pair_at<false>(0, x, y)[0] - relief_at_bed);
+  if (s >= z_[top]) return s >= 2 * z_[top] ? 0 : pair_at<false>(top, x, y)[0] * (2 - s / z_[top]);
+  // The layers double in height, so s / z_0's binary exponent names the layer below s (corrected by one
+  // where rounding put s / z_0 across a power of two).
+  const auto bits = std::bit_cast<std::uint64_t>(s * inv_z0_);
+  const int exponent = static_cast<int>(bits >> 52 & 0x7ff) - 1023;
+  std::size_t l = static_cast<std::size_t>(std::clamp(exponent, 0, static_cast<int>(top) - 1));
+  if (s < z_[l])
+    --l;
+  else if (l + 1 < top && s >= z_[l + 1])
+    ++l;
+  const auto [a, b] = pair_at<true>(l, x, y);
+  return a + (s - z_[l]) * inv_gap_[l] * (b - a);
+}
 
 }  // namespace grainlab::ripples::hybrid
