@@ -875,7 +875,13 @@ TEST(BedRelief, EachModeFadesAsPotentialFlowOverTheBedSays) {
   for (std::size_t j = 0; j < ny; ++j)
     for (std::size_t i = 0; i < nx; ++i)
       h[j * nx + i] = mean + a * std::cos(k * i * cell) + b * std::cos(q * j * cell);
-  BedRelief relief(nx, ny, cell, d);
+  HeightFieldParams grid_params;
+  grid_params.length = nx * cell, grid_params.width = ny * cell, grid_params.cell = cell,
+  grid_params.diameter = d;
+  const HeightField grid(grid_params);
+  ASSERT_EQ(grid.nx(), nx);
+  ASSERT_EQ(grid.ny(), ny);
+  BedRelief relief(grid, d);
   relief.refresh(h, mean);
   ASSERT_GE(relief.heights().size(), 5u);
   for (std::size_t l = 0; l < relief.heights().size(); ++l) {

@@ -38,37 +38,36 @@ void transform(std::vector<std::complex<double>>& a, std::size_t nx, std::size_t
 }
 }  // namespace
 
-BedRelief::BedRelief(std::size_t nx, std::size_t ny, double cell, double d)
-    : nx_(nx), ny_(ny), cell_(cell), inv_cell_(1 / cell) {
-  if (nx < 2 || ny < 2 || !(cell > 0) || !(d > 0)) throw std::invalid_argument("BedRelief: an empty grid");
+BedRelief::BedRelief(const HeightField& grid, double d) : grid_(grid), nx_(grid.nx()), ny_(grid.ny()) {
+  if (nx_ < 2 || ny_ < 2 || !(d > 0)) throw std::invalid_argument("BedRelief: an empty grid");
   for (double z : kLayers) z_.push_back(z * d);
   inv_z0_ = 1 / z_.front();
   for (std::size_t l = 0; l + 1 < z_.size(); ++l) inv_gap_.push_back(1 / (z_[l + 1] - z_[l]));
-  values_.assign(nx * ny * z_.size(), 0.0);
+  values_.assign(nx_ * ny_ * z_.size(), 0.0);
+  const double length = static_cast<double>(nx_) * grid.cell(),
+               width = static_cast<double>(ny_) * grid.cell();
+  k_abs_.resize(nx_ * ny_);
+  for (std::size_t j = 0; j < ny_; ++j)
+    for (std::size_t i = 0; i < nx_; ++i)
+      k_abs_[j * nx_ + i] = std::hypot(wavenumber(i, nx_, length), wavenumber(j, ny_, width));
 }
 
 void BedRelief::refresh(const std::vector<double>& heights, double mean) {
   if (heights.size() != nx_ * ny_) throw std::invalid_argument("BedRelief: heights of another grid");
-  modes_.resize(heights.size());
-  for (std::size_t k = 0; k < heights.size(); ++k) modes_[k] = heights[k] - mean;
-  transform(modes_, nx_, ny_, true);
-  const double length = static_cast<double>(nx_) * cell_, width = static_cast<double>(ny_) * cell_;
-  std::vector<double> k_abs(modes_.size());
-  for (std::size_t j = 0; j < ny_; ++j)
-    for (std::size_t i = 0; i < nx_; ++i)
-      k_abs[j * nx_ + i] = std::hypot(wavenumber(i, nx_, length), wavenumber(j, ny_, width));
-  std::vector<std::complex<double>> faded(modes_.size());
+  std::vector<std::complex<double>> modes(heights.size()), faded(heights.size());
+  for (std::size_t k = 0; k < heights.size(); ++k) modes[k] = heights[k] - mean;
+  transform(modes, nx_, ny_, true);
   for (std::size_t l = 0; l < z_.size(); ++l) {
-    for (std::size_t k = 0; k < modes_.size(); ++k) faded[k] = modes_[k] * std::exp(-k_abs[k] * z_[l]);
+    for (std::size_t k = 0; k < modes.size(); ++k) faded[k] = modes[k] * std::exp(-k_abs_[k] * z_[l]);
     transform(faded, nx_, ny_, false);
     for (std::size_t k = 0; k < faded.size(); ++k) values_[k * z_.size() + l] = faded[k].real();
   }
 }
 
-const std::vector<double>& BedRelief::layer(std::size_t l) const {
-  column_.resize(nx_ * ny_);
-  for (std::size_t k = 0; k < column_.size(); ++k) column_[k] = values_[k * z_.size() + l];
-  return column_;
+std::vector<double> BedRelief::layer(std::size_t l) const {
+  std::vector<double> out(nx_ * ny_);
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = values_[k * z_.size() + l];
+  return out;
 }
 
 }  // namespace grainlab::ripples::hybrid

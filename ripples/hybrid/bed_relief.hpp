@@ -13,45 +13,43 @@
 #include <cstdint>
 #include <vector>
 
+#include "height_field.hpp"
+
 namespace grainlab::ripples::hybrid {
 
 class BedRelief {
  public:
-  // A periodic grid of nx x ny key points `cell` apart (cm); heights of the layers are in units of d (cm).
-  BedRelief(std::size_t nx, std::size_t ny, double cell, double d);
+  // On the key points of `grid` (which must outlive this); heights of the layers are in units of d (cm).
+  BedRelief(const HeightField& grid, double d);
   // The relief of `heights` (x fastest, as HeightField's) about `mean`, at every layer's height.
   void refresh(const std::vector<double>& heights, double mean);
   // The relief felt at (x, y) (inside the box), s >= 0 above the bed (cm), given the bed's own relief
   // there (at s = 0, where the surface is followed exactly): linear in s between the layers, bilinear
   // between key points, fading to zero over the top layer's height above it.
   double at(double x, double y, double s, double relief_at_bed) const;
-  // The layers' heights above the bed (cm) and a layer's values (x fastest; a copy, valid until the
-  // next call): for tests and plots.
+  // The layers' heights above the bed (cm) and a copy of a layer's values (x fastest): for tests and plots.
   const std::vector<double>& heights() const { return z_; }
-  const std::vector<double>& layer(std::size_t l) const;
+  std::vector<double> layer(std::size_t l) const;
 
  private:
   // Layer l at (x, y) and, unless it is the top one, layer l + 1: bilinear between the key points.
   template <bool kBoth>
   std::array<double, 2> pair_at(std::size_t l, double x, double y) const;
+  const HeightField& grid_;
   std::size_t nx_, ny_;
-  double cell_, inv_cell_, inv_z0_ = 0;
+  double inv_z0_ = 0;
+  std::vector<double> k_abs_;    // |k| of each mode of the grid's transform, 1/cm
   std::vector<double> inv_gap_;  // 1 / (z_[l + 1] - z_[l])
   std::vector<double> z_;        // above the bed, cm, ascending (the first > 0)
   // Per key point (x fastest), the faded relief at every height in turn: a grain reads two heights at
   // four key points, 16 bytes at each.
   std::vector<double> values_;
-  mutable std::vector<double> column_;       // layer()'s copy
-  std::vector<std::complex<double>> modes_;  // scratch: the relief's spectrum
 };
 
 // Inline: every airborne grain reads the relief twice a step.
 template <bool kBoth>
 inline std::array<double, 2> BedRelief::pair_at(std::size_t l, double x, double y) const {
-  const double sx = x * inv_cell_, sy = y * inv_cell_;
-  auto i0 = static_cast<std::size_t>(sx), j0 = static_cast<std::size_t>(sy);
-  const double fx = sx - static_cast<double>(i0), fy = sy - static_cast<double>(j0);
-  i0 = std::min(i0, nx_ - 1), j0 = std::min(j0, ny_ - 1);
+  const auto [i0, j0, fx, fy] = grid_.place(x, y);  // (the bed's own cells, wrapped as it wraps them)
   const std::size_t i1 = i0 + 1 == nx_ ? 0 : i0 + 1, j1 = j0 + 1 == ny_ ? 0 : j0 + 1;
   const std::size_t n = z_.size();
   const double *p00 = &values_[(j0 * nx_ + i0) * n + l], *p10 = &values_[(j0 * nx_ + i1) * n + l],

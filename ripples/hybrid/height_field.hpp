@@ -81,6 +81,14 @@ class HeightField {
   // rule.
   std::int64_t deposited = 0, eroded = 0, rolled = 0, pit_taken = 0;
 
+  // The grid cell holding (x, y): its grid indices and the position in it (x and y inside the periodic box,
+  // so no division).
+  struct Place {
+    std::size_t i0, j0;
+    double fx, fy;
+  };
+  Place place(double x, double y) const;
+
  private:
   struct Corner {
     double h00, h10, h01, h11, fx, fy;
@@ -89,12 +97,6 @@ class HeightField {
     std::size_t k[4];  // key points 00, 10, 01, 11
     double fx, fy;
   };
-  // The cell's grid indices and the position in it (x and y inside the periodic box, so no division).
-  struct Place {
-    std::size_t i0, j0;
-    double fx, fy;
-  };
-  Place place(double x, double y) const;
   Cell cell_at(double x, double y) const;
   Corner corner(double x, double y) const;
   // Adds dh x (bilinear weight) to the four key points around (x, y); false (nothing changed) if one of

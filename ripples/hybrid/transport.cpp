@@ -87,7 +87,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   mixed_ = !o.sizes.empty(), local_ejecta_ = mixed_ && o.ejecta_size == "local";
   r_max_ = 0.5 * largest_size(o) * d_;
   if (bed && o.wind_follows_bed && o.wind_relief_fades) {
-    relief_.emplace(bed->nx(), bed->ny(), bed->cell(), d_);
+    relief_.emplace(*bed, d_);
     relief_bed_ = bed->heights(), relief_mean_ = bed->mean();
     relief_->refresh(relief_bed_, relief_mean_);
   }
@@ -404,9 +404,12 @@ void Transport::move_grains_as(double dt) {
             return relief_->at(L::lane(px, k), L::lane(py, k), L::lane(z_at, k) - base - r, r);
           });
         };
-        const V x2 = L::each([&](int k) { return into(L::lane(x, k) + dt * L::lane(vx, k), length_); });
-        const V y2 = L::each([&](int k) { return into(L::lane(y, k) + dt * L::lane(vy, k), width_); });
-        const V s1 = felt(shift, x, y, z0), s2 = felt(shift2, swept ? x2 : x, swept ? y2 : y, z0 + dt * vz);
+        // (The second stage's place again, as shift2's lookup took it; only swept steps move it.)
+        V x2 = x, y2 = y;
+        if (swept)
+          x2 = L::each([&](int k) { return into(L::lane(x, k) + dt * L::lane(vx, k), length_); }),
+          y2 = L::each([&](int k) { return into(L::lane(y, k) + dt * L::lane(vy, k), width_); });
+        const V s1 = felt(shift, x, y, z0), s2 = felt(shift2, x2, y2, z0 + dt * vz);
         shift = s1, shift2 = s2;
       }
     }
