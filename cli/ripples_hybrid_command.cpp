@@ -389,6 +389,10 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                           {"phase_speed", b.phase_speed},
                           {"growth_error", number_or_null(b.growth_error)}});
     const nlohmann::json j{{"t_star", last.t_star},
+                           {"u_star", o.u_star},
+                           {"seed", o.seed},
+                           {"length", o.length},
+                           {"width", o.width},
                            {"amplitude", last.stats.amplitude},
                            {"wavelength", last.stats.wavelength},
                            {"ripple_index", last.stats.ripple_index},

@@ -1,0 +1,194 @@
+#!/usr/bin/env python3
+"""The initial ripple wavelength against u* / u_d* from `grainlab ripples hybrid --json` runs.
+
+Each run's wavelength is the mean of its frames' autocorrelation wavelengths over a window of t*; the
+runs at one u* (several seeds) give a mean and its standard error. A least-squares line
+lambda = a + b (u*/u_d* - 1) through the runs says whether the wavelength grows with the wind (b > 0)
+and whether it vanishes at the dynamic threshold (a = 0), as Huo et al. (2021) find.
+
+usage:
+  tools/hybrid_wavelength_study.py --ud 21.3 --window 10000 20000 \\
+      --set "relief fading" 'runs/fade_u*_s*.json' --set "whole relief" 'runs/whole_u*_s*.json' \\
+      [--fit-below 2.5] [--plot lambda.png] [--json]
+
+A run's u* is its JSON's "u_star"; older JSON without it is read from the .toml beside it (same stem).
+Prints a markdown table per set and the fit; --json prints one JSON object instead.
+"""
+import argparse
+import glob
+import json
+import math
+import os
+import re
+import sys
+
+
+def u_star_of(path, run):
+    if "u_star" in run:
+        return float(run["u_star"])
+    toml = os.path.splitext(path)[0] + ".toml"
+    try:
+        with open(toml) as f:
+            m = re.search(r"^\s*u_star\s*=\s*([0-9.eE+-]+)", f.read(), re.M)
+    except OSError:
+        m = None
+    if not m:
+        sys.exit(f"error: {path}: no \"u_star\" in the JSON and none in {toml}")
+    return float(m.group(1))
+
+
+def window_mean(run, column, lo, hi):
+    cols = run["history_columns"]
+    k, t = cols.index(column), cols.index("t_star")
+    vals = [r[k] for r in run["history"] if lo <= r[t] <= hi and r[k] is not None and r[k] > 0]
+    return sum(vals) / len(vals) if vals else float("nan")
+
+
+def mean_se(xs):
+    xs = [x for x in xs if not math.isnan(x)]
+    n = len(xs)
+    if n == 0:
+        return float("nan"), float("nan"), 0
+    m = sum(xs) / n
+    se = math.sqrt(sum((x - m) ** 2 for x in xs) / (n - 1) / n) if n > 1 else float("nan")
+    return m, se, n
+
+
+def fit_line(points):
+    """Ordinary least squares y = a + b x; returns a, b and their standard errors."""
+    n = len(points)
+    if n < 3:
+        return None
+    mx = sum(x for x, _ in points) / n
+    my = sum(y for _, y in points) / n
+    sxx = sum((x - mx) ** 2 for x, _ in points)
+    b = sum((x - mx) * (y - my) for x, y in points) / sxx
+    a = my - b * mx
+    s2 = sum((y - a - b * x) ** 2 for x, y in points) / (n - 2)
+    return {"a": a, "b": b, "a_se": math.sqrt(s2 * (1 / n + mx * mx / sxx)), "b_se": math.sqrt(s2 / sxx)}
+
+
+def load_set(label, patterns, args):
+    files = sorted({f for p in patterns for f in glob.glob(p)})
+    if not files:
+        sys.exit(f"error: set '{label}': no file matches {patterns}")
+    by_u = {}
+    for f in files:
+        try:
+            with open(f) as fh:
+                run = json.load(fh)
+        except (OSError, json.JSONDecodeError) as e:
+            sys.exit(f"error: {f}: {e}")
+        if run["t_star"] < args.window[1]:
+            print(f"warning: {f} ends at t* {run['t_star']:.0f}, inside the window", file=sys.stderr)
+        u = u_star_of(f, run)
+        by_u.setdefault(u, []).append(
+            {
+                "file": f,
+                "lambda": window_mean(run, "wavelength", *args.window),
+                "amplitude": run["amplitude"],
+                "ripple_index": run["ripple_index"],
+                "migration_speed": run["migration_speed"],
+                "mass_flux_star": run["mass_flux_star"],
+                "wall_seconds": run["wall_seconds"],
+                "t_star": run["t_star"],
+            }
+        )
+    rows, points = [], []
+    for u in sorted(by_u):
+        runs = by_u[u]
+        lam, lam_se, n = mean_se([r["lambda"] for r in runs])
+        x = u / args.ud
+        if x <= args.fit_below:
+            points += [(x - 1, r["lambda"]) for r in runs if not math.isnan(r["lambda"])]
+        rows.append(
+            {
+                "u_star": u,
+                "u_ratio": x,
+                "runs": n,
+                "lambda": lam,
+                "lambda_se": lam_se,
+                "amplitude_end": mean_se([r["amplitude"] for r in runs])[0],
+                "ripple_index_end": mean_se([r["ripple_index"] for r in runs])[0],
+                "migration_speed": mean_se([r["migration_speed"] or float("nan") for r in runs])[0],
+                "mass_flux_star": mean_se([r["mass_flux_star"] for r in runs])[0],
+                "wall_seconds": mean_se([r["wall_seconds"] for r in runs])[0],
+                "t_end": min(r["t_star"] for r in runs),
+            }
+        )
+    return {"label": label, "rows": rows, "fit": fit_line(points), "fit_points": len(points)}
+
+
+def print_markdown(s, args):
+    lo, hi = args.window
+    print(f"\n{s['label']} (lambda averaged over t* {lo:.0f}-{hi:.0f}; u_d* = {args.ud} cm/s)\n")
+    print("| u* (cm/s) | u*/u_d* | runs | lambda (d) | A at the end (d) | RI at the end | migration (d per t*) | Q* | wall per run (s) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for r in s["rows"]:
+        print(
+            f"| {r['u_star']:g} | {r['u_ratio']:.2f} | {r['runs']} | {r['lambda']:.0f} +- {r['lambda_se']:.0f} "
+            f"| {r['amplitude_end']:.2f} | {r['ripple_index_end']:.1f} | {r['migration_speed']:.2g} "
+            f"| {r['mass_flux_star']:.4f} | {r['wall_seconds']:.0f} |"
+        )
+    f = s["fit"]
+    if f:
+        print(
+            f"\nfit over {s['fit_points']} runs (u*/u_d* <= {args.fit_below}): lambda = ({f['a']:.1f} +- {f['a_se']:.1f}) d"
+            f" + ({f['b']:.1f} +- {f['b_se']:.1f}) d x (u*/u_d* - 1)"
+        )
+
+
+def plot(sets, args):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for s, mark in zip(sets, "osd^v"):
+        xs = [r["u_ratio"] for r in s["rows"]]
+        line = ax.errorbar(xs, [r["lambda"] for r in s["rows"]], yerr=[r["lambda_se"] for r in s["rows"]],
+                           fmt=mark, capsize=3, label=s["label"])
+        f = s["fit"]
+        if f:
+            xx = [1, max(xs)]
+            ax.plot(xx, [f["a"] + f["b"] * (x - 1) for x in xx], "--", color=line[0].get_color(), lw=1)
+    ax.set_xlabel("u* / u_d*")
+    ax.set_ylabel(f"lambda (d), t* {args.window[0]:.0f}-{args.window[1]:.0f}")
+    ax.set_xlim(left=0.9)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    tmp = args.plot + ".tmp.png"
+    fig.savefig(tmp, dpi=120)
+    os.replace(tmp, args.plot)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--ud", type=float, required=True, help="the dynamic threshold u_d* (cm/s)")
+    p.add_argument("--window", type=float, nargs=2, default=[10000, 20000], metavar=("T0", "T1"))
+    p.add_argument("--set", nargs="+", action="append", required=True, metavar=("LABEL", "GLOB"),
+                   help="a label and the run JSON files (globs) of one set")
+    p.add_argument("--fit-below", type=float, default=2.5, help="fit only runs with u*/u_d* up to this")
+    p.add_argument("--plot", help="write lambda against u*/u_d* to this PNG")
+    p.add_argument("--json", action="store_true")
+    args = p.parse_args()
+    if args.ud <= 0 or args.window[1] <= args.window[0]:
+        p.error("need --ud > 0 and a window T0 < T1")
+    for s in args.set:
+        if len(s) < 2:
+            p.error(f"--set {s[0]}: give a label and at least one file")
+    sets = [load_set(s[0], s[1:], args) for s in args.set]
+    if args.plot:
+        plot(sets, args)
+    if args.json:
+        print(json.dumps({"u_d_star": args.ud, "window": args.window, "sets": sets}))
+    else:
+        for s in sets:
+            print_markdown(s, args)
+
+
+if __name__ == "__main__":
+    main()
