@@ -388,6 +388,12 @@ void RipplesCommands::add(CLI::App& app) {
                              "bed history: HDF5 frames + XDMF sidecar, history and flux tables");
   hybrid_ripples->add_option("--duration", duration_override, "t*, in place of the config's")
       ->check(CLI::Range(0.0, 1e9));
+  hybrid_ripples
+      ->add_option("--set", overrides,
+                   "KEY=VALUE: a [hybrid] key in place of the config's, VALUE in TOML "
+                   "(--set u_star=36 --set splash=lammel2017); repeat for more")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   hybrid_ripples->add_option("--checkpoint", hybrid_checkpoint,
                              "write the run's state here every --checkpoint-every t* (and at --stop-at)");
   hybrid_ripples->add_option("--checkpoint-every", checkpoint_every, "t* between checkpoints")

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "flux_model.hpp"
 #include "ripple_config.hpp"
@@ -31,7 +32,8 @@ struct RipplesCommands {
   double shape_speed = 0.1;
   double lattice_ejections = 0;  // 0: the config's
   CLI::App *hybrid_flux = nullptr, *hybrid_ripples = nullptr;
-  double duration_override = 0;  // ripples hybrid --duration: 0 keeps the config's
+  double duration_override = 0;        // ripples hybrid --duration: 0 keeps the config's
+  std::vector<std::string> overrides;  // ripples hybrid --set KEY=VALUE
   std::string hybrid_checkpoint, hybrid_restart;
   double checkpoint_every = 10000, stop_at = 0;  // t*
   ripples::hybrid::FluxOptions flux;

@@ -208,7 +208,8 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
   if (!c.options.sizes.empty()) wanted["cli/size_profiles"] = {};
   const TableFile file = read_sample_tables(path, wanted);
   require_checkpoint(file, path, kCheckpointKind, "hybrid ripple checkpoint", continued_fingerprint(file, c),
-                     "was written for another config: pass the one it was started with");
+                     "was written for another config: pass the one it was started with, and the same --set "
+                     "overrides");
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
   try {
     run.restore(file.tables, "run/");
@@ -260,7 +261,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
     throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
   const std::string text = ripples::read_config_text(a.config);
-  ripples::hybrid::HybridConfig config = ripples::hybrid::parse_hybrid_config(text, a.config);
+  ripples::hybrid::HybridConfig config = ripples::hybrid::parse_hybrid_config(text, a.config, a.overrides);
   ripples::hybrid::RippleOptions& o = config.options;
   if (a.duration_override > 0)
     o.duration = a.duration_override, o.frame_every = std::min(o.frame_every, o.duration);

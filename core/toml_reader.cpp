@@ -34,7 +34,9 @@ std::string type_name(const toml::node& n) {
 SourceLocation TomlReader::where(const std::string& key) const {
   if (const toml::node* n = table_.get(key)) {
     const auto& src = n->source();
-    return {src.path ? std::string(*src.path) : file_, static_cast<int>(src.begin.line)};
+    const std::string path = src.path ? std::string(*src.path) : file_;
+    // A value given on the command line (ripples::apply_overrides: "--set KEY=VALUE") has no line.
+    return {path, path.rfind("--", 0) == 0 ? 0 : static_cast<int>(src.begin.line)};
   }
   return where_table();
 }
@@ -214,11 +216,9 @@ const toml::array* TomlReader::array_of_tables(const std::string& key) const {
 void TomlReader::finish() const {
   for (const auto& [k, v] : table_) {
     const std::string key(k.str());
-    if (!seen_.count(key)) {
-      const auto& src = v.source();
-      throw InputError({src.path ? std::string(*src.path) : file_, static_cast<int>(src.begin.line)},
-                       dotted(key), "unknown key (see docs/scenes.md for the keys this section takes)");
-    }
+    if (!seen_.count(key))
+      throw InputError(where(key), dotted(key),
+                       "unknown key (see docs/scenes.md for the keys this section takes)");
   }
 }
 

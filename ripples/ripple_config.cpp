@@ -1,6 +1,9 @@
 #include "ripple_config.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -15,6 +18,51 @@ toml::table config_root(const std::string& text, const std::string& path) {
   } catch (const toml::parse_error& e) {
     throw InputError({path, static_cast<int>(e.source().begin.line)}, "", std::string(e.description()));
   }
+}
+
+void apply_overrides(toml::table& root, const std::string& name, const std::vector<std::string>& overrides) {
+  toml::table* t = root[name].as_table();
+  if (!t) return;  // model_table names the missing table
+  for (const std::string& o : overrides) {
+    const std::string where = "--set " + o;
+    const auto eq = o.find('=');
+    const std::string key = eq == std::string::npos ? "" : o.substr(0, eq);
+    const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), [](unsigned char c) {
+      return std::isalnum(c) || c == '_' || c == '-';
+    });
+    if (!bare)
+      throw InputError({where, 0}, "",
+                       "must be KEY=VALUE: a key of the [" + name + "] table, '=', and a TOML value");
+    // A bare word that is not TOML (lammel2017, a file name) is taken as a string, as a shell user means it.
+    std::string value = o.substr(eq + 1);
+    const bool word = !value.empty() && std::all_of(value.begin(), value.end(), [](unsigned char c) {
+      return std::isalnum(c) || std::strchr("_-./", c);
+    });
+    toml::table one;
+    try {
+      try {
+        one = toml::parse(key + " = " + value, where);
+      } catch (const toml::parse_error&) {
+        if (!word) throw;
+        one = toml::parse(key + " = \"" + value + "\"", where);
+      }
+    } catch (const toml::parse_error& e) {
+      throw InputError({where, 0}, name + "." + key,
+                       "the value is not one TOML value (a number, true or false, a \"string\" in quotes, "
+                       "an [array]): " +
+                           std::string(e.description()));
+    }
+    if (one.size() != 1) throw InputError({where, 0}, name + "." + key, "give one value, without a newline");
+    t->insert_or_assign(key, std::move(*one.get(key)));
+  }
+}
+
+std::string text_with_overrides(const std::string& text, const std::vector<std::string>& overrides) {
+  if (overrides.empty()) return text;
+  std::string s = text;
+  if (!s.empty() && s.back() != '\n') s += '\n';
+  for (const std::string& o : overrides) s += "# --set " + o + "\n";
+  return s;
 }
 
 namespace {

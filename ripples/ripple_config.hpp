@@ -72,6 +72,15 @@ TriangleRun parse_triangle_config(const std::string& text, const std::string& pa
 // a config that must hold that table and nothing else.
 toml::table config_root(const std::string& text, const std::string& path);
 const toml::table& model_table(const toml::table& root, const std::string& name, const std::string& path);
+// Command-line overrides `KEY=VALUE` (VALUE in TOML: 36, true, "lammel2017", [1.5, 0.5]) put into table
+// `name` of root, replacing or adding keys, so a parameter sweep needs no edited copies of a config. Each
+// keeps its own source, "--set KEY=VALUE", so a mistake in it is named as that option, not as a line of
+// the file. InputError if one is not KEY=VALUE with a bare key and a TOML value.
+void apply_overrides(toml::table& root, const std::string& name, const std::vector<std::string>& overrides);
+// The text a run records as its config (output metadata, checkpoint fingerprints): the file's text, then
+// one comment line per override, so that what was run can be read back and a checkpoint continues only
+// under the same overrides.
+std::string text_with_overrides(const std::string& text, const std::vector<std::string>& overrides);
 // A config file's text (InputError if it cannot be read).
 std::string read_config_text(const std::string& path);
 

@@ -201,11 +201,60 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   EXPECT_EQ(parse_hybrid_config(good + "ejecta_size = \"local\"\n", "h.toml").options.ejecta_size, "local");
 }
 
+TEST(HybridConfig, CommandLineOverridesReplaceOrAddKeysAndAreNamedWhenWrong) {
+  const std::string good = "[hybrid]\nu_star = 35\nlength = 300\nwidth = 12\ncell = 2\nduration = 500\n";
+  const HybridConfig c = parse_hybrid_config(
+      good, "h.toml", {"u_star=36", "splash=lammel2017", "sizes=[1.5, 0.5]", "swept=true"});
+  EXPECT_EQ(c.options.u_star, 36);            // replaced
+  EXPECT_EQ(c.options.splash, "lammel2017");  // added, a bare word taken as a string
+  EXPECT_EQ(c.options.sizes, (std::vector<double>{1.5, 0.5}));
+  EXPECT_TRUE(c.options.swept);
+  EXPECT_EQ(c.options.length, 300);  // the rest is the file's
+  // The recorded text is the file's plus the overrides, so a checkpoint continues only under the same ones.
+  EXPECT_EQ(c.text.substr(0, good.size()), good);
+  EXPECT_NE(c.text.find("# --set u_star=36\n"), std::string::npos);
+  EXPECT_EQ(parse_hybrid_config(good, "h.toml", {}).text, good);
+  auto error_of = [&](const std::string& o) {
+    try {
+      parse_hybrid_config(good, "h.toml", {o});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // Each mistake names the option as given, with no line number, and what is wrong.
+  EXPECT_EQ(error_of("u_star=-3").rfind("--set u_star=-3: hybrid.u_star:", 0), 0u) << error_of("u_star=-3");
+  EXPECT_NE(error_of("ustar=3").find("unknown key"), std::string::npos);
+  EXPECT_EQ(error_of("ustar=3").rfind("--set ustar=3: ", 0), 0u);
+  EXPECT_NE(error_of("u_star=abc").find("expected a number"), std::string::npos);
+  EXPECT_NE(error_of("u_star").find("KEY=VALUE"), std::string::npos);
+  EXPECT_NE(error_of("=3").find("KEY=VALUE"), std::string::npos);
+  EXPECT_NE(error_of("a.b=3").find("KEY=VALUE"), std::string::npos);
+  EXPECT_NE(error_of("u_star=3\nx = 4").find("one value"), std::string::npos);
+  EXPECT_NE(error_of("u_star=[1,").find("not one TOML value"), std::string::npos);
+  EXPECT_NE(error_of("frame_every=1000").find("frame_every"), std::string::npos);  // checks across keys hold
+  // Random overrides are read or refused by name, never anything else.
+  std::mt19937 rng(2031);
+  auto uniform = [&] { return std::uniform_real_distribution<double>(0, 1)(rng); };
+  const std::string alphabet = "u_star=swept[]\"'.,-+e0123456789 \n#truefalse";
+  for (int k = 0; k < 3000; ++k) {
+    std::string o;
+    const int n = 1 + static_cast<int>(uniform() * 16);
+    for (int i = 0; i < n; ++i) o += alphabet[static_cast<std::size_t>(uniform() * alphabet.size())];
+    try {
+      parse_hybrid_config(good, "h.toml", {o});
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("--set ", 0), 0u) << e.what();
+    }
+  }
+}
+
 TEST(HybridConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {
   for (const char* name :
        {"huo2021_ripples.toml", "hybrid_quick.toml", "hybrid_seeded.toml", "hybrid_bidisperse.toml"})
     fuzz_shipped_config(
-        name, parse_hybrid_config,
+        name,
+        [](const std::string& text, const std::string& path) { return parse_hybrid_config(text, path); },
         [](const HybridConfig& c) {
           EXPECT_GT(c.options.u_star, 0);
           EXPECT_LE(3 * c.options.cell, c.options.width);

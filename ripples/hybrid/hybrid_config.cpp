@@ -106,8 +106,10 @@ void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
 
 }  // namespace
 
-HybridConfig parse_hybrid_config(const std::string& text, const std::string& path) {
-  const toml::table root = config_root(text, path);
+HybridConfig parse_hybrid_config(const std::string& text, const std::string& path,
+                                 const std::vector<std::string>& overrides) {
+  toml::table root = config_root(text, path);
+  apply_overrides(root, "hybrid", overrides);
   TomlReader r(model_table(root, "hybrid", path), "hybrid", path);
   HybridConfig c;
   RippleOptions& o = c.options;
@@ -127,7 +129,7 @@ HybridConfig parse_hybrid_config(const std::string& text, const std::string& pat
   if (const std::string why = cell_too_small(o); !why.empty()) r.fail(r.has("cell") ? "cell" : "sizes", why);
   if (o.frame_every > o.duration) r.fail("frame_every", "must not be longer than the duration");
   if (o.sample_every > o.frame_every) r.fail("sample_every", "must not be longer than frame_every");
-  c.text = text;
+  c.text = text_with_overrides(text, overrides);
   return c;
 }
 

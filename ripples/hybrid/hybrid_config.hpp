@@ -3,6 +3,7 @@
 // ripple run, checked like scene keys (unknown keys, wrong types and values out of range stop with file,
 // line and key). docs/ripples.md lists the keys; scenes/ripples/huo2021_ripples.toml is the paper's case.
 #include <string>
+#include <vector>
 
 #include "ripple_run.hpp"
 
@@ -12,7 +13,9 @@ struct HybridConfig {
   RippleOptions options;
   std::string text;  // the config as read
 };
-// Throws InputError.
-HybridConfig parse_hybrid_config(const std::string& text, const std::string& path);
+// Throws InputError. `overrides`: command-line KEY=VALUE pairs that replace or add [hybrid] keys
+// (ripples::apply_overrides); the config's text then records them.
+HybridConfig parse_hybrid_config(const std::string& text, const std::string& path,
+                                 const std::vector<std::string>& overrides = {});
 
 }  // namespace grainlab::ripples::hybrid
