@@ -373,6 +373,8 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_flux->add_flag("--swept", flux.swept,
                         "find mid-air collisions along the grains' paths over a step and trace impacts back "
                         "to the bed's surface, so that --travel may exceed 0.5");
+  hybrid_flux->add_flag("--fast-substeps", flux.fast_substeps,
+                        "with --swept: steps of dt_max, grains faster than travel / dt_max in substeps");
   hybrid_flux
       ->add_option("--travel", flux.travel, "the most a grain moves in a step, d (0.2; 1.5 with --swept)")
       ->default_val(0.2)

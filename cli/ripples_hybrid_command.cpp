@@ -48,6 +48,8 @@ int hybrid_flux_command(const RipplesCommands& a) {
   if (o.travel > 0.5 && !o.swept)
     throw InputError({"--travel", 0}, fmt::format("{}", o.travel),
                      "above 0.5 d grains can pass through each other unseen: add --swept");
+  if (o.fast_substeps && !o.swept)
+    throw InputError({"--fast-substeps", 0}, "", "needs --swept: fast grains are found along their paths");
   ripples::hybrid::FluxOptions run = o;
   attach_recorded_splash(run);
   run.distributed = parallel::size() > 1;  // the ranks share the domain; the first one reports
@@ -78,6 +80,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"splash", o.splash},
                            {"wind_loosened", o.wind_loosened},
                            {"swept", o.swept},
+                           {"fast_substeps", o.fast_substeps},
                            {"travel", o.travel},
                            {"grain_steps", r.grain_steps},
                            {"steps", r.steps},
@@ -219,14 +222,18 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
     if (history.empty() || profiles.size() != history.size()) refuse("has no frames, or profiles missing");
     // Frames are taken at frame_times (each within a step after its time). A run whose duration is not a
     // whole number of intervals took its last frame at its end, off the grid another duration continues on.
+    // A frame is taken within a step (at most dt_max, 0.02 t* by default) after its time: 1 t* is ample,
+    // and far less than a frame interval. (It was a tenth of the interval: a run that ended at t* = 600,
+    // continued to 640 with frames every 1000, passed as having taken its frame at 640 and ran no step.)
     const double every = c.options.frame_every, last = history.back().at(0);
-    if (last > c.options.duration + 0.1 * every)
+    const double slack = std::min(0.1 * every, 1.0);
+    if (last > c.options.duration + slack)
       refuse(
           fmt::format("is at t* = {:.0f}, past the duration asked for ({:g}): give a --duration of at "
                       "least that",
                       last, c.options.duration));
     const std::vector<double> times = ripples::hybrid::frame_times(c.options.duration, every);
-    if (history.size() > times.size() || std::abs(last - times[history.size() - 1]) > 0.1 * every)
+    if (history.size() > times.size() || std::abs(last - times[history.size() - 1]) > slack)
       refuse(
           fmt::format("has its last frame at t* = {:.0f}, off this run's frames (one every {:g} t*, and "
                       "one at the end): a run that ended between two frames cannot be continued",
@@ -410,6 +417,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"wind_relief_fades", o.wind_relief_fades},
                            {"wind_loosened", o.wind_loosened},
                            {"swept", o.swept},
+                           {"fast_substeps", o.fast_substeps},
                            {"travel", o.travel},
                            {"sizes", o.sizes},
                            {"fractions", o.fractions},

@@ -197,6 +197,23 @@ std::uint64_t CollisionGrid::collide_across(Grains& g, const std::vector<std::ui
   return count ? hits : 0;
 }
 
+std::uint64_t CollisionGrid::collide_pairs(Grains& g,
+                                           const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs,
+                                           double m, const CollisionLaw& law, std::vector<double>& shifts) {
+  // The grains here are not those collide_all's shifts are indexed by: those wait in a store of their own.
+  std::vector<std::uint32_t> shifted, slot;
+  std::vector<double> shift;
+  std::swap(shifted, shifted_), std::swap(slot, slot_), std::swap(shift, shift_);
+  std::uint64_t hits = 0;
+  for (const auto& [i, j] : pairs)
+    hits += diameters_.empty() ? pair<false>(g, i, j, m, law) : pair<true>(g, i, j, m, law);
+  shifts.assign(3 * g.size(), 0.0);
+  for (std::size_t n = 0; n < shifted_.size(); ++n)
+    for (std::size_t k = 0; k < 3; ++k) shifts[3 * shifted_[n] + k] = shift_[3 * n + k];
+  std::swap(shifted, shifted_), std::swap(slot, slot_), std::swap(shift, shift_);
+  return hits;
+}
+
 template <bool kMixed>
 bool CollisionGrid::overlap(const Grains& g, std::size_t i, std::size_t j, Separation& s) const {
   double reach = d_;

@@ -95,6 +95,11 @@ class CollisionGrid {
   std::uint64_t collide_across(Grains& g, const std::vector<std::uint32_t>& left,
                                const std::vector<std::uint32_t>& right, double m, const CollisionLaw& law,
                                bool count);
+  // Swept pairs of g's grains listed by index (the pairs of grains too fast for the columns), collided in
+  // the list's order. The shifts their collisions give are returned, three per grain of g (zero for the
+  // others), and kept apart from those collide_all leaves for apply_shifts. Returns how many collided.
+  std::uint64_t collide_pairs(Grains& g, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs,
+                              double m, const CollisionLaw& law, std::vector<double>& shifts);
 
  private:
   template <bool kMixed>

@@ -95,6 +95,9 @@ void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
   o.triggers = static_cast<int>(r.integer_or("triggers", o.triggers, 1, 10000000));
   o.dt_max = r.number_or("dt_max", o.dt_max, Range{0, 1, true});
   o.swept = r.boolean_or("swept", o.swept);
+  o.fast_substeps = r.boolean_or("fast_substeps", o.fast_substeps);
+  if (o.fast_substeps && !o.swept)
+    r.fail("fast_substeps", "needs swept = true: fast grains are found along their paths");
   o.travel = r.number_or("travel", o.travel, Range{0, 4, true});
   if (!o.swept && o.travel > 0.5)
     r.fail("travel", "above 0.5 d grains can pass through each other unseen: set swept = true with it");

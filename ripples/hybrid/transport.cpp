@@ -25,6 +25,8 @@ void check_transport_options(const TransportOptions& o) {
       throw std::invalid_argument("every size, density, speed and time of the hybrid model must be positive");
   if (o.triggers < 1) throw std::invalid_argument("triggers must be at least 1");
   if (!(o.travel > 0) || !(o.travel <= 4)) throw std::invalid_argument("travel must be in (0, 4] diameters");
+  if (o.fast_substeps && !o.swept)
+    throw std::invalid_argument("fast_substeps needs swept = true: fast grains are found along their paths");
   if (!o.swept && o.travel > 0.5)
     throw std::invalid_argument(
         "a travel above 0.5 d lets grains pass through each other unseen: it needs swept = true");
@@ -138,6 +140,16 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
   // step.
   if (o.swept && grid_.columns_x() > 3) reach_x_ = grid_.cell_x() - 2 * r_max_;
   if (o.swept && grid_.columns_y() > 3) reach_y_ = grid_.cell_y() - 2 * r_max_;
+  // fast_substeps: at dt_max the columns hold the pairs of grains whose velocities lie in a box reach /
+  // dt_max wide (less what drag and gravity may change in a step), placed to hold the bulk of a
+  // saltation layer: from -0.3 to 0.7 of its width downwind (grains fly downwind), centred across.
+  if (o.fast_substeps) {
+    const double margin = 2 * std::sqrt(o.g * d_);
+    if (reach_x_ < 1e300)
+      box_[0] = -0.3 * (reach_x_ / dt_cap - margin), box_[1] = 0.7 * (reach_x_ / dt_cap - margin);
+    if (reach_y_ < 1e300)
+      box_[2] = -0.5 * (reach_y_ / dt_cap - margin), box_[3] = 0.5 * (reach_y_ / dt_cap - margin);
+  }
   first_x_ = std::find(owner_.begin(), owner_.end(), rank_) - owner_.begin();
   last_x_ = std::find(owner_.rbegin(), owner_.rend(), rank_).base() - owner_.begin() - 1;
   const double lift = 20 * std::sqrt(o.g * d_);
@@ -203,7 +215,7 @@ void Transport::step() {
   v2_next_ = 0, v2_launch_ = 0;
   const double dt =
       std::min(o_.dt_max * std::sqrt(d_ / o_.g), v2max > 0 ? o_.travel * d_ / std::sqrt(v2max) : 1e300);
-  dt_ = o_.swept ? swept_step(dt) : dt;
+  dt_ = o_.fast_substeps ? o_.dt_max * std::sqrt(d_ / o_.g) : o_.swept ? swept_step(dt) : dt;
   spread_ = {1e300, -1e300, 1e300, -1e300};
   grid_.set_sweep(o_.swept ? dt_ : 0);
   move_grains(dt_);
@@ -319,7 +331,7 @@ struct Lanes {
   static double lane(V v, int k) { return v[k]; }
   template <class F>
   static V each(F f) {
-    V v;
+    V v{};  // (every lane is set below; zeroed so that no compiler sees it read unset)
     for (int k = 0; k < N; ++k) v[k] = f(k);
     return v;
   }
@@ -356,15 +368,14 @@ template <bool kFollowsBed, bool kMixed>
 void Transport::move_grains_as(double dt) {
   const double base = base_, g_hat = g_hat_;
   const bool swept = o_.swept;
-  // Per grain-step, in the fixed-point units: the drag is drag_unit times (f1 + f2); the volume is constant.
-  const double drag_unit = m_ * 0.5 * dt * drag_scale_;
-  const auto volume_step = static_cast<std::int64_t>(volume_ * dt * volume_scale_);
+  // Per grain-step of h, in the fixed-point units: the drag is m h / 2 times (f1 + f2) and the volume is
+  // the grain's times h, each times its scale.
   Grains& g = grains_;
   // The fastest grain's speed squared, in a local: as a member, every store to the grains' arrays (which
   // may alias it, as far as the compiler knows) would force it back to memory each grain.
   double v2 = v2_next_;
   const WindTable wind = wind_.table();
-  auto advance = [&](auto lanes, std::size_t i) {
+  auto advance = [&](auto lanes, std::size_t i, double h) {
     using L = decltype(lanes);
     using V = typename L::V;
     const SizeClass* c[kLanes] = {};
@@ -393,8 +404,8 @@ void Transport::move_grains_as(double dt) {
       shift2 = shift;
       if (swept)
         shift2 = L::each([&](int k) {
-          return bed_->height(into(L::lane(x, k) + dt * L::lane(vx, k), length_),
-                              into(L::lane(y, k) + dt * L::lane(vy, k), width_)) -
+          return bed_->height(into(L::lane(x, k) + h * L::lane(vx, k), length_),
+                              into(L::lane(y, k) + h * L::lane(vy, k), width_)) -
                  base;
         });
       if (relief_) {
@@ -407,19 +418,19 @@ void Transport::move_grains_as(double dt) {
         // (The second stage's place again, as shift2's lookup took it; only swept steps move it.)
         V x2 = x, y2 = y;
         if (swept)
-          x2 = L::each([&](int k) { return into(L::lane(x, k) + dt * L::lane(vx, k), length_); }),
-          y2 = L::each([&](int k) { return into(L::lane(y, k) + dt * L::lane(vy, k), width_); });
-        const V s1 = felt(shift, x, y, z0), s2 = felt(shift2, x2, y2, z0 + dt * vz);
+          x2 = L::each([&](int k) { return into(L::lane(x, k) + h * L::lane(vx, k), length_); }),
+          y2 = L::each([&](int k) { return into(L::lane(y, k) + h * L::lane(vy, k), width_); });
+        const V s1 = felt(shift, x, y, z0), s2 = felt(shift2, x2, y2, z0 + h * vz);
         shift = s1, shift2 = s2;
       }
     }
     V ax, ay, az, bx, by, bz;
     const V z = z0 - shift;
     const V f1 = accel(z, vx, vy, vz, ax, ay, az);
-    const V wx = vx + dt * ax, wy = vy + dt * ay, wz = vz + dt * az;
-    const V f2 = accel(z + dt * vz - (shift2 - shift), wx, wy, wz, bx, by, bz);  // (- 0: same bits)
-    const V nx = x + 0.5 * dt * (vx + wx), ny = y + 0.5 * dt * (vy + wy), nz = z0 + 0.5 * dt * (vz + wz);
-    const V ux = vx + 0.5 * dt * (ax + bx), uy = vy + 0.5 * dt * (ay + by), uz = vz + 0.5 * dt * (az + bz);
+    const V wx = vx + h * ax, wy = vy + h * ay, wz = vz + h * az;
+    const V f2 = accel(z + h * vz - (shift2 - shift), wx, wy, wz, bx, by, bz);  // (- 0: same bits)
+    const V nx = x + 0.5 * h * (vx + wx), ny = y + 0.5 * h * (vy + wy), nz = z0 + 0.5 * h * (vz + wz);
+    const V ux = vx + 0.5 * h * (ax + bx), uy = vy + 0.5 * h * (ay + by), uz = vz + 0.5 * h * (az + bz);
     const V f = f1 + f2;
     L::store(g.x, i, into(nx, length_)), L::store(g.y, i, into(ny, width_)), L::store(g.z, i, nz);
     L::store(g.vx, i, ux), L::store(g.vy, i, uy), L::store(g.vz, i, uz);
@@ -428,11 +439,11 @@ void Transport::move_grains_as(double dt) {
       v2 = std::max(v2, L::lane(speed2, k));
       const std::size_t bin = wind.bin(L::lane(height, k));
       if constexpr (kMixed) {
-        drag_now_[bin] += static_cast<std::int64_t>(c[k]->m * 0.5 * dt * drag_scale_ * L::lane(f, k));
-        volume_now_[bin] += static_cast<std::int64_t>(c[k]->volume * dt * volume_scale_);
+        drag_now_[bin] += static_cast<std::int64_t>(c[k]->m * 0.5 * h * drag_scale_ * L::lane(f, k));
+        volume_now_[bin] += static_cast<std::int64_t>(c[k]->volume * h * volume_scale_);
       } else {
-        drag_now_[bin] += static_cast<std::int64_t>(drag_unit * L::lane(f, k));
-        volume_now_[bin] += volume_step;
+        drag_now_[bin] += static_cast<std::int64_t>(m_ * 0.5 * h * drag_scale_ * L::lane(f, k));
+        volume_now_[bin] += static_cast<std::int64_t>(volume_ * h * volume_scale_);
       }
     }
   };
@@ -443,21 +454,158 @@ void Transport::move_grains_as(double dt) {
   std::size_t fetched = 0;
   if constexpr (kFollowsBed)
     fetched = bed_->heights().size() * sizeof(double) > (std::size_t{1} << 18) ? g.size() : 0;
+  // fast_substeps: a grain faster than travel / dt takes n substeps of dt / n, n as few as keep it within
+  // travel in each (alone, not in a register's lanes, which take the same operations).
+  const bool substeps = o_.fast_substeps;
+  const double most = o_.travel * d_ / dt, most2 = most * most;
+  auto substeps_of = [&](std::size_t k) {
+    const double v2k = g.vx[k] * g.vx[k] + g.vy[k] * g.vy[k] + g.vz[k] * g.vz[k];
+    return v2k > most2 ? static_cast<int>(std::ceil(std::sqrt(v2k) / most)) : 1;
+  };
+  auto alone = [&](std::size_t k) {
+    const int n = substeps ? substeps_of(k) : 1;
+    for (int step = 0; step < n; ++step) advance(Lanes<1>{}, k, n == 1 ? dt : dt / n);
+  };
   std::size_t i = 0;
   for (; i + kLanes <= g.size(); i += kLanes) {
     if constexpr (kFollowsBed)
       for (std::size_t k = i + kFetchAhead; k < i + kFetchAhead + kLanes && k < fetched; ++k)
         bed_->prefetch(g.x[k], g.y[k]);
-    advance(Lanes<kLanes>{}, i);
+    bool all_one = true;
+    if (substeps)
+      for (std::size_t k = i; k < i + kLanes; ++k) all_one = all_one && substeps_of(k) == 1;
+    if (all_one) {
+      advance(Lanes<kLanes>{}, i, dt);
+      continue;
+    }
+    for (std::size_t k = i; k < i + kLanes; ++k) alone(k);
   }
-  for (; i < g.size(); ++i) advance(Lanes<1>{}, i);
+  for (; i < g.size(); ++i) alone(i);
   v2_next_ = v2;
 }
 
 void Transport::collide() {
   collisions += grid_.collide_all(grains_, m_, law_);
   if (ranks_ > 1) collide_rank_edges();
+  if (o_.fast_substeps) return collide_fast();  // (which applies the shifts)
   if (o_.swept) grid_.apply_shifts(grains_);
+}
+
+namespace {
+long wrap(long i, long n) {
+  return ((i % n) + n) % n;
+}
+// Whether two columns are neighbours (periodic), as the column pass pairs them.
+bool neighbours(long a, long b, long n) {
+  const long d = std::abs(a - b);
+  return std::min(d, n - d) <= 1;
+}
+}  // namespace
+
+// The pairs the columns cannot hold at a step of dt_max: those with a grain whose velocity lies outside
+// the box. Every rank gathers every such fast grain, and every grain of its own in the columns where one
+// of them may have met it within the step; all ranks then collide the same pairs in the same order
+// (ascending id of the fast grain, then of its partner), so the bits do not depend on the split. Pairs
+// in neighbouring columns were done by the column pass and are left out. The columns are where the
+// grains stood in that pass, before its shifts.
+void Transport::collide_fast() {
+  const Grains& g = grains_;
+  std::vector<double> mine;
+  for (std::size_t i = 0; i < g.size(); ++i)
+    if (fast(g.vx[i], g.vy[i])) pack_grain(g, i, mine);
+  const std::vector<double> fast_all = ranks_ > 1 ? parallel::gather_all(mine) : mine;
+  if (fast_all.empty()) return grid_.apply_shifts(grains_);
+  Grains f;
+  unpack_grains(fast_all.data(), fast_all.size() / kGrainValues, f);
+  f = by_id(f);
+  // The columns where a grain with a velocity in the box ends the step if it touched fast grain i within
+  // it: the separation now is the one at contact (under 2 r_max) plus the relative velocity times the
+  // time since.
+  const long nx = grid_.columns_x(), ny = grid_.columns_y();
+  const double span = dt_, reach = 2 * r_max_;
+  struct Region {
+    long x0, x1, y0, y1;  // columns, x0 <= x1 and y0 <= y1, possibly past the domain's ends (periodic)
+  };
+  auto region_of = [&](std::size_t i) {
+    auto range = [&](double p, double v, double lo, double hi, double cell, long n, long& a, long& b) {
+      const double from = p + std::min(0.0, (lo - v) * span) - reach,
+                   to = p + std::max(0.0, (hi - v) * span) + reach;
+      a = static_cast<long>(std::floor(from / cell)), b = static_cast<long>(std::floor(to / cell));
+      if (b - a + 1 >= n) a = 0, b = n - 1;
+    };
+    Region r{};
+    range(f.x[i], f.vx[i], box_[0], box_[1], grid_.cell_x(), nx, r.x0, r.x1);
+    range(f.y[i], f.vy[i], box_[2], box_[3], grid_.cell_y(), ny, r.y0, r.y1);
+    return r;
+  };
+  std::vector<Region> regions(f.size());
+  std::vector<char> marked(static_cast<std::size_t>(nx * ny), 0);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    regions[i] = region_of(i);
+    for (long cx = regions[i].x0; cx <= regions[i].x1; ++cx)
+      for (long cy = regions[i].y0; cy <= regions[i].y1; ++cy)
+        marked[static_cast<std::size_t>(wrap(cx, nx) * ny + wrap(cy, ny))] = 1;
+  }
+  // This rank's grains in those columns, then every rank's.
+  mine.clear();
+  for (std::size_t i = 0; i < g.size(); ++i)
+    if (!fast(g.vx[i], g.vy[i]) &&
+        marked[static_cast<std::size_t>(grid_.column_x(g.x[i]) * ny + grid_.column_y(g.y[i]))])
+      pack_grain(g, i, mine);
+  const std::vector<double> near_all = ranks_ > 1 ? parallel::gather_all(mine) : mine;
+  Grains t = f;  // the fast grains, then their possible partners
+  const std::size_t nf = f.size();
+  {
+    Grains near;
+    unpack_grains(near_all.data(), near_all.size() / kGrainValues, near);
+    near = by_id(near);
+    for (std::size_t k = 0; k < near.size(); ++k)
+      t.add(near.x[k], near.y[k], near.z[k], near.vx[k], near.vy[k], near.vz[k], near.kind[k], near.id[k]);
+  }
+  // The partners by column, in ascending id within each.
+  std::vector<std::pair<std::size_t, std::uint32_t>> by_column;
+  for (std::size_t k = nf; k < t.size(); ++k)
+    by_column.emplace_back(static_cast<std::size_t>(grid_.column_x(t.x[k]) * ny + grid_.column_y(t.y[k])),
+                           static_cast<std::uint32_t>(k));
+  std::sort(by_column.begin(), by_column.end());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  std::vector<std::uint32_t> partners;
+  for (std::uint32_t i = 0; i < nf; ++i) {
+    const long ix = grid_.column_x(t.x[i]), iy = grid_.column_y(t.y[i]);
+    auto near = [&](std::uint32_t k) {
+      return neighbours(ix, grid_.column_x(t.x[k]), nx) && neighbours(iy, grid_.column_y(t.y[k]), ny);
+    };
+    partners.clear();
+    for (std::uint32_t j = i + 1; j < nf; ++j)
+      if (!near(j)) partners.push_back(j);
+    const Region& r = regions[i];
+    for (long cx = r.x0; cx <= r.x1; ++cx)
+      for (long cy = r.y0; cy <= r.y1; ++cy) {
+        const std::size_t c = static_cast<std::size_t>(wrap(cx, nx) * ny + wrap(cy, ny));
+        auto at = std::lower_bound(by_column.begin(), by_column.end(), std::make_pair(c, std::uint32_t{0}));
+        for (; at != by_column.end() && at->first == c; ++at)
+          if (!near(at->second)) partners.push_back(at->second);
+      }
+    // Ascending id: the fast grains' ids and the partners' interleave.
+    std::sort(partners.begin(), partners.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return t.id[a] < t.id[b]; });
+    partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
+    for (std::uint32_t j : partners) pairs.emplace_back(i, j);
+  }
+  std::vector<double> shifts;
+  const std::uint64_t hits = grid_.collide_pairs(t, pairs, m_, law_, shifts);
+  if (rank_ == 0) collisions += hits;
+  grid_.apply_shifts(grains_);  // the column pass's
+  // The outcome for this rank's own grains (ascending id in both).
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const auto at = std::lower_bound(grains_.id.begin(), grains_.id.end(), t.id[k]);
+    if (at == grains_.id.end() || *at != t.id[k]) continue;
+    const auto i = static_cast<std::size_t>(at - grains_.id.begin());
+    grains_.vx[i] = t.vx[k], grains_.vy[i] = t.vy[k], grains_.vz[i] = t.vz[k];
+    grains_.x[i] = into(grains_.x[i] + shifts[3 * k], length_);
+    grains_.y[i] = into(grains_.y[i] + shifts[3 * k + 1], width_);
+    grains_.z[i] += shifts[3 * k + 2];
+  }
 }
 
 // The block boundaries between this rank and its neighbours: each side sends the grains of its edge

@@ -44,6 +44,13 @@ struct TransportOptions {
   // wind about half as much as along it).
   double travel = 0.2;
   bool swept = false;
+  // With `swept`: every step is dt_max long, and a grain that would move more than `travel` in it takes
+  // as many substeps as keep it within `travel` each. Without, the fastest grain sets everyone's step: on
+  // the paper's domain one grain in a hundred flies faster than 75 sqrt(g d), and a rare ejectum from the
+  // splash's energy tail at up to ~300, which halves the step of 30,000 grains for the hundreds of t* it
+  // flies (docs/ripples.md, "A step for the fast grains"). Mid-air pairs with a grain whose velocity lies
+  // outside the range the collision columns allow at dt_max are found by a pass of their own.
+  bool fast_substeps = false;
   double wind_interval = 1;  // t* between wind updates
   double wind_memory = 20;   // t*: the grains' drag is a running mean over this
   bool collisions = true;
@@ -159,6 +166,11 @@ class Transport {
   void move_grains_as(double dt);
   void collide();
   void collide_rank_edges();
+  void collide_fast();
+  // fast_substeps: whether a velocity lies outside the range the collision columns allow at the step.
+  bool fast(double vx, double vy) const {
+    return vx < box_[0] || vx > box_[1] || vy < box_[2] || vy > box_[3];
+  }
   void migrate();
   void finish_step();
   // A grain at or below the bed: a copy of its state, and where it sits here (-1: on another rank).
@@ -206,6 +218,8 @@ class Transport {
   double relief_mean_ = 0;
   int winds_since_relief_ = 0;
   static constexpr int kReliefEvery = 10;  // wind updates
+  // fast_substeps: the velocities (cm/s, x then y) whose pairs the collision columns hold at dt_max.
+  std::array<double, 4> box_{-1e300, 1e300, -1e300, 1e300};
   double r_max_;  // the largest grain's radius, cm: no grain whose centre is higher above the top touches
   double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
   WindColumn wind_;
