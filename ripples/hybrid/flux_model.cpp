@@ -57,6 +57,7 @@ FluxResult run_flux(const FluxOptions& o) {
     r.bed_friction = run.tally.bed_pz > 0 ? run.tally.bed_px / run.tally.bed_pz : 0;
   }
   r.grain_steps = run.grain_steps, r.steps = run.steps, r.collisions = run.total_collisions();
+  r.fast_collisions = run.fast_collisions;
   r.u_star_bed = std::sqrt(run.wind().bed_stress());
   r.z = run.wind().z(), r.u = run.wind().u(), r.u_clean = run.wind().clean();
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

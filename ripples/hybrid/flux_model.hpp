@@ -35,6 +35,7 @@ struct FluxResult {
   std::vector<double> z, u, u_clean;          // the wind at the end (cm, cm/s)
   std::vector<std::array<double, 3>> series;  // t*, Q*, airborne
   std::uint64_t grain_steps = 0, steps = 0, collisions = 0;
+  std::uint64_t fast_collisions = 0;  // of those, by the fast_substeps pass
   double wall_seconds = 0;
 };
 

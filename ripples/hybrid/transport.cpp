@@ -594,6 +594,7 @@ void Transport::collide_fast() {
   }
   std::vector<double> shifts;
   const std::uint64_t hits = grid_.collide_pairs(t, pairs, m_, law_, shifts);
+  fast_collisions += hits;
   if (rank_ == 0) collisions += hits;
   grid_.apply_shifts(grains_);  // the column pass's
   // The outcome for this rank's own grains (ascending id in both).

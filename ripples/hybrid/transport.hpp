@@ -153,6 +153,9 @@ class Transport {
   ImpactTally tally;  // every impact's, on every rank
   std::uint64_t grain_steps = 0, steps = 0;
   std::uint64_t collisions = 0;  // this rank's: total_collisions() sums them
+  // fast_substeps: the pairs the fast pass collided (every rank does it whole: the same on each); also
+  // counted in collisions, on the first rank.
+  std::uint64_t fast_collisions = 0;
   // Everything a continued run needs, as named tables (prefix + "grains", "ids", "wind", "clock"); restore
   // takes them back (throws std::invalid_argument when one is missing or the wrong shape). Both are
   // collective on a distributed run, and a run continued on any rank count goes on bit for bit. A
