@@ -199,14 +199,19 @@ std::uint64_t CollisionGrid::collide_across(Grains& g, const std::vector<std::ui
 
 std::uint64_t CollisionGrid::collide_pairs(Grains& g,
                                            const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs,
-                                           double m, const CollisionLaw& law, std::vector<double>& shifts) {
+                                           double m, const CollisionLaw& law, std::vector<double>& shifts,
+                                           std::vector<std::uint32_t>& touched) {
   // The grains here are not those collide_all's shifts are indexed by: those wait in a store of their own.
   std::vector<std::uint32_t> shifted, slot;
   std::vector<double> shift;
   std::swap(shifted, shifted_), std::swap(slot, slot_), std::swap(shift, shift_);
   std::uint64_t hits = 0;
+  touched.clear();
   for (const auto& [i, j] : pairs)
-    hits += diameters_.empty() ? pair<false>(g, i, j, m, law) : pair<true>(g, i, j, m, law);
+    if (diameters_.empty() ? pair<false>(g, i, j, m, law) : pair<true>(g, i, j, m, law))
+      ++hits, touched.push_back(i), touched.push_back(j);
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   shifts.assign(3 * g.size(), 0.0);
   for (std::size_t n = 0; n < shifted_.size(); ++n)
     for (std::size_t k = 0; k < 3; ++k) shifts[3 * shifted_[n] + k] = shift_[3 * n + k];

@@ -69,6 +69,10 @@ class CollisionGrid {
   long columns_x() const { return nx_; }
   long columns_y() const { return ny_; }
   long column_x(double x) const { return std::min(nx_ - 1, static_cast<long>(x * inv_hx_)); }
+  // Grain i's column, x * columns_y() + y, as the last collide_all found it (its grains, in their order).
+  std::size_t column_of(std::size_t i) const {
+    return static_cast<std::size_t>(column_x_[i]) * static_cast<std::size_t>(ny_) + column_y_[i];
+  }
   long column_y(double y) const { return std::min(ny_ - 1, static_cast<long>(y * inv_hy_)); }
   double cell_x() const { return 1 / inv_hx_; }  // cm
   double cell_y() const { return 1 / inv_hy_; }
@@ -97,9 +101,11 @@ class CollisionGrid {
                                bool count);
   // Swept pairs of g's grains listed by index (the pairs of grains too fast for the columns), collided in
   // the list's order. The shifts their collisions give are returned, three per grain of g (zero for the
-  // others), and kept apart from those collide_all leaves for apply_shifts. Returns how many collided.
+  // others), and kept apart from those collide_all leaves for apply_shifts; `touched` gets each grain that
+  // collided, once, in ascending index. Returns how many pairs collided.
   std::uint64_t collide_pairs(Grains& g, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs,
-                              double m, const CollisionLaw& law, std::vector<double>& shifts);
+                              double m, const CollisionLaw& law, std::vector<double>& shifts,
+                              std::vector<std::uint32_t>& touched);
 
  private:
   template <bool kMixed>

@@ -495,6 +495,9 @@ namespace {
 long wrap(long i, long n) {
   return ((i % n) + n) % n;
 }
+double nearest(double s, double period) {  // the nearest periodic image of a separation
+  return s - period * std::round(s / period);
+}
 // Whether two columns are neighbours (periodic), as the column pass pairs them.
 bool neighbours(long a, long b, long n) {
   const long d = std::abs(a - b);
@@ -515,9 +518,10 @@ void Transport::collide_fast() {
     if (fast(g.vx[i], g.vy[i])) pack_grain(g, i, mine);
   const std::vector<double> fast_all = ranks_ > 1 ? parallel::gather_all(mine) : mine;
   if (fast_all.empty()) return grid_.apply_shifts(grains_);
-  Grains f;
-  unpack_grains(fast_all.data(), fast_all.size() / kGrainValues, f);
-  f = by_id(f);
+  Grains t;  // the fast grains, then their possible partners
+  unpack_grains(fast_all.data(), fast_all.size() / kGrainValues, t);
+  t = by_id(t);
+  const std::size_t nf = t.size();
   // The columns where a grain with a velocity in the box ends the step if it touched fast grain i within
   // it: the separation now is the one at contact (under 2 r_max) plus the relative velocity times the
   // time since.
@@ -526,35 +530,36 @@ void Transport::collide_fast() {
   struct Region {
     long x0, x1, y0, y1;  // columns, x0 <= x1 and y0 <= y1, possibly past the domain's ends (periodic)
   };
-  auto region_of = [&](std::size_t i) {
-    auto range = [&](double p, double v, double lo, double hi, double cell, long n, long& a, long& b) {
-      const double from = p + std::min(0.0, (lo - v) * span) - reach,
-                   to = p + std::max(0.0, (hi - v) * span) + reach;
-      a = static_cast<long>(std::floor(from / cell)), b = static_cast<long>(std::floor(to / cell));
-      if (b - a + 1 >= n) a = 0, b = n - 1;
-    };
-    Region r{};
-    range(f.x[i], f.vx[i], box_[0], box_[1], grid_.cell_x(), nx, r.x0, r.x1);
-    range(f.y[i], f.vy[i], box_[2], box_[3], grid_.cell_y(), ny, r.y0, r.y1);
-    return r;
+  auto range = [&](double p, double v, double lo, double hi, double cell, long n, long& a, long& b) {
+    const double from = p + std::min(0.0, (lo - v) * span) - reach;
+    const double to = p + std::max(0.0, (hi - v) * span) + reach;
+    a = static_cast<long>(std::floor(from / cell)), b = static_cast<long>(std::floor(to / cell));
+    if (b - a + 1 >= n) a = 0, b = n - 1;
   };
-  std::vector<Region> regions(f.size());
-  std::vector<char> marked(static_cast<std::size_t>(nx * ny), 0);
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    regions[i] = region_of(i);
-    for (long cx = regions[i].x0; cx <= regions[i].x1; ++cx)
-      for (long cy = regions[i].y0; cy <= regions[i].y1; ++cy)
-        marked[static_cast<std::size_t>(wrap(cx, nx) * ny + wrap(cy, ny))] = 1;
+  std::vector<Region> regions(nf);
+  marked_.resize(static_cast<std::size_t>(nx * ny), 0);
+  std::vector<std::size_t> set;  // the marked columns, to clear them after
+  // (Less the fast grain's own column and its neighbours, whose pairs the column pass did.)
+  auto beyond = [&](std::size_t i, long cx, long cy) {
+    return !neighbours(wrap(cx, nx), grid_.column_x(t.x[i]), nx) ||
+           !neighbours(wrap(cy, ny), grid_.column_y(t.y[i]), ny);
+  };
+  for (std::size_t i = 0; i < nf; ++i) {
+    Region& r = regions[i];
+    range(t.x[i], t.vx[i], box_[0], box_[1], grid_.cell_x(), nx, r.x0, r.x1);
+    range(t.y[i], t.vy[i], box_[2], box_[3], grid_.cell_y(), ny, r.y0, r.y1);
+    for (long cx = r.x0; cx <= r.x1; ++cx)
+      for (long cy = r.y0; cy <= r.y1; ++cy) {
+        const auto c = static_cast<std::size_t>(wrap(cx, nx) * ny + wrap(cy, ny));
+        if (!marked_[c] && beyond(i, cx, cy)) marked_[c] = 1, set.push_back(c);
+      }
   }
-  // This rank's grains in those columns, then every rank's.
+  // This rank's grains in those columns (as the column pass found them), then every rank's.
   mine.clear();
   for (std::size_t i = 0; i < g.size(); ++i)
-    if (!fast(g.vx[i], g.vy[i]) &&
-        marked[static_cast<std::size_t>(grid_.column_x(g.x[i]) * ny + grid_.column_y(g.y[i]))])
-      pack_grain(g, i, mine);
+    if (marked_[grid_.column_of(i)] && !fast(g.vx[i], g.vy[i])) pack_grain(g, i, mine);
+  for (std::size_t c : set) marked_[c] = 0;
   const std::vector<double> near_all = ranks_ > 1 ? parallel::gather_all(mine) : mine;
-  Grains t = f;  // the fast grains, then their possible partners
-  const std::size_t nf = f.size();
   {
     Grains near;
     unpack_grains(near_all.data(), near_all.size() / kGrainValues, near);
@@ -562,43 +567,70 @@ void Transport::collide_fast() {
     for (std::size_t k = 0; k < near.size(); ++k)
       t.add(near.x[k], near.y[k], near.z[k], near.vx[k], near.vy[k], near.vz[k], near.kind[k], near.id[k]);
   }
-  // The partners by column, in ascending id within each.
+  std::vector<std::size_t> column(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k)
+    column[k] = static_cast<std::size_t>(grid_.column_x(t.x[k]) * ny + grid_.column_y(t.y[k]));
+  auto near = [&](std::size_t a, std::size_t b) {  // neighbouring columns: the column pass paired them
+    return neighbours(static_cast<long>(column[a] / static_cast<std::size_t>(ny)),
+                      static_cast<long>(column[b] / static_cast<std::size_t>(ny)), nx) &&
+           neighbours(static_cast<long>(column[a] % static_cast<std::size_t>(ny)),
+                      static_cast<long>(column[b] % static_cast<std::size_t>(ny)), ny);
+  };
+  std::vector<std::vector<std::uint32_t>> partners(nf);
+  // Fast with fast: only pairs whose separation now is within what contact plus the span's relative
+  // motion allows, found by a sweep along x (the grains sorted by x, each against those ahead within the
+  // widest such window).
+  {
+    double fastest = 0;
+    for (std::size_t i = 0; i < nf; ++i) fastest = std::max(fastest, std::hypot(t.vx[i], t.vy[i]));
+    const double window = reach + 2 * fastest * span;
+    std::vector<std::uint32_t> order(nf);
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return t.x[a] < t.x[b]; });
+    for (std::size_t n = 0; n < nf; ++n)
+      for (std::size_t m = 1; m < nf; ++m) {  // ahead along x, around the period
+        const std::uint32_t i = order[n], j = order[(n + m) % nf];
+        const double ahead = t.x[j] - t.x[i] + (n + m >= nf ? length_ : 0.0);
+        if (ahead > window) break;
+        const double dx = nearest(t.x[j] - t.x[i], length_);
+        const double wx = t.vx[j] - t.vx[i], wy = t.vy[j] - t.vy[i], wz = t.vz[j] - t.vz[i];
+        if (std::abs(dx) > reach + std::abs(wx) * span ||
+            std::abs(nearest(t.y[j] - t.y[i], width_)) > reach + std::abs(wy) * span ||
+            std::abs(t.z[j] - t.z[i]) > reach + std::abs(wz) * span || near(i, j))
+          continue;
+        partners[std::min(i, j)].push_back(std::max(i, j));  // (fast grains: index order is id order)
+      }
+  }
+  // Fast with the others, by column.
   std::vector<std::pair<std::size_t, std::uint32_t>> by_column;
   for (std::size_t k = nf; k < t.size(); ++k)
-    by_column.emplace_back(static_cast<std::size_t>(grid_.column_x(t.x[k]) * ny + grid_.column_y(t.y[k])),
-                           static_cast<std::uint32_t>(k));
+    by_column.emplace_back(column[k], static_cast<std::uint32_t>(k));
   std::sort(by_column.begin(), by_column.end());
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  std::vector<std::uint32_t> partners;
   for (std::uint32_t i = 0; i < nf; ++i) {
-    const long ix = grid_.column_x(t.x[i]), iy = grid_.column_y(t.y[i]);
-    auto near = [&](std::uint32_t k) {
-      return neighbours(ix, grid_.column_x(t.x[k]), nx) && neighbours(iy, grid_.column_y(t.y[k]), ny);
-    };
-    partners.clear();
-    for (std::uint32_t j = i + 1; j < nf; ++j)
-      if (!near(j)) partners.push_back(j);
     const Region& r = regions[i];
     for (long cx = r.x0; cx <= r.x1; ++cx)
       for (long cy = r.y0; cy <= r.y1; ++cy) {
-        const std::size_t c = static_cast<std::size_t>(wrap(cx, nx) * ny + wrap(cy, ny));
+        const auto c = static_cast<std::size_t>(wrap(cx, nx) * ny + wrap(cy, ny));
         auto at = std::lower_bound(by_column.begin(), by_column.end(), std::make_pair(c, std::uint32_t{0}));
         for (; at != by_column.end() && at->first == c; ++at)
-          if (!near(at->second)) partners.push_back(at->second);
+          if (!near(i, at->second)) partners[i].push_back(at->second);
       }
-    // Ascending id: the fast grains' ids and the partners' interleave.
-    std::sort(partners.begin(), partners.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return t.id[a] < t.id[b]; });
-    partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
-    for (std::uint32_t j : partners) pairs.emplace_back(i, j);
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::uint32_t i = 0; i < nf; ++i) {
+    auto& p = partners[i];  // in ascending id
+    std::sort(p.begin(), p.end(), [&](std::uint32_t a, std::uint32_t b) { return t.id[a] < t.id[b]; });
+    p.erase(std::unique(p.begin(), p.end()), p.end());
+    for (std::uint32_t j : p) pairs.emplace_back(i, j);
   }
   std::vector<double> shifts;
-  const std::uint64_t hits = grid_.collide_pairs(t, pairs, m_, law_, shifts);
+  std::vector<std::uint32_t> touched;
+  const std::uint64_t hits = grid_.collide_pairs(t, pairs, m_, law_, shifts, touched);
   fast_collisions += hits;
   if (rank_ == 0) collisions += hits;
   grid_.apply_shifts(grains_);  // the column pass's
-  // The outcome for this rank's own grains (ascending id in both).
-  for (std::size_t k = 0; k < t.size(); ++k) {
+  // The outcome for this rank's own grains among those collided here.
+  for (const std::uint32_t k : touched) {
     const auto at = std::lower_bound(grains_.id.begin(), grains_.id.end(), t.id[k]);
     if (at == grains_.id.end() || *at != t.id[k]) continue;
     const auto i = static_cast<std::size_t>(at - grains_.id.begin());

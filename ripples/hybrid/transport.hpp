@@ -223,6 +223,7 @@ class Transport {
   static constexpr int kReliefEvery = 10;  // wind updates
   // fast_substeps: the velocities (cm/s, x then y) whose pairs the collision columns hold at dt_max.
   std::array<double, 4> box_{-1e300, 1e300, -1e300, 1e300};
+  std::vector<std::uint8_t> marked_;  // per column: one a fast grain may have met a grain in (kept clear)
   double r_max_;  // the largest grain's radius, cm: no grain whose centre is higher above the top touches
   double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
   WindColumn wind_;
