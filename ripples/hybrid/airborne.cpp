@@ -7,16 +7,6 @@
 
 namespace grainlab::ripples::hybrid {
 
-namespace {
-long wrap(long i, long n) {
-  return i < 0 ? i + n : (i >= n ? i - n : i);
-}
-// The nearest periodic image of a separation (both grains inside the box).
-double nearest(double s, double period) {
-  return s > 0.5 * period ? s - period : (s < -0.5 * period ? s + period : s);
-}
-}  // namespace
-
 void Grains::remove_marked(const std::vector<char>& drop) {
   std::size_t keep = 0;
   for (std::size_t i = 0; i < size(); ++i) {

@@ -42,6 +42,15 @@ V into(V x, double period) {
   return x < V{} ? x + period : (x >= V{} + period ? x - period : x);
 }
 
+// A column index i in [-n, 2n) taken into [0, n) (periodic).
+inline long wrap(long i, long n) {
+  return i < 0 ? i + n : (i >= n ? i - n : i);
+}
+// The nearest periodic image of a separation (both grains inside the box).
+inline double nearest(double s, double period) {
+  return s > 0.5 * period ? s - period : (s < -0.5 * period ? s + period : s);
+}
+
 // Mid-air collisions: grains chained into vertical columns one diameter square (periodic in x and y), each
 // grain checked against the grains chained before it in its column and against the four columns ahead of
 // it, each pair of overlapping, approaching grains collided once per step.

@@ -492,12 +492,6 @@ void Transport::collide() {
 }
 
 namespace {
-long wrap(long i, long n) {
-  return ((i % n) + n) % n;
-}
-double nearest(double s, double period) {  // the nearest periodic image of a separation
-  return s - period * std::round(s / period);
-}
 // Whether two columns are neighbours (periodic), as the column pass pairs them.
 bool neighbours(long a, long b, long n) {
   const long d = std::abs(a - b);
@@ -527,8 +521,8 @@ void Transport::collide_fast() {
   // time since.
   const long nx = grid_.columns_x(), ny = grid_.columns_y();
   const double span = dt_, reach = 2 * r_max_;
-  struct Region {
-    long x0, x1, y0, y1;  // columns, x0 <= x1 and y0 <= y1, possibly past the domain's ends (periodic)
+  struct Region {  // columns, x0 <= x1 and y0 <= y1: within a period of the grain's own (wrap takes them in)
+    long x0, x1, y0, y1;
   };
   auto range = [&](double p, double v, double lo, double hi, double cell, long n, long& a, long& b) {
     const double from = p + std::min(0.0, (lo - v) * span) - reach;
