@@ -382,6 +382,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   }
   const auto& tr = run.transport();
   const double rate = wall > 0 ? static_cast<double>(tr.grain_steps - steps_before) / wall : 0;
+  const std::uint64_t collisions = tr.total_collisions();  // (a sum over the ranks: every rank takes part)
   if (!first) return 0;
   if (a.json) {
     nlohmann::json rows = nlohmann::json::array();
@@ -420,6 +421,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"swept", o.swept},
                            {"fast_substeps", o.fast_substeps},
                            {"fast_collisions", tr.fast_collisions},
+                           {"collisions", collisions},
+                           {"steps", tr.steps},
                            {"travel", o.travel},
                            {"sizes", o.sizes},
                            {"fractions", o.fractions},
