@@ -14,49 +14,23 @@ usage:
 Prints a markdown table per quantity; --json prints one JSON object instead.
 """
 import argparse
-import glob
 import json
 import math
 import sys
 
+import hybrid_runs
+from hybrid_runs import column
+
 
 def mean_se(values):
-    v = [x for x in values if x is not None and not math.isnan(x)]
-    if not v:
-        return None, None
-    m = sum(v) / len(v)
-    if len(v) < 2:
-        return m, None
-    var = sum((x - m) ** 2 for x in v) / (len(v) - 1)
-    return m, math.sqrt(var / len(v))
-
-
-def column(run, name):
-    cols = run["history_columns"]
-    return [r[cols.index(name)] for r in run["history"]]
+    """(mean, se) of the values that are numbers, None where undefined (JSON has no NaN)."""
+    m, se, _ = hybrid_runs.mean_se(values)
+    return (None if math.isnan(m) else m), (None if math.isnan(se) else se)
 
 
 def window_mean(run, name, lo, hi):
-    t = column(run, "t_star")
-    v = [x for tt, x in zip(t, column(run, name)) if lo <= tt <= hi and x is not None]
-    return sum(v) / len(v) if v else None
-
-
-def load_set(label, patterns):
-    paths = sorted(p for pat in patterns for p in glob.glob(pat))
-    if not paths:
-        sys.exit(f"error: --set {label}: no file matches {' '.join(patterns)}")
-    runs = []
-    for p in paths:
-        try:
-            with open(p) as f:
-                run = json.load(f)
-        except (OSError, json.JSONDecodeError) as e:
-            sys.exit(f"error: {p}: not a ripples hybrid --json output ({e})")
-        if "history" not in run or "history_columns" not in run:
-            sys.exit(f"error: {p}: no \"history\": not a ripples hybrid --json output")
-        runs.append(run)
-    return paths, runs
+    v = hybrid_runs.window_mean(run, name, lo, hi)
+    return None if math.isnan(v) else v
 
 
 def summarise(runs, window):
@@ -185,7 +159,7 @@ def main():
     for spec in a.set:
         if len(spec) < 2:
             sys.exit(f"error: --set {spec[0]}: give a label and at least one glob")
-        _, runs = load_set(spec[0], spec[1:])
+        runs = [run for _, run in hybrid_runs.read_runs(spec[0], spec[1:])]
         sets_runs.append((spec[0], runs))
         sets.append((spec[0], summarise(runs, a.window)))
     if a.plot:

@@ -15,12 +15,13 @@ A run's u* is its JSON's "u_star"; older JSON without it is read from the .toml 
 Prints a markdown table per set and the fit; --json prints one JSON object instead.
 """
 import argparse
-import glob
 import json
 import math
 import os
 import re
 import sys
+
+from hybrid_runs import mean_se, read_runs, window_mean
 
 
 def u_star_of(path, run):
@@ -37,23 +38,6 @@ def u_star_of(path, run):
     return float(m.group(1))
 
 
-def window_mean(run, column, lo, hi):
-    cols = run["history_columns"]
-    k, t = cols.index(column), cols.index("t_star")
-    vals = [r[k] for r in run["history"] if lo <= r[t] <= hi and r[k] is not None and r[k] > 0]
-    return sum(vals) / len(vals) if vals else float("nan")
-
-
-def mean_se(xs):
-    xs = [x for x in xs if not math.isnan(x)]
-    n = len(xs)
-    if n == 0:
-        return float("nan"), float("nan"), 0
-    m = sum(xs) / n
-    se = math.sqrt(sum((x - m) ** 2 for x in xs) / (n - 1) / n) if n > 1 else float("nan")
-    return m, se, n
-
-
 def fit_line(points):
     """Ordinary least squares y = a + b x; returns a, b and their standard errors."""
     n = len(points)
@@ -62,6 +46,8 @@ def fit_line(points):
     mx = sum(x for x, _ in points) / n
     my = sum(y for _, y in points) / n
     sxx = sum((x - mx) ** 2 for x, _ in points)
+    if sxx <= 1e-12 * max(1.0, mx * mx):  # one u* only: no line to fit
+        return None
     b = sum((x - mx) * (y - my) for x, y in points) / sxx
     a = my - b * mx
     s2 = sum((y - a - b * x) ** 2 for x, y in points) / (n - 2)
@@ -69,16 +55,8 @@ def fit_line(points):
 
 
 def load_set(label, patterns, args):
-    files = sorted({f for p in patterns for f in glob.glob(p)})
-    if not files:
-        sys.exit(f"error: set '{label}': no file matches {patterns}")
     by_u = {}
-    for f in files:
-        try:
-            with open(f) as fh:
-                run = json.load(fh)
-        except (OSError, json.JSONDecodeError) as e:
-            sys.exit(f"error: {f}: {e}")
+    for f, run in read_runs(label, patterns):
         if run["t_star"] < args.window[1]:
             print(f"warning: {f} ends at t* {run['t_star']:.0f}, inside the window", file=sys.stderr)
         u = u_star_of(f, run)
@@ -136,6 +114,8 @@ def print_markdown(s, args):
             f"\nfit over {s['fit_points']} runs (u*/u_d* <= {args.fit_below}): lambda = ({f['a']:.1f} +- {f['a_se']:.1f}) d"
             f" + ({f['b']:.1f} +- {f['b_se']:.1f}) d x (u*/u_d* - 1)"
         )
+    else:
+        print(f"\nno fit: a line needs at least 3 runs at two or more u* (u*/u_d* <= {args.fit_below})")
 
 
 def plot(sets, args):
