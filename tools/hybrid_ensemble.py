@@ -99,11 +99,13 @@ def print_tables(sets, window):
 
 
 def mean_curve(runs, name):
+    """A history column's mean and standard error frame by frame (the runs share their frames' times)."""
     t = column(runs[0], "t_star")
-    n = min(len(column(r, name)) for r in runs)
+    columns = [column(r, name) for r in runs]
+    n = min(len(c) for c in columns)
     means, ses = [], []
     for k in range(n):
-        m, se = mean_se([column(r, name)[k] for r in runs])
+        m, se = mean_se([c[k] for c in columns])
         means.append(m if m is not None else float("nan"))
         ses.append(se if se is not None else 0.0)
     return t[:n], means, ses
@@ -130,6 +132,7 @@ def plot(sets_runs, sets, path):
         ax.legend(fontsize=8)
     ax = axes.flat[3]
     for label, s in sets:
+        # (Bands from about 16 d up: the shortest decay tens of times faster and would flatten the rest.)
         bs = [b for b in s["bands"] if b["growth_rate"] is not None and b["lambda_min"] >= 8]
         if not bs:
             continue
