@@ -139,6 +139,7 @@ void write_wind_run(const std::string& path, const SaltationCommands& a, const W
       {"grain_diameter", fmt::format("{}", 2 * o.grain.radius)},
       {"reynolds_factor", fmt::format("{}", o.reynolds_factor)},
       {"drag_smoothing_cm", fmt::format("{}", o.drag_smoothing)},
+      {"ejecta_below_range", a.ejecta_below},
       {"converged", r.converged ? "true" : "false"},
       {"iterations", std::to_string(r.iterations)}};
   write_sample_tables(path, {wind, launch, conv}, meta);
@@ -166,6 +167,8 @@ int wind_command(const SaltationCommands& a) {
   if (!(a.drag_smoothing >= 0 && a.drag_smoothing <= 100))
     throw InputError({"--drag-smoothing", 0}, fmt::format("{}", a.drag_smoothing), "must lie in [0, 100] cm");
   o.drag_smoothing = a.drag_smoothing;
+  o.ejecta_below_range = a.ejecta_below == "proportional" ? WindModelOptions::EjectaBelowRange::proportional
+                                                          : WindModelOptions::EjectaBelowRange::line;
   // Another planet or gas: a preset, then any of g, air density and viscosity; buoyancy on. The analytic
   // splash is scaled by sqrt(g d) as in `saltation study` (a splash file is scaled by its own units).
   double splash_scale = 1;
@@ -201,6 +204,7 @@ int wind_command(const SaltationCommands& a) {
   if (a.wind_json) {
     fmt::print("{}\n", nlohmann::json{{"case", a.wind_case},
                                       {"splash", a.splash_file},
+                                      {"ejecta_below_range", a.ejecta_below},
                                       {"grain_diameter", a.grain_diameter},
                                       {"u_star", a.u_star},
                                       {"u_star_eff", r.u_star_eff},
@@ -300,6 +304,12 @@ void SaltationCommands::add(CLI::App& app) {
                    "spread each height's grain drag over this many cm before the wind sees it (the thesis "
                    "averaged it over the spacing of trajectory heights; 0: as taken)")
       ->default_val(0);
+  wind->add_option("--ejecta-below", ejecta_below,
+                   "a splash file with moments only (the sand gun): ejecta per impact below its slowest "
+                   "impacts, `line` (its least-squares line, zero below the root) or `proportional` (in "
+                   "proportion to the impact speed)")
+      ->default_val("line")
+      ->check(CLI::IsMember({"line", "proportional"}));
   wind->add_option("--flux-damping", flux_damping,
                    "b in F(n+1) = (1 - b) F(n) + b [T] F(n); 1 is the thesis's undamped eq. 4.33")
       ->default_val(0.5);

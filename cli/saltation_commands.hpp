@@ -17,6 +17,7 @@ struct SaltationCommands {
   int wind_case = 0;
   std::string splash_file;
   double grain_diameter = 0.025, reynolds_factor = 1, flux_damping = 0.5, drag_smoothing = 0;
+  std::string ejecta_below = "line";  // a moments-only splash file's ejecta below its slowest impacts
   double u_star = 35, tolerance = 0.01;
   double trajectory_tolerance = 1e-8, sample_interval = 5e-4;
   double start_below = 0;  // conveyor A-C: a narrow start (0: flat)

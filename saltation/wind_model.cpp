@@ -268,15 +268,19 @@ std::pair<std::size_t, double> bracket(const std::vector<double>& axis, double x
 // too slow to lift the grain one diameter (v_y < sqrt(2 g d), the thesis's "infrared cutoff") leaves it in
 // the bed: moments alone do not say which slow impacts trap the grain, and without this every grain
 // rebounds for ever.
-SplashKernel moments_kernel(const SplashFile& f, double scale) {
-  double sv = 0, sn = 0, svv = 0, svn = 0, m = 0;
+SplashKernel moments_kernel(const SplashFile& f, double scale, WindModelOptions::EjectaBelowRange below) {
+  double sv = 0, sn = 0, svv = 0, svn = 0, m = 0, slowest = 0;
   for (const SplashCell& c : f.cells)
     if (c.moments.count("ejecta_per_impact")) {
       const double v = c.speed, n = c.moments.at("ejecta_per_impact").mean;
       sv += v, sn += n, svv += v * v, svn += v * n, m += 1;
+      slowest = m == 1 ? v : std::min(slowest, v);
     }
   const double slope = m > 1 ? (m * svn - sv * sn) / (m * svv - sv * sv) : 0,
                icpt = m > 0 ? (sn - slope * sv) / m : 0;
+  // Proportional: below the slowest cell, its line value times v / v_slowest.
+  const double at_slowest = std::max(0.0, icpt + slope * slowest);
+  const bool proportional = below == WindModelOptions::EjectaBelowRange::proportional && slowest > 0;
   auto file = std::make_shared<SplashFile>(f);
   auto near = [file, scale](double v_ix, double v_iy) -> const SplashCell& {
     return file->nearest(std::hypot(v_ix, v_iy) / scale, std::atan2(-v_iy, v_ix) * 180 / M_PI);
@@ -284,8 +288,10 @@ SplashKernel moments_kernel(const SplashFile& f, double scale) {
   auto get = [](const SplashCell& c, const char* k, bool spread) {
     return c.moments.count(k) ? (spread ? c.moments.at(k).sd : c.moments.at(k).mean) : 0.0;
   };
-  auto ejecta = [slope, icpt, scale](double v_ix, double v_iy) {
-    return std::max(0.0, icpt + slope * std::hypot(v_ix, v_iy) / scale);
+  auto ejecta = [slope, icpt, scale, proportional, slowest, at_slowest](double v_ix, double v_iy) {
+    const double v = std::hypot(v_ix, v_iy) / scale;
+    if (proportional && v < slowest) return at_slowest * v / slowest;
+    return std::max(0.0, icpt + slope * v);
   };
   const double trap = std::sqrt(2.0) * scale;
   return {[near, get, ejecta, scale, trap](double v_oy, double v_ix, double v_iy) {
@@ -312,7 +318,7 @@ SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o) {
   const double scale = std::sqrt(o.g * 2 * o.grain.radius);  // the model's sqrt(g d)
   bool raw = false;
   for (const SplashCell& c : f.cells) raw = raw || !c.rebound.empty() || !c.ejecta.empty();
-  if (!raw) return moments_kernel(f, scale);
+  if (!raw) return moments_kernel(f, scale, o.ejecta_below_range);
   auto cells = std::make_shared<std::vector<BinnedCell>>();
   for (const SplashCell& c : f.cells) cells->push_back(bin_cell(c, scale, o));
   const bool grid = !f.speeds.empty() && f.speeds.size() * f.angles_deg.size() == f.cells.size();

@@ -60,6 +60,13 @@ struct WindModelOptions {
   // this many cm around it (kept above the bed) before the wind sees it; the total is unchanged, so the
   // identities hold. 0: the drag where the grains take it.
   double drag_smoothing = 0;
+  // A splash file with moments only (the sand gun, 650-1200 cm/s): how its ejecta number is carried below
+  // the slowest measured impact. line: the cells' least-squares line in impact speed, zero below its root
+  // (about 300 cm/s for the sand gun); proportional: from the line's value at the slowest cell, in
+  // proportion to the impact speed down to zero. The thesis "extrapolated outside" the range without
+  // saying how; its CASE 7 lies between the two (docs/saltation.md).
+  enum class EjectaBelowRange { line, proportional };
+  EjectaBelowRange ejecta_below_range = EjectaBelowRange::line;
   int profile_subdivisions = 16;
   // Each flight is integrated by Dormand-Prince 5(4) to this error per step, relative (and absolute in
   // grain diameters and sqrt(g d)), and its path is sampled for the height bins every sample_interval s.
@@ -143,7 +150,8 @@ SplashKernel kernel_of(const AnalyticSplash& s);
 // per cm/s), interpolated bilinearly between the cells around an impact's speed and angle (held at the
 // edge cells outside the grid). Measured files with moments only (the sand gun): the rebound as a Gaussian
 // of the nearest cell's eps_iy x |v_iy|, ejecta numbering the cells' least-squares line in impact speed
-// (zero below its root), launched with an exponential of the measured mean v_y.
+// (below the slowest cell as o.ejecta_below_range says), launched with an exponential of the measured
+// mean v_y.
 SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o);
 
 // Solves for the steady state (Fig. 4.10).

@@ -169,6 +169,44 @@ TEST(WindModel, TabulatedSplashKernelCountsEveryLaunchedGrain) {
   EXPECT_NEAR(k.launch_vx(300, -80), 20 * scale / 4, 1e-12);  // mean over the 4 launched grains
 }
 
+TEST(WindModel, AMomentsOnlySplashCarriesItsEjectaBelowTheSlowestImpactAsAsked) {
+  // Two measured cells, 2 ejecta per impact at 100 sqrt(g d) and 6 at 200: the least-squares line is
+  // n = 0.04 v - 2, with its root at 50. The rebound (eps_iy 0) lies below the trap, so a density's
+  // integral over the launch grid counts the ejecta alone (times one quadrature factor, the same for
+  // every impact: ratios are exact).
+  SplashFile f;
+  f.text = {{"kind", "measured"}};
+  f.grain_diameter_cm = 0.025, f.grain_density = 2.6;
+  for (const auto& [speed, n] : {std::pair{100.0, 2.0}, std::pair{200.0, 6.0}}) {
+    SplashCell c;
+    c.speed = speed, c.angle_deg = 15, c.impacts = 10;
+    c.moments["ejecta_per_impact"] = {n, 0, n, n};
+    c.moments["eps_iy"] = {0, 0, 0, 0};
+    c.moments["ejecta_vy"] = {5, 0, 5, 5};
+    f.cells.push_back(c);
+  }
+  WindModelOptions o;
+  const double scale = std::sqrt(o.g * 2 * o.grain.radius);
+  auto launched = [&](const SplashKernel& k, double speed) {  // speed in sqrt(g d), at 15 deg
+    const double a = 15 * M_PI / 180, vx = speed * scale * std::cos(a), vy = -speed * scale * std::sin(a);
+    double n = 0;
+    for (int b = 0; b < o.bins; ++b) n += k.density((b + 0.5) * o.dv, vx, vy) * o.dv;
+    return n;
+  };
+  const SplashKernel line = kernel_of(f, o);
+  o.ejecta_below_range = WindModelOptions::EjectaBelowRange::proportional;
+  const SplashKernel prop = kernel_of(f, o);
+  const double unit = launched(line, 150) / 4;  // the quadrature factor: 4 ejecta at 150
+  EXPECT_GT(unit, 0.9);
+  // Within the measured range and above it the two agree.
+  for (const double v : {100.0, 150.0, 250.0}) EXPECT_NEAR(launched(prop, v), launched(line, v), 1e-12) << v;
+  // Below it the line falls to its root; the proportional law to zero impact speed.
+  EXPECT_NEAR(launched(line, 75), 1.0 * unit, 1e-9);
+  EXPECT_NEAR(launched(prop, 75), 1.5 * unit, 1e-9);
+  EXPECT_EQ(launched(line, 25), 0.0);
+  EXPECT_NEAR(launched(prop, 25), 0.5 * unit, 1e-9);
+}
+
 TEST(WindModel, ASplashThatAlwaysMultipliesHasNoSteadyState) {
   // Two grains out per impact at any impact speed: the flux grows however weak the wind gets. The solver
   // must say so, not hang or report a state.
