@@ -379,6 +379,12 @@ void RipplesCommands::add(CLI::App& app) {
       ->add_option("--travel", flux.travel, "the most a grain moves in a step, d (0.2; 1.5 with --swept)")
       ->default_val(0.2)
       ->check(CLI::Range(0.01, 4.0));
+  hybrid_flux
+      ->add_option("--dt-max", flux.dt_max,
+                   "the longest step, sqrt(d / g) (with --fast-substeps every step's length: raise --travel "
+                   "with it, 1.5 d per 0.02)")
+      ->default_val(0.02)
+      ->check(CLI::Range(1e-4, 1.0));
   hybrid_flux->add_option("--seed", flux.seed, "seed")->default_val(2021);
   hybrid_flux->add_flag("--json", json, "print the result as JSON");
   hybrid_flux->add_flag("--quiet", quiet, "no progress bar");

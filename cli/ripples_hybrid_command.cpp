@@ -83,6 +83,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"fast_substeps", o.fast_substeps},
                            {"fast_collisions", r.fast_collisions},
                            {"travel", o.travel},
+                           {"dt_max", o.dt_max},
                            {"grain_steps", r.grain_steps},
                            {"steps", r.steps},
                            {"grain_steps_per_second", rate},  // all ranks together
@@ -424,6 +425,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"collisions", collisions},
                            {"steps", tr.steps},
                            {"travel", o.travel},
+                           {"dt_max", o.dt_max},
                            {"sizes", o.sizes},
                            {"fractions", o.fractions},
                            {"size_crest", number_or_null(last.size_crest)},

@@ -239,6 +239,22 @@ TEST(HybridFlux, FastSubstepsCarryTheSweptStepsFlux) {
   EXPECT_THROW(run_flux(o), std::invalid_argument);
 }
 
+// Twice the step with twice the travel (the paper's preset since 2026-11-29: dt_max 0.04, travel 3 d) keeps
+// the same grains in substeps and the same velocities in the columns' box, in half the steps: the flux
+// and the impacts must not notice. (At travel 3 this 10 d wide domain is three columns across, every one
+// a neighbour: the fast pass once cast the unbounded box's reach to long there and crashed.)
+TEST(HybridFlux, TwiceTheStepWithTwiceTheTravelCarriesTheSameFlux) {
+  FluxOptions o;
+  o.duration = 1200, o.average_from = 600, o.swept = true, o.fast_substeps = true, o.travel = 1.5;
+  const FluxResult base = run_flux(o);
+  o.dt_max = 0.04, o.travel = 3;
+  const FluxResult twice = run_flux(o);
+  EXPECT_NEAR(twice.mass_flux_star / base.mass_flux_star, 1, 0.1);
+  EXPECT_NEAR(twice.mean_impact_speed / base.mean_impact_speed, 1, 0.05);
+  EXPECT_NEAR(twice.bed_friction / base.bed_friction, 1, 0.05);
+  EXPECT_NEAR(static_cast<double>(twice.steps) / static_cast<double>(base.steps), 0.5, 0.01);
+}
+
 }  // namespace grainlab::ripples::hybrid
 
 namespace grainlab::ripples::hybrid {

@@ -527,6 +527,12 @@ void Transport::collide_fast() {
   auto range = [&](double p, double v, double lo, double hi, double cell, long n, long& a, long& b) {
     const double from = p + std::min(0.0, (lo - v) * span) - reach;
     const double to = p + std::max(0.0, (hi - v) * span) + reach;
+    // (On a domain of three columns or fewer across, the box is unbounded that way, every column a
+    // neighbour: the span is then compared in columns before any cast to long could overflow.)
+    if ((to - from) / cell + 1 >= static_cast<double>(n)) {
+      a = 0, b = n - 1;
+      return;
+    }
     a = static_cast<long>(std::floor(from / cell)), b = static_cast<long>(std::floor(to / cell));
     if (b - a + 1 >= n) a = 0, b = n - 1;
   };
