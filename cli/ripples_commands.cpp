@@ -386,6 +386,16 @@ void RipplesCommands::add(CLI::App& app) {
       ->default_val(0.02)
       ->check(CLI::Range(1e-4, 1.0));
   hybrid_flux->add_option("--seed", flux.seed, "seed")->default_val(2021);
+  hybrid_flux->add_option(
+      "--checkpoint", hybrid_checkpoint,
+      "write the run's state here every --checkpoint-every t*, at --stop-at and at the end");
+  hybrid_flux->add_option("--checkpoint-every", flux.checkpoint_every, "t* between checkpoints")
+      ->default_val(1000)
+      ->check(CLI::PositiveNumber);
+  hybrid_flux->add_option("--stop-at", stop_at, "stop at this t* (needs --checkpoint)")
+      ->check(CLI::PositiveNumber);
+  hybrid_flux->add_option("--restart", hybrid_restart,
+                          "continue a run from its checkpoint (the same options; --duration may be longer)");
   hybrid_flux->add_flag("--json", json, "print the result as JSON");
   hybrid_flux->add_flag("--quiet", quiet, "no progress bar");
   hybrid_ripples = group->add_subcommand(

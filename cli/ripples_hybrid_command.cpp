@@ -40,8 +40,24 @@ void refuse_too_many_ranks(const ripples::hybrid::TransportOptions& o, const std
 }
 }  // namespace
 
+constexpr const char* kFluxCheckpointKind = "grainlab-hybrid-flux-checkpoint/1";
+
+// What a continued flux run must match: every option that changes its bits, all but the duration (a run
+// may be taken further) and the checkpoints' own.
+std::string flux_fingerprint(const ripples::hybrid::FluxOptions& o) {
+  return fmt::format(
+      "u_star {:.17g}, diameter {:.17g}, grain_density {:.17g}, fluid_density {:.17g}, viscosity {:.17g}, "
+      "length {:.17g}, width {:.17g}, average_from {:.17g}, splash {}, collisions {}, wind_loosened {}, "
+      "dead_rise {:.17g}, swept {}, fast_substeps {}, travel {:.17g}, dt_max {:.17g}, seed {}",
+      o.u_star, o.diameter, o.grain_density, o.fluid_density, o.viscosity, o.length, o.width, o.average_from,
+      o.splash, o.collisions, o.wind_loosened, o.dead_rise, o.swept, o.fast_substeps, o.travel, o.dt_max,
+      o.seed);
+}
+
 int hybrid_flux_command(const RipplesCommands& a) {
   const ripples::hybrid::FluxOptions& o = a.flux;
+  if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
+    throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
   if (!(o.average_from < o.duration))
     throw InputError({"--average-from", 0}, fmt::format("{}", o.average_from),
                      fmt::format("must be before the end of the run (--duration {})", o.duration));
@@ -57,9 +73,37 @@ int hybrid_flux_command(const RipplesCommands& a) {
   // (The bar is on stderr, so it stays with --json: a scripted run of hours still shows in its log.)
   ProgressBar bar(!a.quiet && parallel::rank() == 0);
   run.progress = [&](double t, double total) { bar.update(t, total); };
-  const ripples::hybrid::FluxResult r = ripples::hybrid::run_flux(run);
+  const std::string fingerprint = flux_fingerprint(o);
+  run.stop_at = a.stop_at;
+  if (!a.hybrid_checkpoint.empty())
+    run.checkpoint = [&](const std::vector<SampleTable>& tables) {
+      if (parallel::rank() == 0)
+        write_sample_tables(a.hybrid_checkpoint, tables,
+                            {{"kind", kFluxCheckpointKind},
+                             {"grainlab_version", GRAINLAB_VERSION},
+                             {"options", fingerprint}});
+    };
+  std::map<std::string, SampleTable> restart;
+  if (!a.hybrid_restart.empty()) {
+    const TableFile file =
+        read_sample_tables(a.hybrid_restart, ripples::hybrid::flux_checkpoint_columns(run));
+    require_checkpoint(file, a.hybrid_restart, kFluxCheckpointKind, "hybrid flux checkpoint", fingerprint,
+                       "was written with other options: give the same ones (only --duration may change)");
+    restart = file.tables, run.restart = &restart;
+  }
+  ripples::hybrid::FluxResult r;
+  try {
+    r = ripples::hybrid::run_flux(run);
+  } catch (const std::invalid_argument& e) {
+    if (a.hybrid_restart.empty()) throw;
+    throw InputError({a.hybrid_restart, 0}, "--restart", e.what());  // (the checkpoint did not fit)
+  }
   bar.finish();
   if (parallel::rank() != 0) return 0;
+  if (r.stopped) {
+    fmt::print(stderr, "stopped at t* = {:.0f}; continue with --restart {}\n", r.t_star, a.hybrid_checkpoint);
+    return 0;
+  }
   const double rate = r.wall_seconds > 0 ? static_cast<double>(r.grain_steps) / r.wall_seconds : 0;
   if (a.json) {
     nlohmann::json series = nlohmann::json::array();
@@ -89,6 +133,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"grain_steps_per_second", rate},  // all ranks together
                            {"ranks", parallel::size()},
                            {"wall_seconds", r.wall_seconds},
+                           {"t_star", r.t_star},
                            {"series", series}};
     fmt::print("{}\n", j.dump());
     return 0;

@@ -1,7 +1,10 @@
 #include "flux_model.hpp"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include "transport.hpp"
@@ -19,6 +22,59 @@ double flux_law(double shields, double shields_threshold, double kappa, double m
   return 2 * std::sqrt(shields_threshold) / (kappa * mu_b) * excess * (1 + c_m / mu_b * excess);
 }
 
+namespace {
+
+// The flux run's own state beside its transport's: the sampling clock, the window's sums and the samples.
+struct FluxState {
+  double next_sample = 0, q_sum = 0, q_sum2 = 0, air_sum = 0, window_start = -1, samples = 0, wall = 0;
+  std::vector<std::array<double, 3>> series;
+};
+
+const std::vector<std::string> kFluxStateColumns = {"next_sample",     "q_sum",       "q_sum2", "air_sum",
+                                                    "window_start",    "samples",     "bed_px", "bed_pz",
+                                                    "fast_collisions", "wall_seconds"};
+const std::vector<std::string> kSeriesColumns = {"t_star", "mass_flux_star", "airborne"};
+
+std::vector<SampleTable> save_flux(const Transport& run, const FluxState& f, double wall) {
+  std::vector<SampleTable> tables = run.save("run/");  // (collective: every rank's grains)
+  tables.push_back({"flux/state",
+                    "the sampling clock (s), the window's sums (g/(cm s), their squares, grains), where it "
+                    "began (s; -1 not yet), the samples in it, the bed's momentum tally, the fast pass's "
+                    "collisions and the wall time so far",
+                    kFluxStateColumns,
+                    {{f.next_sample, f.q_sum, f.q_sum2, f.air_sum, f.window_start, f.samples,
+                      run.tally.bed_px, run.tally.bed_pz, static_cast<double>(run.fast_collisions), wall}}});
+  SampleTable series{"flux/series", "flux samples: t*, Q*, grains airborne", kSeriesColumns, {}};
+  for (const auto& row : f.series) series.rows.push_back({row[0], row[1], row[2]});
+  tables.push_back(series);
+  return tables;
+}
+
+FluxState restore_flux(Transport& run, const std::map<std::string, SampleTable>& tables) {
+  run.restore(tables, "run/");
+  const SampleTable& state = checkpoint_table(tables, "flux/state", kFluxStateColumns.size());
+  if (state.rows.size() != 1) throw std::invalid_argument("the checkpoint's flux state is not one row");
+  const std::vector<double>& v = state.rows[0];
+  FluxState f{v[0], v[1], v[2], v[3], v[4], v[5], v[9], {}};
+  run.tally.bed_px = v[6], run.tally.bed_pz = v[7];
+  run.fast_collisions = static_cast<std::uint64_t>(v[8]);
+  for (const auto& row : checkpoint_table(tables, "flux/series", kSeriesColumns.size()).rows)
+    f.series.push_back({row[0], row[1], row[2]});
+  return f;
+}
+
+}  // namespace
+
+std::map<std::string, std::vector<std::string>> flux_checkpoint_columns(const FluxOptions& o) {
+  check_transport_options(o);
+  std::map<std::string, std::vector<std::string>> columns{{"flux/state", kFluxStateColumns},
+                                                          {"flux/series", kSeriesColumns}};
+  FluxOptions local = o;
+  local.distributed = false;  // (only the names: no collective)
+  for (const SampleTable& t : Transport(local, nullptr).save("run/")) columns[t.name] = t.columns;
+  return columns;
+}
+
 FluxResult run_flux(const FluxOptions& o) {
   check_transport_options(o);
   if (!(o.duration > 0) || !(o.average_from < o.duration))
@@ -28,39 +84,63 @@ FluxResult run_flux(const FluxOptions& o) {
   FluxResult r;
   r.s = run.density_ratio(), r.galileo = run.galileo(), r.shields = run.shields();
   const double t_unit = run.time_unit(), t_end = o.duration * t_unit, t_avg = o.average_from * t_unit;
-  double next_sample = 0, q_sum = 0, q_sum2 = 0, air_sum = 0, window_start = -1;
-  std::size_t samples = 0;
+  FluxState f;
+  if (o.restart) f = restore_flux(run, *o.restart);
+  if (run.time() >= t_end)
+    throw std::invalid_argument(fmt::format("the checkpoint is at t* = {:.0f}, not before the duration {:g}",
+                                            run.time() / t_unit, o.duration));
+  auto wall = [&] {
+    return f.wall + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const double every = o.checkpoint_every;
+  double next_checkpoint = every > 0 ? (std::floor(run.time() / t_unit / every + 1e-9) + 1) * every : 0;
   while (run.time() < t_end) {
     run.step();
     const bool in_window = run.time() >= t_avg;
-    if (in_window && window_start < 0) run.tally = {}, window_start = run.time();
-    if (run.time() >= next_sample) {
+    if (in_window && f.window_start < 0) run.tally = {}, f.window_start = run.time();
+    const bool sampled = run.time() >= f.next_sample;
+    if (sampled) {
       const double q = run.mass_flux();
-      r.series.push_back({run.time() / t_unit, q / run.flux_unit(), static_cast<double>(run.airborne())});
-      if (in_window) q_sum += q, q_sum2 += q * q, air_sum += static_cast<double>(run.airborne()), ++samples;
+      f.series.push_back({run.time() / t_unit, q / run.flux_unit(), static_cast<double>(run.airborne())});
+      if (in_window)
+        f.q_sum += q, f.q_sum2 += q * q, f.air_sum += static_cast<double>(run.airborne()), ++f.samples;
       if (o.progress) o.progress(run.time() / t_unit, o.duration);
-      next_sample += t_unit;
+      f.next_sample += t_unit;
     }
-    if (run.airborne() == 0) break;  // transport died
+    const bool died = run.airborne() == 0, end = run.time() >= t_end || died;
+    const bool stop = sampled && o.stop_at > 0 && run.time() >= o.stop_at * t_unit && !end;
+    // Checkpoints fall on samples (and at the end, so that a finished run can be taken further).
+    const bool due = every > 0 && sampled && run.time() / t_unit >= next_checkpoint * (1 - 1e-12);
+    if (o.checkpoint && (due || stop || end)) {
+      o.checkpoint(save_flux(run, f, wall()));
+      while (every > 0 && next_checkpoint <= run.time() / t_unit) next_checkpoint += every;
+    }
+    if (stop) {
+      r.stopped = true;
+      break;
+    }
+    if (died) break;  // transport died
   }
-  if (samples > 0) {
-    const double n = static_cast<double>(samples);
-    r.mass_flux = q_sum / n, r.airborne = air_sum / n;
-    r.mass_flux_sd = std::sqrt(std::max(0.0, q_sum2 / n - r.mass_flux * r.mass_flux));
+  r.series = f.series;
+  if (f.samples > 0) {
+    const double n = f.samples;
+    r.mass_flux = f.q_sum / n, r.airborne = f.air_sum / n;
+    r.mass_flux_sd = std::sqrt(std::max(0.0, f.q_sum2 / n - r.mass_flux * r.mass_flux));
     r.mass_flux_star = r.mass_flux / run.flux_unit();
   }
-  if (run.tally.impacts > 0 && window_start >= 0) {
+  if (run.tally.impacts > 0 && f.window_start >= 0) {
     r.mean_impact_speed = run.tally.speed_sum / run.tally.impacts;
     r.mean_impact_angle_deg = run.tally.angle_sum / run.tally.impacts * 180 / M_PI;
     const double area = o.length * o.width * o.diameter * o.diameter;
-    r.impacts_per_area_time = run.tally.impacts / (area * std::max(run.time() - window_start, 1e-300));
+    r.impacts_per_area_time = run.tally.impacts / (area * std::max(run.time() - f.window_start, 1e-300));
     r.bed_friction = run.tally.bed_pz > 0 ? run.tally.bed_px / run.tally.bed_pz : 0;
   }
   r.grain_steps = run.grain_steps, r.steps = run.steps, r.collisions = run.total_collisions();
   r.fast_collisions = run.fast_collisions;
   r.u_star_bed = std::sqrt(run.wind().bed_stress());
   r.z = run.wind().z(), r.u = run.wind().u(), r.u_clean = run.wind().clean();
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.t_star = run.time() / t_unit;
+  r.wall_seconds = wall();
   return r;
 }
 

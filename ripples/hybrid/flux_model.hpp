@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,13 @@ namespace grainlab::ripples::hybrid {
 struct FluxOptions : TransportOptions {
   double duration = 4000, average_from = 2000;   // t* = t / sqrt(d / g^)
   std::function<void(double, double)> progress;  // (t*, duration)
+  // Checkpoints: every checkpoint_every t* (0: never), at stop_at and at the end, `checkpoint` is handed
+  // the run's whole state as tables (flux_checkpoint_columns names them); a run given such a state in
+  // `restart` continues from it to the same bits as a run never stopped. stop_at > 0 ends the run at the
+  // first sample at or after that t*, its result marked `stopped`.
+  double checkpoint_every = 0, stop_at = 0;
+  std::function<void(const std::vector<SampleTable>&)> checkpoint;
+  const std::map<std::string, SampleTable>* restart = nullptr;
 };
 
 struct FluxResult {
@@ -36,8 +44,13 @@ struct FluxResult {
   std::vector<std::array<double, 3>> series;  // t*, Q*, airborne
   std::uint64_t grain_steps = 0, steps = 0, collisions = 0;
   std::uint64_t fast_collisions = 0;  // of those, by the fast_substeps pass
-  double wall_seconds = 0;
+  double wall_seconds = 0;            // all segments of a run continued from checkpoints
+  double t_star = 0;                  // where it ended
+  bool stopped = false;               // at stop_at, before the duration
 };
+
+// The tables (name -> columns) of a flux run's checkpoint with these options, to read one back.
+std::map<std::string, std::vector<std::string>> flux_checkpoint_columns(const FluxOptions& o);
 
 // Throws std::invalid_argument for options that cannot run (non-positive sizes, unknown splash set).
 FluxResult run_flux(const FluxOptions& o);
