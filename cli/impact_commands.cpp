@@ -13,6 +13,7 @@
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "rebound_model.hpp"
+#include "sand_gun3d.hpp"
 #include "splash_file.hpp"
 #include "splash_measurement.hpp"
 
@@ -131,10 +132,31 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   if (speak)
     fmt::print(stderr, "grainlab impact: pouring {} {} into a {} x {} cm box ({} bed)...\n", spec.count,
                spec.polyhedra ? "irregular grains" : "spheres", spec.width, spec.depth, spec.preparation);
-  // The build takes minutes (an hour for irregular grains): each stage is reported as it ends.
-  Bed3d bed = build_bed3d(spec, [&](const std::string& stage) {
-    if (speak) fmt::print(stderr, "grainlab impact: {}\n", stage);
-  });
+  // The build takes minutes (an hour for irregular grains): each stage is reported as it ends, and kept in
+  // the checkpoint when there is one, with every impact finished after it (in the sand gun's file, as its
+  // row 1: the fingerprint holds the case, so no sand-gun run can take it for its own).
+  const std::string impacts_of = fmt::format(
+      "case {} speed {:.17g} alpha {:.17g} mu {:.17g} radius {:.17g} engine {} steps_per_contact {:.17g} "
+      "settle_on_engine {}",
+      c.name, c.speed, c.alpha_deg, c.mu, c.radius, a.engine, a.steps_per_contact, a.settle_on_engine);
+  SandGunProgress kept;
+  if (!a.impact_checkpoint.empty()) {
+    if (auto p = read_sand_gun_checkpoint(a.impact_checkpoint, spec, a.seed, impacts_of)) {
+      kept = std::move(*p);
+      if (speak)
+        fmt::print(stderr, "grainlab impact: continuing from {}: {}\n", a.impact_checkpoint,
+                   kept.build.finished ? fmt::format("its bed and {} finished impacts", kept.done.size())
+                                       : fmt::format("the bed's build, {} stages done", kept.build.stage));
+    }
+  }
+  if (!kept.build.finished) kept.bed.spec = spec;
+  finish_checkpointed_bed(
+      kept, a.seed,
+      [&](const std::string& stage) {
+        if (speak) fmt::print(stderr, "grainlab impact: {}\n", stage);
+      },
+      a.impact_checkpoint, impacts_of);
+  Bed3d bed = kept.bed;
   if (speak)
     fmt::print(stderr,
                "grainlab impact: bed top {:.2f} cm, packing {:.3f}, {} loose grains taken away ({:.1f} s); "
@@ -161,9 +183,13 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
     report_bed_held(h, a.engine, o.duration, speak);
   }
   ProgressBar bar(!a.quiet && parallel::rank() == 0, "impacts");  // (stderr: kept with --json)
-  const auto results = run_impact3d_ensemble(bed, c, a.seed, a.runs, o, [&](std::size_t d, std::size_t t) {
+  const EnsembleProgress tick = [&](std::size_t d, std::size_t t) {
     bar.update(static_cast<double>(d), static_cast<double>(t));
-  });
+  };
+  const auto results =
+      a.impact_checkpoint.empty()
+          ? run_impact3d_ensemble(bed, c, a.seed, a.runs, o, tick)
+          : checkpointed_impacts(kept, 1, bed, c, a.runs, a.seed, o, a.impact_checkpoint, tick, impacts_of);
   bar.finish();
   if (!a.record.empty() && parallel::rank() == 0) {
     ImpactOptions ro = o;
@@ -207,6 +233,9 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
 int impact_command(const ImpactCommands& a) {
   const ImpactCase& c = impact_case(a.case_name);
   if (a.runs < 1) throw InputError({"--runs", 0}, "0", "must be at least 1");
+  if (!a.impact_checkpoint.empty() && a.dimension != 3)
+    throw InputError({"--checkpoint", 0}, a.impact_checkpoint,
+                     "is for --dimension 3 (2-D impacts take about a second each: run them again)");
   if (!a.record.empty() && !a.force && fs::exists(a.record))
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
   if (a.dimension == 3) return impact3d_command(a, c);
@@ -433,6 +462,9 @@ void ImpactCommands::add(CLI::App& app) {
   impact_cmd->add_option("--dimension", dimension, "2 (discs, the thesis) or 3 (spheres, a poured bed)")
       ->default_val(2)
       ->check(CLI::IsMember({2, 3}));
+  impact_cmd->add_option("--checkpoint", impact_checkpoint,
+                         "--dimension 3: keep the bed's build (each stage) and every finished impact in this "
+                         "file; run the same command again to continue from it (--runs may grow)");
   impact_cmd->add_option("--spheres", spheres, "--dimension 3: spheres poured into the 67.3 x 20 cm box")
       ->default_val(2000)
       ->check(CLI::Range(100, 1000000));

@@ -157,31 +157,43 @@ PowerLaw fit_power_law(const std::vector<double>& x, const std::vector<double>& 
   return log_fit(x, y, std::vector<double>(x.size(), 1.0), false);
 }
 
-namespace {
-// Row `row`'s impacts 0..runs-1: those in `p` as they are, the rest computed a round (one per rank) at a
-// time, each round added to `p` and written to `checkpoint`.
-std::vector<Impact3dResult> checkpointed_row(SandGunProgress& p, const SandGunRow& row, std::size_t runs,
-                                             std::uint64_t seed, const ImpactOptions& o,
-                                             const std::string& checkpoint,
-                                             const EnsembleProgress& progress) {
+std::vector<Impact3dResult> checkpointed_impacts(SandGunProgress& kept, std::size_t row, const Bed3d& bed,
+                                                 const ImpactCase& c, std::size_t runs, std::uint64_t seed,
+                                                 const ImpactOptions& o, const std::string& checkpoint,
+                                                 const EnsembleProgress& progress,
+                                                 const std::string& impacts_of) {
   std::vector<std::size_t> missing;
   for (std::size_t i = 0; i < runs; ++i)
-    if (!p.done.count({row.index, i})) missing.push_back(i);
+    if (!kept.done.count({row, i})) missing.push_back(i);
   const std::size_t round = static_cast<std::size_t>(parallel::size());
   for (std::size_t k = 0; k < missing.size(); k += round) {
     const std::vector<std::size_t> these(
         missing.begin() + static_cast<long>(k),
         missing.begin() + static_cast<long>(std::min(k + round, missing.size())));
-    const std::vector<Impact3dResult> r = run_impact3d_indices(p.bed, sand_gun_case(row), seed, these, o);
-    for (std::size_t j = 0; j < these.size(); ++j) p.done[{row.index, these[j]}] = r[j];
-    if (parallel::rank() == 0) write_sand_gun_checkpoint(checkpoint, p, seed);
+    const std::vector<Impact3dResult> r = run_impact3d_indices(bed, c, seed, these, o);
+    for (std::size_t j = 0; j < these.size(); ++j) kept.done[{row, these[j]}] = r[j];
+    if (parallel::rank() == 0) write_sand_gun_checkpoint(checkpoint, kept, seed, impacts_of);
     if (progress) progress(runs - missing.size() + k + these.size(), runs);
   }
   std::vector<Impact3dResult> out;
-  for (std::size_t i = 0; i < runs; ++i) out.push_back(p.done.at({row.index, i}));
+  for (std::size_t i = 0; i < runs; ++i) out.push_back(kept.done.at({row, i}));
   return out;
 }
-}  // namespace
+
+void finish_checkpointed_bed(SandGunProgress& kept, std::uint64_t seed,
+                             const std::function<void(const std::string&)>& log,
+                             const std::string& checkpoint, const std::string& impacts_of) {
+  if (kept.build.finished) return;
+  const Bed3dSpec spec = kept.bed.spec;
+  auto keep_stage = [&](const Bed3dBuild& b) {
+    if (checkpoint.empty() || parallel::rank() != 0) return;
+    kept.build = b;
+    write_sand_gun_checkpoint(checkpoint, kept, seed, impacts_of);
+  };
+  kept.bed = build_bed3d(spec, log, std::move(kept.build), keep_stage);
+  kept.build = Bed3dBuild{};  // the bed holds it now (the last stage's checkpoint has it as finished)
+  kept.build.finished = true;
+}
 
 SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& rows, std::size_t runs,
                         std::uint64_t seed, const std::function<void(const std::string&)>& log,
@@ -207,22 +219,13 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
     log(fmt::format("sand gun: pouring {} sand spheres into {:.2f} x {:.2f} cm", spec.count, spec.width,
                     spec.depth));
   }
-  if (!kept.build.finished) {
-    kept.bed.spec = spec;
-    auto keep_stage = [&](const Bed3dBuild& b) {
-      if (checkpoint.empty() || parallel::rank() != 0) return;
-      kept.build = b;
-      write_sand_gun_checkpoint(checkpoint, kept, seed);
-    };
-    kept.bed = build_bed3d(
-        spec,
-        [&](const std::string& line) {
-          if (log) log("sand gun: " + line);
-        },
-        std::move(kept.build), keep_stage);
-    kept.build = Bed3dBuild{};  // the bed holds it now (the last stage's checkpoint has it as finished)
-    kept.build.finished = true;
-  }
+  if (!kept.build.finished) kept.bed.spec = spec;
+  finish_checkpointed_bed(
+      kept, seed,
+      [&](const std::string& line) {
+        if (log) log("sand gun: " + line);
+      },
+      checkpoint);
   out.bed = kept.bed;
   if (log)
     log(
@@ -234,7 +237,8 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
   for (const SandGunRow& row : out.rows) {
     out.impacts.push_back(checkpoint.empty()
                               ? run_impact3d_ensemble(out.bed, sand_gun_case(row), seed, runs, o, progress)
-                              : checkpointed_row(kept, row, runs, seed, o, checkpoint, progress));
+                              : checkpointed_impacts(kept, row.index, kept.bed, sand_gun_case(row), runs,
+                                                     seed, o, checkpoint, progress));
     out.quantities.push_back(sand_gun_quantities(out.impacts.back()));
     if (log)
       log(fmt::format("sand gun: row {} ({} cm/s, {} deg): {} impacts, {:.2f} ejecta each", row.index,

@@ -83,12 +83,30 @@ struct SandGunProgress {
   Bed3d bed;
   std::map<std::pair<std::size_t, std::size_t>, Impact3dResult> done;
 };
-// Writes the checkpoint atomically (validation/sand_gun_checkpoint.cpp).
-void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed);
+// Writes the checkpoint atomically (validation/sand_gun_checkpoint.cpp). `impacts_of`, when set, names
+// what else decides the impacts (`grainlab impact` keeps one case's impacts, on one engine, in this form)
+// and joins the file's fingerprint.
+void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed,
+                               const std::string& impacts_of = {});
 // Reads it back: nullopt if `path` does not exist; InputError (key --checkpoint) if it is damaged, not a
-// sand-gun checkpoint, or written for another bed spec or seed.
+// sand-gun checkpoint, or written for another bed spec, seed or `impacts_of`.
 std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path, const Bed3dSpec& spec,
-                                                        std::uint64_t seed);
+                                                        std::uint64_t seed,
+                                                        const std::string& impacts_of = {});
+
+// The bed of `kept` (read from a checkpoint, or fresh with only its spec set), built now, or finished, if
+// it is not yet; with a `checkpoint` path the file is rewritten (rank 0) after each stage of the build.
+// Afterwards kept.bed is the bed and kept.build is marked finished.
+void finish_checkpointed_bed(SandGunProgress& kept, std::uint64_t seed,
+                             const std::function<void(const std::string&)>& log,
+                             const std::string& checkpoint, const std::string& impacts_of = {});
+// Impacts 0..runs-1 of case `c` on `bed`, kept in `kept.done` under key `row`: those already there as they
+// are, the rest computed a round (one per rank) at a time, each round added and the file rewritten.
+std::vector<Impact3dResult> checkpointed_impacts(SandGunProgress& kept, std::size_t row, const Bed3d& bed,
+                                                 const ImpactCase& c, std::size_t runs, std::uint64_t seed,
+                                                 const ImpactOptions& o, const std::string& checkpoint,
+                                                 const EnsembleProgress& progress,
+                                                 const std::string& impacts_of = {});
 
 // Builds the bed and runs `runs` impacts of each row (`rows`: 1-based indices; empty: all nine), spread
 // over the MPI ranks. With a `checkpoint` path, the bed (or its build so far) and the impacts already in that

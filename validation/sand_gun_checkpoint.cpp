@@ -43,7 +43,7 @@ const std::vector<std::string> kEjectumColumns = {"impact", "id", "mass", "x0", 
 
 // Everything that decides the bed and the impacts: the bed's spec and the impacts' seed (not the rows or
 // the number of runs, which a continued run may change).
-std::string fingerprint(const Bed3dSpec& s, std::uint64_t seed) {
+std::string fingerprint(const Bed3dSpec& s, std::uint64_t seed, const std::string& impacts_of) {
   std::string f = fmt::format(
       "spheres {} bed_seed {} seed {} width {:.17g} depth {:.17g} radius {:.17g} spread {:.17g} density "
       "{:.17g} k_n {:.17g} restitution {:.17g} mu {:.17g} settle {:.17g} time_scale {:.17g}",
@@ -53,6 +53,7 @@ std::string fingerprint(const Bed3dSpec& s, std::uint64_t seed) {
   if (s.dense()) f += " preparation dense";
   if (s.polyhedra) f += " polyhedra";
   if (s.max_probes != Bed3dSpec{}.max_probes) f += fmt::format(" max_probes {}", s.max_probes);
+  if (!impacts_of.empty()) f += " impacts " + impacts_of;
   return f;
 }
 
@@ -129,7 +130,8 @@ std::string put_hulls(const TableFile& file, std::vector<Body3Spec>& bodies) {
 
 }  // namespace
 
-void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed) {
+void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed,
+                               const std::string& impacts_of) {
   // A built bed, or the spheres of a build still under way.
   const bool built = !p.bed.scene.bodies3d.empty();
   SampleTable spheres{
@@ -172,13 +174,14 @@ void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p
     add_hulls(built ? p.bed.scene.bodies3d : p.build.bodies, vertices, faces);
     tables.push_back(std::move(vertices)), tables.push_back(std::move(faces));
   }
-  write_sample_tables(
-      path, tables,
-      {{"kind", kKind}, {"grainlab_version", GRAINLAB_VERSION}, {"options", fingerprint(p.bed.spec, seed)}});
+  write_sample_tables(path, tables,
+                      {{"kind", kKind},
+                       {"grainlab_version", GRAINLAB_VERSION},
+                       {"options", fingerprint(p.bed.spec, seed, impacts_of)}});
 }
 
 std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path, const Bed3dSpec& spec,
-                                                        std::uint64_t seed) {
+                                                        std::uint64_t seed, const std::string& impacts_of) {
   if (!std::filesystem::exists(path)) return std::nullopt;
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--checkpoint", why); };
   TableFile file;
@@ -190,9 +193,14 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
     if (spec.polyhedra)
       wanted.insert({{"bed/hull_vertices", kHullVertexColumns}, {"bed/hull_faces", kHullFaceColumns}});
     file = read_sample_tables(path, wanted);
-    require_checkpoint(file, path, kKind, "sand-gun checkpoint", fingerprint(spec, seed),
-                       "was written for another bed or seed (--spheres, --bed-seed, --stiffness, --seed): "
-                       "pass the ones it was started with, or another --checkpoint");
+    require_checkpoint(
+        file, path, kKind, impacts_of.empty() ? "sand-gun checkpoint" : "impact checkpoint",
+        fingerprint(spec, seed, impacts_of),
+        impacts_of.empty()
+            ? "was written for another bed or seed (--spheres, --bed-seed, --stiffness, --seed): "
+              "pass the ones it was started with, or another --checkpoint"
+            : "was written for another bed, seed, case or engine: pass the options it was "
+              "started with (only --runs may change), or another --checkpoint");
   } catch (const InputError& e) {
     refuse(e.message());
   }
