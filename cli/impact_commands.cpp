@@ -149,9 +149,8 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
                                        : fmt::format("the bed's build, {} stages done", kept.build.stage));
     }
   }
-  if (!kept.build.finished) kept.bed.spec = spec;
   finish_checkpointed_bed(
-      kept, a.seed,
+      kept, spec, a.seed,
       [&](const std::string& stage) {
         if (speak) fmt::print(stderr, "grainlab impact: {}\n", stage);
       },

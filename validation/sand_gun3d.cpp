@@ -180,11 +180,11 @@ std::vector<Impact3dResult> checkpointed_impacts(SandGunProgress& kept, std::siz
   return out;
 }
 
-void finish_checkpointed_bed(SandGunProgress& kept, std::uint64_t seed,
+void finish_checkpointed_bed(SandGunProgress& kept, const Bed3dSpec& spec, std::uint64_t seed,
                              const std::function<void(const std::string&)>& log,
                              const std::string& checkpoint, const std::string& impacts_of) {
   if (kept.build.finished) return;
-  const Bed3dSpec spec = kept.bed.spec;
+  kept.bed.spec = spec;
   auto keep_stage = [&](const Bed3dBuild& b) {
     if (checkpoint.empty() || parallel::rank() != 0) return;
     kept.build = b;
@@ -219,9 +219,8 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
     log(fmt::format("sand gun: pouring {} sand spheres into {:.2f} x {:.2f} cm", spec.count, spec.width,
                     spec.depth));
   }
-  if (!kept.build.finished) kept.bed.spec = spec;
   finish_checkpointed_bed(
-      kept, seed,
+      kept, spec, seed,
       [&](const std::string& line) {
         if (log) log("sand gun: " + line);
       },

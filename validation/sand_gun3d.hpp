@@ -94,10 +94,10 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
                                                         std::uint64_t seed,
                                                         const std::string& impacts_of = {});
 
-// The bed of `kept` (read from a checkpoint, or fresh with only its spec set), built now, or finished, if
-// it is not yet; with a `checkpoint` path the file is rewritten (rank 0) after each stage of the build.
-// Afterwards kept.bed is the bed and kept.build is marked finished.
-void finish_checkpointed_bed(SandGunProgress& kept, std::uint64_t seed,
+// The bed of `kept` (read from a checkpoint, or fresh) to `spec`, built now, or finished, if it is not yet;
+// with a `checkpoint` path the file is rewritten (rank 0) after each stage of the build. Afterwards
+// kept.bed is the bed and kept.build is marked finished.
+void finish_checkpointed_bed(SandGunProgress& kept, const Bed3dSpec& spec, std::uint64_t seed,
                              const std::function<void(const std::string&)>& log,
                              const std::string& checkpoint, const std::string& impacts_of = {});
 // Impacts 0..runs-1 of case `c` on `bed`, kept in `kept.done` under key `row`: those already there as they
