@@ -229,6 +229,7 @@ void RunWriter::write_xdmf(const std::string& tmp) const {
 
 std::string RunWriter::commit() {
   const std::string xmf = fs::path(path_).replace_extension(".xmf").string(), tmp_xmf = temp_name(xmf);
+  const TempFileHold xmf_hold(tmp_xmf);
   try {
     finish_h5();
     write_xdmf(tmp_xmf);
@@ -240,6 +241,7 @@ std::string RunWriter::commit() {
   fs::rename(tmp_, path_);
   fs::rename(tmp_xmf, xmf);
   committed_ = true;
+  hold_.release();
   return xmf;
 }
 
@@ -275,6 +277,7 @@ void write_sample_tables(const std::string& path, const std::vector<SampleTable>
                          const std::map<std::string, std::string>& metadata,
                          const std::function<void(std::int64_t)>& extra) {
   const std::string tmp = temp_name(path);
+  const TempFileHold hold(tmp);
   hid_t f = -1;
   try {
     f = create_file(tmp);
@@ -296,6 +299,7 @@ void write_sample_tables(const std::string& path, const std::vector<SampleTable>
 
 void write_file_atomically(const std::string& path, const std::string& text) {
   const std::string tmp = temp_name(path);
+  const TempFileHold hold(tmp);
   {
     std::ofstream out(tmp, std::ios::binary);
     out << text;
@@ -346,6 +350,7 @@ void GridSeriesWriter::add_frame(double time, const std::vector<double>& values)
 std::string GridSeriesWriter::commit(const std::vector<SampleTable>& tables,
                                      const std::map<std::string, std::string>& metadata) {
   const std::string xmf = fs::path(path_).replace_extension(".xmf").string(), tmp_xmf = temp_name(xmf);
+  const TempFileHold xmf_hold(tmp_xmf);
   try {
     for (const SampleTable& t : tables) write_table(file_, t);
     for (const auto& [k, v] : metadata) attr_string(file_, k, v);
@@ -360,6 +365,7 @@ std::string GridSeriesWriter::commit(const std::vector<SampleTable>& tables,
   fs::rename(tmp_, path_);
   fs::rename(tmp_xmf, xmf);
   committed_ = true;
+  hold_.release();
   return xmf;
 }
 

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "temp_files.hpp"
+
 namespace grainlab {
 
 struct Frame {
@@ -101,6 +103,7 @@ class RunWriter {
     bool planar;  // has 2-D angle and spin
   };
   std::string path_, tmp_;
+  TempFileHold hold_{tmp_};  // removed if the run is stopped by a signal
   std::int64_t file_ = -1;
   bool committed_ = false;
   std::vector<WrittenFrame> index_;
@@ -148,6 +151,7 @@ class GridSeriesWriter {
  private:
   std::string xdmf() const;
   std::string path_, tmp_, field_;
+  TempFileHold hold_{tmp_};  // removed if the run is stopped by a signal
   std::size_t nx_, ny_;
   double dx_;
   std::int64_t file_ = -1;

@@ -13,6 +13,7 @@
 
 #include "h5_handle.hpp"
 #include "input_error.hpp"
+#include "temp_files.hpp"
 
 namespace grainlab::saltation {
 
@@ -256,6 +257,7 @@ const std::vector<std::string>& splash_moment_names() {
 void write_splash_file(const std::string& path, const SplashFile& f, bool overwrite) {
   if (!overwrite && fs::exists(path)) throw std::runtime_error(path + " exists");
   const std::string tmp = fmt::format("{}.tmp-{}", path, ::getpid());
+  const TempFileHold hold(tmp);  // removed if the run is stopped by a signal
   try {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     Handle file{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose};
