@@ -12,11 +12,13 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "h5_output.hpp"
 #include "input_error.hpp"
+#include "interrupt.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "suites.hpp"
@@ -58,9 +60,77 @@ std::size_t failures(const Report& r) {
       std::count_if(r.checks.begin(), r.checks.end(), [](auto& c) { return c.counts_as_failure(); }));
 }
 
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Each finished suite's part of the report, kept in OUT/.parts until the whole report is written, beside a
+// stamp of what made it: quick or full, the sand gun's checkpoint, and this program's own bytes (a rebuilt
+// binary may give other numbers). With --resume a part whose stamp matches is taken instead of running its
+// suite again, so an interrupted validation (hours in full mode) loses only the suites it was running. The
+// suites are seeded, so a part taken is the part a new run would give.
+class SuiteParts {
+ public:
+  SuiteParts(const validation::SuiteOptions& base, bool resume)
+      : dir_(fs::path(base.out_dir) / ".parts"), resume_(resume) {
+    if (parallel::rank() != 0) return;
+    if (!resume) fs::remove_all(dir_);  // a stale part must not be taken by a later --resume
+    fs::create_directories(dir_);
+    stamp_ = fmt::format("grainlab validate part\nquick {}\nsand-gun checkpoint {}\nbinary {:016x}\n",
+                         base.quick, base.sand_gun_checkpoint, binary_fingerprint());
+  }
+  fs::path part(const Suite& s) const { return dir_ / (s.name + ".json"); }
+  // The suite's part from an earlier run with the same stamp (only with --resume).
+  std::optional<Report> taken(const Suite& s) const {
+    if (!resume_ || parallel::rank() != 0 || !fs::exists(stamp_path(s)) || !fs::exists(part(s))) return {};
+    if (read_text(stamp_path(s)) != stamp_) return {};
+    try {
+      return validation::read_report_part(read_text(part(s)));
+    } catch (const std::runtime_error&) {
+      return {};  // damaged: run the suite again
+    }
+  }
+  // Keeps the suite's part (written here unless a child process wrote it) and stamps it as whole.
+  void keep(const Suite& s, const Report* r) const {
+    if (parallel::rank() != 0) return;
+    if (r) write_file_atomically(part(s).string(), validation::report_part_json(*r));
+    write_file_atomically(stamp_path(s).string(), stamp_);
+  }
+  void clear() const {
+    if (parallel::rank() == 0) fs::remove_all(dir_);
+  }
+
+ private:
+  fs::path stamp_path(const Suite& s) const { return dir_ / (s.name + ".stamp"); }
+  // FNV-1a over the running program's file.
+  static std::uint64_t binary_fingerprint() {
+    std::ifstream in("/proc/self/exe", std::ios::binary);
+    std::uint64_t h = 14695981039346656037ull;
+    std::vector<char> buffer(1 << 16);
+    while (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0) {
+      for (std::streamsize k = 0; k < in.gcount(); ++k)
+        h = (h ^ static_cast<unsigned char>(buffer[static_cast<std::size_t>(k)])) * 1099511628211ull;
+    }
+    return h;
+  }
+  fs::path dir_;
+  bool resume_;
+  std::string stamp_;
+};
+
+void say_taken(bool speak, const Suite& s, const Report& r, const SuiteParts& parts) {
+  if (speak)
+    fmt::print(stderr, "suite {}: {} checks, {} failed (taken from the interrupted run: {})\n", s.name,
+               r.checks.size(), failures(r), parts.part(s).string());
+}
+
 // The suites one after the other in this process (under mpirun every rank runs them and the ranks share
 // each ensemble; rank 0 speaks).
-Report run_here(const std::vector<const Suite*>& chosen, const validation::SuiteOptions& base, bool speak) {
+Report run_here(const std::vector<const Suite*>& chosen, const validation::SuiteOptions& base, bool speak,
+                const SuiteParts* parts) {
   Report report;
   validation::SuiteOptions opt = base;
   ProgressBar bar(speak, "runs");
@@ -72,20 +142,21 @@ Report run_here(const std::vector<const Suite*>& chosen, const validation::Suite
     opt.progress = [&bar](std::size_t done, std::size_t total) { bar.update(double(done), double(total)); };
   }
   for (const Suite* s : chosen) {
+    if (std::optional<Report> taken = parts ? parts->taken(*s) : std::nullopt) {
+      say_taken(speak, *s, *taken, *parts);
+      report.append(std::move(*taken));
+      continue;
+    }
     if (speak) fmt::print(stderr, "suite {}: {}\n", s->name, s->description);
     const auto start = Clock::now();
-    s->run(report, opt);
-    report.times.push_back({s->name, seconds_since(start)});
+    Report one;
+    s->run(one, opt);
+    one.times.push_back({s->name, seconds_since(start)});
+    if (parts) parts->keep(*s, &one);
+    report.append(std::move(one));
   }
   bar.finish();
   return report;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 std::string last_lines(const fs::path& p, std::size_t n) {
@@ -128,8 +199,15 @@ pid_t spawn_suite(const Suite& s, const validation::SuiteOptions& base, const fs
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  // A process group of its own: a Ctrl-C at the terminal reaches the suite once, passed on by this
+  // process (ChildHold), which then waits for nothing more; `kill` of this process reaches it the same way.
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
   pid_t pid = 0;
-  const int err = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
+  const int err = posix_spawn(&pid, exe.c_str(), &actions, &attr, argv.data(), environ);
+  posix_spawnattr_destroy(&attr);
   posix_spawn_file_actions_destroy(&actions);
   if (err != 0) throw std::runtime_error(fmt::format("cannot start {}: {}", args[0], std::strerror(err)));
   return pid;
@@ -148,27 +226,36 @@ Report lost_suite(const Suite& s, int status, const fs::path& log) {
 
 // The suites in `jobs` processes at once, longest first; the parts are put together in the chosen order.
 Report run_in_processes(const std::vector<const Suite*>& chosen, const validation::SuiteOptions& base,
-                        bool speak, std::size_t jobs) {
-  const fs::path parts = fs::path(base.out_dir) / ".parts", logs = fs::path(base.out_dir) / "logs";
-  fs::create_directories(parts), fs::create_directories(logs);
-  std::vector<std::size_t> queue(chosen.size());
-  for (std::size_t k = 0; k < queue.size(); ++k) queue[k] = k;
+                        bool speak, std::size_t jobs, const SuiteParts& parts) {
+  const fs::path logs = fs::path(base.out_dir) / "logs";
+  fs::create_directories(logs);
+  std::vector<Report> results(chosen.size());
+  std::size_t next = 0, done = 0;
+  std::vector<std::size_t> queue;
+  for (std::size_t k = 0; k < chosen.size(); ++k) {
+    if (std::optional<Report> taken = parts.taken(*chosen[k])) {
+      say_taken(speak, *chosen[k], *taken, parts);
+      results[k] = std::move(*taken), ++done;
+    } else {
+      queue.push_back(k);
+    }
+  }
   std::stable_sort(queue.begin(), queue.end(), [&](std::size_t a, std::size_t b) {
     return chosen[a]->quick_minutes > chosen[b]->quick_minutes;
   });
   if (speak)
     fmt::print(stderr, "{} suites in {} processes at once; each suite's progress lines go to {}/\n",
                chosen.size(), jobs, logs.string());
-  std::vector<Report> results(chosen.size());
   std::map<pid_t, Child> running;
-  std::size_t next = 0, done = 0;
+  std::map<pid_t, ChildHold> held;  // sent this process's SIGINT, SIGTERM or SIGHUP
   ProgressBar bar(speak, "suites");
   while (done < chosen.size()) {
     while (running.size() < jobs && next < queue.size()) {
       const std::size_t k = queue[next++];
       const Suite& s = *chosen[k];
-      const pid_t pid = spawn_suite(s, base, parts / (s.name + ".json"), logs / (s.name + ".log"));
+      const pid_t pid = spawn_suite(s, base, parts.part(s), logs / (s.name + ".log"));
       running[pid] = {pid, k, Clock::now()};
+      held.emplace(pid, ChildHold(pid));
     }
     int status = 0;
     const pid_t pid = ::waitpid(-1, &status, 0);
@@ -176,12 +263,12 @@ Report run_in_processes(const std::vector<const Suite*>& chosen, const validatio
     const auto it = running.find(pid);
     if (it == running.end()) continue;
     const Child c = it->second;
-    running.erase(it);
+    running.erase(it), held.erase(pid);
     const Suite& s = *chosen[c.index];
-    const fs::path part = parts / (s.name + ".json"), log = logs / (s.name + ".log");
+    const fs::path part = parts.part(s), log = logs / (s.name + ".log");
     const bool reported = WIFEXITED(status) && WEXITSTATUS(status) <= 1 && fs::exists(part);
     results[c.index] = reported ? validation::read_report_part(read_text(part)) : lost_suite(s, status, log);
-    fs::remove(part);
+    if (reported) parts.keep(s, nullptr);
     ++done;
     if (speak) {
       bar.finish();
@@ -193,7 +280,6 @@ Report run_in_processes(const std::vector<const Suite*>& chosen, const validatio
     bar.update(double(done), double(chosen.size()));
   }
   bar.finish();
-  fs::remove_all(parts);
   Report report;
   for (Report& r : results) report.append(std::move(r));
   return report;
@@ -213,6 +299,10 @@ void ValidateCommand::add(CLI::App& app) {
   cmd->add_option("--out,-o", out, "report folder (report.md, report.json, plots)")->default_val("report");
   cmd->add_flag("--quick", quick, "shorter versions of long checks (for CI)");
   cmd->add_flag("--quiet,-q", quiet, "no progress lines");
+  cmd->add_flag(
+      "--resume", resume,
+      "continue an interrupted validation into the same --out: the suites it finished (same options, "
+      "same binary) are taken from OUT/.parts, the rest are run");
   cmd->add_option("--jobs,-j", jobs,
                   "suites run at once, each in its own process (0: one per core; under mpirun always 1)")
       ->default_val(0)
@@ -234,15 +324,17 @@ int ValidateCommand::dispatch() const {
   validation::SuiteOptions base;
   base.quick = quick, base.out_dir = out, base.sand_gun_checkpoint = sand_gun_checkpoint;
   if (!part.empty()) {
-    const Report r = run_here(chosen, base, speak);
+    const Report r = run_here(chosen, base, speak, nullptr);
     if (parallel::rank() == 0) write_file_atomically(part, validation::report_part_json(r));
     return r.passed() ? 0 : 1;
   }
   const std::size_t processes = job_count(jobs, chosen.size());
-  const Report report =
-      processes > 1 ? run_in_processes(chosen, base, speak, processes) : run_here(chosen, base, speak);
+  const SuiteParts parts(base, resume);
+  const Report report = processes > 1 ? run_in_processes(chosen, base, speak, processes, parts)
+                                      : run_here(chosen, base, speak, &parts);
   if (parallel::rank() != 0) return report.passed() ? 0 : 1;
   validation::write_report(report, out);
+  parts.clear();
   const std::size_t failed = failures(report), limited = static_cast<std::size_t>(std::count_if(
                                                    report.checks.begin(), report.checks.end(), [](auto&c) {
                                                      return !c.passed && !c.counts_as_failure();

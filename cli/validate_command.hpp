@@ -1,7 +1,8 @@
 #pragma once
 // `grainlab validate`: runs validation suites and writes the report. With --jobs N (default: one per
 // core) the suites run in N processes of this same program at once, each handing its part of the report
-// back as a file; the report is the same as a serial run's, suite order included.
+// back as a file; the report is the same as a serial run's, suite order included. Each finished suite's part
+// is kept in OUT/.parts until the report is written, so --resume continues an interrupted validation.
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
@@ -14,7 +15,8 @@ struct ValidateCommand {
   std::string part;  // internal: write this process's part of the report here instead of the report
   std::string sand_gun_checkpoint;  // impacts-3d: the sand gun's bed and impacts, kept and reused
   bool quick = false, quiet = false;
-  int jobs = 0;  // 0: one per core (1 under mpirun, where the ranks share each suite's ensembles)
+  bool resume = false;  // take the suites an interrupted run into the same --out finished, run the rest
+  int jobs = 0;         // 0: one per core (1 under mpirun, where the ranks share each suite's ensembles)
 
   CLI::App* cmd = nullptr;
   void add(CLI::App& app);

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "temp_files.hpp"
+#include "interrupt.hpp"
 
 namespace grainlab {
 

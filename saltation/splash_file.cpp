@@ -13,7 +13,7 @@
 
 #include "h5_handle.hpp"
 #include "input_error.hpp"
-#include "temp_files.hpp"
+#include "interrupt.hpp"
 
 namespace grainlab::saltation {
 
