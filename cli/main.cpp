@@ -5,14 +5,19 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "accuracy_cost.hpp"
 #include "bed3d_benchmark.hpp"
 #include "bed_benchmark.hpp"
+#include "binary_fingerprint.hpp"
 #include "die_model_command.hpp"
 #include "engine.hpp"
 #include "h5_input.hpp"
+#include "h5_output.hpp"
 #include "hybrid_benchmark.hpp"
 #include "impact_benchmark.hpp"
 #include "impact_commands.hpp"
@@ -120,7 +125,57 @@ void add_decomposition_options(CLI::App* cmd, std::uint64_t& balance_every, int&
       ->check(CLI::PositiveNumber);
 }
 
-int cost_command(validation::CostOptions o, const std::string& out, bool quiet) {
+// The finished scenes' rows of a cost study, kept in OUT/.cost-checkpoint.json until the report is
+// written, with a stamp of what made them (quick or full, repeats, this binary): `cost --resume` takes a
+// scene from it instead of measuring it again. Each scene's timings come from one sitting, so the ratios
+// within a scene, which the study is about, are never mixed across sittings.
+class CostCheckpoint {
+ public:
+  CostCheckpoint(const std::string& out, const validation::CostOptions& o, bool resume)
+      : path_((fs::path(out) / ".cost-checkpoint.json").string()),
+        stamp_(fmt::format("quick {} repeats {} binary {:016x}", o.quick, o.repeats, binary_fingerprint())) {
+    fs::create_directories(out);
+    if (!resume) {
+      fs::remove(path_);  // a stale checkpoint must not be taken by a later --resume
+      return;
+    }
+    if (!fs::exists(path_)) return;
+    try {
+      std::ifstream in(path_);
+      const nlohmann::json j = nlohmann::json::parse(in);
+      if (j.at("stamp") != stamp_) {
+        fmt::print(stderr, "{}: made by another binary or other options; measuring every scene\n", path_);
+        return;
+      }
+      for (const auto& [scene, rows] : j.at("scenes").items())
+        for (const auto& r : rows) scenes_[scene].push_back(validation::cost_row_from_json(r));
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "{}: unreadable ({}); measuring every scene\n", path_, e.what());
+      scenes_.clear();
+    }
+  }
+  void attach(validation::CostOptions& o) {
+    o.taken = [this](const std::string& scene) -> std::optional<std::vector<validation::CostRow>> {
+      const auto it = scenes_.find(scene);
+      if (it == scenes_.end()) return std::nullopt;
+      return it->second;
+    };
+    o.finished = [this](const std::string& scene, const std::vector<validation::CostRow>& rows) {
+      scenes_[scene] = rows;
+      nlohmann::json j{{"stamp", stamp_}, {"scenes", nlohmann::json::object()}};
+      for (const auto& [name, list] : scenes_)
+        for (const auto& r : list) j["scenes"][name].push_back(validation::cost_row_json(r));
+      write_file_atomically(path_, j.dump(1) + "\n");
+    };
+  }
+  void clear() const { fs::remove(path_); }
+
+ private:
+  std::string path_, stamp_;
+  std::map<std::string, std::vector<validation::CostRow>> scenes_;
+};
+
+int cost_command(validation::CostOptions o, const std::string& out, bool quiet, bool resume) {
   const std::vector<validation::CostScene> scenes = validation::cost_scenes(o.quick);
   for (const std::string& n : o.scenes) {
     bool known = false;
@@ -129,8 +184,11 @@ int cost_command(validation::CostOptions o, const std::string& out, bool quiet) 
     if (!known) throw InputError({"--scene", 0}, n, "unknown cost scene; known scenes: " + names);
   }
   if (!quiet) o.log = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
+  CostCheckpoint checkpoint(out, o, resume);
+  checkpoint.attach(o);
   const auto rows = validation::run_cost_study(o);
   validation::write_cost_report(rows, scenes, out, o.quick);
+  checkpoint.clear();
   fmt::print("{} settings measured; {}/cost.md and {}/cost.json\n", rows.size(), out, out);
   return 0;
 }
@@ -213,7 +271,7 @@ int main(int argc, char** argv) {
 
   validation::CostOptions cost;
   std::string cost_dir = "cost";
-  bool cost_quiet = false;
+  bool cost_quiet = false, cost_resume = false;
   CLI::App* cost_cmd = app.add_subcommand(
       "cost", "what accuracy costs: sweep every engine's accuracy knobs, error against time per scene");
   cost_cmd->add_flag("--quick", cost.quick, "fewer settings, fewer throws (for CI)");
@@ -224,6 +282,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100));
   cost_cmd->add_option("--scene", cost.scenes, "scene to study (repeatable; default: all)");
   cost_cmd->add_flag("--quiet,-q", cost_quiet, "no progress lines");
+  cost_cmd->add_flag(
+      "--resume", cost_resume,
+      "continue an interrupted study into the same --out: the scenes it finished (same options, "
+      "same binary) are taken from OUT/.cost-checkpoint.json, the rest measured");
 
   std::string inspect_path;
   CLI::App* inspect_cmd = app.add_subcommand(
@@ -359,7 +421,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run);
     if (const int status = validate.dispatch(); status >= 0) return status;
     if (*engines_cmd) return engines_command(engines_json);
-    if (*cost_cmd) return cost_command(cost, cost_dir, cost_quiet);
+    if (*cost_cmd) return cost_command(cost, cost_dir, cost_quiet, cost_resume);
     if (*inspect_cmd) return inspect_command(inspect_path);
     if (*die_cmd) return cli::die_model_command(die);
     if (*bed_cmd) return bench::run_bed_command(bed);

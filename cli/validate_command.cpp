@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "binary_fingerprint.hpp"
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "interrupt.hpp"
@@ -105,17 +106,6 @@ class SuiteParts {
 
  private:
   fs::path stamp_path(const Suite& s) const { return dir_ / (s.name + ".stamp"); }
-  // FNV-1a over the running program's file.
-  static std::uint64_t binary_fingerprint() {
-    std::ifstream in("/proc/self/exe", std::ios::binary);
-    std::uint64_t h = 14695981039346656037ull;
-    std::vector<char> buffer(1 << 16);
-    while (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0) {
-      for (std::streamsize k = 0; k < in.gcount(); ++k)
-        h = (h ^ static_cast<unsigned char>(buffer[static_cast<std::size_t>(k)])) * 1099511628211ull;
-    }
-    return h;
-  }
   fs::path dir_;
   bool resume_;
   std::string stamp_;

@@ -11,9 +11,9 @@ import signal
 import subprocess
 import sys
 import tempfile
-import time
 
 import h5py
+from stopping import stop_when
 
 grainlab, config, name = sys.argv[1], sys.argv[2], sys.argv[3]
 sig = getattr(signal, "SIG" + name)
@@ -22,15 +22,9 @@ with tempfile.TemporaryDirectory() as d:
     run = subprocess.Popen([grainlab, "ripples", "hybrid", "--config", config, "--duration", "1e6",
                             "--out", out, "--checkpoint", ck, "--checkpoint-every", "20", "--quiet"],
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    deadline = time.time() + 60
-    while not (os.path.exists(ck) and glob.glob(out + ".tmp-*")):
-        assert run.poll() is None, f"the run ended before it was stopped: {run.stderr.read()}"
-        assert time.time() < deadline, "no checkpoint and temporary output within 60 s"
-        time.sleep(0.05)
-    time.sleep(0.3)  # into the run's work, possibly into a checkpoint being written
-    run.send_signal(sig)
-    run.wait(timeout=30)
-    assert run.returncode == -sig, f"ended with {run.returncode}, not by SIG{name}"
+    # (settle: into the run's work, possibly into a checkpoint being written)
+    stop_when(run, lambda: os.path.exists(ck) and glob.glob(out + ".tmp-*"), "checkpoint and temporary output", 60,
+              sig, settle=0.3)
     left = sorted(os.listdir(d))
     assert not [f for f in left if ".tmp-" in f], f"temporary files left: {left}"
     assert left == ["run.ck"], f"expected only the checkpoint, found {left}"

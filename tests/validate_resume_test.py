@@ -14,6 +14,8 @@ import sys
 import tempfile
 import time
 
+from stopping import stop_when
+
 grainlab, jobs = sys.argv[1], sys.argv[2]
 suites = ["--suite", "pair-impact", "--suite", "single-body", "--quick", "--jobs", jobs]
 
@@ -44,14 +46,7 @@ with tempfile.TemporaryDirectory() as d:
 
     run = validate(stopped)
     stamp = os.path.join(stopped, ".parts", "pair-impact.stamp")
-    deadline = time.time() + 300
-    while not os.path.exists(stamp):
-        assert run.poll() is None, f"the run ended before it was stopped: {run.stderr.read()}"
-        assert time.time() < deadline, "pair-impact did not finish within 300 s"
-        time.sleep(0.02)
-    run.send_signal(signal.SIGTERM)
-    run.wait(timeout=60)
-    assert run.returncode == -signal.SIGTERM, f"ended with {run.returncode}, not by SIGTERM"
+    stop_when(run, lambda: os.path.exists(stamp), "pair-impact part", 300, signal.SIGTERM)
     assert not os.path.exists(os.path.join(stopped, "report.json")), "a report from a stopped run"
     for _ in range(100):  # the children end as their own signal says
         if not suite_processes(stopped):

@@ -442,6 +442,13 @@ std::vector<CostRow> run_cost_study(const CostOptions& o) {
   std::vector<CostRow> rows;
   for (CostScene& sc : scenes) {
     if (!o.scenes.empty() && std::find(o.scenes.begin(), o.scenes.end(), sc.name) == o.scenes.end()) continue;
+    if (std::optional<std::vector<CostRow>> taken = o.taken ? o.taken(sc.name) : std::nullopt) {
+      if (o.log)
+        o.log(fmt::format("{}: {} settings taken from the interrupted study", sc.name, taken->size()));
+      rows.insert(rows.end(), taken->begin(), taken->end());
+      continue;
+    }
+    const std::size_t first_row = rows.size();
     const CostMeasurement reference = sc.reference();
     const double ref = reference.value;
     if (o.log) o.log(fmt::format("{}: reference {:.6g} ({})", sc.name, ref, sc.reference_note));
@@ -480,8 +487,48 @@ std::vector<CostRow> run_cost_study(const CostOptions& o) {
                   : fmt::format("  {} {} = {:g}: failed: {}", c.method, c.knob, c.value, failure));
       rows.push_back(r);
     }
+    if (o.finished)
+      o.finished(sc.name, std::vector<CostRow>(rows.begin() + static_cast<long>(first_row), rows.end()));
   }
   return rows;
+}
+
+nlohmann::json cost_row_json(const CostRow& r) {
+  auto number = [](double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
+  return {{"scene", r.scene},
+          {"failure", r.failure},
+          {"engine", r.engine},
+          {"method", r.method},
+          {"knob", r.knob},
+          {"value", number(r.value)},
+          {"measured", number(r.measured)},
+          {"error", number(r.error)},
+          {"error_half_width", number(r.error_half_width)},
+          {"seconds", number(r.seconds)},
+          {"steps", number(r.steps)},
+          {"rejected_steps", number(r.rejected)},
+          {"solver_iterations", number(r.iterations)},
+          {"detail", r.detail}};
+}
+
+CostRow cost_row_from_json(const nlohmann::json& j) {
+  auto number = [&](const char* key) {
+    const nlohmann::json& v = j.at(key);
+    if (v.is_null()) return double(NAN);
+    if (!v.is_number()) throw std::runtime_error(fmt::format("cost row: \"{}\" is not a number", key));
+    return v.get<double>();
+  };
+  try {
+    CostRow r;
+    r.scene = j.at("scene"), r.failure = j.at("failure"), r.engine = j.at("engine");
+    r.method = j.at("method"), r.knob = j.at("knob"), r.detail = j.at("detail");
+    r.value = number("value"), r.measured = number("measured"), r.error = number("error");
+    r.error_half_width = number("error_half_width"), r.seconds = number("seconds"), r.steps = number("steps");
+    r.rejected = number("rejected_steps"), r.iterations = number("solver_iterations");
+    return r;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("cost row: ") + e.what());
+  }
 }
 
 const CostRow* cheapest_reaching(const std::vector<CostRow>& rows, const std::string& scene,
@@ -498,20 +545,7 @@ void write_cost_report(const std::vector<CostRow>& rows, const std::vector<CostS
   namespace fs = std::filesystem;
   fs::create_directories(dir);
   nlohmann::json j = nlohmann::json::array();
-  for (const CostRow& r : rows)
-    j.push_back({{"scene", r.scene},
-                 {"failure", r.failure},
-                 {"engine", r.engine},
-                 {"method", r.method},
-                 {"knob", r.knob},
-                 {"value", r.value},
-                 {"measured", r.measured},
-                 {"error", r.error},
-                 {"error_half_width", r.error_half_width},
-                 {"seconds", r.seconds},
-                 {"steps", r.steps},
-                 {"rejected_steps", r.rejected},
-                 {"solver_iterations", r.iterations}});
+  for (const CostRow& r : rows) j.push_back(cost_row_json(r));
   write_file_atomically((fs::path(dir) / "cost.json").string(), j.dump(1) + "\n");
 
   Report plots;  // collects the plots

@@ -3,6 +3,8 @@
 // every setting gets its error against a reference (analytic, or the finest native run) and its cost
 // (median wall time of repeats, steps, rejected steps, solver iterations).
 #include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,7 +56,16 @@ struct CostOptions {
   int repeats = 3;
   std::vector<std::string> scenes;  // empty: all
   std::function<void(const std::string&)> log;
+  // A scene's rows from an interrupted study (not measured again), or an empty optional.
+  std::function<std::optional<std::vector<CostRow>>(const std::string& scene)> taken;
+  // Called with each scene's rows as it is finished (to keep them for a resumed study).
+  std::function<void(const std::string& scene, const std::vector<CostRow>& rows)> finished;
 };
+
+// A row as JSON (NaN as null; every number exact) and back; the reader throws std::runtime_error naming
+// what is missing.
+nlohmann::json cost_row_json(const CostRow& r);
+CostRow cost_row_from_json(const nlohmann::json& j);
 
 // The scenes of the study (quick: fewer settings and throws).
 std::vector<CostScene> cost_scenes(bool quick);
