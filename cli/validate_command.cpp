@@ -132,9 +132,11 @@ Report run_here(const std::vector<const Suite*>& chosen, const validation::Suite
     opt.progress = [&bar](std::size_t done, std::size_t total) { bar.update(double(done), double(total)); };
   }
   for (const Suite* s : chosen) {
-    if (std::optional<Report> taken = parts ? parts->taken(*s) : std::nullopt) {
-      say_taken(speak, *s, *taken, *parts);
-      report.append(std::move(*taken));
+    // (Rank 0 reads the parts; under mpirun every rank must skip the same suites, whose ensembles they
+    // share.)
+    std::optional<Report> taken = parts ? parts->taken(*s) : std::nullopt;
+    if (parts && parallel::any_all(taken.has_value())) {
+      if (taken) say_taken(speak, *s, *taken, *parts), report.append(std::move(*taken));
       continue;
     }
     if (speak) fmt::print(stderr, "suite {}: {}\n", s->name, s->description);
