@@ -6,8 +6,14 @@ several sizes adds the surface layer's mean grain size along the bed beside its 
 and the mean size at crests and troughs against t*.
 
     /usr/bin/python3 tools/plot_hybrid.py RUN.h5 [out.png]
+
+RUN.h5 may also be the run's checkpoint (`--checkpoint CK`), to look at a long run while it goes: the
+same curves and space-time image up to its last frame, and the bed as it stands (no growth rates by band,
+which the finished run computes).
 """
+import re
 import sys
+import tomllib
 
 import h5py
 import matplotlib
@@ -21,21 +27,43 @@ def text(v):
     return v.decode() if isinstance(v, bytes) else str(v)
 
 
+def config_number(options, key, default):
+    """A number of a checkpoint's config text: its [hybrid] table's, or a later --set line's."""
+    value = tomllib.loads(options).get("hybrid", {}).get(key, default)
+    for k, v in re.findall(r"^# --set\s+(\w+)\s*=\s*(\S+)\s*$", options, re.M):
+        if k == key:
+            value = v
+    return float(value)
+
+
+def read_run(f):
+    """The history table, the key points' spacing (d), the last bed and the slice-averaged profile of every
+    frame, from a run's output or from its checkpoint."""
+    if text(f.attrs.get("kind", "")).startswith("grainlab-hybrid-ripples-checkpoint"):
+        history = f["cli/history"]
+        profiles = f["cli/profiles"][:]
+        options = text(f.attrs["options"])
+        # The bed at the last frame, where the run continues from: cm there, d here. (Defaults: the
+        # model's, ripples/hybrid.)
+        last = f["run/bed"][:] / config_number(options, "diameter", 0.025)
+        return history, config_number(options, "length", 400) / profiles.shape[1], last, profiles
+    names = sorted(f["frames"].keys())
+    profiles = np.array([f["frames"][n][:].mean(axis=0) for n in names])
+    return f["history"], float(text(f.attrs["dx"])), f["frames"][names[-1]][:], profiles
+
+
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     path = sys.argv[1]
     out = sys.argv[2] if len(sys.argv) > 2 else path.rsplit(".", 1)[0] + "_ripples.png"
     f = h5py.File(path, "r")
-    dx = float(text(f.attrs["dx"]))
-    cols = text(f["history"].attrs["columns"]).split(",")
-    hist = f["history"][:]
+    history, dx, last, profiles = read_run(f)
+    cols = text(history.attrs["columns"]).split(",")
+    hist = history[:]
     col = {c: hist[:, i] for i, c in enumerate(cols)}
-    names = sorted(f["frames"].keys())
-    last = f["frames"][names[-1]][:]
-    profiles = np.array([f["frames"][n][:].mean(axis=0) for n in names])
     t = col["t_star"]
-    sizes = "surface_size" in f and len(f["surface_size"]) > 0
+    sizes = "surface_size" in f and len(f["surface_size"]) > 0  # (not in a checkpoint)
     fig = plt.figure(figsize=(13, 12 if sizes else 9))
     grid = fig.add_gridspec(4 if sizes else 3, 5)
     ax = fig.add_subplot(grid[0, :])
