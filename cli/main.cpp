@@ -164,7 +164,7 @@ class CostCheckpoint {
       scenes_[scene] = rows;
       nlohmann::json j{{"stamp", stamp_}, {"scenes", nlohmann::json::object()}};
       for (const auto& [name, list] : scenes_)
-        for (const auto& r : list) j["scenes"][name].push_back(validation::cost_row_json(r));
+        for (const auto& r : list) j["scenes"][name].push_back(validation::cost_row_json(r, true));
       write_file_atomically(path_, j.dump(1) + "\n");
     };
   }

@@ -493,8 +493,8 @@ std::vector<CostRow> run_cost_study(const CostOptions& o) {
   return rows;
 }
 
-nlohmann::json cost_row_json(const CostRow& r) {
-  auto number = [](double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
+nlohmann::json cost_row_json(const CostRow& r, bool exact) {
+  auto number = [exact](double v) { return exact ? exact_json(v) : nlohmann::json(v); };  // (dumped as null)
   return {{"scene", r.scene},
           {"failure", r.failure},
           {"engine", r.engine},
@@ -512,12 +512,7 @@ nlohmann::json cost_row_json(const CostRow& r) {
 }
 
 CostRow cost_row_from_json(const nlohmann::json& j) {
-  auto number = [&](const char* key) {
-    const nlohmann::json& v = j.at(key);
-    if (v.is_null()) return double(NAN);
-    if (!v.is_number()) throw std::runtime_error(fmt::format("cost row: \"{}\" is not a number", key));
-    return v.get<double>();
-  };
+  auto number = [&](const char* key) { return from_exact_json(j.at(key)); };
   try {
     CostRow r;
     r.scene = j.at("scene"), r.failure = j.at("failure"), r.engine = j.at("engine");
@@ -526,7 +521,7 @@ CostRow cost_row_from_json(const nlohmann::json& j) {
     r.error_half_width = number("error_half_width"), r.seconds = number("seconds"), r.steps = number("steps");
     r.rejected = number("rejected_steps"), r.iterations = number("solver_iterations");
     return r;
-  } catch (const nlohmann::json::exception& e) {
+  } catch (const std::exception& e) {  // (nlohmann's, or from_exact_json's)
     throw std::runtime_error(std::string("cost row: ") + e.what());
   }
 }

@@ -62,9 +62,10 @@ struct CostOptions {
   std::function<void(const std::string& scene, const std::vector<CostRow>& rows)> finished;
 };
 
-// A row as JSON (NaN as null; every number exact) and back; the reader throws std::runtime_error naming
-// what is missing.
-nlohmann::json cost_row_json(const CostRow& r);
+// A row as JSON. `exact`: NaN and infinity as strings, so the row reads back bit for bit (the study's
+// checkpoint, read by cost_row_from_json, which throws std::runtime_error naming what is wrong); otherwise
+// as null, for plain JSON readers (cost.json).
+nlohmann::json cost_row_json(const CostRow& r, bool exact = false);
 CostRow cost_row_from_json(const nlohmann::json& j);
 
 // The scenes of the study (quick: fewer settings and throws).

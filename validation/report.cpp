@@ -112,31 +112,32 @@ std::string plots_json(const Report& r) {
   return j.dump(1) + "\n";
 }
 
-// Numbers of a report part: exact, and NaN or infinity as strings (JSON has neither).
-nlohmann::json exact(double v) {
+nlohmann::json exact_list(const std::vector<double>& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (double x : v) a.push_back(exact_json(x));
+  return a;
+}
+std::vector<double> from_exact_list(const nlohmann::json& j) {
+  std::vector<double> v;
+  for (const auto& x : j) v.push_back(from_exact_json(x));
+  return v;
+}
+
+}  // namespace
+
+nlohmann::json exact_json(double v) {
   if (std::isnan(v)) return "nan";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   return v;
 }
-double from_exact(const nlohmann::json& j) {
+
+double from_exact_json(const nlohmann::json& j) {
   if (j.is_number()) return j.get<double>();
   const std::string s = j.get<std::string>();
   if (s == "nan") return NAN;
   if (s == "inf" || s == "-inf") return s[0] == '-' ? -INFINITY : INFINITY;
   throw std::runtime_error("not a number: " + s);
 }
-nlohmann::json exact(const std::vector<double>& v) {
-  nlohmann::json a = nlohmann::json::array();
-  for (double x : v) a.push_back(exact(x));
-  return a;
-}
-std::vector<double> from_exact_list(const nlohmann::json& j) {
-  std::vector<double> v;
-  for (const auto& x : j) v.push_back(from_exact(x));
-  return v;
-}
-
-}  // namespace
 
 std::string report_part_json(const Report& r) {
   nlohmann::json j;
@@ -144,9 +145,9 @@ std::string report_part_json(const Report& r) {
   for (const Check& c : r.checks)
     j["checks"].push_back({{"id", c.id},
                            {"engine", c.engine},
-                           {"value", exact(c.value)},
-                           {"reference", exact(c.reference)},
-                           {"tolerance", exact(c.tolerance)},
+                           {"value", exact_json(c.value)},
+                           {"reference", exact_json(c.reference)},
+                           {"tolerance", exact_json(c.tolerance)},
                            {"passed", c.passed},
                            {"note", c.note},
                            {"limitation", c.limitation}});
@@ -156,9 +157,9 @@ std::string report_part_json(const Report& r) {
     for (const auto& s : p.series)
       series.push_back({{"label", s.label},
                         {"style", s.style},
-                        {"x", exact(s.x)},
-                        {"y", exact(s.y)},
-                        {"err", exact(s.err)}});
+                        {"x", exact_list(s.x)},
+                        {"y", exact_list(s.y)},
+                        {"err", exact_list(s.err)}});
     j["plots"].push_back({{"file", p.file},
                           {"title", p.title},
                           {"xlabel", p.xlabel},
@@ -169,7 +170,7 @@ std::string report_part_json(const Report& r) {
   }
   for (const SampleTable& t : r.samples) {
     nlohmann::json rows = nlohmann::json::array();
-    for (const auto& row : t.rows) rows.push_back(exact(row));
+    for (const auto& row : t.rows) rows.push_back(exact_list(row));
     j["samples"].push_back(
         {{"name", t.name}, {"description", t.description}, {"columns", t.columns}, {"rows", rows}});
   }
@@ -187,8 +188,8 @@ Report read_report_part(const std::string& text) {
     for (const auto& c : j.value("checks", none)) {
       Check k;
       k.id = c.at("id"), k.engine = c.at("engine"), k.note = c.at("note"), k.limitation = c.at("limitation");
-      k.value = from_exact(c.at("value")), k.reference = from_exact(c.at("reference"));
-      k.tolerance = from_exact(c.at("tolerance")), k.passed = c.at("passed");
+      k.value = from_exact_json(c.at("value")), k.reference = from_exact_json(c.at("reference"));
+      k.tolerance = from_exact_json(c.at("tolerance")), k.passed = c.at("passed");
       r.checks.push_back(std::move(k));
     }
     for (const auto& m : j.value("markdown", none)) r.markdown.push_back(m.get<std::string>());

@@ -1,6 +1,7 @@
 #pragma once
 // A validation report: checks with their measured value, reference and tolerance, prose sections,
 // plot data and plots. Written as report.json (machine-readable), report.md (for people) and PNGs.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,12 @@ void write_plots(const std::vector<PlotSpec>& plots, const std::string& dir);
 // what is missing or malformed.
 std::string report_part_json(const Report& r);
 Report read_report_part(const std::string& text);
+
+// A number as JSON that reads back bit for bit: NaN and infinity as the strings "nan", "inf" and "-inf"
+// (JSON has neither); and back (std::runtime_error for any other string). For files grainlab reads again
+// (report parts, the cost study's checkpoint).
+nlohmann::json exact_json(double v);
+double from_exact_json(const nlohmann::json& j);
 
 // Writes report.json, report.md, results.h5 (when there are samples) and the plots into `dir` (created if
 // needed).
