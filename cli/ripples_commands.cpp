@@ -326,66 +326,66 @@ void RipplesCommands::add(CLI::App& app) {
       group->add_subcommand("wavelength", "Fig. 5.24: the largest ripple a merger can make, by size ratio");
   wavelength->add_flag("--json", json, "print the table as JSON");
   triangles->add_flag("--json", json, "print the sizes after the collision and the minimum effective height");
+  // The flux model's options, shared by hybrid-flux and hybrid-focal (one of them runs).
+  auto add_flux_model_options = [this](CLI::App* c) {
+    c->add_option("--diameter", flux.diameter, "grain diameter, cm")
+        ->default_val(0.025)
+        ->check(CLI::Range(1e-5, 10.0));
+    c->add_option("--grain-density", flux.grain_density, "g/cm^3")
+        ->default_val(2.65)
+        ->check(CLI::PositiveNumber);
+    c->add_option("--fluid-density", flux.fluid_density, "g/cm^3")
+        ->default_val(0.00123)
+        ->check(CLI::PositiveNumber);
+    c->add_option("--viscosity", flux.viscosity, "kinematic, cm^2/s")
+        ->default_val(0.146)
+        ->check(CLI::PositiveNumber);
+    c->add_option("--length", flux.length, "domain length, grain diameters")
+        ->default_val(400)
+        ->check(CLI::Range(3.0, 1e6));
+    c->add_option("--width", flux.width, "domain width, grain diameters")
+        ->default_val(10)
+        ->check(CLI::Range(3.0, 1e6));
+    c->add_option("--duration", flux.duration, "t* = t / sqrt(d / g^)")
+        ->default_val(4000)
+        ->check(CLI::Range(1.0, 1e8));
+    c->add_option("--average-from", flux.average_from, "start of the averaging window, t*")
+        ->default_val(2000)
+        ->check(CLI::Range(0.0, 1e8));
+    c->add_option("--splash", flux.splash,
+                  "Lammel parameter set (paper2021, lammel2017) or a grainlab-splash/1 file of recorded "
+                  "impacts (grainlab splash)")
+        ->default_val("paper2021")
+        ->check(CLI::IsMember({"paper2021", "lammel2017"}) | CLI::ExistingFile);
+    c->add_flag(
+        "--no-collisions", [this](std::int64_t) { flux.collisions = false; }, "no mid-air collisions");
+    c->add_flag("--wind-loosened", flux.wind_loosened,
+                "eq. 19: ejecta need E_eff = E_d2 (1 - tau_fw / tau_ft) (Shao & Lu's threshold)");
+    c->add_option("--dead-rise", flux.dead_rise,
+                  "a rebound or ejectum whose centre cannot rise this many diameters settles")
+        ->default_val(1.0)
+        ->check(CLI::Range(0.0, 10.0));
+    c->add_flag("--swept", flux.swept,
+                "find mid-air collisions along the grains' paths over a step and trace impacts back "
+                "to the bed's surface, so that --travel may exceed 0.5");
+    c->add_flag("--fast-substeps", flux.fast_substeps,
+                "with --swept: steps of dt_max, grains faster than travel / dt_max in substeps");
+    c->add_option("--travel", flux.travel, "the most a grain moves in a step, d (0.2; 1.5 with --swept)")
+        ->default_val(0.2)
+        ->check(CLI::Range(0.01, 4.0));
+    c->add_option("--dt-max", flux.dt_max,
+                  "the longest step, sqrt(d / g) (with --fast-substeps every step's length: raise --travel "
+                  "with it, 1.5 d per 0.02)")
+        ->default_val(0.02)
+        ->check(CLI::Range(1e-4, 1.0));
+    c->add_option("--seed", flux.seed, "seed")->default_val(2021);
+  };
   hybrid_flux = group->add_subcommand(
       "hybrid-flux", "the 3-D hybrid model's saturated flux over a flat bed (Huo et al. 2021, eq. 31)");
   hybrid_flux->add_option("--ustar", flux.u_star, "wind-shear velocity, cm/s")
       ->default_val(40)
       ->check(CLI::Range(0.1, 1e4));
-  hybrid_flux->add_option("--diameter", flux.diameter, "grain diameter, cm")
-      ->default_val(0.025)
-      ->check(CLI::Range(1e-5, 10.0));
-  hybrid_flux->add_option("--grain-density", flux.grain_density, "g/cm^3")
-      ->default_val(2.65)
-      ->check(CLI::PositiveNumber);
-  hybrid_flux->add_option("--fluid-density", flux.fluid_density, "g/cm^3")
-      ->default_val(0.00123)
-      ->check(CLI::PositiveNumber);
-  hybrid_flux->add_option("--viscosity", flux.viscosity, "kinematic, cm^2/s")
-      ->default_val(0.146)
-      ->check(CLI::PositiveNumber);
-  hybrid_flux->add_option("--length", flux.length, "domain length, grain diameters")
-      ->default_val(400)
-      ->check(CLI::Range(3.0, 1e6));
-  hybrid_flux->add_option("--width", flux.width, "domain width, grain diameters")
-      ->default_val(10)
-      ->check(CLI::Range(3.0, 1e6));
-  hybrid_flux->add_option("--duration", flux.duration, "t* = t / sqrt(d / g^)")
-      ->default_val(4000)
-      ->check(CLI::Range(1.0, 1e8));
-  hybrid_flux->add_option("--average-from", flux.average_from, "start of the averaging window, t*")
-      ->default_val(2000)
-      ->check(CLI::Range(0.0, 1e8));
-  hybrid_flux
-      ->add_option("--splash", flux.splash,
-                   "Lammel parameter set (paper2021, lammel2017) or a grainlab-splash/1 file of recorded "
-                   "impacts (grainlab splash)")
-      ->default_val("paper2021")
-      ->check(CLI::IsMember({"paper2021", "lammel2017"}) | CLI::ExistingFile);
-  hybrid_flux->add_flag(
-      "--no-collisions", [this](std::int64_t) { flux.collisions = false; }, "no mid-air collisions");
-  hybrid_flux->add_flag("--wind-loosened", flux.wind_loosened,
-                        "eq. 19: ejecta need E_eff = E_d2 (1 - tau_fw / tau_ft) (Shao & Lu's threshold)");
-  hybrid_flux
-      ->add_option("--dead-rise", flux.dead_rise,
-                   "a rebound or ejectum whose centre cannot rise this many diameters settles")
-      ->default_val(1.0)
-      ->check(CLI::Range(0.0, 10.0));
-  hybrid_flux->add_flag("--swept", flux.swept,
-                        "find mid-air collisions along the grains' paths over a step and trace impacts back "
-                        "to the bed's surface, so that --travel may exceed 0.5");
-  hybrid_flux->add_flag("--fast-substeps", flux.fast_substeps,
-                        "with --swept: steps of dt_max, grains faster than travel / dt_max in substeps");
-  hybrid_flux
-      ->add_option("--travel", flux.travel, "the most a grain moves in a step, d (0.2; 1.5 with --swept)")
-      ->default_val(0.2)
-      ->check(CLI::Range(0.01, 4.0));
-  hybrid_flux
-      ->add_option("--dt-max", flux.dt_max,
-                   "the longest step, sqrt(d / g) (with --fast-substeps every step's length: raise --travel "
-                   "with it, 1.5 d per 0.02)")
-      ->default_val(0.02)
-      ->check(CLI::Range(1e-4, 1.0));
-  hybrid_flux->add_option("--seed", flux.seed, "seed")->default_val(2021);
+  add_flux_model_options(hybrid_flux);
   hybrid_flux->add_option(
       "--checkpoint", hybrid_checkpoint,
       "write the run's state here every --checkpoint-every t*, at --stop-at and at the end");
@@ -398,6 +398,26 @@ void RipplesCommands::add(CLI::App& app) {
                           "continue a run from its checkpoint (the same options; --duration may be longer)");
   hybrid_flux->add_flag("--json", json, "print the result as JSON");
   hybrid_flux->add_flag("--quiet", quiet, "no progress bar");
+  hybrid_focal = group->add_subcommand("hybrid-focal",
+                                       "the wind over saltation at several u*: the roughness z0 of its log "
+                                       "layer and the profiles' focal point "
+                                       "(Huo et al. 2021, Fig. 14 and eq. 32)");
+  hybrid_focal->add_option("--ustar", focal_ustars, "wind-shear velocities, cm/s (two or more)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 1e4));
+  add_flux_model_options(hybrid_focal);
+  hybrid_focal
+      ->add_option("--log-band", focal_band,
+                   "heights (d) above the saltation layer where the wind is fitted as a log layer")
+      ->capture_default_str()
+      ->expected(2);
+  hybrid_focal
+      ->add_option("--focus-above", focal_above, "profiles crossing below this height (d) are ignored")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
+  hybrid_focal->add_option("--out,-o", out, "a folder for the plots and the profiles (CSV)");
+  hybrid_focal->add_flag("--json", json, "print the result as JSON");
+  hybrid_focal->add_flag("--quiet", quiet, "no progress lines");
   hybrid_ripples = group->add_subcommand(
       "hybrid", "the 3-D hybrid model's ripple run over an erodible bed (Huo et al. 2021): --config FILE");
   hybrid_ripples->add_option("--config", config, "a [hybrid] config (scenes/ripples/huo2021_ripples.toml)")
@@ -430,6 +450,7 @@ void RipplesCommands::add(CLI::App& app) {
 int RipplesCommands::dispatch() const {
   if (wavelength && *wavelength) return wavelength_command(*this);
   if (hybrid_flux && *hybrid_flux) return hybrid_flux_command(*this);
+  if (hybrid_focal && *hybrid_focal) return hybrid_focal_command(*this);
   if (hybrid_ripples && *hybrid_ripples) return hybrid_ripples_command(*this);
   if (bin_cmd && *bin_cmd) return bins_command(*this);
   if (lattice && *lattice) return lattice_command(*this);

@@ -31,9 +31,12 @@ struct RipplesCommands {
   CLI::App *analyze = nullptr, *run = nullptr, *continuum = nullptr;
   double shape_speed = 0.1;
   double lattice_ejections = 0;  // 0: the config's
-  CLI::App *hybrid_flux = nullptr, *hybrid_ripples = nullptr;
-  double duration_override = 0;        // ripples hybrid --duration: 0 keeps the config's
-  std::vector<std::string> overrides;  // ripples hybrid --set KEY=VALUE
+  CLI::App *hybrid_flux = nullptr, *hybrid_ripples = nullptr, *hybrid_focal = nullptr;
+  std::vector<double> focal_ustars{26, 30, 40, 50, 60};  // ripples hybrid-focal
+  std::vector<double> focal_band{300, 1000};             // d: the log layer's heights
+  double focal_above = 1;                                // d: crossings below are ignored
+  double duration_override = 0;                          // ripples hybrid --duration: 0 keeps the config's
+  std::vector<std::string> overrides;                    // ripples hybrid --set KEY=VALUE
   std::string hybrid_checkpoint, hybrid_restart;
   double checkpoint_every = 10000, stop_at = 0;  // t*
   ripples::hybrid::FluxOptions flux;
@@ -50,6 +53,9 @@ int run_command(const RipplesCommands& a);
 int continuum_command(const RipplesCommands& a);
 int hybrid_flux_command(const RipplesCommands& a);
 int hybrid_ripples_command(const RipplesCommands& a);
+int hybrid_focal_command(const RipplesCommands& a);
+// A splash that is not one of the Lammel sets is a grainlab-splash/1 file of recorded impacts: read it.
+void attach_recorded_splash(ripples::hybrid::TransportOptions& o);
 // The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file, thrown
 // ballistically or, with splash_wind, flown through the Ch. IV wind (saltation::wind_blown_hops).
 ripples::SplashHops splash_hops(const ripples::LatticeRun& run);

@@ -134,7 +134,8 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"ranks", parallel::size()},
                            {"wall_seconds", r.wall_seconds},
                            {"t_star", r.t_star},
-                           {"series", series}};
+                           {"series", series},
+                           {"wind", {{"z", r.z}, {"u", r.u_mean}, {"u_end", r.u}, {"u_clean", r.u_clean}}}};
     fmt::print("{}\n", j.dump());
     return 0;
   }

@@ -28,12 +28,14 @@ namespace {
 struct FluxState {
   double next_sample = 0, q_sum = 0, q_sum2 = 0, air_sum = 0, window_start = -1, samples = 0, wall = 0;
   std::vector<std::array<double, 3>> series;
+  std::vector<double> u_sum;  // the wind at each mesh node, summed over the window's samples (cm/s)
 };
 
 const std::vector<std::string> kFluxStateColumns = {"next_sample",     "q_sum",       "q_sum2", "air_sum",
                                                     "window_start",    "samples",     "bed_px", "bed_pz",
                                                     "fast_collisions", "wall_seconds"};
 const std::vector<std::string> kSeriesColumns = {"t_star", "mass_flux_star", "airborne"};
+const std::vector<std::string> kWindColumns = {"u_sum"};
 
 std::vector<SampleTable> save_flux(const Transport& run, const FluxState& f, double wall) {
   std::vector<SampleTable> tables = run.save("run/");  // (collective: every rank's grains)
@@ -47,6 +49,10 @@ std::vector<SampleTable> save_flux(const Transport& run, const FluxState& f, dou
   SampleTable series{"flux/series", "flux samples: t*, Q*, grains airborne", kSeriesColumns, {}};
   for (const auto& row : f.series) series.rows.push_back({row[0], row[1], row[2]});
   tables.push_back(series);
+  SampleTable wind{
+      "flux/wind", "the wind at each mesh node summed over the window's samples (cm/s)", kWindColumns, {}};
+  for (double u : f.u_sum) wind.rows.push_back({u});
+  tables.push_back(wind);
   return tables;
 }
 
@@ -60,6 +66,10 @@ FluxState restore_flux(Transport& run, const std::map<std::string, SampleTable>&
   run.fast_collisions = static_cast<std::uint64_t>(v[8]);
   for (const auto& row : checkpoint_table(tables, "flux/series", kSeriesColumns.size()).rows)
     f.series.push_back({row[0], row[1], row[2]});
+  for (const auto& row : checkpoint_table(tables, "flux/wind", kWindColumns.size()).rows)
+    f.u_sum.push_back(row[0]);
+  if (f.u_sum.size() != run.wind().u().size())
+    throw std::invalid_argument("the checkpoint's window wind has the wrong number of mesh nodes");
   return f;
 }
 
@@ -67,8 +77,8 @@ FluxState restore_flux(Transport& run, const std::map<std::string, SampleTable>&
 
 std::map<std::string, std::vector<std::string>> flux_checkpoint_columns(const FluxOptions& o) {
   check_transport_options(o);
-  std::map<std::string, std::vector<std::string>> columns{{"flux/state", kFluxStateColumns},
-                                                          {"flux/series", kSeriesColumns}};
+  std::map<std::string, std::vector<std::string>> columns{
+      {"flux/state", kFluxStateColumns}, {"flux/series", kSeriesColumns}, {"flux/wind", kWindColumns}};
   FluxOptions local = o;
   local.distributed = false;  // (only the names: no collective)
   for (const SampleTable& t : Transport(local, nullptr).save("run/")) columns[t.name] = t.columns;
@@ -85,6 +95,7 @@ FluxResult run_flux(const FluxOptions& o) {
   r.s = run.density_ratio(), r.galileo = run.galileo(), r.shields = run.shields();
   const double t_unit = run.time_unit(), t_end = o.duration * t_unit, t_avg = o.average_from * t_unit;
   FluxState f;
+  f.u_sum.assign(run.wind().u().size(), 0.0);
   if (o.restart) f = restore_flux(run, *o.restart);
   if (run.time() >= t_end)
     throw std::invalid_argument(fmt::format("the checkpoint is at t* = {:.0f}, not before the duration {:g}",
@@ -102,8 +113,11 @@ FluxResult run_flux(const FluxOptions& o) {
     if (sampled) {
       const double q = run.mass_flux();
       f.series.push_back({run.time() / t_unit, q / run.flux_unit(), static_cast<double>(run.airborne())});
-      if (in_window)
+      if (in_window) {
         f.q_sum += q, f.q_sum2 += q * q, f.air_sum += static_cast<double>(run.airborne()), ++f.samples;
+        const std::vector<double>& u = run.wind().u();
+        for (std::size_t k = 0; k < u.size(); ++k) f.u_sum[k] += u[k];
+      }
       if (o.progress) o.progress(run.time() / t_unit, o.duration);
       f.next_sample += t_unit;
     }
@@ -127,6 +141,7 @@ FluxResult run_flux(const FluxOptions& o) {
     r.mass_flux = f.q_sum / n, r.airborne = f.air_sum / n;
     r.mass_flux_sd = std::sqrt(std::max(0.0, f.q_sum2 / n - r.mass_flux * r.mass_flux));
     r.mass_flux_star = r.mass_flux / run.flux_unit();
+    for (double u : f.u_sum) r.u_mean.push_back(u / n);
   }
   if (run.tally.impacts > 0 && f.window_start >= 0) {
     r.mean_impact_speed = run.tally.speed_sum / run.tally.impacts;

@@ -41,6 +41,7 @@ struct FluxResult {
   // law's flux near threshold goes as 1 / mu_b (the paper fits 0.61).
   double bed_friction = 0;
   std::vector<double> z, u, u_clean;          // the wind at the end (cm, cm/s)
+  std::vector<double> u_mean;                 // the wind at z, mean over the window's samples (cm/s)
   std::vector<std::array<double, 3>> series;  // t*, Q*, airborne
   std::uint64_t grain_steps = 0, steps = 0, collisions = 0;
   std::uint64_t fast_collisions = 0;  // of those, by the fast_substeps pass
