@@ -13,6 +13,7 @@
 #include "bed_statistics.hpp"
 #include "collision.hpp"
 #include "flux_model.hpp"
+#include "focal_point.hpp"
 #include "height_field.hpp"
 #include "hybrid_splash_file.hpp"
 #include "input_error.hpp"
@@ -989,3 +990,56 @@ TEST(BedRelief, EachModeFadesAsPotentialFlowOverTheBedSays) {
 }
 
 }  // namespace grainlab::ripples::hybrid
+
+// ---- The wind's focal point (eq. 32) -----------------------------------------------------------------
+
+namespace {
+// Profiles that pass exactly through (z_F, u_F): a log layer u = (u*/kappa) ln(z / z0) with
+// z0 = z_F exp(-kappa u_F / u*), on a mesh of its own per u* (as the columns' meshes differ).
+grainlab::ripples::hybrid::WindProfile log_profile(double u_star, double z_focal, double u_focal,
+                                                   double first) {
+  grainlab::ripples::hybrid::WindProfile p{u_star, {}, {}};
+  const double z0 = z_focal * std::exp(-0.42 * u_focal / u_star);
+  for (int k = 0; k < 200; ++k) {
+    const double z = first * std::pow(30.0 / first, k / 199.0);
+    p.z.push_back(z), p.u.push_back(u_star / 0.42 * std::log(z / z0));
+  }
+  return p;
+}
+}  // namespace
+
+TEST(FocalPoint, LogLayersThroughOnePointGiveItBackBothWays) {
+  using namespace grainlab::ripples::hybrid;
+  std::vector<WindProfile> p;
+  for (double u : {26.0, 30.0, 40.0, 50.0, 60.0}) p.push_back(log_profile(u, 1.0, 370, 1e-3 * (1 + u / 100)));
+  const FocalPoint f = focal_point(p, 7.5, 25, 0.025);
+  EXPECT_NEAR(f.fit_z, 1.0, 1e-9);
+  EXPECT_NEAR(f.fit_u, 370, 1e-7);
+  EXPECT_NEAR(f.fit_r2, 1, 1e-12);
+  ASSERT_EQ(f.crossings.size(), 10u);
+  EXPECT_EQ(f.pairs, 10u);
+  // On the common mesh the crossings are found between nodes, linearly in ln z.
+  EXPECT_NEAR(f.crossing_z, 1.0, 1e-6);
+  EXPECT_NEAR(f.crossing_u, 370, 1e-6);
+  for (const LogLayerFit& l : f.log_layers) EXPECT_LT(l.spread, 1e-12);
+}
+
+TEST(FocalPoint, ProfilesThatDoNotCrossHaveNoFocalPointAndABadBandIsRefused) {
+  using namespace grainlab::ripples::hybrid;
+  // The same roughness at every u*: the profiles fan out from z0 and never cross above it.
+  std::vector<WindProfile> p;
+  for (double u : {30.0, 40.0}) {
+    WindProfile w{u, {}, {}};
+    for (int k = 0; k < 100; ++k) {
+      const double z = 0.01 * std::pow(3000.0, k / 99.0);
+      w.z.push_back(z), w.u.push_back(u / 0.42 * std::log(z / 0.001));
+    }
+    p.push_back(w);
+  }
+  const FocalPoint f = focal_point(p, 1, 20, 0.02);
+  EXPECT_TRUE(f.crossings.empty());
+  EXPECT_NEAR(f.fit_u, 0, 1e-9);  // z0 does not change with u*: u_F = 0 in eq. 32
+  EXPECT_THROW(log_layer_roughness(p[0], 40, 50), std::invalid_argument);
+  EXPECT_THROW(focal_point({p[0]}, 1, 20, 0.02), std::invalid_argument);
+  EXPECT_THROW(focal_point({p[0], p[0]}, 1, 20, 0.02), std::invalid_argument);  // one u*
+}

@@ -15,6 +15,7 @@
 #include "ensemble.hpp"
 #include "fluid.hpp"
 #include "flux_model.hpp"
+#include "focal_point.hpp"
 #include "hybrid_config.hpp"
 #include "lammel_splash.hpp"
 #include "ripple_config.hpp"
@@ -178,6 +179,40 @@ double flux_checks(Report& rep, const FluxOptions& base, bool quick, const Suite
   rep.plots.push_back(plot);
   md += "\n";
   return ustars.front() * std::sqrt(sd / runs.front().shields);  // S goes as u*^2
+}
+
+// The wind over the flux runs (Huo et al. 2021, Fig. 14 and eq. 32). A common focal point (z_F, u_F) of
+// the profiles makes the log layer's roughness z0 = z_F exp(-kappa u_F / u*): ln z0 linear in 1 / u*.
+// So the point is found two ways, from the line through ln z0 and from where the profiles cross, and the
+// two must agree. The log layer is fitted at 300-1000 d, far above the saltation layer.
+void focal_point_checks(Report& rep, const std::map<double, FluxResult>& runs, double u_d, std::string& md) {
+  std::vector<WindProfile> profiles;
+  for (const auto& [u, r] : runs)
+    if (!r.u_mean.empty() && r.mass_flux_star > 0) profiles.push_back({u, r.z, r.u_mean});
+  if (profiles.size() < 3) return;
+  const double d = FluxOptions{}.diameter;
+  const FocalPoint f = focal_point(profiles, 300 * d, 1000 * d, d);
+  md +=
+      "The wind over the flux runs (window means; Fig. 14, eq. 32): the log layer's roughness at 300-1000 "
+      "d\n\n"
+      "| u* (cm/s) | z0 (d) |\n|---|---|\n";
+  for (std::size_t k = 0; k < profiles.size(); ++k)
+    md += fmt::format("| {:g} | {:.4g} |\n", profiles[k].u_star, f.log_layers[k].z0 / d);
+  md += fmt::format(
+      "\nln z0 against 1/u*: z_F = {:.1f} d, u_F = {:.0f} cm/s, r^2 = {:.4f}. The profiles cross ({} of {} "
+      "pairs) at z = {:.1f} d ({:.1f}-{:.1f} d), u = {:.0f} cm/s (medians). With u_d* = {:.1f} cm/s: "
+      "z_F g / u_d*^2 = {:.2f}, u_F / u_d* = {:.1f}.\n\n",
+      f.fit_z / d, f.fit_u, f.fit_r2, f.crossings.size(), f.pairs, f.crossing_z / d, f.crossing_z_min / d,
+      f.crossing_z_max / d, f.crossing_u, u_d, f.fit_z * 981 / (u_d * u_d), f.fit_u / u_d);
+  rep.expect_below("hybrid/wind/z0-linear-in-1/u*", "hybrid", 1 - f.fit_r2, 0.01,
+                   "eq. 32: 1 - r^2 of ln z0 against 1/u* (the log layer's roughness at 300-1000 d)");
+  rep.expect_near("hybrid/wind/focal-point/profiles-cross", "hybrid", double(f.crossings.size()),
+                  double(f.pairs), 0, "pairs of wind profiles that cross above 1 d (all of them)");
+  if (f.crossings.empty()) return;
+  rep.expect_near("hybrid/wind/focal-point/speed", "hybrid", f.crossing_u / f.fit_u, 1, 0.1,
+                  "u where the profiles cross over eq. 32's u_F");
+  rep.expect_near("hybrid/wind/focal-point/height", "hybrid", f.crossing_z / f.fit_z, 1, 0.3,
+                  "z where the profiles cross over eq. 32's z_F");
 }
 
 // Swept steps (1.5 d per step, pairs found along their paths, impacts traced back to the bed) against
@@ -501,6 +536,7 @@ void run_hybrid_suite(Report& rep, const SuiteOptions& so) {
   wind_checks(rep, base);
   std::map<double, FluxResult> by_ustar;
   const double u_d = flux_checks(rep, base, so.quick, so, md, by_ustar);
+  focal_point_checks(rep, by_ustar, u_d, md);
   swept_checks(rep, base, so, md, by_ustar);
   ripple_checks(rep, so.quick, so, md);
   if (!so.quick) initial_wavelength_checks(rep, u_d, so, md);
