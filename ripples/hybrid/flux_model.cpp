@@ -61,7 +61,7 @@ FluxState restore_flux(Transport& run, const std::map<std::string, SampleTable>&
   const SampleTable& state = checkpoint_table(tables, "flux/state", kFluxStateColumns.size());
   if (state.rows.size() != 1) throw std::invalid_argument("the checkpoint's flux state is not one row");
   const std::vector<double>& v = state.rows[0];
-  FluxState f{v[0], v[1], v[2], v[3], v[4], v[5], v[9], {}};
+  FluxState f{v[0], v[1], v[2], v[3], v[4], v[5], v[9], {}, {}};
   run.tally.bed_px = v[6], run.tally.bed_pz = v[7];
   run.fast_collisions = static_cast<std::uint64_t>(v[8]);
   for (const auto& row : checkpoint_table(tables, "flux/series", kSeriesColumns.size()).rows)

@@ -66,12 +66,12 @@ std::optional<ProfileCrossing> profile_crossing(const WindProfile& a, const Wind
   require_same_heights(a, b);
   const std::vector<double>& z = a.z;
   for (std::size_t k = 0; k + 1 < z.size(); ++k) {
-    if (z[k] < z_min) continue;
+    if (z[k] < z_min || !(z[k] > 0)) continue;
     const double d0 = a.u[k] - b.u[k], d1 = a.u[k + 1] - b.u[k + 1];
     if (d0 == 0) return ProfileCrossing{a.u_star, b.u_star, z[k], a.u[k]};
     if ((d0 < 0) == (d1 < 0)) continue;
     const double f = d0 / (d0 - d1);  // where the difference is zero between the nodes
-    return ProfileCrossing{a.u_star, b.u_star, z[k] + f * (z[k + 1] - z[k]),
+    return ProfileCrossing{a.u_star, b.u_star, std::exp(std::log(z[k]) + f * std::log(z[k + 1] / z[k])),
                            a.u[k] + f * (a.u[k + 1] - a.u[k])};
   }
   return std::nullopt;

@@ -26,7 +26,8 @@ struct LogLayerFit {
 LogLayerFit log_layer_roughness(const WindProfile& p, double z_lo, double z_hi, double kappa = 0.42);
 
 // Where two profiles on the same heights cross: the lowest height above z_min at which u_a - u_b changes
-// sign, with both interpolated linearly between the nodes. None if they do not cross there.
+// sign, the winds interpolated linearly in ln z between the nodes (the columns' meshes are geometric). None
+// if they do not cross there.
 struct ProfileCrossing {
   double u_star_a = 0, u_star_b = 0, z = 0, u = 0;
 };
