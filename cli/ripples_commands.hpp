@@ -54,6 +54,8 @@ int continuum_command(const RipplesCommands& a);
 int hybrid_flux_command(const RipplesCommands& a);
 int hybrid_ripples_command(const RipplesCommands& a);
 int hybrid_focal_command(const RipplesCommands& a);
+// The flux run's options that cannot run together (exit status 2, naming the option).
+void check_flux_options(const ripples::hybrid::FluxOptions& o);
 // A splash that is not one of the Lammel sets is a grainlab-splash/1 file of recorded impacts: read it.
 void attach_recorded_splash(ripples::hybrid::TransportOptions& o);
 // The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file, thrown

@@ -36,14 +36,7 @@ void check_focal_options(const RipplesCommands& a) {
     throw InputError(
         {"--log-band", 0}, fmt::format("{} {}", a.focal_band[0], a.focal_band[1]),
         fmt::format("must be two heights in d with 0 < low < high <= the column's top ({})", top));
-  if (!(o.average_from < o.duration))
-    throw InputError({"--average-from", 0}, fmt::format("{}", o.average_from),
-                     fmt::format("must be before the end of the run (--duration {})", o.duration));
-  if (o.travel > 0.5 && !o.swept)
-    throw InputError({"--travel", 0}, fmt::format("{}", o.travel),
-                     "above 0.5 d grains can pass through each other unseen: add --swept");
-  if (o.fast_substeps && !o.swept)
-    throw InputError({"--fast-substeps", 0}, "", "needs --swept: fast grains are found along their paths");
+  check_flux_options(o);
 }
 
 // The plots: the profiles (u against log z, the focal point marked) and ln z0 against 1 / u* with its line.

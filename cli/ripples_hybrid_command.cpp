@@ -54,10 +54,7 @@ std::string flux_fingerprint(const ripples::hybrid::FluxOptions& o) {
       o.seed);
 }
 
-int hybrid_flux_command(const RipplesCommands& a) {
-  const ripples::hybrid::FluxOptions& o = a.flux;
-  if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
-    throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
+void check_flux_options(const ripples::hybrid::FluxOptions& o) {
   if (!(o.average_from < o.duration))
     throw InputError({"--average-from", 0}, fmt::format("{}", o.average_from),
                      fmt::format("must be before the end of the run (--duration {})", o.duration));
@@ -66,6 +63,13 @@ int hybrid_flux_command(const RipplesCommands& a) {
                      "above 0.5 d grains can pass through each other unseen: add --swept");
   if (o.fast_substeps && !o.swept)
     throw InputError({"--fast-substeps", 0}, "", "needs --swept: fast grains are found along their paths");
+}
+
+int hybrid_flux_command(const RipplesCommands& a) {
+  const ripples::hybrid::FluxOptions& o = a.flux;
+  if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
+    throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
+  check_flux_options(o);
   ripples::hybrid::FluxOptions run = o;
   attach_recorded_splash(run);
   run.distributed = parallel::size() > 1;  // the ranks share the domain; the first one reports
