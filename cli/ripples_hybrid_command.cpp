@@ -164,13 +164,16 @@ namespace {
 using ripples::hybrid::BedFrame;
 
 const std::vector<std::string> kHistoryColumns = {
-    "t_star",         "amplitude", "wavelength", "ripple_index", "mean_height", "shift",
-    "mass_flux_star", "airborne",  "u_star_bed", "loosening",    "size_crest",  "size_trough"};
+    "t_star",   "amplitude",  "wavelength", "ripple_index", "mean_height", "shift", "mass_flux_star",
+    "airborne", "u_star_bed", "loosening",  "size_crest",   "size_trough", "z0"};
+// Checkpoints written before frames carried the log layer's roughness (2026-11-28) lack its column.
+constexpr std::size_t kHistoryColumnsBeforeZ0 = 12;
 
 std::vector<double> history_row(const BedFrame& f) {
   return {f.t_star,     f.stats.amplitude, f.stats.wavelength, f.stats.ripple_index,
           f.stats.mean, f.shift,           f.mass_flux_star,   f.airborne,
-          f.u_star_bed, f.loosening,       f.size_crest,       f.size_trough};
+          f.u_star_bed, f.loosening,       f.size_crest,       f.size_trough,
+          f.z0};
 }
 
 nlohmann::json number_or_null(double v) {
@@ -181,6 +184,7 @@ BedFrame frame_of_row(const std::vector<double>& r) {
   BedFrame f;
   f.t_star = r[0], f.stats = {r[1], r[2], r[3], r[4]}, f.shift = r[5], f.mass_flux_star = r[6];
   f.airborne = r[7], f.u_star_bed = r[8], f.loosening = r[9], f.size_crest = r[10], f.size_trough = r[11];
+  if (r.size() > kHistoryColumnsBeforeZ0) f.z0 = r[12];
   return f;
 }
 
@@ -258,7 +262,7 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
                             ripples::hybrid::RippleRun& run, std::vector<BedFrame>& frames,
                             std::vector<std::vector<double>>& written, std::size_t cells) {
   std::map<std::string, std::vector<std::string>> wanted{
-      {"cli/history", kHistoryColumns}, {"cli/profiles", {}}, {"cli/frames", {}}};
+      {"cli/history", {}}, {"cli/profiles", {}}, {"cli/frames", {}}};        // (the history's columns: below)
   for (const SampleTable& t : run.save("run/")) wanted[t.name] = t.columns;  // the tables a run writes
   if (!c.options.sizes.empty()) wanted["cli/size_profiles"] = {};
   const TableFile file = read_sample_tables(path, wanted);
@@ -266,6 +270,11 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
                      "was written for another config: pass the one it was started with, and the same --set "
                      "overrides");
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
+  const std::vector<std::string>& columns = file.tables.at("cli/history").columns;
+  const std::vector<std::string> before_z0(kHistoryColumns.begin(),
+                                           kHistoryColumns.begin() + kHistoryColumnsBeforeZ0);
+  if (columns != kHistoryColumns && columns != before_z0)
+    refuse("has a frame history with other columns than a hybrid ripple run writes");
   try {
     run.restore(file.tables, "run/");
     const auto& history = file.tables.at("cli/history").rows;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "focal_point.hpp"
 #include "surface_analysis.hpp"
 
 namespace grainlab::ripples::hybrid {
@@ -102,6 +103,9 @@ void RippleRun::advance_to(double t_star, const std::function<void(double)>& pro
     const double q = t.mass_flux() / t.flux_unit(), air = static_cast<double>(t.airborne());
     series_.push_back({t.time() / unit, q, air});
     q_sum_ += q, air_sum_ += air, samples_ += 1;
+    const std::vector<double>& u = t.wind().u();
+    wind_sum_.resize(u.size(), 0.0);
+    for (std::size_t k = 0; k < u.size(); ++k) wind_sum_[k] += u[k];
     next_sample_ += o_.sample_every;
     if (progress) progress(t.time() / unit);
   }
@@ -160,6 +164,13 @@ BedFrame RippleRun::frame() {
   const double reach = f.stats.wavelength > 0 ? 0.5 * f.stats.wavelength : 0.25 * o_.length;
   f.shift = bed_shift(last_h_, f.h, bed_.nx(), bed_.ny(), dx, reach);
   if (samples_ > 0) f.mass_flux_star = q_sum_ / samples_, f.airborne = air_sum_ / samples_;
+  if (samples_ > 0 && wind_sum_.size() == transport_->wind().z().size()) {
+    WindProfile w{o_.u_star, transport_->wind().z(), wind_sum_};
+    for (double& u : w.u) u /= samples_;
+    const std::array<double, 2> band = frame_log_band(o_.height);
+    f.z0 = log_layer_roughness(w, band[0] * d, band[1] * d).z0 / d;
+  }
+  wind_sum_.assign(wind_sum_.size(), 0.0);
   f.u_star_bed = std::sqrt(transport_->wind().bed_stress());
   f.loosening = transport_->loosening();
   if (const SurfaceLayer* layer = bed_.layer()) surface_sizes(*layer, f);
@@ -216,6 +227,10 @@ void RippleRun::restore(const std::map<std::string, SampleTable>& tables, const 
   transport_->restore(tables, prefix + "transport/");
   if (SurfaceLayer* layer = bed_.layer())
     layer->restore(grid_values(checkpoint_table(tables, prefix + "layer", layer->kinds())));
+}
+
+std::array<double, 2> frame_log_band(double column_height) {
+  return {std::min(300.0, 0.25 * column_height), std::min(1000.0, 0.85 * column_height)};
 }
 
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {

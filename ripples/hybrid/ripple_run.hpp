@@ -49,6 +49,10 @@ struct BedFrame {
   double airborne = 0;          // grains in flight, averaged since the previous frame
   double u_star_bed = 0;        // cm/s
   double loosening = 1;         // E_eff / E_d2
+  // The roughness z0 (d) of the wind's log layer far above the grains (heights frame_log_band), the wind
+  // averaged over the flux samples since the previous frame: eq. 32's z0, whose values at several u*
+  // give the focal point as the ripples grow (Fig. 15). NaN at the first frame (no samples yet).
+  double z0 = std::nan("");
   // A bed of several sizes: the surface layer's mean grain size (d) by key-point column, averaged across
   // the bed, and over the highest and the lowest quarter of those columns by the profile's height, both
   // smoothed over a quarter wavelength (coarse crests: crest > trough). Empty / NaN on a bed of one size.
@@ -82,7 +86,14 @@ class RippleRun {
   std::vector<std::array<double, 3>> series_;
   std::vector<double> last_h_;
   double next_sample_ = 0, q_sum_ = 0, air_sum_ = 0, samples_ = 0;
+  // The wind at the column's nodes summed over the samples since the previous frame. Not in save():
+  // checkpoints are taken at frames, where it is zero.
+  std::vector<double> wind_sum_;
 };
+
+// The heights (d) at which a ripple run fits its frames' log layer: 300-1000 d, or within a shorter
+// column, its upper part (a quarter to 0.85 of its height).
+std::array<double, 2> frame_log_band(double column_height);
 
 }  // namespace grainlab::ripples::hybrid
 
