@@ -88,7 +88,8 @@ def main():
         ax1.set(ylabel="z_F (d)", title="The focal point as the ripples grow (eq. 32 at each frame)")
         ax2.plot(t, [s[2] for s in series], "o-")
         ax2.set(xlabel="t*", ylabel="u_F (cm/s)")
-        for ax in (ax1, ax2):
+        for ax, k in ((ax1, 1), (ax2, 2)):
+            ax.set_ylim(0, 1.2 * max(s[k] for s in series))  # from zero: a drift shows at its true size
             ax.grid(alpha=0.3)
         fig.tight_layout()
         fig.savefig(a.plot, dpi=110)
