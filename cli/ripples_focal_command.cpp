@@ -71,7 +71,8 @@ std::vector<validation::PlotSpec> focal_plots(const std::vector<WindProfile>& p,
   const auto [lo, hi] = std::minmax_element(measured.x.begin(), measured.x.end());
   for (int k = 0; k <= 20; ++k) {
     const double x = *lo + (*hi - *lo) * k / 20.0;
-    line.x.push_back(x), line.y.push_back(f.fit_z * std::exp(-0.42 * f.fit_u * x) / d);
+    line.x.push_back(x),
+        line.y.push_back(f.fit_z * std::exp(-ripples::hybrid::WindColumn::kKappa * f.fit_u * x) / d);
   }
   z0.series = {measured, line};
   return {profiles, z0};

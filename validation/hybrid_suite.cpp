@@ -185,13 +185,15 @@ double flux_checks(Report& rep, const FluxOptions& base, bool quick, const Suite
 // the profiles makes the log layer's roughness z0 = z_F exp(-kappa u_F / u*): ln z0 linear in 1 / u*.
 // So the point is found two ways, from the line through ln z0 and from where the profiles cross, and the
 // two must agree. The log layer is fitted at 300-1000 d, far above the saltation layer.
-void focal_point_checks(Report& rep, const std::map<double, FluxResult>& runs, double u_d, std::string& md) {
+void focal_point_checks(Report& rep, const FluxOptions& base, const std::map<double, FluxResult>& runs,
+                        double u_d, std::string& md) {
   std::vector<WindProfile> profiles;
   for (const auto& [u, r] : runs)
     if (!r.u_mean.empty() && r.mass_flux_star > 0) profiles.push_back({u, r.z, r.u_mean});
   if (profiles.size() < 3) return;
-  const double d = FluxOptions{}.diameter;
-  const FocalPoint f = focal_point(profiles, 300 * d, 1000 * d, d);
+  const double d = base.diameter;
+  const std::array<double, 2> band = frame_log_band(base.height);  // 300-1000 d for the 1200 d column
+  const FocalPoint f = focal_point(profiles, band[0] * d, band[1] * d, d);
   md +=
       "The wind over the flux runs (window means; Fig. 14, eq. 32): the log layer's roughness at 300-1000 "
       "d\n\n"
@@ -203,7 +205,7 @@ void focal_point_checks(Report& rep, const std::map<double, FluxResult>& runs, d
       "pairs) at z = {:.1f} d ({:.1f}-{:.1f} d), u = {:.0f} cm/s (medians). With u_d* = {:.1f} cm/s: "
       "z_F g / u_d*^2 = {:.2f}, u_F / u_d* = {:.1f}.\n\n",
       f.fit_z / d, f.fit_u, f.fit_r2, f.crossings.size(), f.pairs, f.crossing_z / d, f.crossing_z_min / d,
-      f.crossing_z_max / d, f.crossing_u, u_d, f.fit_z * 981 / (u_d * u_d), f.fit_u / u_d);
+      f.crossing_z_max / d, f.crossing_u, u_d, f.fit_z * base.g / (u_d * u_d), f.fit_u / u_d);
   rep.expect_below("hybrid/wind/z0-linear-in-1/u*", "hybrid", 1 - f.fit_r2, 0.01,
                    "eq. 32: 1 - r^2 of ln z0 against 1/u* (the log layer's roughness at 300-1000 d)");
   rep.expect_near("hybrid/wind/focal-point/profiles-cross", "hybrid", double(f.crossings.size()),
@@ -536,7 +538,7 @@ void run_hybrid_suite(Report& rep, const SuiteOptions& so) {
   wind_checks(rep, base);
   std::map<double, FluxResult> by_ustar;
   const double u_d = flux_checks(rep, base, so.quick, so, md, by_ustar);
-  focal_point_checks(rep, by_ustar, u_d, md);
+  focal_point_checks(rep, base, by_ustar, u_d, md);
   swept_checks(rep, base, so, md, by_ustar);
   ripple_checks(rep, so.quick, so, md);
   if (!so.quick) initial_wavelength_checks(rep, u_d, so, md);

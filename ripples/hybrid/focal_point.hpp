@@ -9,6 +9,8 @@
 #include <optional>
 #include <vector>
 
+#include "wind_column.hpp"
+
 namespace grainlab::ripples::hybrid {
 
 struct WindProfile {
@@ -23,7 +25,8 @@ struct LogLayerFit {
   double z0 = 0, spread = 0;
   std::size_t nodes = 0;
 };
-LogLayerFit log_layer_roughness(const WindProfile& p, double z_lo, double z_hi, double kappa = 0.42);
+LogLayerFit log_layer_roughness(const WindProfile& p, double z_lo, double z_hi,
+                                double kappa = WindColumn::kKappa);
 
 // Where two profiles on the same heights cross: the lowest height above z_min at which u_a - u_b changes
 // sign, the winds interpolated linearly in ln z between the nodes (the columns' meshes are geometric). None
@@ -47,6 +50,6 @@ struct FocalPoint {
 // meshes differ with u*). Needs at least two profiles with distinct u*; throws std::invalid_argument
 // otherwise.
 FocalPoint focal_point(const std::vector<WindProfile>& profiles, double z_lo, double z_hi, double z_min,
-                       double kappa = 0.42);
+                       double kappa = WindColumn::kKappa);
 
 }  // namespace grainlab::ripples::hybrid
