@@ -280,8 +280,12 @@ void lattice_checks(Report& rep, const SuiteOptions& o, std::string& md) {
   row("combined 15 / 5 (Fig. 5.22)", "wavelength ~200, height ~8", combined, 0, 10);
   rep.expect_near("ripples/lattice/fig5.22-wavelength", "lattice", combined.wavelength[0].mean, 200, 50,
                   "combined run after ~10 ejections per surface grain: wavelength ~200 lattice spacings");
-  rep.expect_near("ripples/lattice/fig5.22-height", "lattice", combined.height[0].mean, 8, 2,
-                  "... height ~8 (read as layers)");
+  // "Heights of about 8 lattice spacings": the unit the same sentence gives the wavelength in, sqrt(3) d,
+  // which makes the thesis's ripple index 200 / 8 = 25, as for ripples that "resemble natural ripples".
+  // (Read as layers of d / 2, the index would be 87.) The table's heights are in layers.
+  const double layers_per_spacing = 2 * std::sqrt(3.0);
+  rep.expect_near("ripples/lattice/fig5.22-height", "lattice", combined.height[0].mean / layers_per_spacing,
+                  8, 2, "... height ~8 lattice spacings (sqrt(3) d, the wavelength's unit: 27.7 layers)");
   // Fig. 5.23.
   const LatticeEnsemble a = lattice_ensemble(lattice(4, 1, 0.0), {10, 20}, seeds);
   const LatticeEnsemble b = lattice_ensemble(lattice(8, 3, 0.0), {10, 20}, seeds);
