@@ -10,6 +10,7 @@
 #include "impacts.hpp"
 #include "impacts3d.hpp"
 #include "input_error.hpp"
+#include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "rebound_model.hpp"
@@ -433,7 +434,9 @@ void ImpactCommands::add(CLI::App& app) {
       ->default_val(67.3)
       ->check(CLI::PositiveNumber);
   bed_cmd->add_option("--count", count, "discs")->default_val(384)->check(CLI::Range(1, 1000000));
-  bed_cmd->add_option("--out,-o", bed_out, "the bed's run file (.h5 + .xmf)")->required();
+  bed_cmd->add_option("--out,-o", bed_out, "the bed's run file (.h5 + .xmf)")
+      ->check(cli::output_file())
+      ->required();
   bed_cmd->add_flag("--force", bed_force, "overwrite an existing file");
   bed_cmd->add_flag("--json", bed_json, "print the bed's statistics as JSON");
 
@@ -455,15 +458,18 @@ void ImpactCommands::add(CLI::App& app) {
       ->add_option("--steps-per-contact", steps_per_contact, "native: Verlet steps per shortest contact time")
       ->default_val(30)
       ->check(CLI::Range(5.0, 1000.0));
-  impact_cmd->add_option("--record", record, "also write impact 0 as a run file (ParaView)");
+  impact_cmd->add_option("--record", record, "also write impact 0 as a run file (ParaView)")
+      ->check(cli::output_file());
   impact_cmd->add_flag("--force", force, "overwrite the --record file");
   impact_cmd->add_flag("--json", impact_json, "print one JSON object with every quantity");
   impact_cmd->add_option("--dimension", dimension, "2 (discs, the thesis) or 3 (spheres, a poured bed)")
       ->default_val(2)
       ->check(CLI::IsMember({2, 3}));
-  impact_cmd->add_option("--checkpoint", impact_checkpoint,
-                         "--dimension 3: keep the bed's build (each stage) and every finished impact in this "
-                         "file; run the same command again to continue from it (--runs may grow)");
+  impact_cmd
+      ->add_option("--checkpoint", impact_checkpoint,
+                   "--dimension 3: keep the bed's build (each stage) and every finished impact in this "
+                   "file; run the same command again to continue from it (--runs may grow)")
+      ->check(cli::output_file());
   impact_cmd->add_option("--spheres", spheres, "--dimension 3: spheres poured into the 67.3 x 20 cm box")
       ->default_val(2000)
       ->check(CLI::Range(100, 1000000));
@@ -490,7 +496,9 @@ void ImpactCommands::add(CLI::App& app) {
   splash_cmd = app.add_subcommand("splash",
                                   "measure the splash function over incident speed and angle; write a "
                                   "grainlab-splash/1 file for the saltation and ripple models");
-  splash_cmd->add_option("--out,-o", splash_out, "the splash file (.h5)")->required();
+  splash_cmd->add_option("--out,-o", splash_out, "the splash file (.h5)")
+      ->check(cli::output_file())
+      ->required();
   splash_cmd->add_flag("--quick", splash_quick, "2 impacts per cell on one bed (for CI)");
   splash_cmd->add_option("--runs", splash_runs, "impacts per cell (default 100; quick 2)")
       ->check(CLI::Range(1, 100000));
@@ -502,8 +510,10 @@ void ImpactCommands::add(CLI::App& app) {
                          "incident speeds, cm/s (default 300 1000 2000 4000 8100)");
   splash_cmd->add_option("--angles", splash_angles,
                          "incident angles from the horizontal, deg (default 5 15 25 45 70)");
-  splash_cmd->add_option("--checkpoint", splash_checkpoint,
-                         "checkpoint after every cell (default OUT.checkpoint.h5)");
+  splash_cmd
+      ->add_option("--checkpoint", splash_checkpoint,
+                   "checkpoint after every cell (default OUT.checkpoint.h5)")
+      ->check(cli::output_file());
   splash_cmd->add_option("--restart", splash_restart, "continue from a checkpoint")->check(CLI::ExistingFile);
   splash_cmd
       ->add_option("--stop-after-cells", splash_stop_after, "stop unfinished after N cells (then --restart)")

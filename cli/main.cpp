@@ -23,6 +23,7 @@
 #include "impact_commands.hpp"
 #include "input_error.hpp"
 #include "lattice_benchmark.hpp"
+#include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "ripples_commands.hpp"
@@ -68,6 +69,7 @@ int run_command(const RunArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
   std::string out = a.out.empty() ? scene.output.file : a.out;
   if (out.empty()) out = fs::path(a.scene).stem().string() + ".h5";
+  cli::check_output_file(a.out.empty() ? "[output] file" : "--out", out);  // the scene's own, unchecked so far
   if (!a.force && fs::exists(out) && a.stop_after_frame == 0)
     throw InputError({"--out", 0}, out, "exists; pass --force to overwrite it");
   if (a.stop_after_frame > scene.output.frames)
@@ -248,7 +250,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("scene", run.scene, "scene file (TOML, see docs/scenes.md)")
       ->required()
       ->check(CLI::ExistingFile);
-  run_cmd->add_option("--out,-o", run.out, "output .h5 (default: [output] file, or SCENE.h5)");
+  run_cmd->add_option("--out,-o", run.out, "output .h5 (default: [output] file, or SCENE.h5)")
+      ->check(cli::output_file());
   run_cmd->add_option("--set", run.sets, "override a scene value: --set accuracy.dt=1e-6 (repeatable)");
   run_cmd->add_option("--engine", run.engine, "engine to run on")->default_val("native");
   run_cmd->add_flag("--force", run.force, "overwrite an existing output file");
@@ -257,7 +260,8 @@ int main(int argc, char** argv) {
       ->add_option("--checkpoint-every", run.checkpoint_every,
                    "write a checkpoint after every N-th frame (native engine: 2-D discs, 3-D under Verlet)")
       ->check(CLI::NonNegativeNumber);
-  run_cmd->add_option("--checkpoint", run.checkpoint, "checkpoint file (default: OUT with .checkpoint.h5)");
+  run_cmd->add_option("--checkpoint", run.checkpoint, "checkpoint file (default: OUT with .checkpoint.h5)")
+      ->check(cli::output_file());
   run_cmd->add_option("--restart", run.restart, "continue from this checkpoint file")
       ->check(CLI::ExistingFile);
   run_cmd
@@ -276,6 +280,7 @@ int main(int argc, char** argv) {
       "cost", "what accuracy costs: sweep every engine's accuracy knobs, error against time per scene");
   cost_cmd->add_flag("--quick", cost.quick, "fewer settings, fewer throws (for CI)");
   cost_cmd->add_option("--out,-o", cost_dir, "output folder (cost.md, cost.json, plots)")
+      ->check(cli::output_folder())
       ->default_val("cost");
   cost_cmd->add_option("--repeats", cost.repeats, "timed repetitions per setting (median reported)")
       ->default_val(3)
@@ -329,7 +334,8 @@ int main(int argc, char** argv) {
       ->default_val(2.5)
       ->check(CLI::PositiveNumber);
   bed_cmd->add_flag("--frictionless", bed.frictionless, "drop the friction effect (no shear history)");
-  bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file");
+  bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file")
+      ->check(cli::output_file());
   add_decomposition_options(bed_cmd, bed.balance_every, bed.ranks_y);
   bench::ImpactBenchOptions impact_bench;
   CLI::App* impact_bench_cmd = bench_cmd->add_subcommand(
@@ -340,7 +346,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100));
   impact_bench_cmd->add_option("--peers", impact_bench.peers, "engines timed on the same impact")
       ->default_str("ode bullet");
-  impact_bench_cmd->add_option("--json", impact_bench.json, "also write the result as JSON to this file");
+  impact_bench_cmd->add_option("--json", impact_bench.json, "also write the result as JSON to this file")
+      ->check(cli::output_file());
 
   bench::Bed3dOptions bed3d;
   CLI::App* bed3d_cmd = bench_cmd->add_subcommand(
@@ -357,7 +364,8 @@ int main(int argc, char** argv) {
   bed3d_cmd->add_option("--repeats", bed3d.repeats, "timed repetitions (median reported)")
       ->default_val(3)
       ->check(CLI::Range(1, 100));
-  bed3d_cmd->add_option("--json", bed3d.json, "also write the result as JSON to this file");
+  bed3d_cmd->add_option("--json", bed3d.json, "also write the result as JSON to this file")
+      ->check(cli::output_file());
   bed3d_cmd->add_flag("--scene", bed3d.scene_only,
                       "print the bed as a scene (TOML) instead of timing it: grainlab run takes it");
   bench::LatticeBenchOptions lattice_bench;
@@ -376,7 +384,8 @@ int main(int argc, char** argv) {
   lattice_bench_cmd->add_option("--repeats", lattice_bench.repeats, "timed repetitions (median reported)")
       ->default_val(5)
       ->check(CLI::Range(1, 100));
-  lattice_bench_cmd->add_option("--json", lattice_bench.json, "also write the result as JSON to this file");
+  lattice_bench_cmd->add_option("--json", lattice_bench.json, "also write the result as JSON to this file")
+      ->check(cli::output_file());
   bench::HybridBenchOptions hybrid_bench;
   CLI::App* hybrid_bench_cmd = bench_cmd->add_subcommand(
       "hybrid", "airborne grain-steps per second of the 3-D hybrid ripple model's flux run on one core");
@@ -395,7 +404,8 @@ int main(int argc, char** argv) {
   hybrid_bench_cmd->add_option("--repeats", hybrid_bench.repeats, "timed repetitions (median reported)")
       ->default_val(3)
       ->check(CLI::Range(1, 100));
-  hybrid_bench_cmd->add_option("--json", hybrid_bench.json, "also write the result as JSON to this file");
+  hybrid_bench_cmd->add_option("--json", hybrid_bench.json, "also write the result as JSON to this file")
+      ->check(cli::output_file());
 
   cli::ImpactCommands impacts;
   impacts.add(app);

@@ -11,6 +11,7 @@
 #include "ensemble.hpp"
 #include "h5_output.hpp"
 #include "input_error.hpp"
+#include "output_path.hpp"
 #include "ripple_config.hpp"
 #include "triangles.hpp"
 #include "worms.hpp"
@@ -252,7 +253,8 @@ void RipplesCommands::add(CLI::App& app) {
   ring = group->add_subcommand("worms", "Haff's worm model: many worms on a ring merging (Fig. 5.16)");
   ring->add_option("--config", config, "a TOML config with a [worms] table (replaces the options below)")
       ->check(CLI::ExistingFile);
-  ring->add_option("--out,-o", out, "write the mean-length history and the final lengths to this HDF5 file");
+  ring->add_option("--out,-o", out, "write the mean-length history and the final lengths to this HDF5 file")
+      ->check(cli::output_file());
   ring->add_flag("--force", force, "overwrite --out");
   ring->add_option("--worms", worms, "worms at the start")->default_val(200);
   ring->add_option("--length", length, "links per worm at the start")->default_val(2);
@@ -264,7 +266,8 @@ void RipplesCommands::add(CLI::App& app) {
   triangles
       ->add_option("--config", config, "a TOML config with a [triangles] table (replaces the options below)")
       ->check(CLI::ExistingFile);
-  triangles->add_option("--out,-o", out, "write the collision's history to this HDF5 file");
+  triangles->add_option("--out,-o", out, "write the collision's history to this HDF5 file")
+      ->check(cli::output_file());
   triangles->add_flag("--force", force, "overwrite --out");
   triangles->add_option("--ratio", ratio, "upstream / downstream height, in (0, 1)")->default_val(0.6);
   triangles->add_option("--law", law, "target or brink transport")
@@ -278,7 +281,8 @@ void RipplesCommands::add(CLI::App& app) {
   bin_cmd->add_option("--seed", seed, "seed")->default_val(1);
   bin_cmd->add_option("--config", config, "a TOML config with a [bins] table (replaces the options above)")
       ->check(CLI::ExistingFile);
-  bin_cmd->add_option("--out,-o", out, "write h(x, t) and the history to this HDF5 file");
+  bin_cmd->add_option("--out,-o", out, "write h(x, t) and the history to this HDF5 file")
+      ->check(cli::output_file());
   bin_cmd->add_flag("--force", force, "overwrite --out");
   bin_cmd->add_flag("--json", json, "print the roughness and wavelength history and the final heights");
   lattice = group->add_subcommand("lattice", "the lattice-bed model (Fig. 5.21): target and brink ejection");
@@ -286,7 +290,8 @@ void RipplesCommands::add(CLI::App& app) {
       ->add_option("--config", config, "a TOML config with a [lattice] table (scenes/ripples/lattice_*.toml)")
       ->required()
       ->check(CLI::ExistingFile);
-  lattice->add_option("--out,-o", out, "write h(x, t) and the history (first seed) to this HDF5 file");
+  lattice->add_option("--out,-o", out, "write h(x, t) and the history (first seed) to this HDF5 file")
+      ->check(cli::output_file());
   lattice->add_option("--ejections", lattice_ejections,
                       "run length in ejections per surface grain (replaces the config's)");
   lattice->add_option("--seeds", lattice_seeds, "ensemble: the config's seed and the next N - 1")
@@ -297,13 +302,15 @@ void RipplesCommands::add(CLI::App& app) {
       group->add_subcommand("continuum", "the continuum model: growth rates and steady shapes (eqs 5.3-5.8)");
   continuum->add_option("--speed", shape_speed, "propagation speed of the steady shapes, cm/s")
       ->default_val(0.1);
-  continuum->add_option("--out,-o", out, "write the growth rates and the shapes to this HDF5 file");
+  continuum->add_option("--out,-o", out, "write the growth rates and the shapes to this HDF5 file")
+      ->check(cli::output_file());
   continuum->add_flag("--force", force, "overwrite --out");
   continuum->add_flag("--json", json, "print the growth rates and the shapes' length scale as JSON");
   run = group->add_subcommand("run", "any surface-evolving ripple model, named by its config's table");
   run->add_option("--config", config, "a TOML config with one model table ([bins], [lattice])")
       ->check(CLI::ExistingFile);
-  run->add_option("--out,-o", out, "write h(x, t) and the history to this HDF5 file");
+  run->add_option("--out,-o", out, "write h(x, t) and the history to this HDF5 file")
+      ->check(cli::output_file());
   run->add_flag("--force", force, "overwrite --out");
   run->add_flag("--json", json, "print the final diagnostics as JSON");
   run->add_flag("--list", list_models, "list the models");
@@ -386,9 +393,10 @@ void RipplesCommands::add(CLI::App& app) {
       ->default_val(40)
       ->check(CLI::Range(0.1, 1e4));
   add_flux_model_options(hybrid_flux);
-  hybrid_flux->add_option(
-      "--checkpoint", hybrid_checkpoint,
-      "write the run's state here every --checkpoint-every t*, at --stop-at and at the end");
+  hybrid_flux
+      ->add_option("--checkpoint", hybrid_checkpoint,
+                   "write the run's state here every --checkpoint-every t*, at --stop-at and at the end")
+      ->check(cli::output_file());
   hybrid_flux->add_option("--checkpoint-every", flux.checkpoint_every, "t* between checkpoints")
       ->default_val(1000)
       ->check(CLI::PositiveNumber);
@@ -415,15 +423,16 @@ void RipplesCommands::add(CLI::App& app) {
       ->add_option("--focus-above", focal_above, "profiles crossing below this height (d) are ignored")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e6));
-  hybrid_focal->add_option("--out,-o", out, "a folder for the plots and the profiles (CSV)");
+  hybrid_focal->add_option("--out,-o", out, "a folder for the plots and the profiles (CSV)")
+      ->check(cli::output_folder());
   hybrid_focal->add_flag("--json", json, "print the result as JSON");
   hybrid_focal->add_flag("--quiet", quiet, "no progress lines");
   hybrid_ripples = group->add_subcommand(
       "hybrid", "the 3-D hybrid model's ripple run over an erodible bed (Huo et al. 2021): --config FILE");
   hybrid_ripples->add_option("--config", config, "a [hybrid] config (scenes/ripples/huo2021_ripples.toml)")
       ->required();
-  hybrid_ripples->add_option("--out", out,
-                             "bed history: HDF5 frames + XDMF sidecar, history and flux tables");
+  hybrid_ripples->add_option("--out", out, "bed history: HDF5 frames + XDMF sidecar, history and flux tables")
+      ->check(cli::output_file());
   hybrid_ripples->add_option("--duration", duration_override, "t*, in place of the config's")
       ->check(CLI::Range(0.0, 1e9));
   hybrid_ripples
@@ -432,8 +441,10 @@ void RipplesCommands::add(CLI::App& app) {
                    "(--set u_star=36 --set splash=lammel2017); repeat for more")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  hybrid_ripples->add_option("--checkpoint", hybrid_checkpoint,
-                             "write the run's state here every --checkpoint-every t* (and at --stop-at)");
+  hybrid_ripples
+      ->add_option("--checkpoint", hybrid_checkpoint,
+                   "write the run's state here every --checkpoint-every t* (and at --stop-at)")
+      ->check(cli::output_file());
   hybrid_ripples->add_option("--checkpoint-every", checkpoint_every, "t* between checkpoints")
       ->default_val(10000)
       ->check(CLI::PositiveNumber);

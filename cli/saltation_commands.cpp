@@ -8,6 +8,7 @@
 #include "conveyor.hpp"
 #include "h5_output.hpp"
 #include "input_error.hpp"
+#include "output_path.hpp"
 #include "study.hpp"
 #include "wind_model.hpp"
 
@@ -295,7 +296,8 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::Range(0, 2000));
   wind->add_option("--vx-min", vx_min, "2-D grid: the lowest v_ox, cm/s (steps of the v_oy bin)")
       ->default_val(-100);
-  wind->add_option("--out,-o", out, "write the profiles and distributions to this HDF5 file");
+  wind->add_option("--out,-o", out, "write the profiles and distributions to this HDF5 file")
+      ->check(cli::output_file());
   wind->add_flag("--force", force, "overwrite --out");
   wind->add_option("--re-factor", reynolds_factor,
                    "multiplies Re in eq. 4.31 (2: the diameter in place of r)")
@@ -337,7 +339,9 @@ void SaltationCommands::add(CLI::App& app) {
   study->add_option("--ustar-factors", ustar_factors, "u* as multiples of the impact threshold u*_t")
       ->delimiter(',');
   study->add_option("--grain-density", grain_density, "g/cm^3")->default_val(2.6);
-  study->add_option("--out,-o", study_out, "output folder: study.csv, study.json, plots")->required();
+  study->add_option("--out,-o", study_out, "output folder: study.csv, study.json, plots")
+      ->check(cli::output_folder())
+      ->required();
   study->add_flag("--force", force, "replace --out");
   study->add_flag("--json", study_json, "print the thresholds and every run as JSON");
   study->add_flag("--quiet", quiet, "no progress lines");
@@ -387,11 +391,13 @@ void SaltationCommands::add(CLI::App& app) {
       ->default_val(0.0125)
       ->check(CLI::Range(0.0, 1.0));
   dem_app->add_option("--seed", dem.seed, "seed of the bed's radii")->default_val(18);
-  dem_app->add_option("--out,-o", dem_out, "output folder: JSON, profiles, time series, splash.h5, plots");
+  dem_app->add_option("--out,-o", dem_out, "output folder: JSON, profiles, time series, splash.h5, plots")
+      ->check(cli::output_folder());
   dem_app->add_flag("--force", force, "replace --out");
   dem_app->add_flag("--json", dem_json, "print the result as JSON");
   dem_app->add_flag("--quiet", quiet, "no progress bar");
-  dem_app->add_option("--checkpoint", dem.checkpoint, "write the run's state to this HDF5 file as it goes");
+  dem_app->add_option("--checkpoint", dem.checkpoint, "write the run's state to this HDF5 file as it goes")
+      ->check(cli::output_file());
   dem_app->add_option("--checkpoint-every", dem.checkpoint_every, "s of physical time between checkpoints")
       ->default_val(0.1)
       ->check(CLI::Range(1e-6, 1e6));

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "input_error.hpp"
+#include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "sand_gun3d.hpp"
@@ -93,7 +94,8 @@ void SandGunCommand::add(CLI::App& app) {
       ->check(CLI::IsMember({"sphere", "polyhedron"}));
   cmd->add_option("--checkpoint", checkpoint,
                   "keep the bed and each finished impact in this HDF5 file; run again with it to continue "
-                  "(more --runs or other --rows may be asked for)");
+                  "(more --runs or other --rows may be asked for)")
+      ->check(cli::output_file());
   cmd->add_option("--visible-above", visible_above,
                   "count an ejectum only if its centre rises this many bed-grain diameters above the top of "
                   "the bed (1: the thesis's rule; the photographs' apparent surface stood a few diameters "

@@ -20,6 +20,7 @@
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "interrupt.hpp"
+#include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "suites.hpp"
@@ -288,7 +289,9 @@ std::size_t job_count(int asked, std::size_t suites) {
 void ValidateCommand::add(CLI::App& app) {
   cmd = app.add_subcommand("validate", "run validation suites; exit 0 only if every check passes");
   cmd->add_option("--suite", suites, "suite to run (repeatable; default: all)");
-  cmd->add_option("--out,-o", out, "report folder (report.md, report.json, plots)")->default_val("report");
+  cmd->add_option("--out,-o", out, "report folder (report.md, report.json, plots)")
+      ->check(cli::output_folder())
+      ->default_val("report");
   cmd->add_flag("--quick", quick, "shorter versions of long checks (for CI)");
   cmd->add_flag("--quiet,-q", quiet, "no progress lines");
   cmd->add_flag(
@@ -302,7 +305,8 @@ void ValidateCommand::add(CLI::App& app) {
   cmd->add_option("--sand-gun-checkpoint", sand_gun_checkpoint,
                   "impacts-3d (full): keep the 20,000-sphere sand-gun bed and its impacts in this HDF5 file, "
                   "as `grainlab sand-gun --runs 10 --checkpoint FILE` does; a file that command filled is "
-                  "reused, so the hours of its bed and 90 impacts are not spent again");
+                  "reused, so the hours of its bed and 90 impacts are not spent again")
+      ->check(cli::output_file());
   // Internal: how a --jobs parent asks a child for its part of the report.
   cmd->add_option("--part", part, "")->group("");
 }
