@@ -178,6 +178,7 @@ class CostCheckpoint {
 };
 
 int cost_command(validation::CostOptions o, const std::string& out, bool quiet, bool resume) {
+  cli::check_output_folder("--out", out);  // the default, which the option's own check does not see
   const std::vector<validation::CostScene> scenes = validation::cost_scenes(o.quick);
   for (const std::string& n : o.scenes) {
     bool known = false;
@@ -280,8 +281,8 @@ int main(int argc, char** argv) {
       "cost", "what accuracy costs: sweep every engine's accuracy knobs, error against time per scene");
   cost_cmd->add_flag("--quick", cost.quick, "fewer settings, fewer throws (for CI)");
   cost_cmd->add_option("--out,-o", cost_dir, "output folder (cost.md, cost.json, plots)")
-      ->check(cli::output_folder())
-      ->default_val("cost");
+      ->default_val("cost")  // before the check: a default is checked where it is set, at every start
+      ->check(cli::output_folder());
   cost_cmd->add_option("--repeats", cost.repeats, "timed repetitions per setting (median reported)")
       ->default_val(3)
       ->check(CLI::Range(1, 100));

@@ -44,9 +44,14 @@ inline CLI::Validator output_folder() {
   return CLI::Validator([](std::string& s) { return output_path_problem(s, true); }, "", "output folder");
 }
 
-// The same for a path that does not come from an option of its own (a scene's [output] file).
+// The same for a path that does not come from an option of its own (a scene's [output] file), or for an
+// option's default, which CLI11 checks only where it is set (when every command is built, in any folder).
 inline void check_output_file(const std::string& key, const std::string& path) {
   if (const std::string why = output_path_problem(path, false); !why.empty())
+    throw InputError({key, 0}, "", why);
+}
+inline void check_output_folder(const std::string& key, const std::string& path) {
+  if (const std::string why = output_path_problem(path, true); !why.empty())
     throw InputError({key, 0}, "", why);
 }
 

@@ -108,7 +108,6 @@ void SandGunCommand::add(CLI::App& app) {
 
 int SandGunCommand::dispatch() const {
   if (!cmd || !*cmd) return -1;
-  require_folder_of("--checkpoint", checkpoint);
   const bool speak = !quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   Bed3dSpec spec = sand_gun_bed_spec(spheres, stiffness);
   spec.seed = bed_seed;

@@ -290,8 +290,8 @@ void ValidateCommand::add(CLI::App& app) {
   cmd = app.add_subcommand("validate", "run validation suites; exit 0 only if every check passes");
   cmd->add_option("--suite", suites, "suite to run (repeatable; default: all)");
   cmd->add_option("--out,-o", out, "report folder (report.md, report.json, plots)")
-      ->check(cli::output_folder())
-      ->default_val("report");
+      ->default_val("report")  // before the check: a default is checked where it is set, at every start
+      ->check(cli::output_folder());
   cmd->add_flag("--quick", quick, "shorter versions of long checks (for CI)");
   cmd->add_flag("--quiet,-q", quiet, "no progress lines");
   cmd->add_flag(
@@ -314,7 +314,7 @@ void ValidateCommand::add(CLI::App& app) {
 int ValidateCommand::dispatch() const {
   if (!*cmd) return -1;
   const std::vector<const Suite*> chosen = chosen_suites(suites);
-  require_folder_of("--sand-gun-checkpoint", sand_gun_checkpoint);
+  check_output_folder("--out", out);  // the default, which the option's own check does not see
   if (parallel::rank() == 0) fs::create_directories(out);
   const bool speak = !quiet && parallel::rank() == 0;
   validation::SuiteOptions base;

@@ -38,12 +38,4 @@ class InputError : public std::runtime_error {
   std::string message_;
 };
 
-// A file a long run will write later (a checkpoint, first written after the bed is built, tens of minutes
-// in): a folder that is not there must stop the run now, not then.
-inline void require_folder_of(const std::string& option, const std::string& file) {
-  if (const auto dir = std::filesystem::path(file).parent_path();
-      !file.empty() && !dir.empty() && !std::filesystem::is_directory(dir))
-    throw InputError({option, 0}, file, "its folder does not exist");
-}
-
 }  // namespace grainlab
