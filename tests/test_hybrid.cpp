@@ -429,6 +429,9 @@ TEST(HybridBedStatistics, ASineHasItsAmplitudeWavelengthAndShift) {
   EXPECT_NEAR(s.mean, 4, 1e-12);
   EXPECT_NEAR(bed_shift(sine(0), sine(6), nx, ny, dx, 30), 6, 1e-12);      // downwind
   EXPECT_NEAR(bed_shift(sine(0), sine(-10), nx, ny, dx, 30), -10, 1e-12);  // upwind
+  // Between key points: 3 d is a key point and a half, which whole key points would read as 2 or 4.
+  EXPECT_NEAR(bed_shift(sine(0), sine(3), nx, ny, dx, 30), 3, 0.1);
+  EXPECT_NEAR(bed_shift(sine(0), sine(-0.8), nx, ny, dx, 30), -0.8, 0.1);
   // A sine moving 3 d per frame under frozen noise twice its size: the noise is removed with the time mean.
   Rng rng(3);
   std::vector<double> frozen(nx);

@@ -40,6 +40,21 @@ std::vector<double> correlate(const std::vector<Spectrum>& a, const std::vector<
   return c;
 }
 
+// The shift (in d) within +- max_shift at which the periodic cross-correlation c peaks, refined between
+// grid points by the parabola through the peak and its two neighbours: a ripple moves a fraction of a
+// key-point spacing between frames, and whole spacings alone would read every frame's shift as 0 or dx.
+double correlation_peak_shift(const std::vector<double>& c, double dx, double max_shift) {
+  const auto nx = static_cast<long>(c.size());
+  const auto reach = std::min<long>(static_cast<long>(max_shift / dx), nx / 2 - 1);
+  auto at = [&](long s) { return c[static_cast<std::size_t>(s < 0 ? s + nx : s)]; };
+  long best = 0;
+  for (long s = -reach; s <= reach; ++s)
+    if (at(s) > at(best)) best = s;
+  const double a = at(best - 1), b = at(best), e = at(best + 1), den = a - 2 * b + e;
+  const double off = den < 0 ? std::clamp(0.5 * (a - e) / den, -0.5, 0.5) : 0.0;
+  return (static_cast<double>(best) + off) * dx;
+}
+
 }  // namespace
 
 std::vector<double> slice_autocorrelation(const std::vector<double>& h, std::size_t nx, std::size_t ny) {
@@ -74,15 +89,8 @@ BedStatistics bed_statistics(const std::vector<double>& h, std::size_t nx, std::
 
 double bed_shift(const std::vector<double>& before, const std::vector<double>& after, std::size_t nx,
                  std::size_t ny, double dx, double max_shift) {
-  const std::vector<double> c = correlate(slice_spectra(before, nx, ny), slice_spectra(after, nx, ny), nx);
-  const auto reach = std::min<long>(static_cast<long>(max_shift / dx), static_cast<long>(nx / 2) - 1);
-  long best = 0;
-  for (long s = -reach; s <= reach; ++s) {
-    const auto k = static_cast<std::size_t>(s < 0 ? s + static_cast<long>(nx) : s);
-    const auto kb = static_cast<std::size_t>(best < 0 ? best + static_cast<long>(nx) : best);
-    if (c[k] > c[kb]) best = s;
-  }
-  return static_cast<double>(best) * dx;
+  return correlation_peak_shift(correlate(slice_spectra(before, nx, ny), slice_spectra(after, nx, ny), nx),
+                                dx, max_shift);
 }
 
 double profile_migration(const std::vector<std::vector<double>>& profiles, double dx, double max_shift) {
@@ -102,14 +110,7 @@ double profile_migration(const std::vector<std::vector<double>>& profiles, doubl
     const std::vector<double> one = correlate({spectra[k - 1]}, {spectra[k]}, nx);
     for (std::size_t i = 0; i < nx; ++i) c[i] += one[i];
   }
-  const auto reach = std::min<long>(static_cast<long>(max_shift / dx), static_cast<long>(nx / 2) - 1);
-  auto at = [&](long s) { return c[static_cast<std::size_t>(s < 0 ? s + static_cast<long>(nx) : s)]; };
-  long best = 0;
-  for (long s = -reach; s <= reach; ++s)
-    if (at(s) > at(best)) best = s;
-  const double a = at(best - 1), b = at(best), e = at(best + 1), den = a - 2 * b + e;
-  const double off = den < 0 ? std::clamp(0.5 * (a - e) / den, -0.5, 0.5) : 0.0;
-  return (static_cast<double>(best) + off) * dx;
+  return correlation_peak_shift(c, dx, max_shift);
 }
 
 std::vector<BandResponse> band_response(const std::vector<std::vector<double>>& profiles, double dx,

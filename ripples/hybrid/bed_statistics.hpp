@@ -20,7 +20,8 @@ struct BedStatistics {
 BedStatistics bed_statistics(const std::vector<double>& h, std::size_t nx, std::size_t ny, double dx);
 // The slice-averaged autocorrelation C(dl) at lags 0..nx-1 (periodic).
 std::vector<double> slice_autocorrelation(const std::vector<double>& h, std::size_t nx, std::size_t ny);
-// The downwind shift (same unit as dx) that carries `before` onto `after`, searched within +-max_shift.
+// The downwind shift (same unit as dx) that carries `before` onto `after`, searched within +-max_shift and
+// refined between grid points by a parabola through the correlation's peak.
 double bed_shift(const std::vector<double>& before, const std::vector<double>& after, std::size_t nx,
                  std::size_t ny, double dx, double max_shift);
 
