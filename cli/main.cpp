@@ -69,7 +69,8 @@ int run_command(const RunArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
   std::string out = a.out.empty() ? scene.output.file : a.out;
   if (out.empty()) out = fs::path(a.scene).stem().string() + ".h5";
-  cli::check_output_file(a.out.empty() ? "[output] file" : "--out", out);  // the scene's own, unchecked so far
+  cli::check_output_file(a.out.empty() ? "[output] file" : "--out",
+                         out);  // the scene's own, unchecked so far
   if (!a.force && fs::exists(out) && a.stop_after_frame == 0)
     throw InputError({"--out", 0}, out, "exists; pass --force to overwrite it");
   if (a.stop_after_frame > scene.output.frames)
