@@ -10,7 +10,8 @@ frame (docs/ripples.md, "The paper's own domain"), which makes a fit over half a
     --proud d above the mean.
 
 usage: tools/hybrid_wavelengths.py RUN.h5 [--from T0] [--to T1] [--proud 0.5] [--every N] [--json]
-RUN.h5: a `grainlab ripples hybrid --out` file (frames and history)."""
+RUN.h5: a `grainlab ripples hybrid --out` file, or the run's `--checkpoint` (which keeps every frame's
+slice-averaged profile, so a run made without --out can be read too)."""
 import argparse
 import json
 import math
@@ -18,6 +19,8 @@ import sys
 
 import h5py
 import numpy as np
+
+import plot_hybrid
 
 
 def fail(message):
@@ -27,23 +30,22 @@ def fail(message):
 
 
 def read_run(path):
+    """t*, the first-peak wavelength, the key-point spacing (d) and every frame's slice-averaged profile,
+    from a run's output or its checkpoint (plot_hybrid.read_run reads both)."""
     try:
         f = h5py.File(path, "r")
     except OSError as e:
         fail(f"{path}: cannot be read as HDF5 ({e})")
-    if "frames" not in f or "history" not in f:
-        fail(f"{path}: no /frames or /history: not a `ripples hybrid --out` file")
-    hist = f["history"]
-    cols = hist.attrs["columns"]
-    cols = (cols.decode() if isinstance(cols, bytes) else str(cols)).split(",")
-    return f, cols, hist[...]
-
-
-def key_spacing(f, path):
-    """The key-point spacing in d (the file's root attribute `dx`)."""
-    if "dx" not in f.attrs:
-        fail(f"{path}: no root attribute dx: not a `ripples hybrid --out` file")
-    return float(f.attrs["dx"])
+    try:
+        history, dx, _, profiles = plot_hybrid.read_run(f)
+        cols = history.attrs["columns"]
+        cols = (cols.decode() if isinstance(cols, bytes) else str(cols)).split(",")
+        hist = history[...]
+    except (KeyError, ValueError) as e:
+        fail(f"{path}: not a `ripples hybrid` output or checkpoint ({e})")
+    if len(profiles) != len(hist):
+        fail(f"{path}: {len(profiles)} frames against {len(hist)} history rows")
+    return hist[:, cols.index("t_star")], hist[:, cols.index("wavelength")], dx, profiles
 
 
 def readings(profile, dx, proud):
@@ -82,21 +84,14 @@ def main():
     ap.add_argument("--every", type=int, default=1, help="print every Nth frame's row")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of the table")
     a = ap.parse_args()
-    f, cols, hist = read_run(a.run)
-    t = hist[:, cols.index("t_star")]
-    first_peak = hist[:, cols.index("wavelength")]
-    names = sorted(f["frames"].keys())
-    if len(names) != len(t):
-        fail(f"{a.run}: {len(names)} frames against {len(t)} history rows")
+    t, first_peak, dx, profiles = read_run(a.run)
     t0 = a.t0 if a.t0 is not None else t[-1] / 2
     t1 = a.t1 if a.t1 is not None else t[-1]
     if not t0 < t1:
         fail(f"--from {t0:g} must come before --to {t1:g}")
     spectral, crest = [], []
-    dx = key_spacing(f, a.run)
-    for name in names:
-        h = f["frames"][name][...]
-        s, c = readings(h.mean(axis=0), dx, a.proud)
+    for profile in profiles:
+        s, c = readings(profile, dx, a.proud)
         spectral.append(s)
         crest.append(c)
     inside = [(t0 <= x <= t1) for x in t]
