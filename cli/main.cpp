@@ -69,8 +69,8 @@ int run_command(const RunArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
   std::string out = a.out.empty() ? scene.output.file : a.out;
   if (out.empty()) out = fs::path(a.scene).stem().string() + ".h5";
-  cli::check_output_file(a.out.empty() ? "[output] file" : "--out",
-                         out);  // the scene's own, unchecked so far
+  // The scene's own output file (an --out was checked when the command line was read).
+  if (a.out.empty()) cli::check_output_path("[output] file", out, false);
   if (!a.force && fs::exists(out) && a.stop_after_frame == 0)
     throw InputError({"--out", 0}, out, "exists; pass --force to overwrite it");
   if (a.stop_after_frame > scene.output.frames)
@@ -179,7 +179,7 @@ class CostCheckpoint {
 };
 
 int cost_command(validation::CostOptions o, const std::string& out, bool quiet, bool resume) {
-  cli::check_output_folder("--out", out);  // the default, which the option's own check does not see
+  cli::check_output_path("--out", out, true);  // the default, which the option's own check does not see
   const std::vector<validation::CostScene> scenes = validation::cost_scenes(o.quick);
   for (const std::string& n : o.scenes) {
     bool known = false;

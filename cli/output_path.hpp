@@ -46,12 +46,8 @@ inline CLI::Validator output_folder() {
 
 // The same for a path that does not come from an option of its own (a scene's [output] file), or for an
 // option's default, which CLI11 checks only where it is set (when every command is built, in any folder).
-inline void check_output_file(const std::string& key, const std::string& path) {
-  if (const std::string why = output_path_problem(path, false); !why.empty())
-    throw InputError({key, 0}, "", why);
-}
-inline void check_output_folder(const std::string& key, const std::string& path) {
-  if (const std::string why = output_path_problem(path, true); !why.empty())
+inline void check_output_path(const std::string& key, const std::string& path, bool folder) {
+  if (const std::string why = output_path_problem(path, folder); !why.empty())
     throw InputError({key, 0}, "", why);
 }
 

@@ -314,7 +314,7 @@ void ValidateCommand::add(CLI::App& app) {
 int ValidateCommand::dispatch() const {
   if (!*cmd) return -1;
   const std::vector<const Suite*> chosen = chosen_suites(suites);
-  check_output_folder("--out", out);  // the default, which the option's own check does not see
+  check_output_path("--out", out, true);  // the default, which the option's own check does not see
   if (parallel::rank() == 0) fs::create_directories(out);
   const bool speak = !quiet && parallel::rank() == 0;
   validation::SuiteOptions base;

@@ -2,7 +2,6 @@
 // Errors in what a person typed (scene files, --set overrides, command-line values).
 // They carry where the mistake is so the message can name file, line and key; the CLI turns
 // them into exit status 2 before anything is written.
-#include <filesystem>
 #include <stdexcept>
 #include <string>
 
