@@ -282,6 +282,83 @@ TEST(SandGunCheckpoint, ABuildContinuedFromAnyStageMakesTheSameBed) {
   }
 }
 
+// The same from part-way through a stage (a probe of a 20,000-sphere sand bed runs for hours): handed over
+// after every 2,000 steps here, with the stage's finished runs and the world of the run under way, kept in
+// a checkpoint and continued from it, the build makes the unbroken build's bed bit for bit.
+TEST(SandGunCheckpoint, ABuildContinuedFromPartWayThroughAStageMakesTheSameBed) {
+  Bed3dSpec spec;  // (a bed whose probe finds spheres to deal with, so it runs three times)
+  spec.count = 60;
+  spec.width = 6, spec.depth = 6;
+  std::vector<Bed3dBuild> within;  // records handed over inside a stage
+  std::size_t between = 0;
+  const Bed3d whole = build_bed3d(
+      spec, {}, {},
+      [&](const Bed3dBuild& b) {
+        if (b.runs_done.rows.empty() && b.run_under_way.empty())
+          ++between;
+        else
+          within.push_back(b);
+      },
+      0);
+  ASSERT_GT(between, 13u);
+  ASSERT_GT(within.size(), 3u);
+  // Records inside the probe: its first run finished and the next under way; two finished.
+  const auto in_probe = std::find_if(within.begin(), within.end(), [](const Bed3dBuild& b) {
+    return !b.runs_done.rows.empty() && !b.run_under_way.empty();
+  });
+  ASSERT_NE(in_probe, within.end());
+  const auto two_done = std::find_if(within.begin(), within.end(), [&](const Bed3dBuild& b) {
+    return b.runs_done.rows.size() > in_probe->runs_done.rows.size();
+  });
+  ASSERT_NE(two_done, within.end());
+  Bed3dBuild runs_only = *two_done;  // as if stopped between the probe's second and third runs
+  runs_only.run_under_way.clear();
+  for (const Bed3dBuild* r : {&within.front(), &*in_probe, &*two_done, &runs_only, &within.back()}) {
+    SandGunProgress p;
+    p.build = *r;
+    p.bed.spec = spec;
+    TempFile f;
+    write_sand_gun_checkpoint(f.path.string(), p, 1);
+    const std::optional<SandGunProgress> back = read_sand_gun_checkpoint(f.path.string(), spec, 1);
+    ASSERT_TRUE(back);
+    EXPECT_EQ(back->build.stage, r->stage);
+    EXPECT_EQ(back->build.runs_done.rows, r->runs_done.rows);
+    EXPECT_EQ(back->build.run_under_way.size(), r->run_under_way.size());
+    const Bed3d resumed = build_bed3d(spec, {}, back->build);
+    const auto& a = whole.scene.bodies3d;
+    const auto& b = resumed.scene.bodies3d;
+    ASSERT_EQ(a.size(), b.size()) << "continued inside stage " << r->stage + 1;
+    for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].position, b[i].position) << "sphere " << i;
+    EXPECT_EQ(resumed.removed, whole.removed);
+    EXPECT_EQ(resumed.probes, whole.probes);
+    EXPECT_EQ(resumed.top, whole.top);
+  }
+  // The continued stage does start from what the record holds: a sphere nudged in the world under way, or
+  // in a finished run, ends elsewhere.
+  auto moved_by = [&](Bed3dBuild r) {
+    const Bed3d b = build_bed3d(spec, {}, std::move(r));
+    double most = 0;
+    for (std::size_t i = 0; i < b.scene.bodies3d.size() && i < whole.scene.bodies3d.size(); ++i)
+      most = std::max(most, (b.scene.bodies3d[i].position - whole.scene.bodies3d[i].position).norm());
+    return b.scene.bodies3d.size() == whole.scene.bodies3d.size() ? most : 1.0;
+  };
+  Bed3dBuild nudged = *in_probe;
+  nudged.run_under_way.at(kStageWorld + std::string("bodies")).rows[7][1] += 0.3;  // x, cm
+  EXPECT_GT(moved_by(nudged), 0);
+  nudged = runs_only;
+  nudged.runs_done.rows.back()[1] += 0.3;  // x, cm, after the run the next one starts from
+  EXPECT_GT(moved_by(nudged), 0);
+  // A world that does not fit its stage (one sphere too few) is refused with InputError, naming the option.
+  Bed3dBuild bad = *in_probe;
+  bad.run_under_way.at(kStageWorld + std::string("bodies")).rows.pop_back();
+  try {
+    build_bed3d(spec, {}, bad);
+    ADD_FAILURE() << "a world of the wrong size was taken";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "--checkpoint");
+  }
+}
+
 // Seeded corruption anywhere in a checkpoint: each mutant is read or refused with InputError.
 TEST(SandGunCheckpoint, RandomByteFlipsNeverCrash) {
   const Bed3d& bed = small_bed();

@@ -12,10 +12,14 @@
 #include "cell_grid.hpp"
 #include "engine.hpp"
 #include "impact_bed.hpp"
+#include "input_error.hpp"
 #include "rng.hpp"
 #include "world3d.hpp"
 
 namespace grainlab::validation {
+
+const std::vector<std::string> kStageRunColumns = {"run", "x",  "y",  "z",  "qw", "qx", "qy",
+                                                   "qz",  "vx", "vy", "vz", "wx", "wy", "wz"};
 
 namespace {
 
@@ -78,33 +82,116 @@ normal = [0.0, -1.0, 0.0]
                             s.smallest_radius(), s.largest_radius());
 }
 
-// The bodies after `duration` more of `k_n` and `e` (from rest), as they are then (moving or not).
-std::vector<Body3Spec> left_alone(const Bed3dSpec& s, std::vector<Body3Spec> bodies, double k_n, double e,
-                                  double duration) {
-  Scene scene = parse_scene(bed3d_text(s, k_n, e, duration, false), "3-D impact bed");
-  scene.bodies3d = std::move(bodies);
-  dem::World3d w(scene);
-  w.advance_to(duration);
-  std::vector<Body3Spec> out = scene.bodies3d;
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    out[i].position = w.bodies()[i].x, out[i].orientation = w.bodies()[i].q;
-    out[i].velocity = w.bodies()[i].v, out[i].spin = w.bodies()[i].w;
-  }
-  return out;
-}
-
 std::vector<Body3Spec> at_rest(std::vector<Body3Spec> bodies) {
   for (Body3Spec& b : bodies) b.velocity = Vec3::Zero(), b.spin = Vec3::Zero();
   return bodies;
 }
 
-// The bodies after `duration`, then stopped: each stage of a build hands the next spheres at rest.
-std::vector<Body3Spec> settled(const Bed3dSpec& s, std::vector<Body3Spec> bodies, double k_n, double e,
-                               double duration) {
-  return at_rest(left_alone(s, std::move(bodies), k_n, e, duration));
+// A sphere's state as a finished run leaves it (a row of kStageRunColumns after the run's index), and back.
+std::vector<double> motion_row(double run, const Body3Spec& b) {
+  const Quat& q = b.orientation;
+  return {run,   b.position.x(), b.position.y(), b.position.z(), q.w(),      q.x(),      q.y(),
+          q.z(), b.velocity.x(), b.velocity.y(), b.velocity.z(), b.spin.x(), b.spin.y(), b.spin.z()};
 }
 
-// The highest point of a grain.
+void put_motion(const std::vector<double>& r, Body3Spec& b) {
+  b.position = Vec3(r[1], r[2], r[3]), b.orientation = Quat(r[4], r[5], r[6], r[7]);
+  b.velocity = Vec3(r[8], r[9], r[10]), b.spin = Vec3(r[11], r[12], r[13]);
+}
+
+// The runs of the bed within one stage of a build, each `duration` more of `k_n` and `e` handing the
+// bodies back as they are then (moving or not). A stage continued from a checkpoint taken part-way
+// through repeats its code from the stage's start: its finished runs hand back how they left the
+// spheres, and the run it was in continues from its world's saved state, so the stage ends bit for bit
+// as an unbroken one. While a run goes on, the stage hands its state to `save` every `every` seconds.
+class StageRuns {
+ public:
+  using Save = std::function<void(const SampleTable&, const std::map<std::string, SampleTable>&)>;
+  StageRuns(Bed3dBuild& b, double every, Save save)
+      : done_(std::move(b.runs_done)),
+        under_way_(std::move(b.run_under_way)),
+        every_(every),
+        save_(std::move(save)) {
+    if (done_.columns.empty())
+      done_ = {
+          "stage/runs_done", "how each finished run of the stage left the spheres", kStageRunColumns, {}};
+    b.runs_done = {}, b.run_under_way = {};
+  }
+
+  std::vector<Body3Spec> left_alone(const Bed3dSpec& s, std::vector<Body3Spec> bodies, double k_n, double e,
+                                    double duration) {
+    const double run = static_cast<double>(next_run_++);
+    if (replay(run, bodies)) return bodies;
+    Scene scene = parse_scene(bed3d_text(s, k_n, e, duration, false), "3-D impact bed");
+    scene.bodies3d = std::move(bodies);
+    dem::World3d w(scene);
+    if (!under_way_.empty()) restore(w);
+    // In slices of 2,000 steps, looking at the clock after each: slicing a fixed-step run leaves its
+    // steps as they were.
+    const double slice = 2000 * scene.accuracy.dt;
+    auto since_save = std::chrono::steady_clock::now();
+    for (double before = -1; w.time() != before;) {  // until a slice takes no step: the run's end
+      before = w.time();
+      w.advance_to(std::min(duration, w.time() + slice));
+      const auto now = std::chrono::steady_clock::now();
+      if (!save_ || std::chrono::duration<double>(now - since_save).count() < every_) continue;
+      std::map<std::string, SampleTable> world;
+      for (SampleTable& t : w.save_state(kStageWorld)) world.emplace(t.name, std::move(t));
+      save_(done_, world);
+      since_save = now;
+    }
+    std::vector<Body3Spec> out = scene.bodies3d;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i].position = w.bodies()[i].x, out[i].orientation = w.bodies()[i].q;
+      out[i].velocity = w.bodies()[i].v, out[i].spin = w.bodies()[i].w;
+      done_.rows.push_back(motion_row(run, out[i]));
+    }
+    return out;
+  }
+
+  // The bodies after `duration`, then stopped: each stage of a build hands the next spheres at rest.
+  std::vector<Body3Spec> settled(const Bed3dSpec& s, std::vector<Body3Spec> bodies, double k_n, double e,
+                                 double duration) {
+    return at_rest(left_alone(s, std::move(bodies), k_n, e, duration));
+  }
+
+ private:
+  static InputError damaged(const std::string& why) {
+    return InputError({}, "--checkpoint", "its stage under way " + why);
+  }
+
+  // A run the stage had finished before it was stopped: the bodies as it left them.
+  bool replay(double run, std::vector<Body3Spec>& bodies) const {
+    const auto first = std::find_if(done_.rows.begin(), done_.rows.end(),
+                                    [run](const std::vector<double>& r) { return r[0] == run; });
+    if (first == done_.rows.end()) return false;
+    if (done_.rows.end() - first < static_cast<long>(bodies.size()))
+      throw damaged(fmt::format("has fewer spheres after its run {} than the run starts with", run));
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      const std::vector<double>& r = first[static_cast<long>(i)];
+      if (r[0] != run)
+        throw damaged(fmt::format("has fewer spheres after its run {} than it started with", run));
+      put_motion(r, bodies[i]);
+    }
+    return true;
+  }
+
+  void restore(dem::World3d& w) {
+    try {
+      w.restore_state(under_way_, kStageWorld);
+    } catch (const std::exception& e) {
+      throw damaged(fmt::format("does not fit the stage ({})", e.what()));
+    }
+    under_way_.clear();
+  }
+
+  SampleTable done_;
+  std::map<std::string, SampleTable> under_way_;
+  double every_;
+  Save save_;
+  std::size_t next_run_ = 0;
+};
+
 double grain_top(const Body3Spec& g) {
   if (g.shape == Body3Spec::Shape::Sphere) return g.position.z() + g.radius;
   const Vec3 up = g.orientation.conjugate() * Vec3::UnitZ();  // (world up in the body's frame)
@@ -270,9 +357,9 @@ std::vector<Body3Spec> poured(const Bed3dSpec& spec) {
 //   of its spheres in five passes, the 2,000-sphere thesis-sized one 99 %. The bed settles 0.2 s more,
 //   critically damped, instead (a 700-sphere bed whose deep spheres slid 0.42 cm then moves 0.006 cm).
 // Returns the log line.
-std::string probe(const Bed3dSpec& spec, Bed3dBuild& b) {
+std::string probe(const Bed3dSpec& spec, Bed3dBuild& b, StageRuns& runs) {
   const double ts = spec.time_scale;
-  const std::vector<Body3Spec> moved = settled(spec, b.bodies, spec.k_n, spec.restitution, 0.07 * ts);
+  const std::vector<Body3Spec> moved = runs.settled(spec, b.bodies, spec.k_n, spec.restitution, 0.07 * ts);
   const std::vector<char> carrying = carries_a_sphere(b.bodies);
   std::vector<Body3Spec> kept;
   std::size_t deep_movers = 0;
@@ -291,8 +378,8 @@ std::string probe(const Bed3dSpec& spec, Bed3dBuild& b) {
   }
   b.removed += taken;
   for (std::size_t i = 0; i < kept.size(); ++i) kept[i].id = static_cast<std::int64_t>(i);
-  b.bodies = settled(spec, std::move(kept), spec.k_n, 0, (deep_movers ? 0.2 : 0.05) * ts);
-  b.bodies = settled(spec, std::move(b.bodies), spec.k_n, spec.restitution, 0.05 * ts);
+  b.bodies = runs.settled(spec, std::move(kept), spec.k_n, 0, (deep_movers ? 0.2 : 0.05) * ts);
+  b.bodies = runs.settled(spec, std::move(b.bodies), spec.k_n, spec.restitution, 0.05 * ts);
   return line;
 }
 
@@ -302,10 +389,10 @@ std::string probe(const Bed3dSpec& spec, Bed3dBuild& b) {
 // where the hold left it, stopped, and held again: no settle in between, since each settle set some
 // deep sphere sliding anew, where held again that sand bed came to rest (6 spheres over a limit, then
 // none). After kMaxHolds the bed is kept as the last hold found it, and its record says how many moved.
-std::string hold(const Bed3dSpec& spec, Bed3dBuild& b) {
+std::string hold(const Bed3dSpec& spec, Bed3dBuild& b, StageRuns& runs) {
   const AtRestLimits limits = at_rest_limits(spec);
   const std::vector<Body3Spec> moved =
-      left_alone(spec, b.bodies, spec.k_n, spec.restitution, 0.07 * spec.time_scale);
+      runs.left_alone(spec, b.bodies, spec.k_n, spec.restitution, 0.07 * spec.time_scale);
   std::size_t over = 0;
   for (std::size_t i = 0; i < moved.size(); ++i)
     over += limits.broken_by((moved[i].position - b.bodies[i].position).norm(), moved[i].velocity.norm());
@@ -321,7 +408,7 @@ std::string hold(const Bed3dSpec& spec, Bed3dBuild& b) {
 }
 
 // Runs the stage after b.stage; returns what it did, for the log.
-std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b) {
+std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b, StageRuns& runs) {
   const double ts = spec.time_scale;
   const int stage = b.stage++;
   if (stage == 0) {
@@ -330,32 +417,44 @@ std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b) {
   }
   if (stage < kStiffened) {
     const double k = spec.k_n / kSoftening * std::pow(kSoftening, stage / double(kStiffeningSteps));
-    b.bodies = settled(while_packing(spec), std::move(b.bodies), k, 0, 0.005 * ts);
+    b.bodies = runs.settled(while_packing(spec), std::move(b.bodies), k, 0, 0.005 * ts);
     return fmt::format("stiffened to k_n {:.3g} dyn/cm", k);
   }
   // Critically damped at the bed's own stiffness until perched grains have found their places, then the
   // bed's own material from rest, as every impact will start.
   if (stage == kStiffened) {
-    b.bodies = settled(while_packing(spec), std::move(b.bodies), spec.k_n, 0, 0.1 * ts);
+    b.bodies = runs.settled(while_packing(spec), std::move(b.bodies), spec.k_n, 0, 0.1 * ts);
     return "damped";
   }
   if (stage == kDamped) {
-    b.bodies = settled(spec, std::move(b.bodies), spec.k_n, spec.restitution, 0.05 * ts);
+    b.bodies = runs.settled(spec, std::move(b.bodies), spec.k_n, spec.restitution, 0.05 * ts);
     return "relaxed";
   }
-  return static_cast<int>(b.probes) < spec.max_probes ? probe(spec, b) : hold(spec, b);
+  return static_cast<int>(b.probes) < spec.max_probes ? probe(spec, b, runs) : hold(spec, b, runs);
 }
 
 }  // namespace
 
 Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log, Bed3dBuild from,
-                  const std::function<void(const Bed3dBuild&)>& after_stage) {
+                  const std::function<void(const Bed3dBuild&)>& after_stage, double save_every) {
   check_preparation(spec.preparation, "preparation");
   Bed3dBuild b = std::move(from);
   while (!b.finished) {
-    const auto start = std::chrono::steady_clock::now();
-    const std::string what = next_stage(spec, b);
-    b.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    auto start = std::chrono::steady_clock::now();
+    // The stage's start, for a checkpoint part-way through it (the stage moves its spheres on).
+    Bed3dBuild at_start;
+    if (after_stage) at_start = b, at_start.runs_done = {}, at_start.run_under_way = {};
+    StageRuns runs(b, save_every,
+                   [&](const SampleTable& done, const std::map<std::string, SampleTable>& world) {
+                     if (!after_stage) return;
+                     const auto now = std::chrono::steady_clock::now();
+                     at_start.seconds += std::chrono::duration<double>(now - start).count(), start = now;
+                     at_start.runs_done = done, at_start.run_under_way = world;
+                     after_stage(at_start);
+                   });
+    const std::string what = next_stage(spec, b, runs);
+    b.seconds = (after_stage ? at_start.seconds : b.seconds) +
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (log)
       log(fmt::format("bed of {} {}: {} ({:.0f} s)", spec.count,
                       spec.polyhedra ? "irregular grains" : "spheres", what, b.seconds));
@@ -380,7 +479,11 @@ void keep_build_record(Bed3d& bed, const Bed3dBuild& b) {
 }
 
 Bed3dBuild build_record(const Bed3d& bed) {
-  return {bed.build_stages, true, {}, bed.removed, bed.probes, bed.deep_movers, bed.build_seconds};
+  Bed3dBuild b;
+  b.stage = bed.build_stages, b.finished = true;
+  b.removed = bed.removed, b.probes = bed.probes, b.deep_movers = bed.deep_movers,
+  b.seconds = bed.build_seconds;
+  return b;
 }
 
 Bed3d bed3d_from_bodies(const Bed3dSpec& spec, std::vector<Body3Spec> bodies) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "ensemble.hpp"
+#include "h5_output.hpp"
 #include "impacts.hpp"
 #include "scene.hpp"
 
@@ -87,7 +88,16 @@ struct Bed3dBuild {
   std::vector<Body3Spec> bodies;
   std::size_t removed = 0, probes = 0, deep_movers = 0;
   double seconds = 0;  // computing time so far
+  // A stage part-way through (a probe of a 20,000-sphere sand bed runs for hours). `bodies` and the counts
+  // above are then the stage's start; `runs_done` holds how each of the stage's finished runs of the bed
+  // left the spheres (kStageRunColumns, in run order), and `run_under_way` the world of the run it was in
+  // (World3d::save_state under kStageWorld). Both empty: the stage has not begun.
+  SampleTable runs_done;
+  std::map<std::string, SampleTable> run_under_way;
 };
+// A finished run's row per sphere: the run's index within its stage, then the sphere's state.
+extern const std::vector<std::string> kStageRunColumns;
+inline constexpr const char* kStageWorld = "stage/world/";
 
 // A build's counts as a finished bed keeps them, and back (the spheres aside): what a checkpoint writes
 // for either.
@@ -97,10 +107,12 @@ Bed3dBuild build_record(const Bed3d& bed);
 // Pours and settles a bed (seconds to a minute of computing for the thesis's beds; an hour or more for a
 // 20,000-sphere sand bed). `log`, when given, hears of each stage as it ends (pour, stiffening, damping,
 // each probe for spheres still moving, each hold), with the time so far. The build starts from `from` (a
-// fresh one: the pour) and hands its state to `after_stage` after every stage, so a long build can be
-// checkpointed.
+// fresh one: the pour; or a stage part-way through) and hands its state to `after_stage` after every
+// stage, and within a stage every `save_every` seconds of computing, so a long build can be checkpointed
+// and continued to the same bed, bit for bit.
 Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log = {},
-                  Bed3dBuild from = {}, const std::function<void(const Bed3dBuild&)>& after_stage = {});
+                  Bed3dBuild from = {}, const std::function<void(const Bed3dBuild&)>& after_stage = {},
+                  double save_every = 600);
 // The bed build_bed3d makes around `bodies` (its spheres at rest), without the build's statistics: the
 // same scene, top and packing, so a bed kept in a checkpoint gives the same impacts bit for bit.
 Bed3d bed3d_from_bodies(const Bed3dSpec& spec, std::vector<Body3Spec> bodies);

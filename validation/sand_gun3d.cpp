@@ -180,6 +180,24 @@ std::vector<Impact3dResult> checkpointed_impacts(SandGunProgress& kept, std::siz
   return out;
 }
 
+namespace {
+
+// How far the checkpoint's stage under way had gone, for the log.
+std::string stage_under_way(const Bed3dBuild& b) {
+  if (b.runs_done.rows.empty() && b.run_under_way.empty()) return "";
+  const std::size_t runs =
+      b.runs_done.rows.empty() ? 0 : static_cast<std::size_t>(b.runs_done.rows.back()[0]) + 1;
+  double t = 0;
+  if (const auto it = b.run_under_way.find(std::string(kStageWorld) + "clock");
+      it != b.run_under_way.end() && !it->second.rows.empty() && !it->second.rows[0].empty())
+    t = it->second.rows[0][0];
+  return b.run_under_way.empty()
+             ? fmt::format("; of the next, {} finished runs", runs)
+             : fmt::format("; of the next, {} finished runs and {:.4f} s of the run under way", runs, t);
+}
+
+}  // namespace
+
 void finish_checkpointed_bed(SandGunProgress& kept, const Bed3dSpec& spec, std::uint64_t seed,
                              const std::function<void(const std::string&)>& log,
                              const std::string& checkpoint, const std::string& impacts_of) {
@@ -213,8 +231,8 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
       log(kept.build.finished
               ? fmt::format("sand gun: continuing from {}: its bed of {} spheres and {} finished impacts",
                             checkpoint, kept.bed.scene.bodies3d.size(), kept.done.size())
-              : fmt::format("sand gun: continuing the bed's build from {}: {} stages done ({:.0f} s)",
-                            checkpoint, kept.build.stage, kept.build.seconds));
+              : fmt::format("sand gun: continuing the bed's build from {}: {} stages done{} ({:.0f} s)",
+                            checkpoint, kept.build.stage, stage_under_way(kept.build), kept.build.seconds));
   } else if (log) {
     log(fmt::format("sand gun: pouring {} sand spheres into {:.2f} x {:.2f} cm", spec.count, spec.width,
                     spec.depth));

@@ -20,6 +20,7 @@
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "sand_gun3d.hpp"
+#include "world3d.hpp"
 
 namespace grainlab::validation {
 
@@ -32,6 +33,7 @@ const std::vector<std::string> kSphereColumns = {"id",  "radius", "mass", "i00",
 // Irregular grains' hulls: a row per vertex, and a row per corner of each face, in order.
 const std::vector<std::string> kHullVertexColumns = {"grain", "x", "y", "z"};
 const std::vector<std::string> kHullFaceColumns = {"grain", "face", "vertex"};
+constexpr const char* kStageRuns = "stage/runs_done";
 const std::vector<std::string> kBuildColumns = {"removed",       "probes", "deep_movers",
                                                 "build_seconds", "stage",  "finished"};
 const std::vector<std::string> kImpactColumns = {
@@ -128,6 +130,38 @@ std::string put_hulls(const TableFile& file, std::vector<Body3Spec>& bodies) {
   return "";
 }
 
+// The stage a build was part-way through when the checkpoint was written (see write_sand_gun_checkpoint):
+// its finished runs (each sphere's state finite, the runs numbered in order) and the world of the run
+// under way, whose fit to the stage is checked when the stage comes to it.
+template <class Refuse>
+void read_stage_under_way(const TableFile& file, const std::string& path, Bed3dBuild& b, Refuse refuse) {
+  const auto it = file.metadata.find("stage_under_way");
+  const std::string kind = it == file.metadata.end() ? "no" : it->second;
+  if (kind == "no") return;
+  if (kind != "runs" && kind != "world") refuse("says its stage under way is '" + kind + "'");
+  std::map<std::string, std::vector<std::string>> wanted = {{kStageRuns, kStageRunColumns}};
+  if (kind == "world") wanted.merge(dem::World3d::state_columns(kStageWorld));
+  TableFile stage;
+  try {
+    stage = read_sample_tables(path, wanted);
+  } catch (const InputError& e) {
+    refuse("has a damaged stage under way: " + e.message());
+  }
+  b.runs_done = stage.tables.at(kStageRuns);
+  double run = 0;
+  for (const auto& r : b.runs_done.rows) {
+    if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); }) ||
+        std::abs(Quat(r[4], r[5], r[6], r[7]).norm() - 1) > 1e-9)
+      refuse(fmt::format("has a damaged sphere in its stage's run {}", r[0]));
+    if (r[0] != run && r[0] != run + 1) refuse("has its stage's runs out of order");
+    run = r[0];
+  }
+  if (!b.runs_done.rows.empty() && b.runs_done.rows.front()[0] != 0)
+    refuse("has its stage's runs out of order");
+  stage.tables.erase(kStageRuns);
+  b.run_under_way = std::move(stage.tables);
+}
+
 }  // namespace
 
 void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed,
@@ -174,10 +208,22 @@ void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p
     add_hulls(built ? p.bed.scene.bodies3d : p.build.bodies, vertices, faces);
     tables.push_back(std::move(vertices)), tables.push_back(std::move(faces));
   }
-  write_sample_tables(path, tables,
-                      {{"kind", kKind},
-                       {"grainlab_version", GRAINLAB_VERSION},
-                       {"options", fingerprint(p.bed.spec, seed, impacts_of)}});
+  // A stage part-way through: its finished runs and the world of the run under way (a key of the root
+  // says so, so that checkpoints written between stages, and before these tables existed, still read).
+  const bool under_way = !built && (!p.build.runs_done.rows.empty() || !p.build.run_under_way.empty());
+  if (under_way) {
+    SampleTable done = p.build.runs_done;
+    done.name = kStageRuns, done.columns = kStageRunColumns;
+    done.description = "how each finished run of the stage under way left the spheres";
+    tables.push_back(std::move(done));
+    for (const auto& [name, t] : p.build.run_under_way) tables.push_back(t);
+  }
+  write_sample_tables(
+      path, tables,
+      {{"kind", kKind},
+       {"grainlab_version", GRAINLAB_VERSION},
+       {"options", fingerprint(p.bed.spec, seed, impacts_of)},
+       {"stage_under_way", under_way ? (p.build.run_under_way.empty() ? "runs" : "world") : "no"}});
 }
 
 std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path, const Bed3dSpec& spec,
@@ -228,6 +274,7 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
   if (!b.finished) {
     b.bodies = std::move(bodies);
     if (!file.tables.at("impacts").rows.empty()) refuse("has impacts on a bed still being built");
+    read_stage_under_way(file, path, b, refuse);
     return p;
   }
   try {
