@@ -425,6 +425,14 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(CLI::Range(0.0, 1e6));
   hybrid_focal->add_option("--out,-o", out, "a folder for the plots and the profiles (CSV)")
       ->check(cli::output_folder());
+  hybrid_focal
+      ->add_option("--checkpoint", hybrid_checkpoint,
+                   "a folder for each u*'s flux run checkpoint (u<U>.h5, every --checkpoint-every t* and at "
+                   "the end); run the same command again to continue")
+      ->check(cli::output_folder());
+  hybrid_focal->add_option("--checkpoint-every", flux.checkpoint_every, "t* between checkpoints")
+      ->default_val(1000)
+      ->check(CLI::PositiveNumber);
   hybrid_focal->add_flag("--json", json, "print the result as JSON");
   hybrid_focal->add_flag("--quiet", quiet, "no progress lines");
   hybrid_ripples = group->add_subcommand(

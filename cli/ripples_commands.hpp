@@ -56,6 +56,12 @@ int hybrid_ripples_command(const RipplesCommands& a);
 int hybrid_focal_command(const RipplesCommands& a);
 // The flux run's options that cannot run together (exit status 2, naming the option).
 void check_flux_options(const ripples::hybrid::FluxOptions& o);
+// A flux run (`run`: `o` made ready to run) that writes its state to `checkpoint` (when given, rank 0,
+// every checkpoint_every t* and at the end) and continues from `restart` (when given; exit status 2 if it
+// was written with other options than `o`'s, --duration aside).
+ripples::hybrid::FluxResult run_flux_checkpointed(ripples::hybrid::FluxOptions run,
+                                                  const ripples::hybrid::FluxOptions& o,
+                                                  const std::string& checkpoint, const std::string& restart);
 // A splash that is not one of the Lammel sets is a grainlab-splash/1 file of recorded impacts: read it.
 void attach_recorded_splash(ripples::hybrid::TransportOptions& o);
 // The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file, thrown

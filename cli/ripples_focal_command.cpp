@@ -153,7 +153,22 @@ int hybrid_focal_command(const RipplesCommands& a) {
     if (!a.quiet && parallel::rank() == 0)
       fmt::print(stderr, "grainlab ripples hybrid-focal: flux run at u* = {} cm/s, {} t* averaged from {}\n",
                  u, o.duration, o.average_from);
-    runs.push_back(ripples::hybrid::run_flux(o));
+    // With --checkpoint DIR, each u*'s run keeps its state in DIR/u<U>.h5 and continues from it (a
+    // finished run's file ends at its last t*, so the run is not redone).
+    std::string checkpoint, restart;
+    if (!a.hybrid_checkpoint.empty()) {
+      std::filesystem::create_directories(a.hybrid_checkpoint);
+      checkpoint = (std::filesystem::path(a.hybrid_checkpoint) / fmt::format("u{:g}.h5", u)).string();
+      if (std::filesystem::exists(checkpoint)) restart = checkpoint;
+    }
+    ripples::hybrid::FluxOptions asked = a.flux;
+    asked.u_star = u;
+    try {
+      runs.push_back(run_flux_checkpointed(o, asked, checkpoint, restart));
+    } catch (const InputError& e) {
+      if (e.key() != "--restart") throw;
+      throw InputError(e.where(), "--checkpoint", e.message() + "; or give another --checkpoint folder");
+    }
     if (runs.back().u_mean.empty())
       throw InputError({"--ustar", 0}, fmt::format("{}", u),
                        "the transport died before the averaging window");

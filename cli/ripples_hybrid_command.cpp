@@ -65,6 +65,33 @@ void check_flux_options(const ripples::hybrid::FluxOptions& o) {
     throw InputError({"--fast-substeps", 0}, "", "needs --swept: fast grains are found along their paths");
 }
 
+ripples::hybrid::FluxResult run_flux_checkpointed(ripples::hybrid::FluxOptions run,
+                                                  const ripples::hybrid::FluxOptions& o,
+                                                  const std::string& checkpoint, const std::string& restart) {
+  const std::string fingerprint = flux_fingerprint(o);
+  if (!checkpoint.empty())
+    run.checkpoint = [checkpoint, fingerprint](const std::vector<SampleTable>& tables) {
+      if (parallel::rank() == 0)
+        write_sample_tables(checkpoint, tables,
+                            {{"kind", kFluxCheckpointKind},
+                             {"grainlab_version", GRAINLAB_VERSION},
+                             {"options", fingerprint}});
+    };
+  std::map<std::string, SampleTable> state;
+  if (!restart.empty()) {
+    const TableFile file = read_sample_tables(restart, ripples::hybrid::flux_checkpoint_columns(run));
+    require_checkpoint(file, restart, kFluxCheckpointKind, "hybrid flux checkpoint", fingerprint,
+                       "was written with other options: give the same ones (only --duration may change)");
+    state = file.tables, run.restart = &state;
+  }
+  try {
+    return ripples::hybrid::run_flux(run);
+  } catch (const std::invalid_argument& e) {
+    if (restart.empty()) throw;
+    throw InputError({restart, 0}, "--restart", e.what());  // (the checkpoint did not fit)
+  }
+}
+
 int hybrid_flux_command(const RipplesCommands& a) {
   const ripples::hybrid::FluxOptions& o = a.flux;
   if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
@@ -77,31 +104,8 @@ int hybrid_flux_command(const RipplesCommands& a) {
   // (The bar is on stderr, so it stays with --json: a scripted run of hours still shows in its log.)
   ProgressBar bar(!a.quiet && parallel::rank() == 0);
   run.progress = [&](double t, double total) { bar.update(t, total); };
-  const std::string fingerprint = flux_fingerprint(o);
   run.stop_at = a.stop_at;
-  if (!a.hybrid_checkpoint.empty())
-    run.checkpoint = [&](const std::vector<SampleTable>& tables) {
-      if (parallel::rank() == 0)
-        write_sample_tables(a.hybrid_checkpoint, tables,
-                            {{"kind", kFluxCheckpointKind},
-                             {"grainlab_version", GRAINLAB_VERSION},
-                             {"options", fingerprint}});
-    };
-  std::map<std::string, SampleTable> restart;
-  if (!a.hybrid_restart.empty()) {
-    const TableFile file =
-        read_sample_tables(a.hybrid_restart, ripples::hybrid::flux_checkpoint_columns(run));
-    require_checkpoint(file, a.hybrid_restart, kFluxCheckpointKind, "hybrid flux checkpoint", fingerprint,
-                       "was written with other options: give the same ones (only --duration may change)");
-    restart = file.tables, run.restart = &restart;
-  }
-  ripples::hybrid::FluxResult r;
-  try {
-    r = ripples::hybrid::run_flux(run);
-  } catch (const std::invalid_argument& e) {
-    if (a.hybrid_restart.empty()) throw;
-    throw InputError({a.hybrid_restart, 0}, "--restart", e.what());  // (the checkpoint did not fit)
-  }
+  const ripples::hybrid::FluxResult r = run_flux_checkpointed(run, o, a.hybrid_checkpoint, a.hybrid_restart);
   bar.finish();
   if (parallel::rank() != 0) return 0;
   if (r.stopped) {

@@ -97,7 +97,11 @@ FluxResult run_flux(const FluxOptions& o) {
   FluxState f;
   f.u_sum.assign(run.wind().u().size(), 0.0);
   if (o.restart) f = restore_flux(run, *o.restart);
-  if (run.time() >= t_end)
+  // A run continued from the checkpoint written at its own end (within a t* past the duration: the
+  // step that crossed it) is finished, and its result is read from that state: so a study of several runs
+  // (hybrid-focal) continues without redoing the ones it had.
+  const bool finished = o.restart && run.time() >= t_end && run.time() < t_end + t_unit;
+  if (run.time() >= t_end && !finished)
     throw std::invalid_argument(fmt::format("the checkpoint is at t* = {:.0f}, not before the duration {:g}",
                                             run.time() / t_unit, o.duration));
   auto wall = [&] {
