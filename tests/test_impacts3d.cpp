@@ -380,6 +380,35 @@ TEST(SandGunCheckpoint, RandomByteFlipsNeverCrash) {
   EXPECT_GT(refused, 0);
 }
 
+// The same for a checkpoint written inside a stage (its finished runs and the world under way): each
+// mutant is refused, or read and continued to a bed, with InputError at worst.
+TEST(SandGunCheckpoint, RandomByteFlipsInAStageUnderWayNeverCrash) {
+  Bed3dSpec spec;
+  spec.count = 60;
+  spec.width = 6, spec.depth = 6;
+  Bed3dBuild last;  // the last record inside a stage: the final probe's run, so a continuation is short
+  build_bed3d(
+      spec, {}, {},
+      [&](const Bed3dBuild& b) {
+        if (!b.run_under_way.empty()) last = b;
+      },
+      0);
+  ASSERT_FALSE(last.run_under_way.empty());
+  SandGunProgress p;
+  p.build = last;
+  p.bed.spec = spec;
+  TempFile good, mutant;
+  write_sand_gun_checkpoint(good.path.string(), p, 1);
+  std::ifstream in(good.path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const int refused = refused_corruptions(bytes, mutant.path, 2029, [&] {
+    const std::optional<SandGunProgress> r = read_sand_gun_checkpoint(mutant.path.string(), spec, 1);
+    ASSERT_TRUE(r);
+    if (!r->build.finished) build_bed3d(spec, {}, r->build);
+  });
+  EXPECT_GT(refused, 0);
+}
+
 // A bed of irregular grains mid-build (its shapes from a random pour) comes back from a checkpoint with
 // every hull exactly; corrupted hulls are refused with InputError, never a crash.
 TEST(SandGunCheckpoint, KeepsIrregularGrainsHulls) {

@@ -159,6 +159,10 @@ void read_stage_under_way(const TableFile& file, const std::string& path, Bed3dB
   if (!b.runs_done.rows.empty() && b.runs_done.rows.front()[0] != 0)
     refuse("has its stage's runs out of order");
   stage.tables.erase(kStageRuns);
+  for (const auto& [name, t] : stage.tables)  // (ids and planes are checked against the stage's bed later)
+    for (const auto& r : t.rows)
+      if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); }))
+        refuse(fmt::format("has a damaged {} in its run under way", name));
   b.run_under_way = std::move(stage.tables);
 }
 
