@@ -103,7 +103,8 @@ void put_motion(const std::vector<double>& r, Body3Spec& b) {
 // bodies back as they are then (moving or not). A stage continued from a checkpoint taken part-way
 // through repeats its code from the stage's start: its finished runs hand back how they left the
 // spheres, and the run it was in continues from its world's saved state, so the stage ends bit for bit
-// as an unbroken one. While a run goes on, the stage hands its state to `save` every `every` seconds.
+// as an unbroken one. While a run goes on, the stage hands its state to `save` every `every` seconds of
+// the stage (its runs may each be shorter).
 class StageRuns {
  public:
   using Save = std::function<void(const SampleTable&, const std::map<std::string, SampleTable>&)>;
@@ -129,16 +130,15 @@ class StageRuns {
     // In slices of 2,000 steps, looking at the clock after each: slicing a fixed-step run leaves its
     // steps as they were.
     const double slice = 2000 * scene.accuracy.dt;
-    auto since_save = std::chrono::steady_clock::now();
     for (double before = -1; w.time() != before;) {  // until a slice takes no step: the run's end
       before = w.time();
       w.advance_to(std::min(duration, w.time() + slice));
       const auto now = std::chrono::steady_clock::now();
-      if (!save_ || std::chrono::duration<double>(now - since_save).count() < every_) continue;
+      if (!save_ || std::chrono::duration<double>(now - since_save_).count() < every_) continue;
       std::map<std::string, SampleTable> world;
       for (SampleTable& t : w.save_state(kStageWorld)) world.emplace(t.name, std::move(t));
       save_(done_, world);
-      since_save = now;
+      since_save_ = now;
     }
     std::vector<Body3Spec> out = scene.bodies3d;
     for (std::size_t i = 0; i < out.size(); ++i) {
@@ -190,6 +190,7 @@ class StageRuns {
   double every_;
   Save save_;
   std::size_t next_run_ = 0;
+  std::chrono::steady_clock::time_point since_save_ = std::chrono::steady_clock::now();  // (the stage's)
 };
 
 double grain_top(const Body3Spec& g) {
