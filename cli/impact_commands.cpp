@@ -467,7 +467,8 @@ void ImpactCommands::add(CLI::App& app) {
       ->check(CLI::IsMember({2, 3}));
   impact_cmd
       ->add_option("--checkpoint", impact_checkpoint,
-                   "--dimension 3: keep the bed's build (each stage) and every finished impact in this "
+                   "--dimension 3: keep the bed's build (each stage, and every 10 min within one) and "
+                   "every finished impact in this "
                    "file; run the same command again to continue from it (--runs may grow)")
       ->check(cli::output_file());
   impact_cmd->add_option("--spheres", spheres, "--dimension 3: spheres poured into the 67.3 x 20 cm box")

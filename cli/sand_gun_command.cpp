@@ -93,8 +93,9 @@ void SandGunCommand::add(CLI::App& app) {
       ->default_val("sphere")
       ->check(CLI::IsMember({"sphere", "polyhedron"}));
   cmd->add_option("--checkpoint", checkpoint,
-                  "keep the bed and each finished impact in this HDF5 file; run again with it to continue "
-                  "(more --runs or other --rows may be asked for)")
+                  "keep the bed (after each stage of its build, and every 10 min within one) and each "
+                  "finished impact in this HDF5 file; run again with it to continue (more --runs or other "
+                  "--rows may be asked for)")
       ->check(cli::output_file());
   cmd->add_option("--visible-above", visible_above,
                   "count an ejectum only if its centre rises this many bed-grain diameters above the top of "
