@@ -4,6 +4,7 @@
 // the scene's seed, one stream per assembly.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "assembly_common.hpp"
 #include "world3d.hpp"
@@ -117,12 +118,13 @@ std::vector<Body3Spec> lattice(const AssemblySpec& a, std::int64_t first_id, Rng
   return out;
 }
 
-// Drops `a.count` grains at rest from a loose grid (pitch 1.1 largest diameters, centred in the box,
-// jittered by 5 % of a radius across) above the box width x depth, and lets them settle for settle_time with
-// the scene's planes, periodic sides and materials (gravity and normal contact always on; friction and
-// rotation as the scene gives them), by velocity Verlet at 1/30 of the stiffest, lightest contact's period.
-// Polyhedra are drawn first (their shapes set the pitch: 1.1 largest bounding diameters).
-std::vector<Body3Spec> pour(const Scene& scene, const AssemblySpec& a, std::int64_t first_id, Rng& rng) {
+// A pour: `a.count` grains dropped at rest from a loose grid (pitch 1.1 largest diameters, centred in the
+// box, jittered by 5 % of a radius across) above the box width x depth, settling for settle_time with the
+// scene's planes, periodic sides and materials (gravity and normal contact always on; friction and rotation
+// as the scene gives them), by velocity Verlet at 1/30 of the stiffest, lightest contact's period.
+// Polyhedra are drawn first (their shapes set the pitch: 1.1 largest bounding diameters). pour_drop is the
+// settling scene with the grains at their drop; pour runs it.
+Scene pour_drop(const Scene& scene, const AssemblySpec& a, std::int64_t first_id, Rng& rng) {
   std::vector<Body3Spec> grains;
   double rmax = largest_radius(a.radius);
   if (a.polyhedra) {
@@ -155,6 +157,11 @@ std::vector<Body3Spec> pour(const Scene& scene, const AssemblySpec& a, std::int6
     mmin = std::min(mmin, settle.bodies3d.back().mass);
   }
   settle.accuracy.dt = settling_dt(scene, mmin);
+  return settle;
+}
+
+std::vector<Body3Spec> pour(const Scene& scene, const AssemblySpec& a, std::int64_t first_id, Rng& rng) {
+  const Scene settle = pour_drop(scene, a, first_id, rng);
   World3d w(settle);
   w.advance_to(a.settle_time);
   std::vector<Body3Spec> out = settle.bodies3d;
@@ -168,6 +175,14 @@ std::vector<Body3Spec> pour(const Scene& scene, const AssemblySpec& a, std::int6
 }
 
 }  // namespace
+
+Scene pour_settling_scene(const Scene& scene) {
+  if (!scene.bodies3d.empty() || scene.assemblies.size() != 1 ||
+      scene.assemblies[0].kind == AssemblySpec::Kind::Lattice)
+    throw std::invalid_argument("pour_settling_scene: a scene of one poured assembly and no other bodies");
+  Rng rng = assembly_rng(scene, 0);
+  return pour_drop(scene, scene.assemblies[0], 0, rng);
+}
 
 std::vector<Body3Spec> expanded_bodies3d(const Scene& scene) {
   std::vector<Body3Spec> out = scene.bodies3d;

@@ -41,6 +41,11 @@ using ContactKey3 = std::tuple<std::int64_t, std::int64_t, int>;
 // The scene's 3-D bodies followed by its generated assemblies (lattices; pours settled on this engine),
 // at their initial state: what World3d and the other 3-D engines build the scene from.
 std::vector<Body3Spec> expanded_bodies3d(const Scene& scene);
+// A scene of one poured assembly (and no other bodies) as the run it takes: the settling scene with the
+// grains dropped at rest where expanded_bodies3d drops them, to be advanced for the assembly's settle_time
+// (and the velocity it gives set) to give expanded_bodies3d's bodies, bit for bit. So a caller can run,
+// and checkpoint, a long pour itself.
+Scene pour_settling_scene(const Scene& scene);
 
 class World3d {
  public:

@@ -142,6 +142,34 @@ max = 1.0
   EXPECT_NE(expanded_bodies3d(other)[123].position, b[123].position);
 }
 
+// A pour as the run it takes (what a caller runs, and checkpoints, itself): advanced for the settle time,
+// in one piece or in slices, it leaves the grains where expanded_bodies3d puts them, bit for bit.
+TEST(Assemblies3d, APourRunByTheCallerMakesTheSameBed) {
+  const Scene scene = box_with(R"toml(
+[[assemblies]]
+type = "poured"
+count = 60
+width = 12.0
+depth = 12.0
+origin = [0.0, 0.0, 0.0]
+density = 2.65
+settle_time = 0.05
+radius = 0.9
+)toml");
+  const std::vector<Body3Spec> made = expanded_bodies3d(scene);
+  for (int slices : {1, 7}) {
+    const Scene settle = pour_settling_scene(scene);
+    World3d w(settle);
+    for (int k = 1; k <= slices; ++k) w.advance_to(scene.assemblies[0].settle_time * k / slices);
+    ASSERT_EQ(w.bodies().size(), made.size());
+    for (std::size_t i = 0; i < made.size(); ++i) {
+      EXPECT_EQ(w.bodies()[i].x, made[i].position) << slices << " slices, grain " << i;
+      EXPECT_EQ(w.bodies()[i].q.coeffs(), made[i].orientation.coeffs()) << slices << " slices, grain " << i;
+    }
+  }
+  EXPECT_THROW(pour_settling_scene(box_with("")), std::invalid_argument);
+}
+
 TEST(Assemblies3d, BadKeysAreRefusedByName) {
   auto refused_for = [](const std::string& assembly) {
     try {

@@ -121,10 +121,15 @@ class StageRuns {
 
   std::vector<Body3Spec> left_alone(const Bed3dSpec& s, std::vector<Body3Spec> bodies, double k_n, double e,
                                     double duration) {
-    const double run = static_cast<double>(next_run_++);
-    if (replay(run, bodies)) return bodies;
     Scene scene = parse_scene(bed3d_text(s, k_n, e, duration, false), "3-D impact bed");
     scene.bodies3d = std::move(bodies);
+    return run(std::move(scene), duration);
+  }
+
+  // The same for a scene of its own (the pour's settling), its bodies where the run starts.
+  std::vector<Body3Spec> run(Scene scene, double duration) {
+    const double run = static_cast<double>(next_run_++);
+    if (replay(run, scene.bodies3d)) return scene.bodies3d;
     dem::World3d w(scene);
     if (!under_way_.empty()) restore(w);
     // In slices of 2,000 steps, looking at the clock after each: slicing a fixed-step run leaves its
@@ -332,7 +337,7 @@ Bed3dSpec while_packing(const Bed3dSpec& spec) {
   return s;
 }
 
-std::vector<Body3Spec> poured(const Bed3dSpec& spec) {
+std::vector<Body3Spec> poured(const Bed3dSpec& spec, StageRuns& runs) {
   // (The pour's pitch follows the grains' bounding radii: an irregular grain's, with the default 20 %
   // irregularity and elongation rescaled to its sphere's volume, is up to about 1.7 times its sphere's
   // radius. 1.6 only lengthens the fall allowed before the settling; the second of settling after it
@@ -341,11 +346,12 @@ std::vector<Body3Spec> poured(const Bed3dSpec& spec) {
   const double per_layer =
       std::max(1.0, std::floor(spec.width / pitch)) * std::max(1.0, std::floor(spec.depth / pitch));
   const double column_top = pitch * std::ceil(spec.count / per_layer) + spec.radius;
-  Scene pour =
-      parse_scene(bed3d_text(spec, spec.k_n / kSoftening, kPourRestitution,
-                             std::sqrt(2 * column_top / 981.0) + spec.settle_time * spec.time_scale, true),
-                  "3-D impact bed");
-  return dem::expanded_bodies3d(pour);
+  const double settle = std::sqrt(2 * column_top / 981.0) + spec.settle_time * spec.time_scale;
+  const Scene pour =
+      parse_scene(bed3d_text(spec, spec.k_n / kSoftening, kPourRestitution, settle, true), "3-D impact bed");
+  // (The pour's own settling, run here so that it is checkpointed as any stage's runs are; the poured
+  // assembly's velocity is zero, so the spheres come out at rest, as expanded_bodies3d gives them.)
+  return at_rest(runs.run(dem::pour_settling_scene(pour), pour.assemblies[0].settle_time));
 }
 
 // The bed is left alone for an impact's 0.07 s, as every impact will leave it, and each sphere that moves
@@ -413,7 +419,7 @@ std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b, StageRuns& runs) {
   const double ts = spec.time_scale;
   const int stage = b.stage++;
   if (stage == 0) {
-    b.bodies = poured(while_packing(spec));
+    b.bodies = poured(while_packing(spec), runs);
     return "poured and settled soft";
   }
   if (stage < kStiffened) {

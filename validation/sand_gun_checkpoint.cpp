@@ -263,7 +263,6 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
         b.id != static_cast<std::int64_t>(bodies.size() - 1))
       refuse(fmt::format("bed sphere {} is damaged", bodies.size() - 1));
   }
-  if (bodies.empty()) refuse("holds no bed");
   if (spec.polyhedra)
     if (const std::string why = put_hulls(file, bodies); !why.empty()) refuse("holds a damaged hull: " + why);
   const auto& build = file.tables.at("bed/build").rows;
@@ -275,6 +274,7 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
   b.removed = static_cast<std::size_t>(build[0][0]), b.probes = static_cast<std::size_t>(build[0][1]);
   b.deep_movers = static_cast<std::size_t>(build[0][2]), b.seconds = build[0][3];
   b.stage = static_cast<int>(build[0][4]), b.finished = build[0][5] == 1;
+  if (bodies.empty() && (b.finished || b.stage > 0)) refuse("holds no bed");  // (none yet: inside the pour)
   if (!b.finished) {
     b.bodies = std::move(bodies);
     if (!file.tables.at("impacts").rows.empty()) refuse("has impacts on a bed still being built");
