@@ -147,6 +147,7 @@ int hybrid_focal_command(const RipplesCommands& a) {
   base.distributed = parallel::size() > 1;  // each run shared by the ranks, as in hybrid-flux
   std::vector<FluxResult> runs;
   std::vector<WindProfile> profiles;
+  if (!a.hybrid_checkpoint.empty()) std::filesystem::create_directories(a.hybrid_checkpoint);
   for (double u : a.focal_ustars) {
     ripples::hybrid::FluxOptions o = base;
     o.u_star = u;
@@ -157,7 +158,6 @@ int hybrid_focal_command(const RipplesCommands& a) {
     // finished run's file ends at its last t*, so the run is not redone).
     std::string checkpoint, restart;
     if (!a.hybrid_checkpoint.empty()) {
-      std::filesystem::create_directories(a.hybrid_checkpoint);
       checkpoint = (std::filesystem::path(a.hybrid_checkpoint) / fmt::format("u{:g}.h5", u)).string();
       if (std::filesystem::exists(checkpoint)) restart = checkpoint;
     }

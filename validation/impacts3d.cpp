@@ -113,9 +113,6 @@ class StageRuns {
         under_way_(std::move(b.run_under_way)),
         every_(every),
         save_(std::move(save)) {
-    if (done_.columns.empty())
-      done_ = {
-          "stage/runs_done", "how each finished run of the stage left the spheres", kStageRunColumns, {}};
     b.runs_done = {}, b.run_under_way = {};
   }
 
@@ -132,9 +129,9 @@ class StageRuns {
     if (replay(run, scene.bodies3d)) return scene.bodies3d;
     dem::World3d w(scene);
     if (!under_way_.empty()) restore(w);
-    // In slices of 2,000 steps, looking at the clock after each: slicing a fixed-step run leaves its
-    // steps as they were.
-    const double slice = 2000 * scene.accuracy.dt;
+    // With a checkpoint to feed, in slices of 2,000 steps, looking at the clock after each: slicing a
+    // fixed-step run leaves its steps as they were.
+    const double slice = save_ ? 2000 * scene.accuracy.dt : duration;
     for (double before = -1; w.time() != before;) {  // until a slice takes no step: the run's end
       before = w.time();
       w.advance_to(std::min(duration, w.time() + slice));
@@ -198,6 +195,7 @@ class StageRuns {
   std::chrono::steady_clock::time_point since_save_ = std::chrono::steady_clock::now();  // (the stage's)
 };
 
+// The highest point of a grain.
 double grain_top(const Body3Spec& g) {
   if (g.shape == Body3Spec::Shape::Sphere) return g.position.z() + g.radius;
   const Vec3 up = g.orientation.conjugate() * Vec3::UnitZ();  // (world up in the body's frame)
@@ -448,20 +446,22 @@ Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::str
   Bed3dBuild b = std::move(from);
   while (!b.finished) {
     auto start = std::chrono::steady_clock::now();
+    double seconds = b.seconds;  // (counted up to `start`)
     // The stage's start, for a checkpoint part-way through it (the stage moves its spheres on).
     Bed3dBuild at_start;
-    if (after_stage) at_start = b, at_start.runs_done = {}, at_start.run_under_way = {};
-    StageRuns runs(b, save_every,
-                   [&](const SampleTable& done, const std::map<std::string, SampleTable>& world) {
-                     if (!after_stage) return;
-                     const auto now = std::chrono::steady_clock::now();
-                     at_start.seconds += std::chrono::duration<double>(now - start).count(), start = now;
-                     at_start.runs_done = done, at_start.run_under_way = world;
-                     after_stage(at_start);
-                   });
+    StageRuns::Save save;
+    if (after_stage) {
+      at_start = b, at_start.runs_done = {}, at_start.run_under_way = {};
+      save = [&](const SampleTable& done, const std::map<std::string, SampleTable>& world) {
+        const auto now = std::chrono::steady_clock::now();
+        seconds += std::chrono::duration<double>(now - start).count(), start = now;
+        at_start.seconds = seconds, at_start.runs_done = done, at_start.run_under_way = world;
+        after_stage(at_start);
+      };
+    }
+    StageRuns runs(b, save_every, std::move(save));
     const std::string what = next_stage(spec, b, runs);
-    b.seconds = (after_stage ? at_start.seconds : b.seconds) +
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    b.seconds = seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (log)
       log(fmt::format("bed of {} {}: {} ({:.0f} s)", spec.count,
                       spec.polyhedra ? "irregular grains" : "spheres", what, b.seconds));

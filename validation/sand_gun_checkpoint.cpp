@@ -147,11 +147,14 @@ void read_stage_under_way(const TableFile& file, const std::string& path, Bed3dB
   } catch (const InputError& e) {
     refuse("has a damaged stage under way: " + e.message());
   }
+  for (const auto& [name, t] : stage.tables)  // (ids and planes are checked against the stage's bed later)
+    for (const auto& r : t.rows)
+      if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); }))
+        refuse(fmt::format("has a damaged {} in its stage under way", name));
   b.runs_done = stage.tables.at(kStageRuns);
   double run = 0;
   for (const auto& r : b.runs_done.rows) {
-    if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); }) ||
-        std::abs(Quat(r[4], r[5], r[6], r[7]).norm() - 1) > 1e-9)
+    if (std::abs(Quat(r[4], r[5], r[6], r[7]).norm() - 1) > 1e-9)
       refuse(fmt::format("has a damaged sphere in its stage's run {}", r[0]));
     if (r[0] != run && r[0] != run + 1) refuse("has its stage's runs out of order");
     run = r[0];
@@ -159,10 +162,6 @@ void read_stage_under_way(const TableFile& file, const std::string& path, Bed3dB
   if (!b.runs_done.rows.empty() && b.runs_done.rows.front()[0] != 0)
     refuse("has its stage's runs out of order");
   stage.tables.erase(kStageRuns);
-  for (const auto& [name, t] : stage.tables)  // (ids and planes are checked against the stage's bed later)
-    for (const auto& r : t.rows)
-      if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); }))
-        refuse(fmt::format("has a damaged {} in its run under way", name));
   b.run_under_way = std::move(stage.tables);
 }
 
