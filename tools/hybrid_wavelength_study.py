@@ -13,6 +13,11 @@ usage:
 
 A run's u* is its JSON's "u_star"; older JSON without it is read from the .toml beside it (same stem).
 Prints a markdown table per set and the fit; --json prints one JSON object instead.
+
+--measure picks the reading of the wavelength (tools/hybrid_wavelengths.py explains the three):
+first_peak (the run's own, the paper's measure; from the JSON), spectral_peak or crest_spacing (from the
+frames' profiles, read from the run's checkpoint or --out file beside the JSON: same stem, the suffix
+given by --profiles, `.ck` by default).
 """
 import argparse
 import json
@@ -22,6 +27,8 @@ import re
 import sys
 
 from hybrid_runs import mean_se, read_runs, window_mean
+
+MEASURES = ("first_peak", "spectral_peak", "crest_spacing")
 
 
 def u_star_of(path, run):
@@ -36,6 +43,27 @@ def u_star_of(path, run):
     if not m:
         sys.exit(f"error: {path}: no \"u_star\" in the JSON and none in {toml}")
     return float(m.group(1))
+
+
+def run_wavelength(path, run, args):
+    """The run's wavelength over the window, in the reading --measure asks for."""
+    if args.measure == "first_peak":
+        return window_mean(run, "wavelength", *args.window)
+    import hybrid_wavelengths  # (h5py and numpy: only needed for these readings)
+
+    profiles_file = os.path.splitext(path)[0] + args.profiles
+    if not os.path.exists(profiles_file):
+        sys.exit(f"error: {path}: --measure {args.measure} reads the frames' profiles, and {profiles_file} "
+                 "does not exist (--profiles gives its suffix)")
+    t, _, dx, profiles = hybrid_wavelengths.read_run(profiles_file)
+    values = []
+    for ti, profile in zip(t, profiles):
+        if args.window[0] <= ti <= args.window[1]:
+            spectral, crest = hybrid_wavelengths.readings(profile, dx, 0.5)
+            value = spectral if args.measure == "spectral_peak" else crest
+            if not math.isnan(value) and value > 0:  # (as window_mean takes the run's own)
+                values.append(value)
+    return sum(values) / len(values) if values else math.nan
 
 
 def fit_line(points):
@@ -63,7 +91,7 @@ def load_set(label, patterns, args):
         by_u.setdefault(u, []).append(
             {
                 "file": f,
-                "lambda": window_mean(run, "wavelength", *args.window),
+                "lambda": run_wavelength(f, run, args),
                 "amplitude": run["amplitude"],
                 "ripple_index": run["ripple_index"],
                 "migration_speed": run["migration_speed"],
@@ -99,7 +127,7 @@ def load_set(label, patterns, args):
 
 def print_markdown(s, args):
     lo, hi = args.window
-    print(f"\n{s['label']} (lambda averaged over t* {lo:.0f}-{hi:.0f}; u_d* = {args.ud} cm/s)\n")
+    print(f"\n{s['label']} ({args.measure} averaged over t* {lo:.0f}-{hi:.0f}; u_d* = {args.ud} cm/s)\n")
     print("| u* (cm/s) | u*/u_d* | runs | lambda (d) | A at the end (d) | RI at the end | migration (d per t*) | Q* | wall per run (s) |")
     print("|---|---|---|---|---|---|---|---|---|")
     for r in s["rows"]:
@@ -152,6 +180,10 @@ def main():
     p.add_argument("--set", nargs="+", action="append", required=True, metavar=("LABEL", "GLOB"),
                    help="a label and the run JSON files (globs) of one set")
     p.add_argument("--fit-below", type=float, default=2.5, help="fit only runs with u*/u_d* up to this")
+    p.add_argument("--measure", choices=MEASURES, default="first_peak",
+                   help="the reading of the wavelength (default: first_peak, the run's own)")
+    p.add_argument("--profiles", default=".ck",
+                   help="suffix of the file beside each JSON that holds the frames' profiles (default .ck)")
     p.add_argument("--plot", help="write lambda against u*/u_d* to this PNG")
     p.add_argument("--json", action="store_true")
     args = p.parse_args()
@@ -164,7 +196,7 @@ def main():
     if args.plot:
         plot(sets, args)
     if args.json:
-        print(json.dumps({"u_d_star": args.ud, "window": args.window, "sets": sets}))
+        print(json.dumps({"u_d_star": args.ud, "window": args.window, "measure": args.measure, "sets": sets}))
     else:
         for s in sets:
             print_markdown(s, args)
