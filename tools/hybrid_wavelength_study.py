@@ -114,6 +114,7 @@ def load_set(label, patterns, args):
                 "runs": n,
                 "lambda": lam,
                 "lambda_se": lam_se,
+                "lambda_runs": [r["lambda"] for r in runs],
                 "amplitude_end": mean_se([r["amplitude"] for r in runs])[0],
                 "ripple_index_end": mean_se([r["ripple_index"] for r in runs])[0],
                 "migration_speed": mean_se([r["migration_speed"] or float("nan") for r in runs])[0],
@@ -157,12 +158,15 @@ def plot(sets, args):
         xs = [r["u_ratio"] for r in s["rows"]]
         line = ax.errorbar(xs, [r["lambda"] for r in s["rows"]], yerr=[r["lambda_se"] for r in s["rows"]],
                            fmt=mark, capsize=3, label=s["label"])
+        for r in s["rows"]:  # each run, faint, so the spread between seeds shows
+            ax.plot([r["u_ratio"]] * len(r["lambda_runs"]), r["lambda_runs"], mark, ms=3, alpha=0.35,
+                    color=line[0].get_color())
         f = s["fit"]
         if f:
             xx = [1, max(xs)]
             ax.plot(xx, [f["a"] + f["b"] * (x - 1) for x in xx], "--", color=line[0].get_color(), lw=1)
     ax.set_xlabel("u* / u_d*")
-    ax.set_ylabel(f"lambda (d), t* {args.window[0]:.0f}-{args.window[1]:.0f}")
+    ax.set_ylabel(f"lambda (d, {args.measure.replace('_', ' ')}), t* {args.window[0]:.0f}-{args.window[1]:.0f}")
     ax.set_xlim(left=0.9)
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
