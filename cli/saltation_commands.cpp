@@ -140,6 +140,8 @@ void write_wind_run(const std::string& path, const SaltationCommands& a, const W
       {"grain_diameter", fmt::format("{}", 2 * o.grain.radius)},
       {"reynolds_factor", fmt::format("{}", o.reynolds_factor)},
       {"drag_smoothing_cm", fmt::format("{}", o.drag_smoothing)},
+      {"launch_min", fmt::format("{}", o.launch_min)},
+      {"launch_dv", fmt::format("{}", o.dv)},
       {"ejecta_below_range", a.ejecta_below},
       {"converged", r.converged ? "true" : "false"},
       {"iterations", std::to_string(r.iterations)}};
@@ -168,11 +170,17 @@ int wind_command(const SaltationCommands& a) {
   if (!(a.drag_smoothing >= 0 && a.drag_smoothing <= 100))
     throw InputError({"--drag-smoothing", 0}, fmt::format("{}", a.drag_smoothing), "must lie in [0, 100] cm");
   o.drag_smoothing = a.drag_smoothing;
+  if (!(a.launch_min >= 0 && a.launch_min < 1000))
+    throw InputError({"--launch-min", 0}, fmt::format("{}", a.launch_min), "must lie in [0, 1000) cm/s");
+  o.launch_min = a.launch_min;
   o.ejecta_below_range = a.ejecta_below == "proportional" ? WindModelOptions::EjectaBelowRange::proportional
                                                           : WindModelOptions::EjectaBelowRange::line;
   // Another planet or gas: a preset, then any of g, air density and viscosity; buoyancy on. The analytic
   // splash is scaled by sqrt(g d) as in `saltation study` (a splash file is scaled by its own units).
   double splash_scale = 1;
+  if (!(a.launch_dv > 0 && a.launch_dv <= 200))
+    throw InputError({"--dv", 0}, fmt::format("{}", a.launch_dv), "must lie in (0, 200] cm/s");
+  o.dv = a.launch_dv;
   if (!a.planet.empty() || a.gravity > 0 || a.air_density > 0 || a.viscosity > 0) {
     Planet p = planet_preset(a.planet.empty() ? "earth" : a.planet);
     if (a.gravity > 0) p.g = a.gravity;
@@ -287,7 +295,10 @@ void SaltationCommands::add(CLI::App& app) {
   wind->add_option("--grain-density", grain_density_wind, "grain density, g/cm^3")
       ->default_val(2.6)
       ->check(CLI::Range(0.1, 30.0));
-  wind->add_option("--bins", launch_bins, "launch-velocity bins (the thesis's grid: 80 of 5 cm/s)")
+  wind->add_option("--dv", launch_dv,
+                   "launch-velocity bin width, cm/s (the thesis does not give its own; scaled with the planet)")
+      ->default_val(5);
+  wind->add_option("--bins", launch_bins, "launch-velocity bins (with --dv 5: up to 400 cm/s)")
       ->default_val(80)
       ->check(CLI::Range(8, 2000));
   wind->add_option("--vx-bins", vx_bins,
@@ -305,6 +316,10 @@ void SaltationCommands::add(CLI::App& app) {
   wind->add_option("--drag-smoothing", drag_smoothing,
                    "spread each height's grain drag over this many cm before the wind sees it (the thesis "
                    "averaged it over the spacing of trajectory heights; 0: as taken)")
+      ->default_val(0);
+  wind->add_option("--launch-min", launch_min,
+                   "launches slower than this (cm/s, vertical) stay in the bed (0: every bin of eq. 4.34 fills; "
+                   "a reading test, docs/saltation.md \"Slow launches\")")
       ->default_val(0);
   wind->add_option("--ejecta-below", ejecta_below,
                    "a splash file with moments only (the sand gun): ejecta per impact below its slowest "

@@ -60,6 +60,11 @@ struct WindModelOptions {
   // this many cm around it (kept above the bed) before the wind sees it; the total is unchanged, so the
   // identities hold. 0: the drag where the grains take it.
   double drag_smoothing = 0;
+  // Launches slower than this (cm/s, vertical) do not leave the bed: their bins get no grains. 0 (the
+  // default): every bin of eq. 4.34 fills. A reading test for the thesis's number density, which peaks
+  // about 0.5 cm off the bed (the apex of a 31 cm/s launch), where eq. 4.34's slow launches put it at the
+  // bed (docs/saltation.md, "Slow launches").
+  double launch_min = 0;
   // A splash file with moments only (the sand gun, 650-1200 cm/s): how its ejecta number is carried below
   // the slowest measured impact. line: the cells' least-squares line in impact speed, zero below its root
   // (about 300 cm/s for the sand gun); proportional: from the line's value at the slowest cell, in
