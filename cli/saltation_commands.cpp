@@ -211,6 +211,7 @@ int wind_command(const SaltationCommands& a) {
   const double tau_g_check = o.fluid.density * (a.u_star * a.u_star - r.u_star_eff * r.u_star_eff);
   if (!a.out.empty()) write_wind_run(a.out, a, o, r);
   if (a.wind_json) {
+    const double d = 2 * o.grain.radius;  // peak heights from one grain diameter up, as Table 4.4's
     fmt::print("{}\n", nlohmann::json{{"case", a.wind_case},
                                       {"splash", a.splash_file},
                                       {"ejecta_below_range", a.ejecta_below},
@@ -227,6 +228,11 @@ int wind_command(const SaltationCommands& a) {
                                       {"airborne_hop_height", r.airborne_hop_height},
                                       {"airborne_hop_length", r.airborne_hop_length},
                                       {"impact_velocity", {r.mean_impact_vx, r.mean_impact_vy}},
+                                      {"peak_heights",
+                                       {{"number_density", peak_height(r.y, r.number_density, d)},
+                                        {"number_flux", peak_height(r.y, r.number_flux, d)},
+                                        {"energy_flux", peak_height(r.y, r.energy_flux, d)},
+                                        {"drag", peak_height(r.y, r.drag_resolved, d)}}},
                                       {"wall_seconds", r.wall_seconds},
                                       {"mean_flight_steps",
                                        r.flights > 0 ? double(r.flight_steps) / double(r.flights) : 0.0},
@@ -295,8 +301,9 @@ void SaltationCommands::add(CLI::App& app) {
   wind->add_option("--grain-density", grain_density_wind, "grain density, g/cm^3")
       ->default_val(2.6)
       ->check(CLI::Range(0.1, 30.0));
-  wind->add_option("--dv", launch_dv,
-                   "launch-velocity bin width, cm/s (the thesis does not give its own; scaled with the planet)")
+  wind->add_option(
+          "--dv", launch_dv,
+          "launch-velocity bin width, cm/s (the thesis does not give its own; scaled with the planet)")
       ->default_val(5);
   wind->add_option("--bins", launch_bins, "launch-velocity bins (with --dv 5: up to 400 cm/s)")
       ->default_val(80)
@@ -317,9 +324,10 @@ void SaltationCommands::add(CLI::App& app) {
                    "spread each height's grain drag over this many cm before the wind sees it (the thesis "
                    "averaged it over the spacing of trajectory heights; 0: as taken)")
       ->default_val(0);
-  wind->add_option("--launch-min", launch_min,
-                   "launches slower than this (cm/s, vertical) stay in the bed (0: every bin of eq. 4.34 fills; "
-                   "a reading test, docs/saltation.md \"Slow launches\")")
+  wind->add_option(
+          "--launch-min", launch_min,
+          "launches slower than this (cm/s, vertical) stay in the bed (0: every bin of eq. 4.34 fills; "
+          "a reading test, docs/saltation.md \"Slow launches\")")
       ->default_val(0);
   wind->add_option("--ejecta-below", ejecta_below,
                    "a splash file with moments only (the sand gun): ejecta per impact below its slowest "

@@ -16,7 +16,8 @@ struct SaltationCommands {
   // grainlab saltation wind
   int wind_case = 0;
   std::string splash_file;
-  double grain_diameter = 0.025, reynolds_factor = 1, flux_damping = 0.5, drag_smoothing = 0, launch_min = 0, launch_dv = 5;
+  double grain_diameter = 0.025, reynolds_factor = 1, flux_damping = 0.5, drag_smoothing = 0, launch_min = 0,
+         launch_dv = 5;
   std::string ejecta_below = "line";  // a moments-only splash file's ejecta below its slowest impacts
   double u_star = 35, tolerance = 0.01;
   double trajectory_tolerance = 1e-8, sample_interval = 5e-4;

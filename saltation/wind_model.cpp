@@ -217,6 +217,13 @@ Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const st
   return finish(prev);
 }
 
+double peak_height(const std::vector<double>& y, const std::vector<double>& v, double from) {
+  double best = -1, at = 0;
+  for (std::size_t k = 0; k < y.size() && k < v.size(); ++k)
+    if (y[k] >= from && v[k] > best) best = v[k], at = y[k];
+  return at;
+}
+
 SplashKernel kernel_of(const AnalyticSplash& s) {
   return {[s](double v_oy, double v_ix, double v_iy) { return s.density(v_oy, v_ix, v_iy); },
           [s](double v_ix, double) { return s.launch_vx(v_ix); }};
@@ -411,8 +418,8 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     for (std::size_t x = 0; x < X; ++x)
       voy[j * X + x] = r.v_launch[j], vox[j * X + x] = grid2d ? vx_centre(x) : 0;
     Fs[j * X + m_zero] = r.v_launch[j] < o.launch_min ? 0.0
-                         : o.start.empty()              ? std::exp(-r.v_launch[j] / 100) / 100
-                                                        : o.start[j];
+                         : o.start.empty()            ? std::exp(-r.v_launch[j] / 100) / 100
+                                                      : o.start[j];
   }
   std::vector<double> impulse(H), tau_edge(H + 1);
   double relax = o.relaxation, last_change = 1e300;
@@ -452,8 +459,9 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
         double s = 0, sx = 0;
         for (std::size_t j = 0; j < M; ++j) {
           const Trajectory& t = flights[j];
-          const double born =
-              r.v_launch[k] < o.launch_min ? 0.0 : splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
+          const double born = r.v_launch[k] < o.launch_min
+                                  ? 0.0
+                                  : splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
           s += born, sx += born * splash.launch_vx(t.v_ix, t.v_iy);
         }
         next[k] = (1 - o.flux_damping) * Fs[k] + o.flux_damping * s;
@@ -473,8 +481,9 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
         const std::size_t m0 = std::min(static_cast<std::size_t>(q), X - 1), m1 = std::min(m0 + 1, X - 1);
         const double w1 = q - static_cast<double>(m0);
         for (std::size_t k = 0; k < M; ++k) {
-          const double born =
-              r.v_launch[k] < o.launch_min ? 0.0 : splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
+          const double born = r.v_launch[k] < o.launch_min
+                                  ? 0.0
+                                  : splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
           born_sum[k * X + m0] += (1 - w1) * born, born_sum[k * X + m1] += w1 * born;
         }
       }

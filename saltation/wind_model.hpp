@@ -161,6 +161,10 @@ SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o);
 
 // Solves for the steady state (Fig. 4.10).
 WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& splash);
+// Height (cm) of a profile's largest value at or above `from` (the thesis's heights start a grain diameter
+// up: below it the model's wind is not defined). Table 4.4 lists these for the flux, the kinetic-energy flux
+// and the drag; the text gives the number density's for CASE 1.
+double peak_height(const std::vector<double>& y, const std::vector<double>& v, double from);
 inline WindModelResult solve_wind_model(const WindModelOptions& o, const AnalyticSplash& splash) {
   return solve_wind_model(o, kernel_of(splash));
 }

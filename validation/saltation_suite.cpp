@@ -41,15 +41,6 @@ struct Cell {
   WindModelOptions options;
 };
 
-// Height of a profile's largest value above the bed's first grain diameter (below it the model's wind is
-// not defined; the thesis's heights start there too).
-double peak_height(const std::vector<double>& y, const std::vector<double>& v) {
-  double best = -1, at = 0;
-  for (std::size_t k = 0; k < y.size(); ++k)
-    if (y[k] >= 0.025 && v[k] > best) best = v[k], at = y[k];
-  return at;
-}
-
 // m times the integral of the horizontal number-flux profile: the mass flux computed a second way.
 double integrated_mass_flux(const WindModelResult& r, double mass) {
   double q = 0;
@@ -99,9 +90,10 @@ std::vector<Cell> run_cells(const std::vector<int>& cases, const SuiteOptions& o
       WindModelOptions opt;
       opt.u_star = u;
       Cell cell{c, u, solve_wind_model(opt, table_4_3(c)), {}, opt};
-      cell.peaks[0] = peak_height(cell.r.y, cell.r.number_flux);
-      cell.peaks[1] = peak_height(cell.r.y, cell.r.energy_flux);
-      cell.peaks[2] = peak_height(cell.r.y, cell.r.drag_resolved);
+      const double from = 2 * cell.options.grain.radius;  // one grain diameter
+      cell.peaks[0] = peak_height(cell.r.y, cell.r.number_flux, from);
+      cell.peaks[1] = peak_height(cell.r.y, cell.r.energy_flux, from);
+      cell.peaks[2] = peak_height(cell.r.y, cell.r.drag_resolved, from);
       cells.push_back(std::move(cell));
       if (o.progress) o.progress(++done, total);
     }
