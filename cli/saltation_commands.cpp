@@ -181,6 +181,7 @@ int wind_command(const SaltationCommands& a) {
   if (!(a.launch_dv > 0 && a.launch_dv <= 200))
     throw InputError({"--dv", 0}, fmt::format("{}", a.launch_dv), "must lie in (0, 200] cm/s");
   o.dv = a.launch_dv;
+  o.profile_subdivisions = a.profile_flights;
   if (!a.planet.empty() || a.gravity > 0 || a.air_density > 0 || a.viscosity > 0) {
     Planet p = planet_preset(a.planet.empty() ? "earth" : a.planet);
     if (a.gravity > 0) p.g = a.gravity;
@@ -305,6 +306,12 @@ void SaltationCommands::add(CLI::App& app) {
           "--dv", launch_dv,
           "launch-velocity bin width, cm/s (the thesis does not give its own; scaled with the planet)")
       ->default_val(5);
+  wind->add_option(
+          "--profile-flights", profile_flights,
+          "flights per launch bin, spread across it, for the height profiles (1: one at the bin's "
+          "centre, as the thesis computed them; the wind and the steady state use one per bin either way)")
+      ->default_val(16)
+      ->check(CLI::Range(1, 256));
   wind->add_option("--bins", launch_bins, "launch-velocity bins (with --dv 5: up to 400 cm/s)")
       ->default_val(80)
       ->check(CLI::Range(8, 2000));

@@ -24,7 +24,7 @@ struct SaltationCommands {
   double start_below = 0;  // conveyor A-C: a narrow start (0: flat)
   std::string planet;
   double gravity = 0, air_density = 0, viscosity = 0, grain_density_wind = 2.6;  // 0: the preset's
-  int launch_bins = 80, vx_bins = 0;
+  int launch_bins = 80, vx_bins = 0, profile_flights = 16;
   double vx_min = -100;
   bool wind_json = false, force = false;
   std::string out;
