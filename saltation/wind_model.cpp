@@ -421,6 +421,9 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
                          : o.start.empty()            ? std::exp(-r.v_launch[j] / 100) / 100
                                                       : o.start[j];
   }
+  // The bins below launch_min (a prefix: the bins rise in speed) are never filled.
+  const std::size_t first_launch = static_cast<std::size_t>(
+      std::lower_bound(r.v_launch.begin(), r.v_launch.end(), o.launch_min) - r.v_launch.begin());
   std::vector<double> impulse(H), tau_edge(H + 1);
   double relax = o.relaxation, last_change = 1e300;
   auto update_wind = [&](const std::vector<double>& F) {
@@ -457,11 +460,9 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     if (!grid2d) {
       for (std::size_t k = 0; k < M; ++k) {
         double s = 0, sx = 0;
-        for (std::size_t j = 0; j < M; ++j) {
+        for (std::size_t j = 0; j < M && k >= first_launch; ++j) {
           const Trajectory& t = flights[j];
-          const double born = r.v_launch[k] < o.launch_min
-                                  ? 0.0
-                                  : splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
+          const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
           s += born, sx += born * splash.launch_vx(t.v_ix, t.v_iy);
         }
         next[k] = (1 - o.flux_damping) * Fs[k] + o.flux_damping * s;
@@ -480,10 +481,8 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
             std::clamp((splash.launch_vx(t.v_ix, t.v_iy) - o.vx_min) / dvx, 0.0, static_cast<double>(X - 1));
         const std::size_t m0 = std::min(static_cast<std::size_t>(q), X - 1), m1 = std::min(m0 + 1, X - 1);
         const double w1 = q - static_cast<double>(m0);
-        for (std::size_t k = 0; k < M; ++k) {
-          const double born = r.v_launch[k] < o.launch_min
-                                  ? 0.0
-                                  : splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
+        for (std::size_t k = first_launch; k < M; ++k) {
+          const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
           born_sum[k * X + m0] += (1 - w1) * born, born_sum[k * X + m1] += w1 * born;
         }
       }

@@ -10,6 +10,14 @@
 
 using namespace grainlab::saltation;
 
+namespace {
+// u*_eff^2 = u*^2 - tau_g / rho: the stress the grains carry is what the air near the bed lacks.
+void expect_stress_identity(const WindModelOptions& o, const WindModelResult& r) {
+  EXPECT_NEAR(r.u_star_eff * r.u_star_eff, o.u_star * o.u_star - r.grain_stress / o.fluid.density,
+              1e-6 * o.u_star * o.u_star);
+}
+}  // namespace
+
 TEST(WindModel, CleanWindIsTheLogLaw) {
   WindModelOptions o;
   std::vector<double> y = {o.roughness(), 1.0, 100.0}, u(3);
@@ -88,9 +96,7 @@ TEST(WindModel, Case1IdentitiesHoldExactly) {
   ASSERT_TRUE(r.converged);
   // u*_eff^2 = u*^2 - tau_g / rho, with tau_g = sum m F dv (v_ix - v_ox): the drag the grains took from the
   // air is the momentum they carry to the bed (Newton's third law, summed over heights).
-  const double rho = o.fluid.density;
-  EXPECT_NEAR(r.u_star_eff * r.u_star_eff, o.u_star * o.u_star - r.grain_stress / rho,
-              1e-6 * o.u_star * o.u_star);
+  expect_stress_identity(o, r);
   double drag_sum = 0;
   for (std::size_t k = 0; k < r.y.size(); ++k) {
     const double lo = k == 0 ? 0 : std::sqrt(r.y[k - 1] * r.y[k]);
@@ -308,9 +314,7 @@ TEST(WindModel, SmoothedDragKeepsTheStressIdentity) {
   o.drag_smoothing = 2;
   const WindModelResult r = solve_wind_model(o, table_4_3(1));
   ASSERT_TRUE(plain.converged && r.converged);
-  const double rho = o.fluid.density;
-  EXPECT_NEAR(r.u_star_eff * r.u_star_eff, o.u_star * o.u_star - r.grain_stress / rho,
-              1e-6 * o.u_star * o.u_star);
+  expect_stress_identity(o, r);
   EXPECT_GT(std::abs(r.u_star_eff - plain.u_star_eff), 1e-3);
 }
 
@@ -330,9 +334,7 @@ TEST(WindModel, LaunchesBelowTheMinimumStayInTheBed) {
       EXPECT_GT(r.F[k], 0.0) << "bin " << k;
   }
   EXPECT_GT(plain.F[0], 0.0);
-  const double rho = o.fluid.density;
-  EXPECT_NEAR(r.u_star_eff * r.u_star_eff, o.u_star * o.u_star - r.grain_stress / rho,
-              1e-6 * o.u_star * o.u_star);
+  expect_stress_identity(o, r);
   EXPECT_GT(r.mean_hop_height, plain.mean_hop_height);
 }
 
