@@ -18,7 +18,14 @@ Prints a markdown table per set and the fit; --json prints one JSON object inste
 first_peak (the run's own, the paper's measure; from the JSON), spectral_peak or crest_spacing (from the
 frames' profiles, read from the run's checkpoint or --out file beside the JSON: same stem, the suffix
 given by --profiles, `.ck` by default).
+
+--recorded FILE.csv adds runs whose files are gone but whose window means were written down (for example
+docs/data/hybrid_wavelength_2000d.csv, from docs/ripples.md): one row per run with the columns set,
+u_star, seed, t_from, t_to, first_peak, spectral_peak, crest_spacing, and optionally amplitude_end,
+ripple_index_end, mass_flux_star, wall_seconds and source. A row joins the --set of its label (a --set may
+then give no files); its window must be --window, so that means over other windows are not mixed in.
 """
+import csv
 import argparse
 import json
 import math
@@ -82,9 +89,50 @@ def fit_line(points):
     return {"a": a, "b": b, "a_se": math.sqrt(s2 * (1 / n + mx * mx / sxx)), "b_se": math.sqrt(s2 / sxx)}
 
 
-def load_set(label, patterns, args):
+RECORDED_COLUMNS = ("set", "u_star", "seed", "t_from", "t_to") + MEASURES
+RECORDED_OPTIONAL = ("amplitude_end", "ripple_index_end", "mass_flux_star", "wall_seconds")
+
+
+def read_recorded(path, window):
+    """Rows of a --recorded CSV as {label: [run entries]}; exits naming the file and line on bad input."""
+    def number(row, key, where, optional=False):
+        text = (row.get(key) or "").strip()
+        if not text and optional:
+            return math.nan
+        try:
+            return float(text)
+        except ValueError:
+            sys.exit(f"error: {where}: column {key} is {text!r}, not a number")
+
+    try:
+        with open(path, newline="") as f:
+            numbered = [(n, line) for n, line in enumerate(f, start=1) if line.strip() and not line.startswith("#")]
+    except OSError as e:
+        sys.exit(f"error: --recorded {path}: {e.strerror}")
+    reader = csv.DictReader([line for _, line in numbered])
+    missing = [c for c in RECORDED_COLUMNS if c not in (reader.fieldnames or [])]
+    if missing:
+        sys.exit(f"error: --recorded {path}: no column {', '.join(missing)}")
+    by_label = {}
+    for (n, _), row in zip(numbered[1:], reader):  # (one line per row: the file has no quoted line breaks)
+        where = f"{path}, line {n}"
+        t_from, t_to = number(row, "t_from", where), number(row, "t_to", where)
+        if [t_from, t_to] != list(window):
+            sys.exit(f"error: {where}: window t* {t_from:g}-{t_to:g}, not the --window {window[0]:g}-{window[1]:g}")
+        entry = {"file": f"recorded: {row.get('source') or path} (seed {row['seed']})",
+                 "u_star": number(row, "u_star", where), "t_star": t_to, "migration_speed": math.nan}
+        entry.update({m: number(row, m, where) for m in MEASURES})
+        entry.update({c: number(row, c, where, optional=True) for c in RECORDED_OPTIONAL})
+        entry["amplitude"], entry["ripple_index"] = entry.pop("amplitude_end"), entry.pop("ripple_index_end")
+        by_label.setdefault(row["set"], []).append(entry)
+    return by_label
+
+
+def load_set(label, patterns, args, recorded=()):
     by_u = {}
-    for f, run in read_runs(label, patterns):
+    for r in recorded:
+        by_u.setdefault(r["u_star"], []).append(dict(r, **{"lambda": r[args.measure]}))
+    for f, run in (read_runs(label, patterns) if patterns or not recorded else []):
         if run["t_star"] < args.window[1]:
             print(f"warning: {f} ends at t* {run['t_star']:.0f}, inside the window", file=sys.stderr)
         u = u_star_of(f, run)
@@ -112,6 +160,7 @@ def load_set(label, patterns, args):
                 "u_star": u,
                 "u_ratio": x,
                 "runs": n,
+                "recorded": sum(r["file"].startswith("recorded:") for r in runs),
                 "lambda": lam,
                 "lambda_se": lam_se,
                 "lambda_runs": [r["lambda"] for r in runs],
@@ -126,16 +175,23 @@ def load_set(label, patterns, args):
     return {"label": label, "rows": rows, "fit": fit_line(points), "fit_points": len(points)}
 
 
+def shown(value, spec):
+    """A table cell: the number, or '-' where no run gave one (recorded runs may lack it)."""
+    return "-" if value is None or math.isnan(value) else format(value, spec)
+
+
 def print_markdown(s, args):
     lo, hi = args.window
     print(f"\n{s['label']} ({args.measure} averaged over t* {lo:.0f}-{hi:.0f}; u_d* = {args.ud} cm/s)\n")
     print("| u* (cm/s) | u*/u_d* | runs | lambda (d) | A at the end (d) | RI at the end | migration (d per t*) | Q* | wall per run (s) |")
     print("|---|---|---|---|---|---|---|---|---|")
     for r in s["rows"]:
+        runs = f"{r['runs']} ({r['recorded']} recorded)" if r["recorded"] else f"{r['runs']}"
         print(
-            f"| {r['u_star']:g} | {r['u_ratio']:.2f} | {r['runs']} | {r['lambda']:.0f} +- {r['lambda_se']:.0f} "
-            f"| {r['amplitude_end']:.2f} | {r['ripple_index_end']:.1f} | {r['migration_speed']:.2g} "
-            f"| {r['mass_flux_star']:.4f} | {r['wall_seconds']:.0f} |"
+            f"| {r['u_star']:g} | {r['u_ratio']:.2f} | {runs} | {r['lambda']:.0f} +- {r['lambda_se']:.0f} "
+            f"| {shown(r['amplitude_end'], '.2f')} | {shown(r['ripple_index_end'], '.1f')} "
+            f"| {shown(r['migration_speed'], '.2g')} | {shown(r['mass_flux_star'], '.4f')} "
+            f"| {shown(r['wall_seconds'], '.0f')} |"
         )
     f = s["fit"]
     if f:
@@ -188,15 +244,20 @@ def main():
                    help="the reading of the wavelength (default: first_peak, the run's own)")
     p.add_argument("--profiles", default=".ck",
                    help="suffix of the file beside each JSON that holds the frames' profiles (default .ck)")
+    p.add_argument("--recorded", metavar="CSV", help="window means of runs whose files are gone (see above)")
     p.add_argument("--plot", help="write lambda against u*/u_d* to this PNG")
     p.add_argument("--json", action="store_true")
     args = p.parse_args()
     if args.ud <= 0 or args.window[1] <= args.window[0]:
         p.error("need --ud > 0 and a window T0 < T1")
+    recorded = read_recorded(args.recorded, args.window) if args.recorded else {}
     for s in args.set:
-        if len(s) < 2:
-            p.error(f"--set {s[0]}: give a label and at least one file")
-    sets = [load_set(s[0], s[1:], args) for s in args.set]
+        if len(s) < 2 and s[0] not in recorded:
+            p.error(f"--set {s[0]}: give a label and at least one file (or rows of --recorded)")
+    unknown = sorted(set(recorded) - {s[0] for s in args.set})
+    if unknown:
+        p.error(f"--recorded: rows for set {', '.join(unknown)}, which no --set names")
+    sets = [load_set(s[0], s[1:], args, recorded.get(s[0], [])) for s in args.set]
     if args.plot:
         plot(sets, args)
     if args.json:
