@@ -62,10 +62,6 @@ World3d::World3d(const Scene& scene, Decomposition decomposition)
     b.radius = s.radius;
     b.material = s.material;
     b_.push_back(b);
-    Placed3 p;
-    p.hull = b.hull;
-    p.radius = b.radius;
-    placed_.push_back(p);
   }
   for (const PlaneSpec& p : scene_.planes) {
     planes_.push_back({p.point, p.normal});
@@ -78,6 +74,15 @@ World3d::World3d(const Scene& scene, Decomposition decomposition)
 }
 
 // Before anything is written: whether this scene can be spread over the ranks as asked.
+// The narrow phase's view of each body, before placement. Only the general path uses it, so a bed on the
+// sphere kernel never holds it (a Placed3 is about 400 bytes, as much as the kernel's whole sphere).
+std::vector<Placed3> World3d::unplaced(const std::vector<Body3>& bodies) {
+  std::vector<Placed3> placed(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    placed[i].hull = bodies[i].hull, placed[i].radius = bodies[i].radius;
+  return placed;
+}
+
 void World3d::check_decomposition() const {
   const int ranks = parallel::size(), rows = decomposition_.ranks_y;
   if (rows < 1 || ranks % rows != 0)
@@ -158,6 +163,7 @@ void World3d::compute_forces(double t, double h) {
   step_force_.clear();
   contacts_now_ = 0;
   if (!effects_.has(Effect::normal_contact)) return;
+  if (placed_.size() != b_.size()) placed_ = unplaced(b_);
   for (std::size_t i = 0; i < b_.size(); ++i) {
     placed_[i].x = b_[i].x;
     placed_[i].q = b_[i].q;
@@ -346,7 +352,7 @@ Energies World3d::energies() const {
     e.potential_gravity -= b.m * g.dot(b.x);
   }
   if (!effects_.has(Effect::normal_contact)) return e;
-  std::vector<Placed3> placed = placed_;
+  std::vector<Placed3> placed = placed_.size() == b_.size() ? placed_ : unplaced(b_);
   for (std::size_t i = 0; i < b_.size(); ++i) {
     placed[i].x = b_[i].x;
     placed[i].q = b_[i].q;

@@ -95,6 +95,7 @@ class World3d {
   // Forces at time t (moving planes are placed there first); h: the shear spring's step.
   void compute_forces(double t, double h);
   void place_planes(double t);
+  static std::vector<Placed3> unplaced(const std::vector<Body3>& bodies);
   // Rebuilds the broad phase's Verlet lists when a body has moved half the skin (skin_fraction of the
   // largest bounding radius) since the last build. From kCellsFrom bodies on; fewer are paired all with
   // all, which visits the same pairs in the same order.
@@ -124,9 +125,9 @@ class World3d {
   Effects effects_;
   Decomposition decomposition_;
   std::vector<Body3> b_;
-  std::vector<Placed3> placed_;
-  std::vector<Plane3> planes_;  // where they are at the last force evaluation
-  std::vector<Vec3> plane_v_;   // their velocities then (zero for planes at rest)
+  std::vector<Placed3> placed_;  // the general path's, built at its first force evaluation (unplaced())
+  std::vector<Plane3> planes_;   // where they are at the last force evaluation
+  std::vector<Vec3> plane_v_;    // their velocities then (zero for planes at rest)
   std::vector<int> plane_material_;
   std::vector<ContactLaw> laws_;
   int n_mat_ = 1;
