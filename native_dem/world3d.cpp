@@ -73,7 +73,6 @@ World3d::World3d(const Scene& scene, Decomposition decomposition)
   if (decomposition_.distributed) check_decomposition();
 }
 
-// Before anything is written: whether this scene can be spread over the ranks as asked.
 // The narrow phase's view of each body, before placement. Only the general path uses it, so a bed on the
 // sphere kernel never holds it (a Placed3 is about 400 bytes, as much as the kernel's whole sphere).
 std::vector<Placed3> World3d::unplaced(const std::vector<Body3>& bodies) {
@@ -83,6 +82,7 @@ std::vector<Placed3> World3d::unplaced(const std::vector<Body3>& bodies) {
   return placed;
 }
 
+// Before anything is written: whether this scene can be spread over the ranks as asked.
 void World3d::check_decomposition() const {
   const int ranks = parallel::size(), rows = decomposition_.ranks_y;
   if (rows < 1 || ranks % rows != 0)

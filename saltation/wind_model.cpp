@@ -460,11 +460,12 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     if (!grid2d) {
       for (std::size_t k = 0; k < M; ++k) {
         double s = 0, sx = 0;
-        for (std::size_t j = 0; j < M && k >= first_launch; ++j) {
-          const Trajectory& t = flights[j];
-          const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
-          s += born, sx += born * splash.launch_vx(t.v_ix, t.v_iy);
-        }
+        if (k >= first_launch)
+          for (std::size_t j = 0; j < M; ++j) {
+            const Trajectory& t = flights[j];
+            const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
+            s += born, sx += born * splash.launch_vx(t.v_ix, t.v_iy);
+          }
         next[k] = (1 - o.flux_damping) * Fs[k] + o.flux_damping * s;
         vox_next[k] = s > 0 ? sx / s : 0;  // one horizontal launch velocity per bin: the mean of its sources
       }

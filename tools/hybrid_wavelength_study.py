@@ -25,8 +25,8 @@ u_star, seed, t_from, t_to, first_peak, spectral_peak, crest_spacing, and option
 ripple_index_end, mass_flux_star, wall_seconds and source. A row joins the --set of its label (a --set may
 then give no files); its window must be --window, so that means over other windows are not mixed in.
 """
-import csv
 import argparse
+import csv
 import json
 import math
 import os
@@ -119,7 +119,7 @@ def read_recorded(path, window):
         t_from, t_to = number(row, "t_from", where), number(row, "t_to", where)
         if [t_from, t_to] != list(window):
             sys.exit(f"error: {where}: window t* {t_from:g}-{t_to:g}, not the --window {window[0]:g}-{window[1]:g}")
-        entry = {"file": f"recorded: {row.get('source') or path} (seed {row['seed']})",
+        entry = {"file": f"{row.get('source') or path} (seed {row['seed']})", "recorded": True,
                  "u_star": number(row, "u_star", where), "t_star": t_to, "migration_speed": math.nan}
         entry.update({m: number(row, m, where) for m in MEASURES})
         entry.update({c: number(row, c, where, optional=True) for c in RECORDED_OPTIONAL})
@@ -132,7 +132,7 @@ def load_set(label, patterns, args, recorded=()):
     by_u = {}
     for r in recorded:
         by_u.setdefault(r["u_star"], []).append(dict(r, **{"lambda": r[args.measure]}))
-    for f, run in (read_runs(label, patterns) if patterns or not recorded else []):
+    for f, run in read_runs(label, patterns) if patterns else []:  # (main: files, recorded rows or both)
         if run["t_star"] < args.window[1]:
             print(f"warning: {f} ends at t* {run['t_star']:.0f}, inside the window", file=sys.stderr)
         u = u_star_of(f, run)
@@ -160,7 +160,7 @@ def load_set(label, patterns, args, recorded=()):
                 "u_star": u,
                 "u_ratio": x,
                 "runs": n,
-                "recorded": sum(r["file"].startswith("recorded:") for r in runs),
+                "recorded": sum(r.get("recorded", False) for r in runs),
                 "lambda": lam,
                 "lambda_se": lam_se,
                 "lambda_runs": [r["lambda"] for r in runs],
