@@ -393,7 +393,8 @@ void SphereBed::step(bool first, double t) {
   ++steps_;
   if (recut_now_) prediction_ = Prediction::moves;  // a re-cut needs a rebuild: drift all, then rebuild
   with_kernel(s_.dt, [&](auto& k) {
-    if (s_.contacts && prediction_ == Prediction::stays && sweep_allowed_) {
+    const bool predicted = prediction_ == Prediction::stays || prediction_ == Prediction::asked;
+    if (s_.contacts && predicted && sweep_allowed_) {
       pipelined(k, complete);
     } else {
       complete ? drift_all<true>(k) : drift_all<false>(k);
@@ -418,7 +419,14 @@ void SphereBed::pipelined(K& kernel, bool complete) {
   if (domain_) {
     for (const auto& slots : send_slots_)
       for (std::uint32_t i : slots) complete ? k.template drift<true>(i) : k.template drift<false>(i);
-    update_ghosts();
+    const bool rebuild_due = update_ghosts(moves_here_) && prediction_ == Prediction::asked;
+    if (rebuild_due) {  // as drift_all and forces_with would, less the spheres already drifted and sent
+      for (std::size_t i = 0; i < x_.size(); ++i)
+        if (!not_swept_[i]) complete ? k.template drift<true>(i) : k.template drift<false>(i);
+      moved_ = true;
+      forces_with(kernel);
+      return;
+    }
     // Timed only when balancing by time is on: otherwise no probe would ever read (and clear) the costs.
     const bool timed = balancing_by_time() && own_load_ > 0;
     const auto t0 = timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
@@ -430,7 +438,12 @@ void SphereBed::pipelined(K& kernel, bool complete) {
     complete ? sweep<true>(k, lag) : sweep<false>(k, lag);
   }
   contacts_ = k.contacts;
-  prediction_ = any_rank(k.moved > limit2()) ? Prediction::moves : Prediction::stays;
+  if (domain_ && flag_rides_) {  // the answer rides on the next ghost update
+    moves_here_ = k.moved > limit2();
+    prediction_ = Prediction::asked;
+  } else {
+    prediction_ = any_rank(k.moved > limit2()) ? Prediction::moves : Prediction::stays;
+  }
   if (domain_) probe_balance();
 }
 

@@ -132,7 +132,10 @@ class SphereBed {
   // spheres that left their region sent to their new owner with their springs, ghosts received, all
   // slots sorted by id again; and every step, the ghosts' positions and velocities from their owners.
   void exchange_spheres(std::vector<SphereSpring>& held);
-  void update_ghosts();
+  // Sends this rank's spheres that others hold as ghosts and takes in its own ghosts. When the flag
+  // rides (see flag_rides_), each message also carries the sender's `moves_here`; the result is then
+  // whether any rank's was set (otherwise just `moves_here`).
+  bool update_ghosts(bool moves_here = false);
   void sort_slots();
   // Every Decomposition::probe_every steps: the ranks' measured speeds, and a re-cut to them when due.
   void probe_balance();
@@ -166,9 +169,11 @@ class SphereBed {
   SphereCells cells_;
   bool pending_kick_ = false, moved_ = true, sweep_allowed_ = true;
   // Whether the next drift takes some sphere half a skin from the build positions, as predicted by the
-  // last force evaluation (unknown: no prediction, drift all and look).
-  enum class Prediction { unknown, stays, moves };
+  // last force evaluation (unknown: no prediction, drift all and look; asked: this rank's answer is
+  // moves_here_, the other ranks' come with the next ghost update).
+  enum class Prediction { unknown, stays, moves, asked };
   Prediction prediction_ = Prediction::unknown;
+  bool moves_here_ = false;
   std::size_t lag_ = 0;  // the largest j - i of a listed pair
   std::uint64_t steps_ = 0;
   // Distributed: the regions, which slots are ghosts, and the per-step ghost plan (this rank's slots
@@ -183,6 +188,9 @@ class SphereBed {
   std::vector<int> to_, from_;
   std::vector<std::vector<std::uint32_t>> send_slots_, recv_slots_;
   std::vector<std::vector<double>> send_buf_, recv_buf_;
+  // Whether every rank sends ghosts to every other (two ranks, as a rule): then the rebuild test rides
+  // on the next step's ghost update instead of taking an allreduce of its own (the same on every rank).
+  bool flag_rides_ = false;
   // Balancing by measured time: this rank's load (its spheres plus their listed pairs, as the re-cut
   // counts it), each sweep's seconds per unit of that load since the last probe, the step of the next
   // probe, and whether the next step re-cuts (the same on every rank).

@@ -251,9 +251,16 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
   not_swept_ = ghost_;
   for (const auto& slots : send_slots_)
     for (std::uint32_t i : slots) not_swept_[i] = 1;
+  // Decided alike on every rank: a rank that thought the flag rides while another did not would wait
+  // for a message that never comes.
+  const auto others = static_cast<std::size_t>(d.size - 1);
+  flag_rides_ = !parallel::any_all(to_.size() != others || from_.size() != others);
   send_buf_.assign(to_.size(), {});
+  for (std::size_t k = 0; k < to_.size(); ++k)
+    send_buf_[k].resize(kUpdate * send_slots_[k].size() + (flag_rides_ ? 1 : 0));
   recv_buf_.assign(from_.size(), {});
-  for (std::size_t k = 0; k < from_.size(); ++k) recv_buf_[k].resize(kUpdate * recv_slots_[k].size());
+  for (std::size_t k = 0; k < from_.size(); ++k)
+    recv_buf_[k].resize(kUpdate * recv_slots_[k].size() + (flag_rides_ ? 1 : 0));
 }
 
 namespace {
@@ -343,22 +350,28 @@ void SphereBed::probe_balance() {
   recut_now_ = !s_.periodic_x && !s_.periodic_y;
 }
 
-void SphereBed::update_ghosts() {
-  for (std::size_t k = 0; k < to_.size(); ++k) {
-    std::vector<double>& b = send_buf_[k];
-    b.clear();
-    for (std::uint32_t i : send_slots_[k])
-      b.insert(b.end(), {x_[i].x(), x_[i].y(), x_[i].z(), v_[i].x(), v_[i].y(), v_[i].z(), w_[i].x(),
-                         w_[i].y(), w_[i].z()});
+bool SphereBed::update_ghosts(bool moves_here) {
+  for (std::size_t k = 0; k < to_.size(); ++k) {  // into buffers sized by the plan
+    double* out = send_buf_[k].data();
+    for (std::uint32_t i : send_slots_[k]) {
+      const Vec3 &x = x_[i], &v = v_[i], &w = w_[i];
+      out[0] = x.x(), out[1] = x.y(), out[2] = x.z(), out[3] = v.x(), out[4] = v.y(), out[5] = v.z();
+      out[6] = w.x(), out[7] = w.y(), out[8] = w.z();
+      out += kUpdate;
+    }
+    if (flag_rides_) *out = moves_here ? 1 : 0;
   }
   parallel::exchange(to_, send_buf_, from_, recv_buf_);
+  bool any = moves_here;
   for (std::size_t k = 0; k < from_.size(); ++k) {
     const double* in = recv_buf_[k].data();
     for (std::uint32_t i : recv_slots_[k]) {
       x_[i] = {in[0], in[1], in[2]}, v_[i] = {in[3], in[4], in[5]}, w_[i] = {in[6], in[7], in[8]};
       in += kUpdate;
     }
+    if (flag_rides_) any = any || *in != 0;
   }
+  return any;
 }
 
 }  // namespace grainlab::dem
