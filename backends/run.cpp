@@ -140,12 +140,18 @@ int restore_checkpoint(const std::string& path, const Scene& scene, Engine& engi
 }  // namespace
 
 RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& options) {
-  if ((options.checkpoint_every > 0 || !options.restart.empty()) && !engine.checkpointable())
-    throw InputError({"--checkpoint-every", 0}, engine.name(),
+  // Every option that writes or reads a checkpoint is checked here, before any work, and the message
+  // names the one given (a run stopped at a frame is only worth stopping if it can be continued).
+  const char* asked = !options.restart.empty()        ? "--restart"
+                      : options.stop_after_frame > 0  ? "--stop-after-frame"
+                      : options.checkpoint_every > 0 ? "--checkpoint-every"
+                                                      : nullptr;
+  if (asked && !engine.checkpointable())
+    throw InputError({asked, 0}, engine.name(),
                      "checkpoints are written by the native engine for 2-D disc scenes and for 3-D scenes "
                      "under integrator \"verlet\" only so far");
-  if ((options.checkpoint_every > 0 || !options.restart.empty()) && scene.output.contacts)
-    throw InputError({"--checkpoint-every", 0}, "contacts",
+  if (asked && scene.output.contacts)
+    throw InputError({asked, 0}, "contacts",
                      "a run recording contact events ([output] contacts) cannot be checkpointed yet");
   // Frames stream into the writer's temporary file as they are taken. It refuses to overwrite before any
   // work is done; a run stopped at a frame keeps its frames only in the checkpoint (the temporary goes).
