@@ -142,10 +142,10 @@ int restore_checkpoint(const std::string& path, const Scene& scene, Engine& engi
 RunSummary run_scene(const Scene& scene, Engine& engine, const RunOptions& options) {
   // Every option that writes or reads a checkpoint is checked here, before any work, and the message
   // names the one given (a run stopped at a frame is only worth stopping if it can be continued).
-  const char* asked = !options.restart.empty()        ? "--restart"
-                      : options.stop_after_frame > 0  ? "--stop-after-frame"
+  const char* asked = !options.restart.empty()       ? "--restart"
+                      : options.stop_after_frame > 0 ? "--stop-after-frame"
                       : options.checkpoint_every > 0 ? "--checkpoint-every"
-                                                      : nullptr;
+                                                     : nullptr;
   if (asked && !engine.checkpointable())
     throw InputError({asked, 0}, engine.name(),
                      "checkpoints are written by the native engine for 2-D disc scenes and for 3-D scenes "
