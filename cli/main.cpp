@@ -16,6 +16,7 @@
 #include "binary_fingerprint.hpp"
 #include "die_model_command.hpp"
 #include "engine.hpp"
+#include "finite_numbers.hpp"
 #include "h5_input.hpp"
 #include "h5_output.hpp"
 #include "hybrid_benchmark.hpp"
@@ -430,6 +431,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    cli::refuse_non_finite_numbers(app);
     if (*run_cmd) return run_command(run);
     if (const int status = validate.dispatch(); status >= 0) return status;
     if (*engines_cmd) return engines_command(engines_json);
