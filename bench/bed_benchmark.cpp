@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "h5_output.hpp"
+#include "input_error.hpp"
 #include "parallel.hpp"
 #include "world.hpp"
 
@@ -64,7 +65,16 @@ double median(std::vector<double> v) {
 BedResult run_bed(const BedOptions& o) {
   const Scene scene = parse_scene(bed_scene_toml(o), "<bench bed>");
   const bool distributed = parallel::size() > 1;
-  dem::World settled(scene, {distributed, o.balance_every, o.ranks_y});
+  // (The bed is periodic in x over its nx columns: too few, and the world names its period, which here
+  // is the command's --nx.)
+  dem::World settled = [&] {
+    try {
+      return dem::World(scene, {distributed, o.balance_every, o.ranks_y});
+    } catch (const InputError& e) {
+      if (e.key() != "scene.periodic_x") throw;
+      throw InputError({"--nx", 0}, std::to_string(o.nx), e.message());
+    }
+  }();
   for (int s = 0; s < o.settle_steps; ++s) settled.step();
   std::vector<double> seconds;
   BedResult r;

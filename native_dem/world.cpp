@@ -1,10 +1,13 @@
 #include "world.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
 
+#include "input_error.hpp"
 #include "narrow_phase.hpp"
 #include "parallel.hpp"
 #include "stepping.hpp"
@@ -32,11 +35,28 @@ World::World(const Scene& scene, Decomposition decomposition)
   double rmin = 1e300;
   for (double r : p_.r) rmin = std::min(rmin, r);
   skin_ = scene.accuracy.skin.value_or(p_.size() ? 0.25 * rmin : 1.0);
+  check_period();
   dt_ = scene.accuracy.dt;
   std::fill(p_.vx_prev.begin(), p_.vx_prev.end(), 0.0);
   n_own_ = p_.size();
   if (decomposition_.distributed && parallel::size() > 1) distribute_initial();
   rebuild_neighbors();
+}
+
+// A disc meets its neighbours' periodic images once the period holds two interaction ranges (each the
+// largest diameter plus the skin); a narrower period would need a disc to meet its own image. Checked
+// here, before any step, so the scene's key is named (exit 2) rather than the first neighbour build failing.
+void World::check_period() const {
+  if (period_ <= 0) return;
+  double rmax = 0;
+  for (double r : p_.r) rmax = std::max(rmax, r);
+  const double needed = 2 * (2 * rmax + skin_);
+  if (period_ < needed)
+    throw InputError(
+        {scene_.path, 0}, "scene.periodic_x",
+        fmt::format("the period {:g} is shorter than two interaction ranges, {:g} (each the largest "
+                    "disc's diameter, {:g}, plus the skin, {:g}): make it wider",
+                    period_, needed, 2 * rmax, skin_));
 }
 
 void World::setup_laws() {
