@@ -95,7 +95,7 @@ bool spring_order(const SphereSpring& p, const SphereSpring& q) {
 void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>& spheres,
                      double max_radius) {
   s_ = setup;
-  max_radius_ = max_radius, skin_ = 0.2 * max_radius;
+  max_radius_ = max_radius, skin_ = kSkinPerRadius * max_radius;
   std::vector<std::size_t> order(spheres.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(),

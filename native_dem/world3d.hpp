@@ -108,6 +108,7 @@ class World3d {
   // The sphere kernel (sphere_bed.*): loaded at the first advance, mirrored into b_ after each.
   bool sphere_kernel_eligible() const;
   void load_bed(bool spread = true);  // spread: over the ranks, when distributed
+  void check_periods(double r_max) const;
   void store_bed();
   SphereBedSetup bed_setup() const;
   Energies bed_energies(const Vec3& g) const;

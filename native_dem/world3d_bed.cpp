@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 
+#include "input_error.hpp"
 #include "parallel.hpp"
 #include "world3d.hpp"
 #include "world3d_detail.hpp"
@@ -36,6 +38,20 @@ SphereBedSetup World3d::bed_setup() const {
   return s;
 }
 
+// A periodic side narrower than the sphere kernel's lists allow is the scene's mistake: named here, by its
+// key (exit 2), rather than by the lists' grid when it is built.
+void World3d::check_periods(double r_max) const {
+  const double skin = SphereBed::kSkinPerRadius * r_max, reach = 2 * r_max + skin;
+  for (const auto& [key, period] : {std::make_pair("scene.periodic_x", scene_.periodic_x),
+                                    std::make_pair("scene.periodic_y", scene_.periodic_y)})
+    if (period && std::floor((period->second - period->first) / reach) < SphereBed::kMinPeriodicCells)
+      throw InputError(
+          {scene_.path, 0}, key,
+          fmt::format("the box is {:g} wide across it, less than {} neighbour cells of {:g} (the "
+                      "largest sphere's diameter, {:g}, plus the skin, {:g}): make it wider",
+                      period->second - period->first, SphereBed::kMinPeriodicCells, reach, 2 * r_max, skin));
+}
+
 std::size_t World3d::body_of_id(std::int64_t id) const {
   const auto it = std::lower_bound(by_id_.begin(), by_id_.end(), std::make_pair(id, std::size_t{0}));
   if (it == by_id_.end() || it->first != id)
@@ -56,6 +72,7 @@ void World3d::load_bed(bool spread) {
     by_id_.push_back({b.id, i});
   }
   std::sort(by_id_.begin(), by_id_.end());
+  check_periods(r_max);
   bed_.load(bed_setup(), spheres, r_max);
   if (spread && decomposition_.distributed) bed_.distribute(decomposition_);
   bed_body_.clear();
