@@ -107,8 +107,7 @@ void World::rebuild_neighbors() {
 void World::sort_owned_by_cell() {
   double rmax = 0;
   for (std::size_t i = 0; i < n_own_; ++i) rmax = std::max(rmax, p_.r[i]);
-  if (period_ > 0 && period_ < 2 * (2 * rmax + skin_))
-    throw std::runtime_error("periodic_x period is shorter than two interaction ranges; make it wider");
+  check_period(rmax);
   const CellGrid<2> grid = disc_grid(p_.x, p_.y, n_own_, 2 * rmax + skin_, xmin_, period_);
   order_ = grid.members();
   p_.permute(order_);

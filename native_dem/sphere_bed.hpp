@@ -61,8 +61,6 @@ class SphereBed {
  public:
   // The neighbour lists' skin, as a share of the largest radius; a list reaches two radii and the skin.
   static constexpr double kSkinPerRadius = 0.2;
-  // A periodic side must span at least this many list reaches (the cells of the lists' grid).
-  static constexpr int kMinPeriodicCells = 3;
   // The spheres to step, in any order. `max_radius`: the largest radius of the whole bed (every rank's
   // share): it sets the skin, so every rank rebuilds its lists on the same steps.
   void load(const SphereBedSetup& setup, const std::vector<SphereState>& spheres, double max_radius);

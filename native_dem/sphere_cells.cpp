@@ -14,7 +14,7 @@ void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double sk
   auto point = [&](std::size_t i) { return std::array<double, 3>{x[i].x(), x[i].y(), x[i].z()}; };
   grid_.build(n, point, reach_, {period_[0], period_[1], 0.0}, {period_lo_[0], period_lo_[1], 0.0});
   for (int k = 0; k < 2; ++k)
-    if (period_[k] > 0 && grid_.cells()[k] < 3)
+    if (period_[k] > 0 && grid_.cells()[k] < kMinPeriodicCells)
       throw std::invalid_argument("a periodic box must be at least three neighbour cells wide");
   // The lists: later bodies within reach in the cells around, ascending.
   offset_.assign(n + 1, 0);

@@ -17,6 +17,8 @@ namespace grainlab::dem {
 
 class SphereCells {
  public:
+  // A periodic axis must hold at least this many cells (each one list reach wide).
+  static constexpr int kMinPeriodicCells = 3;
   // Makes axis 0 (x) or 1 (y) periodic over [lo, hi): cells wrap and distances take the nearest image.
   // Bodies must be inside [lo, hi) when the lists are built, and the period must hold three cells.
   void set_period(int axis, double lo, double hi) { period_[axis] = hi - lo, period_lo_[axis] = lo; }

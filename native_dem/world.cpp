@@ -32,10 +32,10 @@ World::World(const Scene& scene, Decomposition decomposition)
   expand_assemblies();
   if (effects_.has(Effect::buoyancy)) g_ = g_ * (1 - scene.fluid.density / scene.fluid.grain_density);
   if (effects_.has(Effect::wind_drag)) wind_.emplace(scene_, p_, p_.size());
-  double rmin = 1e300;
-  for (double r : p_.r) rmin = std::min(rmin, r);
+  double rmin = 1e300, rmax = 0;
+  for (double r : p_.r) rmin = std::min(rmin, r), rmax = std::max(rmax, r);
   skin_ = scene.accuracy.skin.value_or(p_.size() ? 0.25 * rmin : 1.0);
-  check_period();
+  check_period(rmax);
   dt_ = scene.accuracy.dt;
   std::fill(p_.vx_prev.begin(), p_.vx_prev.end(), 0.0);
   n_own_ = p_.size();
@@ -45,11 +45,10 @@ World::World(const Scene& scene, Decomposition decomposition)
 
 // A disc meets its neighbours' periodic images once the period holds two interaction ranges (each the
 // largest diameter plus the skin); a narrower period would need a disc to meet its own image. Checked
-// here, before any step, so the scene's key is named (exit 2) rather than the first neighbour build failing.
-void World::check_period() const {
+// when the world is made, before any step, so the scene's key is named (exit 2); each list build checks
+// again for its own discs (rmax: the largest radius).
+void World::check_period(double rmax) const {
   if (period_ <= 0) return;
-  double rmax = 0;
-  for (double r : p_.r) rmax = std::max(rmax, r);
   const double needed = 2 * (2 * rmax + skin_);
   if (period_ < needed)
     throw InputError(

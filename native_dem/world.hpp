@@ -106,7 +106,7 @@ class World {
   void add_particle(const BodySpec& b);
   void expand_assemblies();
   void setup_laws();
-  void check_period() const;
+  void check_period(double rmax) const;
   void rebuild_neighbors();
   void rebuild_after_restore(std::vector<SavedShear> history);
   std::vector<SavedShear> save_history() const;

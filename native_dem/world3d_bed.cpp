@@ -44,12 +44,13 @@ void World3d::check_periods(double r_max) const {
   const double skin = SphereBed::kSkinPerRadius * r_max, reach = 2 * r_max + skin;
   for (const auto& [key, period] : {std::make_pair("scene.periodic_x", scene_.periodic_x),
                                     std::make_pair("scene.periodic_y", scene_.periodic_y)})
-    if (period && std::floor((period->second - period->first) / reach) < SphereBed::kMinPeriodicCells)
+    if (period && std::floor((period->second - period->first) / reach) < SphereCells::kMinPeriodicCells)
       throw InputError(
           {scene_.path, 0}, key,
           fmt::format("the box is {:g} wide across it, less than {} neighbour cells of {:g} (the "
                       "largest sphere's diameter, {:g}, plus the skin, {:g}): make it wider",
-                      period->second - period->first, SphereBed::kMinPeriodicCells, reach, 2 * r_max, skin));
+                      period->second - period->first, SphereCells::kMinPeriodicCells, reach, 2 * r_max,
+                      skin));
 }
 
 std::size_t World3d::body_of_id(std::int64_t id) const {
