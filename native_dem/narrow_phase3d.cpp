@@ -79,8 +79,12 @@ void Placed3::place() {
     arcs.x[i] = arc.x(), arcs.y[i] = arc.y(), arcs.z[i] = arc.z();
   }
   face_lo.resize(world_normals.size()), face_hi.resize(world_normals.size());
-  for (std::size_t f = 0; f < world_normals.size(); ++f)
+  inradius = 1e300;
+  for (std::size_t f = 0; f < world_normals.size(); ++f) {
     project(*this, world_normals[f], face_lo[f], face_hi[f]);
+    inradius = std::min(inradius, world_offsets[f] - world_normals[f].dot(x));
+  }
+  inradius = std::max(inradius, 0.0);
 }
 
 void Placed3::Coordinates::assign(const std::vector<Vec3>& points) {
@@ -264,7 +268,7 @@ int face_contacts(const Placed3& ref, int rf, const Placed3& inc, bool ref_is_b,
 // pair's 900 edge pairs to project.
 //
 // The test needs, for each edge, on which side of its arc's plane each face normal of the other body
-// lies: for A's edge i, bit k of neg_a[i] (pos_a[i]) is set when B's face normal k is strictly below
+// lies: for A's edge i, bit k of neg_a (pos_a) is set when B's face normal k is strictly below
 // (above) it; for B's edges the same over A's faces, stored the other way round: bit j of neg_b[k]
 // (pos_b[k]) when A's face normal k is below (above) B's edge j's arc. With B's edges grouped by their
 // faces (bit j of first_b[k] when k is B's edge j's first face, second_b[k] its second), all of B's
@@ -274,35 +278,35 @@ int face_contacts(const Placed3& ref, int rf, const Placed3& inc, bool ref_is_b,
 class MinkowskiEdgePairs {
  public:
   MinkowskiEdgePairs(const Placed3& a, const Placed3& b)
-      : a_(*a.hull),
-        b_(*b.hull),
-        usable_(a_.edge_faces.size() == a_.edges.size() && b_.edge_faces.size() == b_.edges.size() &&
-                a.world_normals.size() <= 64 && b.world_normals.size() <= 64 && b_.edges.size() <= 64) {
+      : a_(a),
+        b_(b),
+        usable_(a.hull->edge_faces.size() == a.hull->edges.size() &&
+                b.hull->edge_faces.size() == b.hull->edges.size() && a.world_normals.size() <= 64 &&
+                b.world_normals.size() <= 64 && b.hull->edges.size() <= 64) {
     if (!usable_) return;
-    const std::size_t na = a_.edges.size();
-    neg_a_.resize(na), pos_a_.resize(na);  // (sides_of sets every word)
-    for (std::size_t i = 0; i < na; ++i) sides_of(a.arcs[i], b.normal_coordinates, neg_a_[i], pos_a_[i]);
-    for (std::size_t k = 0; k < a.world_normals.size(); ++k)
-      sides_of(a.world_normals[k], b.arcs, neg_b_[k], pos_b_[k]);  // (n . arc = arc . n)
     std::fill_n(first_b_, b.world_normals.size(), 0), std::fill_n(second_b_, b.world_normals.size(), 0);
-    for (std::size_t j = 0; j < b_.edges.size(); ++j) {
+    for (std::size_t j = 0; j < b.hull->edges.size(); ++j) {
       const std::uint64_t bit = std::uint64_t{1} << j;
-      first_b_[b_.edge_faces[j].first] |= bit;
-      second_b_[b_.edge_faces[j].second] |= bit;
+      first_b_[b.hull->edge_faces[j].first] |= bit;
+      second_b_[b.hull->edge_faces[j].second] |= bit;
     }
   }
   bool usable() const { return usable_; }
   // The edges j of B whose arcs -b1 -> -b2 cross A's edge i's arc a1 -> a2 (bit j): each arc's great
   // circle separates the other's ends (the products of their sides are negative), and they cross on the
-  // arcs, not opposite them. Only when usable().
-  std::uint64_t partners(std::size_t i) const {
-    const auto [fa1, fa2] = a_.edge_faces[i];
+  // arcs, not opposite them. Only when usable(). The sides are taken as they are first needed, since the
+  // search asks of only some of A's edges.
+  std::uint64_t partners(std::size_t i) {
+    const auto [fa1, fa2] = a_.hull->edge_faces[i];
+    face_sides(fa1), face_sides(fa2);
+    std::uint64_t neg_a = 0, pos_a = 0;
+    sides_of(Vec3(a_.arcs.x[i], a_.arcs.y[i], a_.arcs.z[i]), b_.normal_coordinates, neg_a, pos_a);
     std::uint64_t below1 = 0, below2 = 0, above1 = 0, above2 = 0;  // B's edges whose face 1 (2) is below
-    for (std::uint64_t m = neg_a_[i]; m; m &= m - 1) {
+    for (std::uint64_t m = neg_a; m; m &= m - 1) {
       const int k = __builtin_ctzll(m);
       below1 |= first_b_[k], below2 |= second_b_[k];
     }
-    for (std::uint64_t m = pos_a_[i]; m; m &= m - 1) {
+    for (std::uint64_t m = pos_a; m; m &= m - 1) {
       const int k = __builtin_ctzll(m);
       above1 |= first_b_[k], above2 |= second_b_[k];
     }
@@ -313,13 +317,18 @@ class MinkowskiEdgePairs {
   }
 
  private:
-  const Polyhedron &a_, &b_;
+  // Which of B's arcs A's face normal k lies below and above (n . arc = arc . n), once per k.
+  void face_sides(int k) {
+    const std::uint64_t bit = std::uint64_t{1} << k;
+    if (sided_ & bit) return;
+    sides_of(a_.world_normals[static_cast<std::size_t>(k)], b_.arcs, neg_b_[k], pos_b_[k]);
+    sided_ |= bit;
+  }
+  const Placed3 &a_, &b_;
   bool usable_;
+  std::uint64_t sided_ = 0;  // A's faces whose neg_b_ and pos_b_ are set
   std::uint64_t neg_b_[64], pos_b_[64], first_b_[64], second_b_[64];
-  // (Kept between calls: a bed asks this of thousands of pairs a step.)
-  static thread_local std::vector<std::uint64_t> neg_a_, pos_a_;
 };
-thread_local std::vector<std::uint64_t> MinkowskiEdgePairs::neg_a_, MinkowskiEdgePairs::pos_a_;
 
 // A hint names its axis by kind (0: a face of A, 1: a face of B, 2: an edge pair) and index (the face,
 // or edge of A * 4096 + edge of B), as Axis does.
@@ -328,25 +337,43 @@ SeparatingHint hint_for(int kind, std::size_t index) {
   return static_cast<SeparatingHint>((kind << kHintKindShift) | static_cast<int>(index));
 }
 
-// Whether the axis a hint names separates A and B now (false for a hint that fits neither body).
-bool hint_separates(const Placed3& a, const Placed3& b, SeparatingHint hint) {
+// The overlap of A and B on the axis a hint names, as the search would weigh it (edge pairs by 1.05):
+// below zero when that axis separates them now, 1e300 for a hint that fits neither body.
+double hinted_overlap(const Placed3& a, const Placed3& b, SeparatingHint hint) {
   const int kind = hint >> kHintKindShift;
   const std::size_t index = static_cast<std::size_t>(hint & ((1 << kHintKindShift) - 1));
-  Axis unused;
+  Axis on;
   if (kind == 0 || kind == 1) {
     const std::size_t faces = (kind == 0 ? a : b).world_normals.size();
-    return index < faces && !overlap_on_face(a, b, kind, index, unused);
+    if (index >= faces) return 1e300;
+    return overlap_on_face(a, b, kind, index, on) ? on.overlap : -1;
   }
   const std::size_t i = index / 4096, j = index % 4096;
-  if (kind != 2 || i >= a.hull->edges.size() || j >= b.hull->edges.size()) return false;
+  if (kind != 2 || i >= a.hull->edges.size() || j >= b.hull->edges.size()) return 1e300;
   const auto& ea = a.hull->edges[i];
   const auto& eb = b.hull->edges[j];
   const Vec3 da = a.world_vertices[ea.second] - a.world_vertices[ea.first];
   const Vec3 db = b.world_vertices[eb.second] - b.world_vertices[eb.first];
   const Vec3 n = da.cross(db);
-  if (n.squaredNorm() < 1e-12 * da.squaredNorm() * db.squaredNorm()) return false;
-  return !overlap_on(a, b, n.normalized(), unused, 2, 0, 1.0);
+  if (n.squaredNorm() < 1e-12 * da.squaredNorm() * db.squaredNorm()) return 1e300;
+  return overlap_on(a, b, n.normalized(), on, 2, 0, 1.05) ? on.overlap : -1;
 }
+
+// Most axes of two touching grains are far from the line of their centres, and on those the grains
+// overlap by nearly their widths. Each hull holds a ball of its inradius about its centre, so on unit
+// axis n their overlap is at least that of the balls with the other's interval: an axis whose least
+// overlap already exceeds an overlap found elsewhere (`limit`: the hinted axis's, then the search's best)
+// can neither separate the grains nor be the first least one, and is not projected. The contacts are
+// those of the full search to the bit. `slack` covers the rounding of the bound. On an edge pair's axis
+// n (weighed by 1.05) the bound is rA + rB - |n . (xA - xB)|, with rA, rB the inradii.
+struct AxisBound {
+  double limit = 1e300, slack = 0;
+  // On a face normal n of `owner`, whose own extent on it is [lo, hi]; `other` is the other hull.
+  bool skips_face(double lo, double hi, const Vec3& n, const Placed3& other) const {
+    const double c = n.dot(other.x);
+    return std::min(hi - c, c - lo) + other.inradius - slack > limit;
+  }
+};
 
 }  // namespace
 
@@ -381,7 +408,13 @@ int sphere_hull(const Placed3& s, const Placed3& h, bool sphere_is_a, std::vecto
 int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out, SeparatingHint* hint) {
   const Vec3 centres = a.x - b.x;
   if (centres.norm() >= a.radius + b.radius) return 0;
-  if (hint && *hint != kNoHint && hint_separates(a, b, *hint)) return 0;
+  AxisBound bound;
+  bound.slack =
+      1e-9 * (a.radius + b.radius) + 1e-13 * (a.x.lpNorm<Eigen::Infinity>() + b.x.lpNorm<Eigen::Infinity>());
+  if (hint && *hint != kNoHint) {  // the axis that separated, or was least, the last time
+    bound.limit = hinted_overlap(a, b, *hint);
+    if (bound.limit < 0) return 0;
+  }
   // Apart: remember the axis that showed it, for the next call.
   auto apart_by = [&](int kind, std::size_t index) {
     if (hint) *hint = index < (std::size_t{1} << kHintKindShift) ? hint_for(kind, index) : kNoHint;
@@ -393,26 +426,53 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
   // what the axes below would find; it does not enter `best`.
   if (Axis unused; centres.squaredNorm() > 0 && !overlap_on(a, b, centres.normalized(), unused, 0, 0, 1.0))
     return 0;
-  for (std::size_t f = 0; f < a.world_normals.size(); ++f)
+  for (std::size_t f = 0; f < a.world_normals.size(); ++f) {
+    if (bound.skips_face(a.face_lo[f], a.face_hi[f], a.world_normals[f], b)) continue;
     if (!overlap_on_face(a, b, 0, f, best)) return apart_by(0, f);
-  for (std::size_t f = 0; f < b.world_normals.size(); ++f)
+    bound.limit = std::min(bound.limit, best.overlap);
+  }
+  for (std::size_t f = 0; f < b.world_normals.size(); ++f) {
+    if (bound.skips_face(b.face_lo[f], b.face_hi[f], b.world_normals[f], a)) continue;
     if (!overlap_on_face(a, b, 1, f, best)) return apart_by(1, f);
+    bound.limit = std::min(bound.limit, best.overlap);
+  }
   const auto& ea = a.hull->edges;
   const auto& eb = b.hull->edges;
-  const MinkowskiEdgePairs gauss(a, b);
+  MinkowskiEdgePairs gauss(a, b);
+  // An edge pair's axis n is projected only if |n . (xA - xB)| reaches `need` (AxisBound). Every axis of
+  // an edge with direction d is square to it, so an edge too nearly along the line of centres reaches it
+  // on none, and is left out before its pairs are sought.
+  const double cc = centres.squaredNorm();
+  auto reach_of = [&](double limit) { return a.inradius + b.inradius - bound.slack - limit / 1.05; };
+  auto edge_reaches = [&](const Vec3& d, double need) {
+    const double dd = d.squaredNorm(), dc = d.dot(centres);
+    return need <= 0 || cc * dd - dc * dc >= need * need * dd;
+  };
+  const double need0 = reach_of(bound.limit);
+  std::uint64_t b_reaching = ~std::uint64_t{0};
+  if (eb.size() <= 64)
+    for (std::size_t j = 0; j < eb.size(); ++j)
+      if (!edge_reaches(b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first], need0))
+        b_reaching &= ~(std::uint64_t{1} << j);
   // Edge axes must beat the best face axis clearly, so resting face contacts do not flicker to edges.
   // false: the pair's axis separates the bodies.
   auto edge_axis = [&](std::size_t i, const Vec3& da, std::size_t j) {
     const Vec3 db = b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first];
     Vec3 n = da.cross(db);
-    if (n.squaredNorm() < 1e-12 * da.squaredNorm() * db.squaredNorm()) return true;  // parallel edges
+    const double nn = n.squaredNorm();
+    if (nn < 1e-12 * da.squaredNorm() * db.squaredNorm()) return true;  // parallel edges
+    const double need = reach_of(bound.limit), nc = n.dot(centres);
+    if (need > 0 && nc * nc < need * need * nn) return true;  // cannot win, cannot separate
     n.normalize();
-    return overlap_on(a, b, n, best, 2, static_cast<int>(i * 4096 + j), 1.05);
+    const bool overlaps = overlap_on(a, b, n, best, 2, static_cast<int>(i * 4096 + j), 1.05);
+    bound.limit = std::min(bound.limit, best.overlap);
+    return overlaps;
   };
   for (std::size_t i = 0; i < ea.size(); ++i) {
     const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
+    if (!edge_reaches(da, reach_of(bound.limit))) continue;
     if (gauss.usable()) {
-      for (std::uint64_t m = gauss.partners(i); m; m &= m - 1)
+      for (std::uint64_t m = gauss.partners(i) & b_reaching; m; m &= m - 1)
         if (const auto j = static_cast<std::size_t>(__builtin_ctzll(m)); !edge_axis(i, da, j))
           return apart_by(2, i * 4096 + j);
     } else {
@@ -420,6 +480,9 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
         if (!edge_axis(i, da, j)) return apart_by(2, i * 4096 + j);
     }
   }
+  // Touching: the least axis is the likeliest least one next time, and its overlap a tight limit.
+  if (hint && static_cast<std::size_t>(best.index) < (std::size_t{1} << kHintKindShift))
+    *hint = hint_for(best.kind, static_cast<std::size_t>(best.index));
   if (best.kind == 0) return face_contacts(a, best.index, b, false, out);
   if (best.kind == 1) return face_contacts(b, best.index, a, true, out);
   // Edge-edge: among edge pairs parallel to the winning pair, the closest pair touches.

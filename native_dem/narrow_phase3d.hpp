@@ -38,6 +38,10 @@ struct Placed3 {
   // The polyhedron's own extent along each of its face normals (what the separating-axis test would
   // otherwise project again for every pair).
   std::vector<double> face_lo, face_hi;
+  // The radius of the largest ball about x inside the hull (its nearest face's distance). The
+  // separating-axis test bounds an axis's overlap from below with it and skips the axes that cannot win
+  // (hull_hull). Set it below zero and nothing is skipped (tests compare the two).
+  double inradius = 0;
   void place();
 };
 

@@ -201,6 +201,40 @@ TEST(NarrowPhase3d, SeparatingHintChangesNoContact) {
   EXPECT_GT(hinted_apart, 200);
 }
 
+// Axes whose overlap the grains' inscribed balls already bound above the best found are not projected.
+// That must change no contact: with the bound switched off (a negative inradius) the search projects
+// every axis and finds the same contacts to the bit, with or without a hint (a touching pair leaves its
+// least axis as the next call's hint, which makes the bound tight).
+TEST(NarrowPhase3d, InscribedBallBoundChangesNoContact) {
+  Rng rng(13);
+  std::vector<Polyhedron> hulls;
+  for (int k = 0; k < 8; ++k) hulls.push_back(wobbly_icosahedron(rng, 0.12));
+  int touching = 0, edge_contacts = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const ClosePair p = close_pair(rng, hulls, trial);
+    const Placed3 a = placed_box(hulls[p.ia], Vec3::Zero(), p.qa), b = placed_box(hulls[p.ib], p.xb, p.qb);
+    ASSERT_GT(a.inradius, 0.5 * a.radius) << trial;  // a wobbled icosahedron is nearly round
+    Placed3 ua = a, ub = b;
+    ua.inradius = ub.inradius = -1;
+    std::vector<ContactPoint3> bounded, every, rehinted;
+    SeparatingHint left = kNoHint;
+    const int n = hull_hull(a, b, bounded, &left);
+    ASSERT_EQ(hull_hull(ua, ub, every), n) << trial;
+    ASSERT_EQ(hull_hull(a, b, rehinted, &left), n) << trial;  // asked again, with what it left
+    for (std::size_t c = 0; c < every.size(); ++c)
+      for (const auto* got : {&bounded, &rehinted}) {
+        EXPECT_EQ((*got)[c].point, every[c].point) << trial;
+        EXPECT_EQ((*got)[c].normal, every[c].normal) << trial;
+        EXPECT_EQ((*got)[c].depth, every[c].depth) << trial;
+        EXPECT_EQ((*got)[c].feature, every[c].feature) << trial;
+      }
+    touching += n > 0;
+    edge_contacts += n == 1 && every[0].feature >= 200000;
+  }
+  EXPECT_GT(touching, 800);
+  EXPECT_GT(edge_contacts, 100);
+}
+
 TEST(NarrowPhase3d, SphereAgainstFaceEdgeAndCorner) {
   const Polyhedron h = make_box({1, 1, 1});
   const Placed3 box = placed_box(h, {0, 0, 0});
