@@ -219,16 +219,15 @@ bool overlap_on_face(const Placed3& a, const Placed3& b, int kind, std::size_t f
                    : overlap_of(lo, hi, b.face_lo[f], b.face_hi[f], n, best, 1, static_cast<int>(f), 1.0);
 }
 
-// Sutherland-Hodgman: keep the part of the polygon on the inner side of plane n.x <= d.
-std::vector<Vec3> clip(const std::vector<Vec3>& poly, const Vec3& n, double d) {
-  std::vector<Vec3> out;
-  for (std::size_t k = 0; k < poly.size(); ++k) {
-    const Vec3 &p = poly[k], &q = poly[(k + 1) % poly.size()];
+// Sutherland-Hodgman: the part of polygon `in` on the inner side of plane n.x <= d, into `out`.
+void clip(const std::vector<Vec3>& in, const Vec3& n, double d, std::vector<Vec3>& out) {
+  out.clear();
+  for (std::size_t k = 0; k < in.size(); ++k) {
+    const Vec3 &p = in[k], &q = in[(k + 1) % in.size()];
     const double dp = n.dot(p) - d, dq = n.dot(q) - d;
     if (dp <= 0) out.push_back(p);
     if ((dp < 0) != (dq < 0) && dp != dq) out.push_back(p + (q - p) * (dp / (dp - dq)));
   }
-  return out;
 }
 
 // Face contact: the incident face of `inc` (most opposed to the reference face of `ref`) is clipped by
@@ -241,13 +240,16 @@ int face_contacts(const Placed3& ref, int rf, const Placed3& inc, bool ref_is_b,
   for (std::size_t f = 0; f < inc.world_normals.size(); ++f)
     if (inc.world_normals[f].dot(nr) < most)
       most = inc.world_normals[f].dot(nr), inc_face = static_cast<int>(f);
-  std::vector<Vec3> poly;
+  // The polygon and its clipped copy, kept between calls (a bed clips thousands of faces a step).
+  static thread_local std::vector<Vec3> poly, clipped;
+  poly.clear();
   for (int i : inc.hull->faces[inc_face]) poly.push_back(inc.world_vertices[i]);
   const auto& rface = ref.hull->faces[rf];
   for (std::size_t k = 0; k < rface.size() && !poly.empty(); ++k) {
     const Vec3 &a = ref.world_vertices[rface[k]], &b = ref.world_vertices[rface[(k + 1) % rface.size()]];
     const Vec3 side = (b - a).cross(nr).normalized();  // outward in the reference face's plane
-    poly = clip(poly, side, side.dot(a));
+    clip(poly, side, side.dot(a), clipped);
+    poly.swap(clipped);
   }
   int added = 0;
   for (std::size_t k = 0; k < poly.size(); ++k) {

@@ -98,6 +98,26 @@ void World3d::check_decomposition() const {
                      "(docs/parallel.md)");
 }
 
+const World3d::Spring* World3d::SpringBook::find(const ContactKey3& key) const {
+  const auto it = std::lower_bound(entries_.begin(), entries_.end(), key,
+                                   [](const Entry& e, const ContactKey3& k) { return e.first < k; });
+  return it != entries_.end() && it->first == key ? &it->second : nullptr;
+}
+
+void World3d::SpringBook::sort() {
+  if (std::is_sorted(entries_.begin(), entries_.end(),
+                     [](const Entry& x, const Entry& y) { return x.first <= y.first; }))
+    return;  // strictly increasing already: nothing to do
+  std::stable_sort(entries_.begin(), entries_.end(),
+                   [](const Entry& x, const Entry& y) { return x.first < y.first; });
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < entries_.size(); ++k) {
+    if (k + 1 < entries_.size() && entries_[k + 1].first == entries_[k].first) continue;  // a later one
+    entries_[kept++] = entries_[k];
+  }
+  entries_.resize(kept);
+}
+
 Vec3 World3d::angular_acceleration(const Body3& b) const {
   if (!effects_.has(Effect::rotation)) return Vec3::Zero();
   const Mat3 R = b.q.toRotationMatrix();
@@ -121,9 +141,9 @@ void World3d::add_contact(Body3& a, Body3* b, const ContactPoint3& c, const Cont
     const Vec3 vt = vrel - vn * c.normal;
     const ContactKey3 key{a.id, key_b, c.feature};
     Vec3 xi = Vec3::Zero();
-    if (auto it = history_.find(key); it != history_.end()) xi = it->second.xi;
+    if (const Spring* held = history_.find(key)) xi = held->xi;
     F += detail3d::shear_force(law, xi, c.normal, vt, h, meff, fn);
-    trial_[key] = {xi, law.k_s};
+    trial_.append(key, {xi, law.k_s});
   }
   a.f += F;
   if (b) b->f -= F;

@@ -104,7 +104,10 @@ class World3d {
   void add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law, std::int64_t key_b,
                    double h);
   Vec3 angular_acceleration(const Body3& b) const;
-  void commit_history() { history_.swap(trial_); }
+  void commit_history() {
+    trial_.sort();
+    history_.swap(trial_);
+  }
   // The sphere kernel (sphere_bed.*): loaded at the first advance, mirrored into b_ after each.
   bool sphere_kernel_eligible() const;
   void load_bed(bool spread = true);  // spread: over the ranks, when distributed
@@ -136,7 +139,25 @@ class World3d {
     Vec3 xi = Vec3::Zero();
     double k_s = 0;
   };
-  std::map<ContactKey3, Spring> history_, trial_;
+  // The general path's shear springs by contact key, in key order as a std::map keeps them, but in one
+  // array: a step appends its contacts' springs (nearly in order already) and sorts them once, instead of
+  // allocating a tree node per contact per step.
+  class SpringBook {
+   public:
+    using Entry = std::pair<ContactKey3, Spring>;
+    const Spring* find(const ContactKey3& key) const;
+    void append(const ContactKey3& key, const Spring& s) { entries_.push_back({key, s}); }
+    // Into key order, the last of equal keys kept (what assigning into a map would leave).
+    void sort();
+    void clear() { entries_.clear(); }
+    void swap(SpringBook& o) { entries_.swap(o.entries_); }
+    std::vector<Entry>::const_iterator begin() const { return entries_.begin(); }
+    std::vector<Entry>::const_iterator end() const { return entries_.end(); }
+
+   private:
+    std::vector<Entry> entries_;
+  };
+  SpringBook history_, trial_;
   std::vector<ContactPoint3> scratch_;
   SphereCells cells_;
   std::vector<Vec3> centres_;  // bin_bodies' scratch, kept so no step allocates

@@ -90,8 +90,10 @@ void World3d::restore_state(const std::map<std::string, SampleTable>& tables, co
   if (mode_ == Mode::general) {
     history_.clear();
     for (const std::vector<double>& r : springs)
-      history_[{static_cast<std::int64_t>(r[0]), static_cast<std::int64_t>(r[1]), static_cast<int>(r[2])}] = {
-          Vec3(r[3], r[4], r[5]), r[6]};
+      history_.append(
+          {static_cast<std::int64_t>(r[0]), static_cast<std::int64_t>(r[1]), static_cast<int>(r[2])},
+          {Vec3(r[3], r[4], r[5]), r[6]});
+    history_.sort();
     return;
   }
   // The kernel: lists built where they were (a fresh build: no springs to carry), then the springs put
