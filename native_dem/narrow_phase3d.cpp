@@ -294,11 +294,27 @@ class MinkowskiEdgePairs {
     }
   }
   bool usable() const { return usable_; }
+  // With `kept` (when usable()): its crossings if they still hold at this relative turn, else all of
+  // them found now and kept with their margin.
+  void keep_in(GaussCrossings& kept) {
+    const Quat turn = a_.q.conjugate() * b_.q;
+    if (kept.margin > 0 && kept.partners.size() == a_.hull->edges.size() &&
+        2 * (kept.turn.conjugate() * turn).vec().norm() < kept.margin) {
+      kept_ = &kept;
+      return;
+    }
+    kept.partners.resize(a_.hull->edges.size());
+    for (std::size_t i = 0; i < kept.partners.size(); ++i) kept.partners[i] = partners(i);
+    kept.turn = turn;
+    kept.margin = least_margin();
+    kept_ = &kept;
+  }
   // The edges j of B whose arcs -b1 -> -b2 cross A's edge i's arc a1 -> a2 (bit j): each arc's great
   // circle separates the other's ends (the products of their sides are negative), and they cross on the
   // arcs, not opposite them. Only when usable(). The sides are taken as they are first needed, since the
   // search asks of only some of A's edges.
   std::uint64_t partners(std::size_t i) {
+    if (kept_) return kept_->partners[i];
     const auto [fa1, fa2] = a_.hull->edge_faces[i];
     face_sides(fa1), face_sides(fa2);
     std::uint64_t neg_a = 0, pos_a = 0;
@@ -326,8 +342,35 @@ class MinkowskiEdgePairs {
     sides_of(a_.world_normals[static_cast<std::size_t>(k)], b_.arcs, neg_b_[k], pos_b_[k]);
     sided_ |= bit;
   }
+  // The least of |n . arc| / |arc| over every sign the crossings rest on (each face normal n of one body
+  // against each arc of the other), less an allowance for the rounding of the sides and of the turn: a
+  // relative turn by angle theta moves each by at most 2 sin(theta / 2) |arc|.
+  double least_margin() const {
+    constexpr double kRounding = 1e-11;
+    double least = 1e300;
+    auto against = [&](const Placed3::Coordinates& normals, const Placed3::Coordinates& arcs) {
+      for (std::size_t j = 0; j < arcs.x.size(); ++j) {
+        const Vec3 arc = arcs[j];
+        const Two ax = two(arc.x()), ay = two(arc.y()), az = two(arc.z());
+        Two low = two(1e300);
+        std::size_t k = 0;
+        for (; k + 2 <= normals.x.size(); k += 2) {
+          const Two side = dots(ax, ay, az, normals, k);
+          const Two size = side < two(0) ? -side : side;
+          low = size < low ? size : low;
+        }
+        double nearest = std::min(low[0], low[1]);
+        for (; k < normals.x.size(); ++k) nearest = std::min(nearest, std::abs(arc.dot(normals[k])));
+        least = std::min(least, (nearest - kRounding) / arc.norm());
+      }
+    };
+    against(b_.normal_coordinates, a_.arcs);
+    against(a_.normal_coordinates, b_.arcs);
+    return least - kRounding;
+  }
   const Placed3 &a_, &b_;
   bool usable_;
+  GaussCrossings* kept_ = nullptr;
   std::uint64_t sided_ = 0;  // A's faces whose neg_b_ and pos_b_ are set
   std::uint64_t neg_b_[64], pos_b_[64], first_b_[64], second_b_[64];
 };
@@ -407,7 +450,8 @@ int sphere_hull(const Placed3& s, const Placed3& h, bool sphere_is_a, std::vecto
   return 1;
 }
 
-int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out, SeparatingHint* hint) {
+int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out, SeparatingHint* hint,
+              GaussCrossings* crossings) {
   const Vec3 centres = a.x - b.x;
   if (centres.norm() >= a.radius + b.radius) return 0;
   AxisBound bound;
@@ -441,6 +485,7 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
   const auto& ea = a.hull->edges;
   const auto& eb = b.hull->edges;
   MinkowskiEdgePairs gauss(a, b);
+  if (crossings && gauss.usable()) gauss.keep_in(*crossings);
   // An edge pair's axis n is projected only if |n . (xA - xB)| reaches `need` (AxisBound). Every axis of
   // an edge with direction d is square to it, so an edge too nearly along the line of centres reaches it
   // on none, and is left out before its pairs are sought.
@@ -510,11 +555,12 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
   return 1;
 }
 
-int body_body(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out, SeparatingHint* hint) {
+int body_body(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out, SeparatingHint* hint,
+              GaussCrossings* crossings) {
   if (!a.hull && !b.hull) return sphere_sphere(a, b, out);
   if (!a.hull) return sphere_hull(a, b, true, out);
   if (!b.hull) return sphere_hull(b, a, false, out);
-  return hull_hull(a, b, out, hint);
+  return hull_hull(a, b, out, hint, crossings);
 }
 
 }  // namespace grainlab::dem

@@ -60,9 +60,20 @@ int sphere_hull(const Placed3& sphere, const Placed3& hull, bool sphere_is_a,
 // hint only makes the answer sooner, never another: the contacts are the same to the bit with or without.
 using SeparatingHint = std::int32_t;
 constexpr SeparatingHint kNoHint = -1;
+// A pair's Gauss-map crossings (for each edge of A, the edges of B it forms a face of the Minkowski
+// difference with), found from the signs of A's face normals against B's arcs and B's against A's. The
+// signs depend only on how B is turned relative to A, so in a resting bed they stay the same from step
+// to step: kept here, they are used again while the relative turn since they were found is smaller than
+// the least angle by which any of those signs stands from flipping (with an allowance for rounding), so
+// the crossings, and the contacts, are the same to the bit as when found afresh.
+struct GaussCrossings {
+  Quat turn = Quat(0, 0, 0, 0);  // conj(qA) qB when found
+  double margin = -1;            // 2 sin(half the relative turn since) must stay below it; < 0: none kept
+  std::vector<std::uint64_t> partners;
+};
 int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out,
-              SeparatingHint* hint = nullptr);
+              SeparatingHint* hint = nullptr, GaussCrossings* crossings = nullptr);
 int body_body(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out,
-              SeparatingHint* hint = nullptr);
+              SeparatingHint* hint = nullptr, GaussCrossings* crossings = nullptr);
 
 }  // namespace grainlab::dem

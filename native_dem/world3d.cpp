@@ -194,22 +194,25 @@ void World3d::compute_forces(double t, double h) {
     bin_bodies(cells_, centres_, 0.2);
     if (separating_build_ != cells_.builds() || separating_.size() != cells_.entries()) {  // new lists
       separating_.assign(cells_.entries(), kNoHint);
+      crossings_.assign(cells_.entries(), GaussCrossings{});
       separating_build_ = cells_.builds();
     }
   }
   for (std::size_t i = 0; i < b_.size(); ++i) {
-    auto pair = [&](std::size_t j, SeparatingHint* hint) {
+    auto pair = [&](std::size_t j, SeparatingHint* hint, GaussCrossings* crossings) {
       if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) return;
       scratch_.clear();
-      body_body(placed_[i], placed_[j], scratch_, hint);
+      body_body(placed_[i], placed_[j], scratch_, hint, crossings);
       const ContactLaw& law = laws_[b_[i].material * n_mat_ + b_[j].material];
       for (const ContactPoint3& c : scratch_) add_contact(b_[i], &b_[j], c, law, b_[j].id, h);
     };
     if (cells)
-      for (const SphereCells::Index* j = cells_.begin(i); j != cells_.end(i); ++j)
-        pair(*j, &separating_[static_cast<std::size_t>(j - cells_.begin(0))]);
+      for (const SphereCells::Index* j = cells_.begin(i); j != cells_.end(i); ++j) {
+        const auto entry = static_cast<std::size_t>(j - cells_.begin(0));
+        pair(*j, &separating_[entry], &crossings_[entry]);
+      }
     else
-      for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j, nullptr);
+      for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j, nullptr, nullptr);
     for (std::size_t k = 0; k < planes_.size(); ++k) {
       scratch_.clear();
       body_plane(placed_[i], planes_[k], scratch_);

@@ -164,6 +164,7 @@ class World3d {
   // Per entry of cells_'s lists, the axis that last separated the pair (hull_hull), and the build of the
   // lists they belong to.
   std::vector<SeparatingHint> separating_;
+  std::vector<GaussCrossings> crossings_;  // per entry too: a touching pair's Gauss-map crossings
   std::size_t separating_build_ = 0;
   PairForces impulses_, step_force_, end_force_;
   double t_ = 0, dt_ = 0, dt_prev_ = 0;

@@ -235,6 +235,44 @@ TEST(NarrowPhase3d, InscribedBallBoundChangesNoContact) {
   EXPECT_GT(edge_contacts, 100);
 }
 
+// A pair's Gauss-map crossings are kept while the relative turn since they were found stays under their
+// margin. Turned by steps from 1e-7 to 1e-2 rad, a pair must find the same contacts to the bit with the
+// kept crossings as afresh; and the kept ones must be used (the turn they were found at unchanged) at
+// the small steps and found again at the large ones.
+TEST(NarrowPhase3d, KeptGaussCrossingsChangeNoContact) {
+  Rng rng(17);
+  std::vector<Polyhedron> hulls;
+  for (int k = 0; k < 8; ++k) hulls.push_back(wobbly_icosahedron(rng, 0.12));
+  int used = 0, found = 0, touching = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const ClosePair p = close_pair(rng, hulls, trial);
+    GaussCrossings kept;
+    Quat qb = p.qb;
+    const double step = std::pow(10.0, rng.uniform(-7, -2));
+    for (int k = 0; k < 20; ++k) {
+      const Vec3 axis = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
+      qb = (quat_from_rotation_vector(axis * step) * qb).normalized();
+      const Placed3 a = placed_box(hulls[p.ia], Vec3::Zero(), p.qa), b = placed_box(hulls[p.ib], p.xb, qb);
+      std::vector<ContactPoint3> afresh, again;
+      const Quat before = kept.turn;
+      const int n = hull_hull(a, b, afresh);
+      ASSERT_EQ(hull_hull(a, b, again, nullptr, &kept), n) << trial << " " << k;
+      for (std::size_t c = 0; c < afresh.size(); ++c) {
+        EXPECT_EQ(again[c].point, afresh[c].point) << trial;
+        EXPECT_EQ(again[c].normal, afresh[c].normal) << trial;
+        EXPECT_EQ(again[c].depth, afresh[c].depth) << trial;
+        EXPECT_EQ(again[c].feature, afresh[c].feature) << trial;
+      }
+      if (n == 0 || kept.margin < 0) continue;  // apart before the edge pairs: nothing kept or used
+      ++touching;
+      (kept.turn.coeffs() == before.coeffs() ? used : found) += 1;
+    }
+  }
+  EXPECT_GT(touching, 1000);
+  EXPECT_GT(used, 300);
+  EXPECT_GT(found, 300);
+}
+
 TEST(NarrowPhase3d, SphereAgainstFaceEdgeAndCorner) {
   const Polyhedron h = make_box({1, 1, 1});
   const Placed3 box = placed_box(h, {0, 0, 0});
