@@ -126,6 +126,23 @@ ClosePair close_pair(Rng& rng, const std::vector<Polyhedron>& hulls, int k) {
   p.xb = dir * reach * rng.uniform(0.55, 0.95);
   return p;
 }
+std::vector<Polyhedron> eight_wobbly_icosahedra(Rng& rng) {
+  std::vector<Polyhedron> hulls;
+  for (int k = 0; k < 8; ++k) hulls.push_back(wobbly_icosahedron(rng, 0.12));
+  return hulls;
+}
+// The same contacts to the bit: point, normal, depth and feature of each (the counts are asserted by the
+// caller).
+void expect_same_contacts(const std::vector<ContactPoint3>& got, const std::vector<ContactPoint3>& want,
+                          int trial) {
+  ASSERT_EQ(got.size(), want.size()) << trial;
+  for (std::size_t c = 0; c < want.size(); ++c) {
+    EXPECT_EQ(got[c].point, want[c].point) << trial;
+    EXPECT_EQ(got[c].normal, want[c].normal) << trial;
+    EXPECT_EQ(got[c].depth, want[c].depth) << trial;
+    EXPECT_EQ(got[c].feature, want[c].feature) << trial;
+  }
+}
 }  // namespace
 
 // The separating-axis test projects only the edge pairs whose arcs cross on the Gauss map, picked with
@@ -149,12 +166,7 @@ TEST(NarrowPhase3d, EdgePairFilterChangesNoContact) {
     const Placed3 pa = placed_box(plain[p.ia], Vec3::Zero(), p.qa), pb = placed_box(plain[p.ib], p.xb, p.qb);
     std::vector<ContactPoint3> filtered, every;
     ASSERT_EQ(hull_hull(a, b, filtered), hull_hull(pa, pb, every)) << trial;
-    for (std::size_t c = 0; c < filtered.size(); ++c) {
-      EXPECT_EQ(filtered[c].point, every[c].point) << trial;
-      EXPECT_EQ(filtered[c].normal, every[c].normal) << trial;
-      EXPECT_EQ(filtered[c].depth, every[c].depth) << trial;
-      EXPECT_EQ(filtered[c].feature, every[c].feature) << trial;
-    }
+    expect_same_contacts(filtered, every, trial);
     touching += !filtered.empty();
     edge_contacts += filtered.size() == 1 && filtered[0].feature >= 200000;
   }
@@ -169,8 +181,7 @@ TEST(NarrowPhase3d, EdgePairFilterChangesNoContact) {
 // a hint left by a pair that was apart separates that pair when asked again.
 TEST(NarrowPhase3d, SeparatingHintChangesNoContact) {
   Rng rng(11);
-  std::vector<Polyhedron> hulls;
-  for (int k = 0; k < 8; ++k) hulls.push_back(wobbly_icosahedron(rng, 0.12));
+  const std::vector<Polyhedron> hulls = eight_wobbly_icosahedra(rng);
   SeparatingHint carried = kNoHint;  // the last pair's: usually a stranger to this one
   int apart = 0, hinted_apart = 0;
   for (int trial = 0; trial < 4000; ++trial) {
@@ -181,12 +192,8 @@ TEST(NarrowPhase3d, SeparatingHintChangesNoContact) {
     SeparatingHint odd = static_cast<SeparatingHint>(rng.uniform(0, 4e6));  // any kind, any index
     ASSERT_EQ(hull_hull(a, b, hinted, &carried), n) << trial;
     ASSERT_EQ(hull_hull(a, b, bogus, &odd), n) << trial;
-    for (std::size_t c = 0; c < plain.size(); ++c) {
-      EXPECT_EQ(hinted[c].point, plain[c].point) << trial;
-      EXPECT_EQ(hinted[c].depth, plain[c].depth) << trial;
-      EXPECT_EQ(bogus[c].normal, plain[c].normal) << trial;
-      EXPECT_EQ(bogus[c].feature, plain[c].feature) << trial;
-    }
+    expect_same_contacts(hinted, plain, trial);
+    expect_same_contacts(bogus, plain, trial);
     if (n > 0) continue;
     ++apart;
     // Asked again, the pair that was apart is answered by the axis it left (when the search found one).
@@ -207,8 +214,7 @@ TEST(NarrowPhase3d, SeparatingHintChangesNoContact) {
 // least axis as the next call's hint, which makes the bound tight).
 TEST(NarrowPhase3d, InscribedBallBoundChangesNoContact) {
   Rng rng(13);
-  std::vector<Polyhedron> hulls;
-  for (int k = 0; k < 8; ++k) hulls.push_back(wobbly_icosahedron(rng, 0.12));
+  const std::vector<Polyhedron> hulls = eight_wobbly_icosahedra(rng);
   int touching = 0, edge_contacts = 0;
   for (int trial = 0; trial < 4000; ++trial) {
     const ClosePair p = close_pair(rng, hulls, trial);
@@ -221,13 +227,8 @@ TEST(NarrowPhase3d, InscribedBallBoundChangesNoContact) {
     const int n = hull_hull(a, b, bounded, &left);
     ASSERT_EQ(hull_hull(ua, ub, every), n) << trial;
     ASSERT_EQ(hull_hull(a, b, rehinted, &left), n) << trial;  // asked again, with what it left
-    for (std::size_t c = 0; c < every.size(); ++c)
-      for (const auto* got : {&bounded, &rehinted}) {
-        EXPECT_EQ((*got)[c].point, every[c].point) << trial;
-        EXPECT_EQ((*got)[c].normal, every[c].normal) << trial;
-        EXPECT_EQ((*got)[c].depth, every[c].depth) << trial;
-        EXPECT_EQ((*got)[c].feature, every[c].feature) << trial;
-      }
+    expect_same_contacts(bounded, every, trial);
+    expect_same_contacts(rehinted, every, trial);
     touching += n > 0;
     edge_contacts += n == 1 && every[0].feature >= 200000;
   }
@@ -241,8 +242,7 @@ TEST(NarrowPhase3d, InscribedBallBoundChangesNoContact) {
 // the small steps and found again at the large ones.
 TEST(NarrowPhase3d, KeptGaussCrossingsChangeNoContact) {
   Rng rng(17);
-  std::vector<Polyhedron> hulls;
-  for (int k = 0; k < 8; ++k) hulls.push_back(wobbly_icosahedron(rng, 0.12));
+  const std::vector<Polyhedron> hulls = eight_wobbly_icosahedra(rng);
   int used = 0, found = 0, touching = 0;
   for (int trial = 0; trial < 300; ++trial) {
     const ClosePair p = close_pair(rng, hulls, trial);
@@ -257,12 +257,7 @@ TEST(NarrowPhase3d, KeptGaussCrossingsChangeNoContact) {
       const Quat before = kept.turn;
       const int n = hull_hull(a, b, afresh);
       ASSERT_EQ(hull_hull(a, b, again, nullptr, &kept), n) << trial << " " << k;
-      for (std::size_t c = 0; c < afresh.size(); ++c) {
-        EXPECT_EQ(again[c].point, afresh[c].point) << trial;
-        EXPECT_EQ(again[c].normal, afresh[c].normal) << trial;
-        EXPECT_EQ(again[c].depth, afresh[c].depth) << trial;
-        EXPECT_EQ(again[c].feature, afresh[c].feature) << trial;
-      }
+      expect_same_contacts(again, afresh, trial);
       if (n == 0 || kept.margin < 0) continue;  // apart before the edge pairs: nothing kept or used
       ++touching;
       (kept.turn.coeffs() == before.coeffs() ? used : found) += 1;
