@@ -297,12 +297,23 @@ class MinkowskiEdgePairs {
   // With `kept` (when usable()): its crossings if they still hold at this relative turn, else all of
   // them found now and kept with their margin.
   void keep_in(GaussCrossings& kept) {
+    constexpr int kRest = 8;
+    if (kept.rest > 0) {
+      --kept.rest;
+      return;
+    }
     const Quat turn = a_.q.conjugate() * b_.q;
     if (kept.margin > 0 && kept.partners.size() == a_.hull->edges.size() &&
         2 * (kept.turn.conjugate() * turn).vec().norm() < kept.margin) {
+      kept.used = true;
       kept_ = &kept;
       return;
     }
+    if (!kept.partners.empty() && !kept.used) {  // found, never used: this pair turns too fast
+      kept.partners.clear(), kept.margin = -1, kept.rest = kRest;
+      return;
+    }
+    kept.used = false;
     kept.partners.resize(a_.hull->edges.size());
     for (std::size_t i = 0; i < kept.partners.size(); ++i) kept.partners[i] = partners(i);
     kept.turn = turn;

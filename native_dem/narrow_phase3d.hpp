@@ -66,10 +66,14 @@ constexpr SeparatingHint kNoHint = -1;
 // to step: kept here, they are used again while the relative turn since they were found is smaller than
 // the least angle by which any of those signs stands from flipping (with an allowance for rounding), so
 // the crossings, and the contacts, are the same to the bit as when found afresh.
+// A pair that turns past its margin before the crossings serve even once is searched afresh (and
+// lazily) for a few calls before they are kept again: finding all of them costs more than one search.
 struct GaussCrossings {
   Quat turn = Quat(0, 0, 0, 0);  // conj(qA) qB when found
   double margin = -1;            // 2 sin(half the relative turn since) must stay below it; < 0: none kept
   std::vector<std::uint64_t> partners;
+  bool used = false;  // served a search since found
+  int rest = 0;       // calls left before keeping them again
 };
 int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out,
               SeparatingHint* hint = nullptr, GaussCrossings* crossings = nullptr);
