@@ -429,6 +429,10 @@ struct AxisBound {
     const double c = n.dot(other.x);
     return std::min(hi - c, c - lo) + other.inradius - slack > limit;
   }
+  // What |n . (xA - xB)| must reach on an edge pair's unit axis n for it to be projected.
+  double edge_need(const Placed3& a, const Placed3& b) const {
+    return a.inradius + b.inradius - slack - limit / 1.05;
+  }
 };
 
 }  // namespace
@@ -501,12 +505,11 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
   // an edge with direction d is square to it, so an edge too nearly along the line of centres reaches it
   // on none, and is left out before its pairs are sought.
   const double cc = centres.squaredNorm();
-  auto reach_of = [&](double limit) { return a.inradius + b.inradius - bound.slack - limit / 1.05; };
   auto edge_reaches = [&](const Vec3& d, double need) {
     const double dd = d.squaredNorm(), dc = d.dot(centres);
     return need <= 0 || cc * dd - dc * dc >= need * need * dd;
   };
-  const double need0 = reach_of(bound.limit);
+  const double need0 = bound.edge_need(a, b);
   std::uint64_t b_reaching = ~std::uint64_t{0};
   if (eb.size() <= 64)
     for (std::size_t j = 0; j < eb.size(); ++j)
@@ -519,7 +522,7 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
     Vec3 n = da.cross(db);
     const double nn = n.squaredNorm();
     if (nn < 1e-12 * da.squaredNorm() * db.squaredNorm()) return true;  // parallel edges
-    const double need = reach_of(bound.limit), nc = n.dot(centres);
+    const double need = bound.edge_need(a, b), nc = n.dot(centres);
     if (need > 0 && nc * nc < need * need * nn) return true;  // cannot win, cannot separate
     n.normalize();
     const bool overlaps = overlap_on(a, b, n, best, 2, static_cast<int>(i * 4096 + j), 1.05);
@@ -528,7 +531,7 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
   };
   for (std::size_t i = 0; i < ea.size(); ++i) {
     const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
-    if (!edge_reaches(da, reach_of(bound.limit))) continue;
+    if (!edge_reaches(da, bound.edge_need(a, b))) continue;
     if (gauss.usable()) {
       for (std::uint64_t m = gauss.partners(i) & b_reaching; m; m &= m - 1)
         if (const auto j = static_cast<std::size_t>(__builtin_ctzll(m)); !edge_axis(i, da, j))

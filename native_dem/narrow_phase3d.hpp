@@ -40,7 +40,7 @@ struct Placed3 {
   std::vector<double> face_lo, face_hi;
   // The radius of the largest ball about x inside the hull (its nearest face's distance). The
   // separating-axis test bounds an axis's overlap from below with it and skips the axes that cannot win
-  // (hull_hull). Set it below zero and nothing is skipped (tests compare the two).
+  // (hull_hull). Set it below minus the hulls' widths (tests use -1e300) and nothing is skipped.
   double inradius = 0;
   void place();
 };

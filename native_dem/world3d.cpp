@@ -105,8 +105,9 @@ const World3d::Spring* World3d::SpringBook::find(const ContactKey3& key) const {
 }
 
 void World3d::SpringBook::sort() {
-  if (std::is_sorted(entries_.begin(), entries_.end(),
-                     [](const Entry& x, const Entry& y) { return x.first <= y.first; }))
+  if (std::adjacent_find(entries_.begin(), entries_.end(), [](const Entry& x, const Entry& y) {
+        return !(x.first < y.first);
+      }) == entries_.end())
     return;  // strictly increasing already: nothing to do
   std::stable_sort(entries_.begin(), entries_.end(),
                    [](const Entry& x, const Entry& y) { return x.first < y.first; });

@@ -221,7 +221,7 @@ TEST(NarrowPhase3d, InscribedBallBoundChangesNoContact) {
     const Placed3 a = placed_box(hulls[p.ia], Vec3::Zero(), p.qa), b = placed_box(hulls[p.ib], p.xb, p.qb);
     ASSERT_GT(a.inradius, 0.5 * a.radius) << trial;  // a wobbled icosahedron is nearly round
     Placed3 ua = a, ub = b;
-    ua.inradius = ub.inradius = -1;
+    ua.inradius = ub.inradius = -1e300;  // (below minus any hull's width: no axis is skipped)
     std::vector<ContactPoint3> bounded, every, rehinted;
     SeparatingHint left = kNoHint;
     const int n = hull_hull(a, b, bounded, &left);
