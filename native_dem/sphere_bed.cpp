@@ -417,8 +417,7 @@ void SphereBed::pipelined(K& kernel, bool complete) {
   K k = kernel;  // a local copy the compiler can keep in registers
   const std::size_t lag = lag_ + 1;
   if (domain_) {
-    for (const auto& slots : send_slots_)
-      for (std::uint32_t i : slots) complete ? k.template drift<true>(i) : k.template drift<false>(i);
+    for (std::uint32_t i : sent_once_) complete ? k.template drift<true>(i) : k.template drift<false>(i);
     const bool rebuild_due = update_ghosts(moves_here_) && prediction_ == Prediction::asked;
     if (rebuild_due) {  // as drift_all and forces_with would, less the spheres already drifted and sent
       for (std::size_t i = 0; i < x_.size(); ++i)

@@ -189,6 +189,9 @@ class SphereBed {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> plain_runs_;
   std::vector<int> to_, from_;
   std::vector<std::vector<std::uint32_t>> send_slots_, recv_slots_;
+  // This rank's spheres sent as ghosts, each once in slot order (a sphere near both edges of a slab
+  // narrower than two halos goes to two ranks, and must still drift once a step).
+  std::vector<std::uint32_t> sent_once_;
   std::vector<std::vector<double>> send_buf_, recv_buf_;
   // Whether every rank sends ghosts to every other (two ranks, as a rule): then the rebuild test rides
   // on the next step's ghost update instead of taking an allreduce of its own (the same on every rank).

@@ -249,8 +249,11 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
     }
   }
   not_swept_ = ghost_;
+  sent_once_.clear();
   for (const auto& slots : send_slots_)
     for (std::uint32_t i : slots) not_swept_[i] = 1;
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    if (not_swept_[i] && !ghost_[i]) sent_once_.push_back(static_cast<std::uint32_t>(i));
   // Decided alike on every rank: a rank that thought the flag rides while another did not would wait
   // for a message that never comes.
   const auto others = static_cast<std::size_t>(d.size - 1);

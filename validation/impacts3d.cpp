@@ -13,6 +13,7 @@
 #include "engine.hpp"
 #include "impact_bed.hpp"
 #include "input_error.hpp"
+#include "parallel.hpp"
 #include "rng.hpp"
 #include "world3d.hpp"
 
@@ -88,10 +89,9 @@ std::vector<Body3Spec> at_rest(std::vector<Body3Spec> bodies) {
 }
 
 // A sphere's state as a finished run leaves it (a row of kStageRunColumns after the run's index), and back.
-std::vector<double> motion_row(double run, const Body3Spec& b) {
-  const Quat& q = b.orientation;
-  return {run,   b.position.x(), b.position.y(), b.position.z(), q.w(),      q.x(),      q.y(),
-          q.z(), b.velocity.x(), b.velocity.y(), b.velocity.z(), b.spin.x(), b.spin.y(), b.spin.z()};
+std::vector<double> motion_row(double run, const dem::Body3& b) {
+  return {run,     b.x.x(), b.x.y(), b.x.z(), b.q.w(), b.q.x(), b.q.y(),
+          b.q.z(), b.v.x(), b.v.y(), b.v.z(), b.w.x(), b.w.y(), b.w.z()};
 }
 
 void put_motion(const std::vector<double>& r, Body3Spec& b) {
@@ -108,11 +108,12 @@ void put_motion(const std::vector<double>& r, Body3Spec& b) {
 class StageRuns {
  public:
   using Save = std::function<void(const SampleTable&, const std::map<std::string, SampleTable>&)>;
-  StageRuns(Bed3dBuild& b, double every, Save save)
+  StageRuns(Bed3dBuild& b, double every, Save save, BedRanks ranks)
       : done_(std::move(b.runs_done)),
         under_way_(std::move(b.run_under_way)),
         every_(every),
-        save_(std::move(save)) {
+        save_(std::move(save)),
+        ranks_(ranks) {
     b.runs_done = {}, b.run_under_way = {};
   }
 
@@ -127,7 +128,7 @@ class StageRuns {
   std::vector<Body3Spec> run(Scene scene, double duration) {
     const double run = static_cast<double>(next_run_++);
     if (replay(run, scene.bodies3d)) return scene.bodies3d;
-    dem::World3d w(scene);
+    dem::World3d w(scene, decomposition(scene));
     if (!under_way_.empty()) restore(w);
     // With a checkpoint to feed, in slices of 2,000 steps, looking at the clock after each: slicing a
     // fixed-step run leaves its steps as they were.
@@ -136,17 +137,26 @@ class StageRuns {
       before = w.time();
       w.advance_to(std::min(duration, w.time() + slice));
       const auto now = std::chrono::steady_clock::now();
-      if (!save_ || std::chrono::duration<double>(now - since_save_).count() < every_) continue;
+      bool due = save_ && std::chrono::duration<double>(now - since_save_).count() >= every_;
+      if (w.distributed()) due = parallel::any_all(due);  // (saving a spread world is collective)
+      if (!due) continue;
       std::map<std::string, SampleTable> world;
       for (SampleTable& t : w.save_state(kStageWorld)) world.emplace(t.name, std::move(t));
       save_(done_, world);
       since_save_ = now;
     }
+    std::vector<double> rows;  // the finished run's rows, flat; a spread world has them on rank 0 only
+    for (std::size_t i = 0; i < w.bodies().size() && (!w.distributed() || parallel::rank() == 0); ++i) {
+      const std::vector<double> r = motion_row(run, w.bodies()[i]);
+      rows.insert(rows.end(), r.begin(), r.end());
+    }
+    if (w.distributed()) parallel::broadcast(rows);
     std::vector<Body3Spec> out = scene.bodies3d;
+    const std::size_t width = kStageRunColumns.size();
     for (std::size_t i = 0; i < out.size(); ++i) {
-      out[i].position = w.bodies()[i].x, out[i].orientation = w.bodies()[i].q;
-      out[i].velocity = w.bodies()[i].v, out[i].spin = w.bodies()[i].w;
-      done_.rows.push_back(motion_row(run, out[i]));
+      done_.rows.emplace_back(rows.begin() + static_cast<long>(i * width),
+                              rows.begin() + static_cast<long>((i + 1) * width));
+      put_motion(done_.rows.back(), out[i]);
     }
     return out;
   }
@@ -178,6 +188,19 @@ class StageRuns {
     return true;
   }
 
+  // Spread over the ranks when there are several and the scene is a bed of spheres the sphere kernel
+  // runs (from kSpreadFrom spheres: fewer run on one rank's general path, with other bits).
+  dem::Decomposition decomposition(const Scene& scene) const {
+    constexpr std::size_t kSpreadFrom = 32;
+    const bool spheres = std::all_of(scene.bodies3d.begin(), scene.bodies3d.end(),
+                                     [](const Body3Spec& b) { return b.shape == Body3Spec::Shape::Sphere; });
+    if (ranks_ != BedRanks::spread || parallel::size() == 1 || !spheres ||
+        scene.bodies3d.size() < kSpreadFrom || scene.accuracy.integrator != Integrator::VelocityVerlet)
+      return {};
+    return dem::Decomposition{true, kBalanceEvery, 1};
+  }
+  static constexpr std::uint64_t kBalanceEvery = 1000;  // as `grainlab run`'s default
+
   void restore(dem::World3d& w) {
     try {
       w.restore_state(under_way_, kStageWorld);
@@ -191,6 +214,7 @@ class StageRuns {
   std::map<std::string, SampleTable> under_way_;
   double every_;
   Save save_;
+  BedRanks ranks_;
   std::size_t next_run_ = 0;
   std::chrono::steady_clock::time_point since_save_ = std::chrono::steady_clock::now();  // (the stage's)
 };
@@ -441,7 +465,8 @@ std::string next_stage(const Bed3dSpec& spec, Bed3dBuild& b, StageRuns& runs) {
 }  // namespace
 
 Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log, Bed3dBuild from,
-                  const std::function<void(const Bed3dBuild&)>& after_stage, double save_every) {
+                  const std::function<void(const Bed3dBuild&)>& after_stage, double save_every,
+                  BedRanks ranks) {
   check_preparation(spec.preparation, "preparation");
   Bed3dBuild b = std::move(from);
   while (!b.finished) {
@@ -459,7 +484,7 @@ Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::str
         after_stage(at_start);
       };
     }
-    StageRuns runs(b, save_every, std::move(save));
+    StageRuns runs(b, save_every, std::move(save), ranks);
     const std::string what = next_stage(spec, b, runs);
     b.seconds = seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (log)

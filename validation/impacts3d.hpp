@@ -110,9 +110,12 @@ Bed3dBuild build_record(const Bed3d& bed);
 // fresh one: the pour; or a stage part-way through) and hands its state to `after_stage` after every
 // stage, and within a stage every `save_every` seconds of computing, so a long build can be checkpointed
 // and continued to the same bed, bit for bit.
+// Under mpirun every rank must call it for the same bed: a bed of spheres is then spread over the ranks
+// (the same bits as on one rank, docs/parallel.md), unless `ranks` asks each rank to build it alone.
+enum class BedRanks { spread, each_alone };
 Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::string&)>& log = {},
                   Bed3dBuild from = {}, const std::function<void(const Bed3dBuild&)>& after_stage = {},
-                  double save_every = 600);
+                  double save_every = 600, BedRanks ranks = BedRanks::spread);
 // The bed build_bed3d makes around `bodies` (its spheres at rest), without the build's statistics: the
 // same scene, top and packing, so a bed kept in a checkpoint gives the same impacts bit for bit.
 Bed3d bed3d_from_bodies(const Bed3dSpec& spec, std::vector<Body3Spec> bodies);
