@@ -305,7 +305,8 @@ void ValidateCommand::add(CLI::App& app) {
   cmd->add_option("--sand-gun-checkpoint", sand_gun_checkpoint,
                   "impacts-3d (full): keep the 20,000-sphere sand-gun bed and its impacts in this HDF5 file, "
                   "as `grainlab sand-gun --runs 10 --checkpoint FILE` does; a file that command filled is "
-                  "reused, so the hours of its bed and 90 impacts are not spent again")
+                  "reused, so the hours of its bed and 90 impacts are not spent again; each Table 3.1 "
+                  "case's impacts are kept beside it (FILE.case-X-ENGINE.h5), so a stopped suite continues")
       ->check(cli::output_file());
   // Internal: how a --jobs parent asks a child for its part of the report.
   cmd->add_option("--part", part, "")->group("");

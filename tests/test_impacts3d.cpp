@@ -194,6 +194,35 @@ TEST(SandGunCheckpoint, KeepsTheBedAndTheImpactsExactly) {
   EXPECT_FALSE(read_sand_gun_checkpoint(f.path.string() + ".none", bed.spec, 3));
 }
 
+// The suite's cases keep their impacts in a file of their own (validate --sand-gun-checkpoint): two of
+// four kept, the run continued from the file gives the ensemble's four bit for bit; the file is refused
+// for a bed with one sphere elsewhere (a build by another binary, an engine's own settled bed).
+TEST(SandGunCheckpoint, ASuiteCaseContinuedFromItsFileGivesTheSameImpacts) {
+  const Bed3d& bed = small_bed();
+  const ImpactCase& c = impact_case("A");
+  ImpactOptions o;
+  o.duration = 0.03;
+  const std::vector<Impact3dResult> whole = run_impact3d_ensemble(bed, c, 1, 4, o);
+  TempFile f;
+  const std::vector<Impact3dResult> first = kept_case_impacts(f.path.string(), bed, c, 2, 1, o, {});
+  ASSERT_EQ(first.size(), 2u);
+  ASSERT_TRUE(std::filesystem::exists(f.path));
+  const std::vector<Impact3dResult> all = kept_case_impacts(f.path.string(), bed, c, 4, 1, o, {});
+  ASSERT_EQ(all.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) expect_same_impact(all[i], whole[i]);
+  Bed3d moved = bed;
+  moved.scene.bodies3d[17].position.x() += 1e-12;
+  try {
+    kept_case_impacts(f.path.string(), moved, c, 4, 1, o, {});
+    ADD_FAILURE() << "a file kept for another bed lent its impacts";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "--sand-gun-checkpoint");
+  }
+  ImpactOptions other = o;
+  other.engine = "ode";
+  EXPECT_THROW(kept_case_impacts(f.path.string(), bed, c, 4, 1, other, {}), InputError);
+}
+
 // An impulse engine squeezes a bed built on the soft-contact engine further (ODE moved this one 0.054 cm
 // in 0.07 s as built, past the 0.05 cm limit). Settled on the engine itself, the bed it hands back rests
 // there; a bed already at rest on an engine (native) comes back untouched.

@@ -117,6 +117,15 @@ void sand_gun_section(Report& r, const SuiteOptions& o) {
                        sand_gun_markdown(run) + "\n");
 }
 
+// With --sand-gun-checkpoint FILE, each case's impacts on each engine are kept beside it as they finish, in
+// FILE.case-X-ENGINE.h5, so that a full suite stopped part-way (its cases take an hour or more) continues
+// where it was: the beds are built again (minutes), the impacts kept are taken.
+std::string case_checkpoint(const SuiteOptions& o, const ImpactCase& c, const std::string& engine) {
+  return o.sand_gun_checkpoint.empty()
+             ? std::string()
+             : fmt::format("{}.case-{}-{}.h5", o.sand_gun_checkpoint, c.name, engine);
+}
+
 // An impulse engine that runs the impacts beside native's: on the native beds when it held the bed as
 // built, or on its own bed settled from it (`own_bed`), which serves the loose-bed cases only.
 struct Peer {
@@ -140,7 +149,8 @@ std::vector<std::pair<std::string, Impact3dSummary>> peer_impacts(Report& r, con
     if (o.log)
       o.log(fmt::format("impacts-3d: CASE {} on {}{} ({} impacts)", c.name, p.engine,
                         p.own_bed ? "'s own bed" : "", runs));
-    const std::vector<Impact3dResult> e = run_impact3d_ensemble(on, c, 1, runs, io, o.progress);
+    const std::vector<Impact3dResult> e = kept_case_impacts(
+        case_checkpoint(o, c, p.own_bed ? p.engine + "-own-bed" : p.engine), on, c, runs, 1, io, o.progress);
     const double most = largest_energy_out(e);
     Check& k = r.expect_below(fmt::format("impacts-3d/{}/energy", c.name), p.engine, most, 1 + 2e-4,
                               "largest (rebound + ejecta) kinetic energy over the incident's among the same "
@@ -304,7 +314,8 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
   for (const std::string& name : cases) {
     const ImpactCase& c = impact_case(name);
     const auto [bed_c, bed2_c] = beds_for(c);
-    const std::vector<Impact3dResult> three = run_impact3d_ensemble(bed_c, c, 1, runs, io, o.progress);
+    const std::vector<Impact3dResult> three =
+        kept_case_impacts(case_checkpoint(o, c, "native"), bed_c, c, runs, 1, io, o.progress);
     const ImpactEnsemble two = run_impact_ensemble({bed2_c}, c, 1, runs, io, o.progress);
     const Impact3dSummary s3 = summarize_impacts3d(three);
     const ImpactSummary s2 = summarize_impacts(two.impacts, spec2.restitution);

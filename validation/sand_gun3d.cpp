@@ -4,9 +4,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
+#include "input_error.hpp"
 #include "parallel.hpp"
 #include "splash_file.hpp"
 
@@ -178,6 +180,50 @@ std::vector<Impact3dResult> checkpointed_impacts(SandGunProgress& kept, std::siz
   std::vector<Impact3dResult> out;
   for (std::size_t i = 0; i < runs; ++i) out.push_back(kept.done.at({row, i}));
   return out;
+}
+
+namespace {
+
+// FNV-1a over the bed's spheres (positions, orientations and radii, as stored): two beds with the same
+// spec but other spheres (a build by another binary, a bed settled on an impulse engine) differ here.
+std::string bed_fingerprint(const Bed3d& bed) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](double v) {
+    unsigned char b[sizeof v];
+    std::memcpy(b, &v, sizeof v);
+    for (unsigned char c : b) h = (h ^ c) * 1099511628211ull;
+  };
+  for (const Body3Spec& g : bed.scene.bodies3d) {
+    for (int k = 0; k < 3; ++k) mix(g.position[k]);
+    for (double q : {g.orientation.w(), g.orientation.x(), g.orientation.y(), g.orientation.z()}) mix(q);
+    mix(g.radius);
+  }
+  return fmt::format("{:016x} ({} grains)", h, bed.scene.bodies3d.size());
+}
+
+}  // namespace
+
+std::vector<Impact3dResult> kept_case_impacts(const std::string& checkpoint, const Bed3d& bed,
+                                              const ImpactCase& c, std::size_t runs, std::uint64_t seed,
+                                              const ImpactOptions& o, const EnsembleProgress& progress) {
+  if (checkpoint.empty()) return run_impact3d_ensemble(bed, c, seed, runs, o, progress);
+  const std::string impacts_of = fmt::format(
+      "suite case {} speed {:.17g} alpha {:.17g} mu {:.17g} radius {:.17g} engine {} steps_per_contact "
+      "{:.17g} duration {:.17g} window {:.17g} rigid_dt {:.17g} bed {}",
+      c.name, c.speed, c.alpha_deg, c.mu, c.radius, o.engine, o.steps_per_contact, o.duration, o.window,
+      o.rigid_dt, bed_fingerprint(bed));
+  SandGunProgress kept;
+  try {
+    if (auto p = read_sand_gun_checkpoint(checkpoint, bed.spec, seed, impacts_of)) kept = std::move(*p);
+  } catch (const InputError& e) {
+    throw InputError({}, "--sand-gun-checkpoint",
+                     fmt::format("{}: {} (delete it to run CASE {} on {} afresh)", checkpoint, e.message(),
+                                 c.name, o.engine));
+  }
+  kept.bed = bed;
+  kept.build = build_record(bed);
+  kept.build.finished = true;
+  return checkpointed_impacts(kept, 1, bed, c, runs, seed, o, checkpoint, progress, impacts_of);
 }
 
 namespace {

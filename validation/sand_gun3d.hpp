@@ -107,6 +107,13 @@ std::vector<Impact3dResult> checkpointed_impacts(SandGunProgress& kept, std::siz
                                                  const ImpactOptions& o, const std::string& checkpoint,
                                                  const EnsembleProgress& progress,
                                                  const std::string& impacts_of = {});
+// The same for one case on a bed the caller built (the suite's Table 3.1 cases), kept in a file of its own
+// at `checkpoint` (empty: none, the ensemble is run as it is). The file's fingerprint holds the case, the
+// options and the bed's spheres, so a file written for another bed (another binary's build, an engine's
+// own settled bed) is refused with InputError (key --sand-gun-checkpoint) instead of lending its impacts.
+std::vector<Impact3dResult> kept_case_impacts(const std::string& checkpoint, const Bed3d& bed,
+                                              const ImpactCase& c, std::size_t runs, std::uint64_t seed,
+                                              const ImpactOptions& o, const EnsembleProgress& progress);
 
 // Builds the bed and runs `runs` impacts of each row (`rows`: 1-based indices; empty: all nine), spread
 // over the MPI ranks. With a `checkpoint` path, the bed (or its build so far) and the impacts already in that
