@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "impacts3d.hpp"
+#include "mpi_test_start.hpp"
 #include "parallel.hpp"
 #include "sand_gun3d.hpp"
 
@@ -35,13 +36,7 @@ int differences(const Bed3d& a, const Bed3d& b, const char* what) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  parallel::init_if_launched(&argc, &argv);
-  const int expected_ranks = argc > 1 ? std::atoi(argv[1]) : 1;
-  int failures = 0;
-  if (parallel::size() != expected_ranks) {
-    fmt::print(stderr, "expected {} ranks, running on {}\n", expected_ranks, parallel::size());
-    ++failures;
-  }
+  int failures = testing::start_mpi_test(argc, argv);
   Bed3dSpec spec;  // the thesis's spheres, in a box long enough for 3 slabs of about 5 radii
   spec.count = 240;
   spec.width = 16, spec.depth = 8;

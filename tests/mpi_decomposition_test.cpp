@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "h5_input.hpp"
+#include "mpi_test_start.hpp"
 #include "parallel.hpp"
 #include "world.hpp"
 
@@ -123,16 +124,10 @@ int check(const std::string& name, const Scene& scene, int steps, bool perturb_c
 }  // namespace
 
 int main(int argc, char** argv) {
-  parallel::init_if_launched(&argc, &argv);
-  const int expected_ranks = argc > 1 ? std::atoi(argv[1]) : 1;
+  int failures = testing::start_mpi_test(argc, argv);
   const std::string scene_path = argc > 2 ? argv[2] : "scenes/parallel_bed.toml";
-  int failures = 0;
-  if (parallel::size() != expected_ranks) {
-    fmt::print(stderr, "expected {} ranks, running on {}\n", expected_ranks, parallel::size());
-    ++failures;
-  }
   try {
-    failures += check("parallel bed, Verlet", load_scene(scene_path), 10000, expected_ranks == 1);
+    failures += check("parallel bed, Verlet", load_scene(scene_path), 10000, parallel::size() == 1);
     // The bed between two side walls with the adaptive predictor-corrector: 1,000 discs, 2,000 steps.
     const Scene boxed = parse_scene(R"toml(
 [scene]
@@ -223,7 +218,7 @@ radius = 0.0125
 velocity = [100.0, 0.0]
 )toml",
                                     "<saltation bed>");
-    failures += check("saltation bed, wind_drag", windy, 20000, expected_ranks == 1);
+    failures += check("saltation bed, wind_drag", windy, 20000, parallel::size() == 1);
     // A grid of ranks: cuts along y as well (on 2 or 3 ranks, rows only; on 4, 2 x 2).
     if (parallel::size() > 1) {
       const int rows = parallel::size() % 2 == 0 && parallel::size() >= 4 ? 2 : parallel::size();

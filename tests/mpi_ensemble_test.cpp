@@ -6,18 +6,13 @@
 
 #include "ensemble.hpp"
 #include "loaded_die.hpp"
+#include "mpi_test_start.hpp"
 #include "parallel.hpp"
 
 using namespace grainlab;
 
 int main(int argc, char** argv) {
-  parallel::init_if_launched(&argc, &argv);
-  const int expected_ranks = argc > 1 ? std::atoi(argv[1]) : 1;
-  int failures = 0;
-  if (parallel::size() != expected_ranks) {
-    fmt::print(stderr, "expected {} ranks, running on {}\n", expected_ranks, parallel::size());
-    ++failures;
-  }
+  int failures = testing::start_mpi_test(argc, argv);
   const validation::Die2d die{0.3, 0.7, 0.8};
   const std::size_t throws = 13;  // not a multiple of 2 or 3: ranks get unequal shares
   auto one = [&](std::size_t i) {
