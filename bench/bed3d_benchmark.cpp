@@ -72,7 +72,7 @@ int run_bed3d_bench(const Bed3dOptions& o) {
   const int ranks = parallel::size();
   const double dt = 1e-6, before = heap_in_use();
   // Balanced as `grainlab run` balances (its default --balance-every 1000, and re-cuts by measured speed).
-  dem::World3d settled(scene, dem::Decomposition{ranks > 1, 1000, 1});
+  dem::World3d settled(scene, dem::Decomposition{ranks > 1, dem::kBalanceEveryDefault, 1});
   settled.advance_to(o.settle_steps * dt);
   std::vector<double> memory{heap_in_use() - before};
   parallel::sum_all(memory);

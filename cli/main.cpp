@@ -15,6 +15,7 @@
 #include "bed_benchmark.hpp"
 #include "binary_fingerprint.hpp"
 #include "die_model_command.hpp"
+#include "domain.hpp"
 #include "engine.hpp"
 #include "finite_numbers.hpp"
 #include "h5_input.hpp"
@@ -44,7 +45,7 @@ struct RunArgs {
   std::vector<std::string> sets;
   bool force = false, quiet = false;
   int checkpoint_every = 0, stop_after_frame = 0;
-  std::uint64_t balance_every = 1000;
+  std::uint64_t balance_every = dem::kBalanceEveryDefault;
   int ranks_y = 1;
 };
 
@@ -122,7 +123,7 @@ int run_command(const RunArgs& a) {
 void add_decomposition_options(CLI::App* cmd, std::uint64_t& balance_every, int& ranks_y) {
   cmd->add_option("--balance-every", balance_every,
                   "under mpirun: re-split the ranks' regions by load every N steps (0: never)")
-      ->default_val(1000);
+      ->default_val(dem::kBalanceEveryDefault);
   cmd->add_option("--ranks-y", ranks_y,
                   "under mpirun: rows of the grid of ranks (1: slabs along x; must divide the ranks)")
       ->default_val(1)

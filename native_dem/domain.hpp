@@ -8,6 +8,9 @@
 
 namespace grainlab::dem {
 
+// How often `grainlab run` (and a spread bed build) re-cuts the ranks' regions by load, in steps.
+inline constexpr std::uint64_t kBalanceEveryDefault = 1000;
+
 struct Decomposition {
   bool distributed = false;
   // Move the region boundaries to even out the load every this many steps (0: never).

@@ -53,6 +53,8 @@ class World3d {
   // is current on rank 0 for all bodies (gathered after each advance) and on the others for their own,
   // and energies(), save_state() and contact counts are collective.
   explicit World3d(const Scene& scene, Decomposition decomposition = {});
+  // Neighbour lists (and the sphere kernel, on one rank) from this many bodies on (see bin_bodies).
+  static constexpr std::size_t kCellsFrom = 32;
   bool distributed() const { return decomposition_.distributed; }
   void advance_to(double t_end);
   double time() const { return t_; }
@@ -99,7 +101,6 @@ class World3d {
   // Rebuilds the broad phase's Verlet lists when a body has moved half the skin (skin_fraction of the
   // largest bounding radius) since the last build. From kCellsFrom bodies on; fewer are paired all with
   // all, which visits the same pairs in the same order.
-  static constexpr std::size_t kCellsFrom = 32;
   void bin_bodies(SphereCells& cells, std::vector<Vec3>& centres, double skin_fraction) const;
   void add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law, std::int64_t key_b,
                    double h);

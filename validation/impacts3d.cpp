@@ -189,17 +189,16 @@ class StageRuns {
   }
 
   // Spread over the ranks when there are several and the scene is a bed of spheres the sphere kernel
-  // runs (from kSpreadFrom spheres: fewer run on one rank's general path, with other bits).
+  // runs (from kCellsFrom spheres: fewer run on one rank's general path, with other bits).
   dem::Decomposition decomposition(const Scene& scene) const {
-    constexpr std::size_t kSpreadFrom = 32;
     const bool spheres = std::all_of(scene.bodies3d.begin(), scene.bodies3d.end(),
                                      [](const Body3Spec& b) { return b.shape == Body3Spec::Shape::Sphere; });
     if (ranks_ != BedRanks::spread || parallel::size() == 1 || !spheres ||
-        scene.bodies3d.size() < kSpreadFrom || scene.accuracy.integrator != Integrator::VelocityVerlet)
+        scene.bodies3d.size() < dem::World3d::kCellsFrom ||
+        scene.accuracy.integrator != Integrator::VelocityVerlet)
       return {};
-    return dem::Decomposition{true, kBalanceEvery, 1};
+    return dem::Decomposition{true, dem::kBalanceEveryDefault, 1};
   }
-  static constexpr std::uint64_t kBalanceEvery = 1000;  // as `grainlab run`'s default
 
   void restore(dem::World3d& w) {
     try {

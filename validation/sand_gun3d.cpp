@@ -4,10 +4,10 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 
+#include "binary_fingerprint.hpp"
 #include "input_error.hpp"
 #include "parallel.hpp"
 #include "splash_file.hpp"
@@ -187,16 +187,11 @@ namespace {
 // FNV-1a over the bed's spheres (positions, orientations and radii, as stored): two beds with the same
 // spec but other spheres (a build by another binary, a bed settled on an impulse engine) differ here.
 std::string bed_fingerprint(const Bed3d& bed) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto mix = [&](double v) {
-    unsigned char b[sizeof v];
-    std::memcpy(b, &v, sizeof v);
-    for (unsigned char c : b) h = (h ^ c) * 1099511628211ull;
-  };
+  std::uint64_t h = kFnvOffsetBasis;
   for (const Body3Spec& g : bed.scene.bodies3d) {
-    for (int k = 0; k < 3; ++k) mix(g.position[k]);
-    for (double q : {g.orientation.w(), g.orientation.x(), g.orientation.y(), g.orientation.z()}) mix(q);
-    mix(g.radius);
+    const double v[] = {g.position.x(),    g.position.y(),    g.position.z(),    g.orientation.w(),
+                        g.orientation.x(), g.orientation.y(), g.orientation.z(), g.radius};
+    h = fnv1a(v, sizeof v, h);
   }
   return fmt::format("{:016x} ({} grains)", h, bed.scene.bodies3d.size());
 }
