@@ -1,6 +1,6 @@
 // `grainlab ripples hybrid-focal`: flat-bed flux runs of the 3-D hybrid model at several u*, their
 // window-mean wind profiles, the roughness z0 of each profile's log layer, and the focal point the profiles
-// share (Huo et al. 2021, Fig. 14 and eq. 32: z0 = z_F exp(-kappa u_F / u*); docs/ripples.md).
+// share (Huo et al. 2021, Fig. 14 and eq. 32: z0 = z_F exp(-kappa u_F / u*); docs/hybrid.md).
 #include <fmt/format.h>
 
 #include <cmath>

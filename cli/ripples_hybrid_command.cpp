@@ -1,6 +1,6 @@
 // `grainlab ripples hybrid-flux`: the 3-D hybrid model's saturated flux over a fixed flat bed, and
 // `grainlab ripples hybrid --config FILE`: its ripple runs over an erodible bed, streamed to HDF5/XDMF
-// (issue #17, ripples/hybrid/, docs/ripples.md "3-D hybrid model").
+// (issue #17, ripples/hybrid/, docs/hybrid.md "The 3-D hybrid model").
 #include <fmt/format.h>
 
 #include <chrono>
@@ -328,7 +328,7 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
 }  // namespace
 
 int hybrid_ripples_command(const RipplesCommands& a) {
-  if (a.config.empty()) throw InputError({"--config", 0}, "", "give a [hybrid] config (docs/ripples.md)");
+  if (a.config.empty()) throw InputError({"--config", 0}, "", "give a [hybrid] config (docs/hybrid.md)");
   refuse_existing_out(a.out, a.force);
   if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
     throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");

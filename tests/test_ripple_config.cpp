@@ -166,7 +166,7 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   EXPECT_EQ(c.options.u_star, 35);
   EXPECT_EQ(c.options.length, 300);
   EXPECT_TRUE(c.options.wind_loosened);     // the paper's default
-  EXPECT_TRUE(c.options.wind_follows_bed);  // grainlab's default over an erodible bed (docs/ripples.md)
+  EXPECT_TRUE(c.options.wind_follows_bed);  // grainlab's default over an erodible bed (docs/hybrid.md)
   EXPECT_FALSE(parse_hybrid_config(good + "wind_follows_bed = false\n", "h.toml").options.wind_follows_bed);
   auto error_of = [](const std::string& text) {
     try {

@@ -20,7 +20,7 @@ frames' profiles, read from the run's checkpoint or --out file beside the JSON: 
 given by --profiles, `.ck` by default).
 
 --recorded FILE.csv adds runs whose files are gone but whose window means were written down (for example
-docs/data/hybrid_wavelength_2000d.csv, from docs/ripples.md): one row per run with the columns set,
+docs/data/hybrid_wavelength_2000d.csv, from docs/hybrid.md): one row per run with the columns set,
 u_star, seed, t_from, t_to, first_peak, spectral_peak, crest_spacing, and optionally amplitude_end,
 ripple_index_end, mass_flux_star, wall_seconds and source. A row joins the --set of its label (a --set may
 then give no files); its window must be --window, so that means over other windows are not mixed in.

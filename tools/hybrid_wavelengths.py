@@ -4,7 +4,7 @@ each (lambda ~ t*^chi by least squares of ln lambda on ln t* over a window).
 
 The run's own `wavelength` is the first peak of the slice-averaged autocorrelation, the paper's measure.
 On a wide bed the pattern mixes waves of two lengths, and that peak can jump from one to the other in a
-frame (docs/ripples.md, "The paper's own domain"), which makes a fit over half a run say little. Beside it:
+frame (docs/hybrid.md, "The paper's own domain"), which makes a fit over half a run say little. Beside it:
   - the peak of the power spectrum of the across-averaged profile (slice means, mean removed);
   - the mean spacing of that profile's crests: maxima of a 9-point running mean that stand more than
     --proud d above the mean.

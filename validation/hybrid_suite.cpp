@@ -4,7 +4,8 @@
 // (eq. 31, c_M = 2.3, mu_b = 0.61) within 25 % with the threshold S_d fitted to the runs, a ripple run's
 // bookkeeping, a seeded wave under both wind readings, and the fines winnowed from a bed of two sizes;
 // the full mode adds the paper's ripple stages (an unstable band, chi, RI, migration) and, on a bed of two
-// sizes, the amplitude levelling off beside one size and coarse crests. docs/ripples.md, "3-D hybrid model".
+// sizes, the amplitude levelling off beside one size and coarse crests. docs/hybrid.md, "The 3-D hybrid
+// model".
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -220,7 +221,7 @@ void focal_point_checks(Report& rep, const FluxOptions& base, const std::map<dou
 // Swept steps (1.5 d per step, pairs found along their paths, impacts traced back to the bed) against
 // the paper's 0.2 d steps on the same flat-bed flux runs: the same flux and impacts at a fraction of the
 // steps. The band, 10 %: on these 400 d x 10 d runs Q* moves by 1-3 % from one seed to another at
-// u* = 40-60 (docs/ripples.md, "Swept steps").
+// u* = 40-60 (docs/hybrid.md, "Swept steps").
 void swept_checks(Report& rep, const FluxOptions& base, const SuiteOptions& so, std::string& md,
                   const std::map<double, FluxResult>& paper_steps) {
   md +=
@@ -485,7 +486,7 @@ void bidisperse_checks(Report& rep, std::string& md) {
 }
 
 // The paper's finding for bidisperse beds (section 3.2.2, Fig. 10-11), on a 300 d x 12 d bed to t* =
-// 10,000 (the configs of docs/ripples.md "Beds of two sizes"): beside a bed of one size, the amplitude
+// 10,000 (the configs of docs/hybrid.md "Beds of two sizes"): beside a bed of one size, the amplitude
 // of a bed of 1.5 d and 0.5 d grows less, and the crests are coarser than the troughs.
 void bidisperse_ripple_checks(Report& rep, const SuiteOptions& so, std::string& md) {
   RippleOptions o;

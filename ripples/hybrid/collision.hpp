@@ -1,7 +1,7 @@
 #pragma once
 // Mid-air collisions of airborne grains in the 3-D hybrid ripple model (Huo et al. 2021, after Brilliantov
 // & Poschel): instantaneous hard-sphere events without rotation, a normal restitution and a Coulomb-limited
-// tangential part. docs/ripples.md "3-D hybrid model"; spec frontiers-3d-ripples.md section 1.
+// tangential part. docs/hybrid.md "The 3-D hybrid model"; spec frontiers-3d-ripples.md section 1.
 #include <Eigen/Core>
 
 namespace grainlab::ripples::hybrid {

@@ -6,7 +6,7 @@
 // The angle of repose: a settling grain rolls on to the lowest neighbour while settling where it fell
 // would make a slope steeper than repose toward it; a grain taken from a steep pit comes from the highest
 // neighbour instead. (The paper states the rule only in words; this reading keeps every slope between
-// neighbours within repose plus one grain's step, docs/ripples.md.)
+// neighbours within repose plus one grain's step, docs/hybrid.md.)
 #include <array>
 #include <cstdint>
 #include <optional>

@@ -1,7 +1,7 @@
 #pragma once
 // `[hybrid]` configs for `grainlab ripples hybrid --config FILE`: every key of the 3-D hybrid model's
 // ripple run, checked like scene keys (unknown keys, wrong types and values out of range stop with file,
-// line and key). docs/ripples.md lists the keys; scenes/ripples/huo2021_ripples.toml is the paper's case.
+// line and key). docs/hybrid.md lists the keys; scenes/ripples/huo2021_ripples.toml is the paper's case.
 #include <string>
 #include <vector>
 

@@ -4,7 +4,7 @@
 // angle distribution, and the number and energies of ejecta, all in the frame of the local bed. Two
 // parameter sets: "paper2021" (the seed's reading: eps 0.9, mu 0, eta = m1/m2, 6 % of the energy the
 // rebound does not keep goes to ejecta) and "lammel2017" (eps 0.73, tangential nu = -0.18 in place of mu,
-// the effective mass ratio eta = eps d1^3 / (d1^3 + eps d2^3), 5 %). docs/ripples.md says which a run used.
+// the effective mass ratio eta = eps d1^3 / (d1^3 + eps d2^3), 5 %). docs/hybrid.md says which a run used.
 #include <string>
 
 #include "rng.hpp"

@@ -17,7 +17,7 @@ RippleOptions::RippleOptions() {
   length = 4000, width = 200, height = 1200, triggers = 200, u_star = 30;
   wind_loosened = true;
   // Over an erodible bed the wind column stands on the bed beneath each grain: with the column on the mean
-  // level, crests reach into faster wind than troughs and every wavelength decays (docs/ripples.md).
+  // level, crests reach into faster wind than troughs and every wavelength decays (docs/hybrid.md).
   wind_follows_bed = true;
 }
 

@@ -449,7 +449,7 @@ void Transport::move_grains_as(double dt) {
   };
   // Grains come in id order, not by place: on a bed larger than the cache's second level a bed lookup may
   // miss it, so the rows under the grains kFetchAhead on are asked for while these move. (A few per cent
-  // of the move on the paper's domain, whose step is bound by arithmetic: docs/ripples.md.)
+  // of the move on the paper's domain, whose step is bound by arithmetic: docs/hybrid.md.)
   constexpr std::size_t kFetchAhead = 16;
   std::size_t fetched = 0;
   if constexpr (kFollowsBed)

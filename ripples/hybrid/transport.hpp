@@ -38,7 +38,7 @@ struct TransportOptions {
   // The most a grain moves in a step, d. The paper's bound, 0.2, keeps mid-air collisions found by
   // overlaps at the steps' ends. With `swept`, pairs are found by their paths over the step and impacts
   // are traced back to where the grain crossed the bed, so a grain may move further (1.5: the step of
-  // dt_max for grains up to 75 sqrt(g d), about seven times fewer steps per t*; docs/ripples.md). Swept
+  // dt_max for grains up to 75 sqrt(g d), about seven times fewer steps per t*; docs/hybrid.md). Swept
   // steps are also kept short enough that no two grains close on each other by more than (4/3) travel
   // downwind or (2/3) travel across it, the collision columns' margins (grains differ in speed across the
   // wind about half as much as along it).
@@ -48,7 +48,7 @@ struct TransportOptions {
   // as many substeps as keep it within `travel` each. Without, the fastest grain sets everyone's step: on
   // the paper's domain one grain in a hundred flies faster than 75 sqrt(g d), and a rare ejectum from the
   // splash's energy tail at up to ~300, which halves the step of 30,000 grains for the hundreds of t* it
-  // flies (docs/ripples.md, "A step for the fast grains"). Mid-air pairs with a grain whose velocity lies
+  // flies (docs/hybrid.md, "A step for the fast grains"). Mid-air pairs with a grain whose velocity lies
   // outside the range the collision columns allow at dt_max are found by a pass of their own.
   bool fast_substeps = false;
   double wind_interval = 1;  // t* between wind updates
@@ -83,7 +83,7 @@ struct TransportOptions {
   // On a bed of several sizes, the ejecta's sizes: "local" (default), each of the size drawn from the
   // surface where it sits, leaving only if its energy (drawn from the law for d2) beats its own m g d, so
   // that fines go and coarse grains stay; or "struck", all of the size of the bed grain the impact met
-  // (d2). Only "local" gives the paper's coarse crests with the geometric rolling rule (docs/ripples.md).
+  // (d2). Only "local" gives the paper's coarse crests with the geometric rolling rule (docs/hybrid.md).
   std::string ejecta_size = "local";
   std::uint64_t seed = 2021;
   // Spread the domain over the MPI ranks in x (each rank flies the grains over its share; the bed, the
