@@ -12,6 +12,7 @@
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "output_path.hpp"
+#include "plot_script.hpp"
 #include "ripple_config.hpp"
 #include "triangles.hpp"
 #include "worms.hpp"
@@ -65,6 +66,20 @@ int chain_command(const RipplesCommands& a) {
 void refuse_existing_out(const std::string& out, bool force) {
   if (!out.empty() && !force && std::filesystem::exists(out))
     throw InputError({"--out", 0}, out, "exists; pass --force to overwrite it");
+}
+
+void write_spacetime_plot(const std::string& h5, bool force, bool json) {
+  const std::string png = std::filesystem::path(h5).replace_extension("").string() + "_spacetime.png";
+  std::FILE* talk = json ? stderr : stdout;  // (JSON stays alone on stdout)
+  if (!force && std::filesystem::exists(png)) {
+    fmt::print(talk, "kept {}: it exists (--force draws it again)\n", png);
+    return;
+  }
+  const std::string why = validation::draw_png("plot_ripples.py", h5, png);
+  if (why.empty())
+    fmt::print(talk, "wrote {} (the space-time plot)\n", png);
+  else
+    fmt::print(stderr, "no space-time plot: {}\n", why);
 }
 
 namespace {
@@ -203,6 +218,7 @@ int bins_command(const RipplesCommands& a) {
                          {"model", "Haff's bin model (thesis Ch. V)"},
                          {"config", run.text.empty() ? "(command-line options)" : run.text},
                          {"units", "heights in grain diameters, x in bins"}});
+  if (!a.out.empty()) write_spacetime_plot(a.out, a.force, a.json);
   nlohmann::json hist = nlohmann::json::array();
   for (const auto& row : history.rows)
     hist.push_back({{"shots", row[0]}, {"roughness", row[1]}, {"wavelength", row[2]}});

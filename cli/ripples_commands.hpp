@@ -47,6 +47,9 @@ struct RipplesCommands {
 
 // Stops with exit status 2 if `out` exists and --force was not given (nothing is overwritten by accident).
 void refuse_existing_out(const std::string& out, bool force);
+// Draws RUN_spacetime.png beside a surface model's run file RUN.h5 (tools/plot_ripples.py; a machine
+// without matplotlib gets a note instead). An existing PNG is kept unless `force`.
+void write_spacetime_plot(const std::string& h5, bool force, bool json);
 int lattice_command(const RipplesCommands& a);
 int analyze_command(const RipplesCommands& a);
 int run_command(const RipplesCommands& a);

@@ -147,6 +147,7 @@ int lattice_command(const RipplesCommands& a) {
                          {"units",
                           "heights in layers (d / 2), x in columns (sqrt(3) d / 2), wavelength in "
                           "lattice spacings (sqrt(3) d)"}});
+  if (!a.out.empty() && root) write_spacetime_plot(a.out, a.force, a.json);
   // The ensemble: the same config with seeds seed, seed + 1, ...; under mpirun the seeds are dealt out
   // over the ranks and gathered, so the numbers are the same on any rank count.
   const std::uint64_t seed0 = run.params.seed;

@@ -61,6 +61,7 @@ int run_command(const RipplesCommands& a) {
                          {"dx", fmt::format("{:.17g}", m.dx())},
                          {"time_unit", m.time_unit()},
                          {"units", "heights and x in grain diameters"}});
+  if (!a.out.empty()) write_spacetime_plot(a.out, a.force, a.json);
   const auto d = m.diagnostics();
   if (a.json) {
     nlohmann::json j{{"model", run.name}, {"time", m.time()}, {"time_unit", m.time_unit()}, {"dx", m.dx()}};

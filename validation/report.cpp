@@ -3,16 +3,12 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "h5_output.hpp"
-
-#ifndef GRAINLAB_SOURCE_DIR
-#define GRAINLAB_SOURCE_DIR "."
-#endif
+#include "plot_script.hpp"
 
 namespace grainlab::validation {
 
@@ -228,11 +224,9 @@ void write_plots(const std::vector<PlotSpec>& plots, const std::string& dir) {
   only_plots.plots = plots;
   write_file_atomically((fs::path(dir) / "plots.json").string(), plots_json(only_plots));
   // Plots are drawn by Debian's matplotlib; a machine without it still gets the numbers.
-  const std::string script = std::string(GRAINLAB_SOURCE_DIR) + "/tools/plot_report.py";
-  if (!plots.empty() && fs::exists(script) && fs::exists("/usr/bin/python3")) {
-    const std::string cmd = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1", script, dir);
-    if (std::system(cmd.c_str()) != 0) fmt::print(stderr, "warning: plotting failed (run: {})\n", cmd);
-  }
+  if (plots.empty()) return;
+  const std::string why = run_plot_script("plot_report.py", {dir});
+  if (!why.empty() && why.rfind("no ", 0) != 0) fmt::print(stderr, "warning: plotting failed: {}\n", why);
 }
 
 void write_report(const Report& r, const std::string& dir) {
