@@ -12,7 +12,7 @@
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "output_path.hpp"
-#include "plot_script.hpp"
+#include "plot_beside.hpp"
 #include "ripple_config.hpp"
 #include "triangles.hpp"
 #include "worms.hpp"
@@ -69,17 +69,7 @@ void refuse_existing_out(const std::string& out, bool force) {
 }
 
 void write_spacetime_plot(const std::string& h5, bool force, bool json) {
-  const std::string png = std::filesystem::path(h5).replace_extension("").string() + "_spacetime.png";
-  std::FILE* talk = json ? stderr : stdout;  // (JSON stays alone on stdout)
-  if (!force && std::filesystem::exists(png)) {
-    fmt::print(talk, "kept {}: it exists (--force draws it again)\n", png);
-    return;
-  }
-  const std::string why = validation::draw_png("plot_ripples.py", h5, png);
-  if (why.empty())
-    fmt::print(talk, "wrote {} (the space-time plot)\n", png);
-  else
-    fmt::print(stderr, "no space-time plot: {}\n", why);
+  draw_plot_beside(h5, "_spacetime", "plot_ripples.py", {h5}, force, json, "the space-time plot");
 }
 
 namespace {

@@ -9,6 +9,7 @@
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "output_path.hpp"
+#include "plot_beside.hpp"
 #include "study.hpp"
 #include "wind_model.hpp"
 
@@ -210,7 +211,11 @@ int wind_command(const SaltationCommands& a) {
     return 1;
   }
   const double tau_g_check = o.fluid.density * (a.u_star * a.u_star - r.u_star_eff * r.u_star_eff);
-  if (!a.out.empty()) write_wind_run(a.out, a, o, r);
+  if (!a.out.empty()) {
+    write_wind_run(a.out, a, o, r);
+    draw_plot_beside(a.out, "", "plot_saltation.py", {a.out, "--out"}, a.force, a.wind_json,
+                     "wind profiles, launch distribution, drag and convergence");
+  }
   if (a.wind_json) {
     const double d = 2 * o.grain.radius;  // peak heights from one grain diameter up, as Table 4.4's
     fmt::print("{}\n", nlohmann::json{{"case", a.wind_case},

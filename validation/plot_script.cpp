@@ -52,10 +52,11 @@ std::string run_plot_script(const std::string& script, const std::vector<std::st
   return fmt::format("{} {} exited with status {}", python, path, status);
 }
 
-std::string draw_png(const std::string& script, const std::string& input, const std::string& png) {
+std::string draw_png(const std::string& script, std::vector<std::string> args, const std::string& png) {
   // matplotlib takes the format from the name, so the temporary name ends in .png too.
   const std::string part = fs::path(png).replace_extension(".part.png").string();
-  const std::string why = run_plot_script(script, {input, part});
+  args.push_back(part);
+  const std::string why = run_plot_script(script, args);
   std::error_code ec;
   if (why.empty() && fs::exists(part, ec)) {
     fs::rename(part, png, ec);

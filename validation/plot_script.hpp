@@ -11,8 +11,9 @@ namespace grainlab::validation {
 // otherwise why not (no python3, the script missing, its exit status).
 std::string run_plot_script(const std::string& script, const std::vector<std::string>& args);
 
-// Draws PNG with tools/SCRIPT INPUT PNG. The script writes a temporary file that is renamed to PNG once it
-// is whole, so a failed plot leaves no file behind. Returns "" on success, otherwise why not.
-std::string draw_png(const std::string& script, const std::string& input, const std::string& png);
+// Draws PNG with tools/SCRIPT ARGS... PNG (ARGS end with the script's own flag for its output, if it has
+// one). The script writes a temporary file that is renamed to PNG once it is whole, so a failed plot leaves
+// no file behind. Returns "" on success, otherwise why not.
+std::string draw_png(const std::string& script, std::vector<std::string> args, const std::string& png);
 
 }  // namespace grainlab::validation
