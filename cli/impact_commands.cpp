@@ -12,6 +12,7 @@
 #include "input_error.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
+#include "plot_beside.hpp"
 #include "progress.hpp"
 #include "rebound_model.hpp"
 #include "sand_gun3d.hpp"
@@ -385,6 +386,8 @@ int splash_command(const ImpactCommands& a) {
     if (checkpoint != a.splash_restart) fs::remove(checkpoint);
   }
   const saltation::SplashFile back = saltation::read_splash_file(a.splash_out);  // what a model will read
+  draw_plot_beside(a.splash_out, "_splash", "plot_splash.py", {a.splash_out}, a.splash_force, a.splash_json,
+                   "heat maps of the ejecta per incident cell");
   if (a.splash_json) {
     nlohmann::json cells = nlohmann::json::array();
     for (const auto& c : back.cells) {

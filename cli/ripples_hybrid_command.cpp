@@ -14,6 +14,7 @@
 #include "hybrid_splash_file.hpp"
 #include "input_error.hpp"
 #include "parallel.hpp"
+#include "plot_beside.hpp"
 #include "progress.hpp"
 #include "ripple_config.hpp"
 #include "ripples_commands.hpp"
@@ -443,6 +444,9 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                                        nlohmann::json(o.fractions).dump())},
                  {"time_unit", "t*"}});
     if (talk) fmt::print("wrote {} and {}\n", a.out, xmf);
+    if (first)
+      draw_plot_beside(a.out, "_ripples", "plot_hybrid.py", {a.out}, a.force, a.json,
+                       "the bed, the space-time plot, A, lambda, RI and Q*");
   }
   const auto& tr = run.transport();
   const double rate = wall > 0 ? static_cast<double>(tr.grain_steps - steps_before) / wall : 0;
