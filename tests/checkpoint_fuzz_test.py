@@ -54,8 +54,8 @@ with tempfile.TemporaryDirectory() as d:
     expected = result(ref.stdout)
     if os.path.exists(out):
         os.rename(out, reference)
-    for f in os.listdir(d):  # (e.g. a run's XDMF beside its HDF5)
-        if f.startswith("out.h5"):
+    for f in os.listdir(d):  # (e.g. a run's XDMF or plot beside its HDF5)
+        if f.startswith("out"):
             os.remove(os.path.join(d, f))
     for k in range(mutants):
         damaged = bytearray(original)
@@ -66,7 +66,7 @@ with tempfile.TemporaryDirectory() as d:
         # (The mutant is rewritten by a continued run that checkpoints into it: each mutant starts afresh.)
         run = subprocess.run([grainlab] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                              timeout=300)
-        left = [f for f in os.listdir(d) if f.startswith("out.h5") or ".tmp-" in f]
+        left = [f for f in os.listdir(d) if f.startswith("out") or ".tmp-" in f]
         if run.returncode == 2:
             refused += 1
             assert "mutant.h5" in run.stderr, f"mutant {k} (seed {seed}): refused without naming the file:\n{run.stderr}"
