@@ -11,6 +11,7 @@
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "sand_gun3d.hpp"
+#include "sand_gun_plots.hpp"
 
 namespace grainlab::cli {
 
@@ -103,6 +104,10 @@ void SandGunCommand::add(CLI::App& app) {
                   "above the true one)")
       ->default_val(1.0)
       ->check(CLI::Range(1.0, 50.0));
+  cmd->add_option("--plots", plots,
+                  "draw the tables' ejecta, ejection speed, reptation and rebound angle against v_i, beside "
+                  "the experiment, into this folder (PNG, with Debian's matplotlib)")
+      ->check(cli::output_folder());
   cmd->add_flag("--json", json, "print one JSON object (rows, quantities with intervals, exponents)");
   cmd->add_flag("--quiet,-q", quiet, "no progress");
 }
@@ -126,6 +131,10 @@ int SandGunCommand::dispatch() const {
   bar.finish();
   if (visible_above != 1) recount_sand_gun(run, visible_above);
   if (parallel::rank() != 0) return 0;
+  if (!plots.empty()) {
+    write_plots(sand_gun_plots(run), plots);
+    fmt::print(json ? stderr : stdout, "drew the tables' figures in {}/ (sand_gun_*.png)\n", plots);
+  }
   if (json) {
     fmt::print("{}\n", run_json(*this, run).dump(2));
     return 0;

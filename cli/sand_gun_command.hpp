@@ -14,7 +14,7 @@ struct SandGunCommand {
   std::size_t runs = 20;
   std::uint64_t seed = 1, bed_seed = 1;
   double stiffness = 1, visible_above = 1;
-  std::string checkpoint, grains = "sphere";
+  std::string checkpoint, grains = "sphere", plots;
   bool json = false, quiet = false;
 
   CLI::App* cmd = nullptr;

@@ -8,11 +8,13 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <tuple>
 
 #include "impact_bed.hpp"
 #include "impacts.hpp"
 #include "impacts3d.hpp"
 #include "sand_gun3d.hpp"
+#include "sand_gun_plots.hpp"
 #include "suites.hpp"
 
 namespace grainlab::validation {
@@ -24,6 +26,30 @@ std::string cell(const std::map<std::string, MeanInterval>& q, const std::string
   if (it == q.end() || it->second.n == 0) return "-";
   return fmt::format("{:.3g} [{:.3g}, {:.3g}]", it->second.mean, it->second.lo, it->second.hi);
 }
+
+// The suite's figures of the Table 3.1 cases: one quantity per figure, the cases along x, the thesis's
+// 2-D value (its spread), grainlab's discs and its spheres (95 % intervals) side by side.
+struct CaseFigure {
+  std::string key;
+  PlotSpec plot;
+  PlotSpec::Series thesis{"thesis, 2-D (spread)", "points", {}, {}, {}},
+      discs{"grainlab, 2-D discs (95 %)", "points", {}, {}, {}},
+      spheres{"grainlab, 3-D spheres (95 %)", "points", {}, {}, {}};
+  void add(double x, const std::map<std::string, std::pair<double, double>>& th,
+           const std::map<std::string, MeanInterval>& two, const std::map<std::string, MeanInterval>& three) {
+    if (const auto t = th.find(key); t != th.end())
+      thesis.x.push_back(x - 0.15), thesis.y.push_back(t->second.first),
+          thesis.err.push_back(t->second.second);
+    for (auto [q, series, dx] : {std::tuple{&two, &discs, 0.0}, std::tuple{&three, &spheres, 0.15}})
+      if (const auto m = q->find(key); m != q->end() && m->second.n > 0)
+        series->x.push_back(x + dx), series->y.push_back(m->second.mean),
+            series->err.push_back(m->second.half_width());
+  }
+  PlotSpec done() {
+    plot.series = {thesis, discs, spheres};
+    return plot;
+  }
+};
 
 // Kinetic energy leaving the bed (the rebound where it left, the ejecta at launch) over the incident's.
 double energy_out(const Impact3dResult& r) {
@@ -115,6 +141,7 @@ void sand_gun_section(Report& r, const SuiteOptions& o) {
   }
   r.markdown.push_back("## The sand-gun experiment with spheres (Tables 3.11-3.12)\n\n" +
                        sand_gun_markdown(run) + "\n");
+  for (PlotSpec& p : sand_gun_plots(run)) r.plots.push_back(std::move(p));
 }
 
 // With --sand-gun-checkpoint FILE, each case's impacts on each engine are kept beside it as they finish, in
@@ -311,6 +338,24 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
     }
     return {*dense_bed, *dense_bed2};
   };
+  const std::string along = "case (" + [&] {
+    std::string names;
+    for (std::size_t k = 0; k < cases.size(); ++k)
+      names += fmt::format("{}{} = {}", k ? ", " : "", cases[k], k + 1);
+    return names;
+  }() + ")";
+  std::vector<CaseFigure> figures{
+      {"eps_i",
+       {"impacts3d_rebound.png", "Rebound restitution eps_i: 2-D and 3-D", along, "eps_i", false, {}}},
+      {"ejected",
+       {"impacts3d_ejecta.png", "Ejected per impact: 2-D and 3-D", along, "ejecta per impact", false, {}}},
+      {"ej_vy",
+       {"impacts3d_ejection_speed.png",
+        "Ejection vertical velocity: 2-D and 3-D",
+        along,
+        "v_y (cm/s)",
+        false,
+        {}}}};
   for (const std::string& name : cases) {
     const ImpactCase& c = impact_case(name);
     const auto [bed_c, bed2_c] = beds_for(c);
@@ -319,6 +364,8 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
     const ImpactEnsemble two = run_impact_ensemble({bed2_c}, c, 1, runs, io, o.progress);
     const Impact3dSummary s3 = summarize_impacts3d(three);
     const ImpactSummary s2 = summarize_impacts(two.impacts, spec2.restitution);
+    const double at = static_cast<double>(&name - cases.data() + 1);
+    for (CaseFigure& f : figures) f.add(at, thesis_impact_values(name), s2.q, s3.q);
     if (o.log)
       o.log(fmt::format("impacts-3d: CASE {}: {} impacts with spheres ({:.1f} s each), {} with discs", name,
                         runs, s3.median_wall_seconds, runs));
@@ -377,6 +424,7 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
     md += "\n\n";
   }
   r.markdown.push_back(md);
+  for (CaseFigure& f : figures) r.plots.push_back(f.done());
   if (o.quick)
     r.markdown.push_back(
         "## The sand-gun experiment with spheres\n\nRuns in the full suite only (20,000 sand spheres); "
