@@ -444,9 +444,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                                        nlohmann::json(o.fractions).dump())},
                  {"time_unit", "t*"}});
     if (talk) fmt::print("wrote {} and {}\n", a.out, xmf);
-    if (first)
-      draw_plot_beside(a.out, "_ripples", "plot_hybrid.py", {a.out}, a.force, a.json,
-                       "the bed, the space-time plot, A, lambda, RI and Q*");
+    draw_plot_beside(a.out, "_ripples", "plot_hybrid.py", {a.out}, a.force, a.json,
+                     "the bed, the space-time plot, A, lambda, RI and Q*");
   }
   const auto& tr = run.transport();
   const double rate = wall > 0 ? static_cast<double>(tr.grain_steps - steps_before) / wall : 0;

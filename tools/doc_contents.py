@@ -14,6 +14,7 @@ which this tool fills with a link to every `##` and `###` heading below it (GitH
 Pages without a block are left alone.
 """
 import argparse
+import functools
 import os
 import re
 import sys
@@ -21,11 +22,15 @@ import sys
 OPEN, CLOSE = "<!-- contents -->", "<!-- /contents -->"
 
 
+def link_text(title):
+    """A heading with its links replaced by their text."""
+    return re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", title)
+
+
 def anchor(title, seen):
     """GitHub's anchor for a heading: markup dropped, lower case, punctuation out, spaces to hyphens;
     a repeated heading gets -1, -2, ..."""
-    text = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", title)  # links keep their text
-    text = text.replace("`", "").replace("*", "").strip().lower()
+    text = link_text(title).replace("`", "").replace("*", "").strip().lower()
     text = re.sub(r"[^\w\- ]", "", text).replace(" ", "-")
     n = seen.get(text, 0)
     seen[text] = n + 1
@@ -50,8 +55,7 @@ def contents(lines):
     for level, title in headings(lines):
         a = anchor(title, seen)
         if level in (2, 3):
-            label = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", title)
-            out.append(f"{'  ' * (level - 2)}- [{label}](#{a})")
+            out.append(f"{'  ' * (level - 2)}- [{link_text(title)}](#{a})")
     return out
 
 
@@ -68,6 +72,14 @@ def refreshed(text):
     return "\n".join(lines[: start + 1] + contents(body) + lines[end:])
 
 
+@functools.lru_cache(maxsize=None)
+def anchors_of(page):
+    """Every heading anchor of a page (read once, however many links point into it)."""
+    with open(page, encoding="utf-8") as f:
+        seen = {}
+        return frozenset(anchor(t, seen) for _, t in headings(f.read().split("\n")))
+
+
 def broken_links(path, text):
     """Links of a page to files that do not exist, or to anchors its target page lacks (http links and
     images are not followed)."""
@@ -81,12 +93,8 @@ def broken_links(path, text):
         dest = os.path.normpath(os.path.join(here, file)) if file else path
         if not os.path.exists(dest):
             out.append(f"{path}: link to {target}: no such file")
-        elif frag and dest.endswith(".md"):
-            with open(dest, encoding="utf-8") as f:
-                seen = {}
-                anchors = {anchor(t, seen) for _, t in headings(f.read().split("\n"))}
-            if frag not in anchors:
-                out.append(f"{path}: link to {target}: no such heading")
+        elif frag and dest.endswith(".md") and frag not in anchors_of(dest):
+            out.append(f"{path}: link to {target}: no such heading")
     return out
 
 

@@ -356,6 +356,7 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
         "v_y (cm/s)",
         false,
         {}}}};
+  double at = 0;  // the case's place along the figures' x
   for (const std::string& name : cases) {
     const ImpactCase& c = impact_case(name);
     const auto [bed_c, bed2_c] = beds_for(c);
@@ -364,7 +365,7 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
     const ImpactEnsemble two = run_impact_ensemble({bed2_c}, c, 1, runs, io, o.progress);
     const Impact3dSummary s3 = summarize_impacts3d(three);
     const ImpactSummary s2 = summarize_impacts(two.impacts, spec2.restitution);
-    const double at = static_cast<double>(&name - cases.data() + 1);
+    ++at;
     for (CaseFigure& f : figures) f.add(at, thesis_impact_values(name), s2.q, s3.q);
     if (o.log)
       o.log(fmt::format("impacts-3d: CASE {}: {} impacts with spheres ({:.1f} s each), {} with discs", name,

@@ -40,11 +40,22 @@ int run_quietly(const std::vector<std::string>& argv) {
 }
 }  // namespace
 
+namespace {
+const std::string kPython = "/usr/bin/python3";
+std::string script_path(const std::string& script) {
+  return std::string(GRAINLAB_SOURCE_DIR) + "/tools/" + script;
+}
+}  // namespace
+
+std::string missing_for_plots(const std::string& script) {
+  for (const std::string& needed : {kPython, script_path(script)})
+    if (!fs::exists(needed)) return "no " + needed;
+  return "";
+}
+
 std::string run_plot_script(const std::string& script, const std::vector<std::string>& args) {
-  const std::string python = "/usr/bin/python3";
-  const std::string path = std::string(GRAINLAB_SOURCE_DIR) + "/tools/" + script;
-  if (!fs::exists(python)) return "no " + python;
-  if (!fs::exists(path)) return "no " + path;
+  if (std::string missing = missing_for_plots(script); !missing.empty()) return missing;
+  const std::string python = kPython, path = script_path(script);
   std::vector<std::string> argv{python, path};
   argv.insert(argv.end(), args.begin(), args.end());
   const int status = run_quietly(argv);

@@ -7,6 +7,9 @@
 
 namespace grainlab::validation {
 
+// "" when /usr/bin/python3 and tools/SCRIPT are there; otherwise which of them is missing.
+std::string missing_for_plots(const std::string& script);
+
 // Runs /usr/bin/python3 tools/SCRIPT ARGS... with its output discarded. Returns "" when the script exited 0,
 // otherwise why not (no python3, the script missing, its exit status).
 std::string run_plot_script(const std::string& script, const std::vector<std::string>& args);

@@ -224,9 +224,9 @@ void write_plots(const std::vector<PlotSpec>& plots, const std::string& dir) {
   only_plots.plots = plots;
   write_file_atomically((fs::path(dir) / "plots.json").string(), plots_json(only_plots));
   // Plots are drawn by Debian's matplotlib; a machine without it still gets the numbers.
-  if (plots.empty()) return;
-  const std::string why = run_plot_script("plot_report.py", {dir});
-  if (!why.empty() && why.rfind("no ", 0) != 0) fmt::print(stderr, "warning: plotting failed: {}\n", why);
+  if (plots.empty() || !missing_for_plots("plot_report.py").empty()) return;
+  if (const std::string why = run_plot_script("plot_report.py", {dir}); !why.empty())
+    fmt::print(stderr, "warning: plotting failed: {}\n", why);
 }
 
 void write_report(const Report& r, const std::string& dir) {

@@ -25,7 +25,7 @@ PlotSpec figure(const SandGunRun& run, const std::vector<std::map<std::string, M
     const double v = run.rows[i].speed;
     const MeanInterval& m = run.quantities[i].at(key);
     ours.x.push_back(v - 8), ours.y.push_back(m.mean), ours.err.push_back(m.half_width());
-    if (ejecta) {
+    if (ejecta && run.visible_above != kPhotographsSeeAbove) {
       const MeanInterval& s = seen[i].at(key);
       photographed.x.push_back(v + 8), photographed.y.push_back(s.mean),
           photographed.err.push_back(s.half_width());
@@ -35,7 +35,7 @@ PlotSpec figure(const SandGunRun& run, const std::vector<std::map<std::string, M
     experiment.err.push_back(sd == run.rows[i].measured_sd.end() ? 0.0 : sd->second);
   }
   p.series = {ours};
-  if (ejecta && run.visible_above != kPhotographsSeeAbove) p.series.push_back(photographed);
+  if (!photographed.x.empty()) p.series.push_back(photographed);
   p.series.push_back(experiment);
   return p;
 }
@@ -43,9 +43,11 @@ PlotSpec figure(const SandGunRun& run, const std::vector<std::map<std::string, M
 
 std::vector<PlotSpec> sand_gun_plots(const SandGunRun& run) {
   if (sand_gun_speed_series(run).empty()) return {};
+  // The ejecta as the photographs could see them, unless the run already counts them so.
   std::vector<std::map<std::string, MeanInterval>> seen(run.rows.size());
-  for (std::size_t i : sand_gun_speed_series(run))
-    seen[i] = sand_gun_quantities(run.impacts[i], kPhotographsSeeAbove, 2 * run.bed.spec.radius);
+  if (run.visible_above != kPhotographsSeeAbove)
+    for (std::size_t i : sand_gun_speed_series(run))
+      seen[i] = sand_gun_quantities(run.impacts[i], kPhotographsSeeAbove, 2 * run.bed.spec.radius);
   return {figure(run, seen, "ejecta", "sand_gun_ejecta.png", "Ejecta per event (Table 3.12)",
                  "ejecta per event", true),
           figure(run, seen, "ej_vz", "sand_gun_ejection_speed.png", "Ejection vertical velocity (Table 3.12)",
