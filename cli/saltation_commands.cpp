@@ -218,32 +218,36 @@ int wind_command(const SaltationCommands& a) {
   }
   if (a.wind_json) {
     const double d = 2 * o.grain.radius;  // peak heights from one grain diameter up, as Table 4.4's
-    fmt::print("{}\n", nlohmann::json{{"case", a.wind_case},
-                                      {"splash", a.splash_file},
-                                      {"ejecta_below_range", a.ejecta_below},
-                                      {"grain_diameter", a.grain_diameter},
-                                      {"u_star", a.u_star},
-                                      {"u_star_eff", r.u_star_eff},
-                                      {"mass_flux", r.mass_flux},
-                                      {"launch_rate", r.launch_rate},
-                                      {"grain_stress", r.grain_stress},
-                                      {"iterations", r.iterations},
-                                      {"converged", r.converged},
-                                      {"mean_hop_height", r.mean_hop_height},
-                                      {"mean_hop_length", r.mean_hop_length},
-                                      {"airborne_hop_height", r.airborne_hop_height},
-                                      {"airborne_hop_length", r.airborne_hop_length},
-                                      {"impact_velocity", {r.mean_impact_vx, r.mean_impact_vy}},
-                                      {"peak_heights",
-                                       {{"number_density", peak_height(r.y, r.number_density, d)},
-                                        {"number_flux", peak_height(r.y, r.number_flux, d)},
-                                        {"energy_flux", peak_height(r.y, r.energy_flux, d)},
-                                        {"drag", peak_height(r.y, r.drag_resolved, d)}}},
-                                      {"wall_seconds", r.wall_seconds},
-                                      {"mean_flight_steps",
-                                       r.flights > 0 ? double(r.flight_steps) / double(r.flights) : 0.0},
-                                      {"residuals", r.residuals}}
-                           .dump(2));
+    fmt::print(
+        "{}\n",
+        nlohmann::json{
+            {"case", a.wind_case},
+            {"splash", a.splash_file},
+            {"ejecta_below_range", a.ejecta_below},
+            {"grain_diameter", a.grain_diameter},
+            {"u_star", a.u_star},
+            {"u_star_eff", r.u_star_eff},
+            {"mass_flux", r.mass_flux},
+            {"launch_rate", r.launch_rate},
+            {"grain_stress", r.grain_stress},
+            {"iterations", r.iterations},
+            {"converged", r.converged},
+            {"mean_hop_height", r.mean_hop_height},
+            {"mean_hop_length", r.mean_hop_length},
+            {"airborne_hop_height", r.airborne_hop_height},
+            {"airborne_hop_length", r.airborne_hop_length},
+            {"impact_velocity", {r.mean_impact_vx, r.mean_impact_vy}},
+            {"launch_vy",
+             {{"mean", r.launch_vy.mean}, {"sd", r.launch_vy.sd}, {"half_width", r.launch_vy.half_width}}},
+            {"peak_heights",
+             {{"number_density", peak_height(r.y, r.number_density, d)},
+              {"number_flux", peak_height(r.y, r.number_flux, d)},
+              {"energy_flux", peak_height(r.y, r.energy_flux, d)},
+              {"drag", peak_height(r.y, r.drag_resolved, d)}}},
+            {"wall_seconds", r.wall_seconds},
+            {"mean_flight_steps", r.flights > 0 ? double(r.flight_steps) / double(r.flights) : 0.0},
+            {"residuals", r.residuals}}
+            .dump(2));
     return 0;
   }
   fmt::print("steady-state saltation (thesis Ch. IV, Fig. 4.10), splash {}, grains d = {} cm, u* = {} cm/s\n",
@@ -258,6 +262,8 @@ int wind_command(const SaltationCommands& a) {
              r.mean_hop_height, r.mean_hop_length, r.mean_impact_vx, r.mean_impact_vy);
   fmt::print("  over the grains in the air at an instant: hop height {:.2f} cm, length {:.1f} cm\n",
              r.airborne_hop_height, r.airborne_hop_length);
+  fmt::print("  launch v_oy: mean {:.1f} cm/s, s.d. {:.1f}, half width at half maximum {:.1f}\n",
+             r.launch_vy.mean, r.launch_vy.sd, r.launch_vy.half_width);
   fmt::print("  wind with grains (clean) at 0.1, 1, 10 cm: ");
   for (double h : {0.1, 1.0, 10.0})
     fmt::print("{:.0f} ({:.0f})  ", wind_at(o, r.y, r.u, h), wind_at(o, r.y, r.u_clean, h));

@@ -569,8 +569,39 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     r.trajectories[k] = grid2d ? fly(o, r.y, r.u, r.v_ox[k], r.v_launch[k]) : flights[k];
   }
   if (grid2d) r.F2d = Fs;
+  r.launch_vy = launch_spread(r.v_launch, r.F);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
+}
+
+LaunchSpread launch_spread(const std::vector<double>& v, const std::vector<double>& F) {
+  LaunchSpread out;
+  const std::size_t n = std::min(v.size(), F.size());
+  double sum = 0, first = 0, second = 0;
+  std::size_t peak = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    sum += F[k], first += F[k] * v[k], second += F[k] * v[k] * v[k];
+    if (F[k] > F[peak]) peak = k;
+  }
+  if (!(sum > 0)) return out;
+  out.mean = first / sum;
+  out.sd = std::sqrt(std::max(0.0, second / sum - out.mean * out.mean));
+  const double half = 0.5 * F[peak];
+  // Where F crosses `half` between bins k and k + 1.
+  auto cross = [&](std::size_t k) { return v[k] + (half - F[k]) / (F[k + 1] - F[k]) * (v[k + 1] - v[k]); };
+  double low = v[0], high = v[n - 1];
+  for (std::size_t k = peak; k > 0; --k)
+    if (F[k - 1] < half) {
+      low = cross(k - 1);
+      break;
+    }
+  for (std::size_t k = peak; k + 1 < n; ++k)
+    if (F[k + 1] < half) {
+      high = cross(k);
+      break;
+    }
+  out.half_width = 0.5 * (high - low);
+  return out;
 }
 
 WindBlownHops wind_blown_hops(const SplashFile& f, const WindModelOptions& o, std::size_t samples) {

@@ -94,6 +94,15 @@ struct Trajectory {
   int steps = 0;  // accepted integrator steps
 };
 
+// Mean, standard deviation and half width at half maximum of a distribution F over bin centres v (the
+// half maximum's crossings interpolated linearly between bins; a side that never falls below it counts
+// from the grid's end). The thesis calls its Gaussian's sigma (c2) the "intrinsic half-width", so both
+// readings of its "half-width" are kept.
+struct LaunchSpread {
+  double mean = 0, sd = 0, half_width = 0;
+};
+LaunchSpread launch_spread(const std::vector<double>& v, const std::vector<double>& F);
+
 struct WindModelResult {
   bool converged = false;
   std::string failure;              // why there is no steady state, when there is none
@@ -122,6 +131,9 @@ struct WindModelResult {
   // its flight time): what a snapshot of the saltation layer shows.
   double airborne_hop_height = 0, airborne_hop_length = 0;
   double mean_impact_vx = 0, mean_impact_vy = 0;  // launch-weighted (cm/s)
+  // The spread of the launch distribution F(v_oy) (summed over v_ox), which the thesis describes for
+  // CASE 1 (Fig. 4.11: "half-widths of about 45 cm/sec", growing 10-30 % from u* = 35 to 125).
+  LaunchSpread launch_vy;
   double wall_seconds = 0;
   long flight_steps = 0, flights = 0;  // the final pass's integrator steps and flights
 };

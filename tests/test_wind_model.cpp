@@ -352,3 +352,22 @@ TEST(WindModel, ACoarserLaunchGridGivesTheSameSteadyState) {
   EXPECT_NEAR(coarse.mass_flux, fine.mass_flux, 0.01 * fine.mass_flux);
   EXPECT_NEAR(coarse.mean_hop_height, fine.mean_hop_height, 0.01 * fine.mean_hop_height);
 }
+
+// The spread the suite compares with Fig. 4.11: on a Gaussian sampled at 5 cm/s bins the standard deviation
+// is sigma and the half width at half maximum sqrt(2 ln 2) sigma, to the bins' resolution.
+TEST(WindModel, LaunchSpreadOfAGaussianIsItsSigmaAndHalfWidth) {
+  const double mean = 200, sigma = 35;  // six sigma from both ends of the grid
+  std::vector<double> v, F;
+  for (int j = 0; j < 80; ++j) {
+    v.push_back((j + 0.5) * 5);
+    F.push_back(std::exp(-0.5 * std::pow((v.back() - mean) / sigma, 2)));
+  }
+  const LaunchSpread s = launch_spread(v, F);
+  EXPECT_NEAR(s.mean, mean, 0.05);
+  EXPECT_NEAR(s.sd, sigma, 0.05);
+  EXPECT_NEAR(s.half_width, std::sqrt(2 * std::log(2.0)) * sigma, 0.3);  // linear between bins
+  // A distribution cut at the grid's start keeps its half width from the start.
+  const LaunchSpread cut = launch_spread({2.5, 7.5, 12.5}, {1, 0.8, 0.2});
+  EXPECT_NEAR(cut.half_width, 0.5 * (7.5 + (0.5 - 0.8) / (0.2 - 0.8) * 5 - 2.5), 1e-12);
+  EXPECT_EQ(launch_spread({}, {}).sd, 0);
+}
