@@ -10,6 +10,7 @@
 #include "input_error.hpp"
 #include "output_path.hpp"
 #include "plot_beside.hpp"
+#include "saltation_heights.hpp"
 #include "study.hpp"
 #include "wind_model.hpp"
 
@@ -446,6 +447,33 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::ExistingFile);
   dem_app->add_option("--stop-at", dem.stop_at, "stop at this time after writing the checkpoint, s")
       ->check(CLI::Range(0.0, 1e6));
+  heights = group->add_subcommand(
+      "heights", "Fig. 4.22: how high grains of each size rise when launched into a sediment-free wind");
+  heights_spec = validation::fig4_22_spec();
+  heights->add_option("--ustar", heights_spec.u_star, "wind-shear velocity, cm/s")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1e4));
+  heights->add_option("--roughness", heights_spec.roughness, "roughness length of the surface, cm")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 100.0));
+  heights->add_option("--diameters", heights_spec.diameters, "grain diameters, cm")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(1e-5, 10.0));
+  heights->add_option("--angles", heights_spec.angles, "launch directions from the vertical, downwind, deg")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 89.9));
+  heights->add_option("--speeds", heights_spec.speeds, "vertical launch speeds, cm/s")
+      ->delimiter(',')
+      ->check(CLI::Range(1e-3, 1e5));
+  heights->add_option("--grain-density", heights_spec.grain_density, "g/cm^3")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 20.0));
+  heights->add_option("--out,-o", heights_out, "output folder: heights.csv and fig4_22.png")
+      ->check(cli::output_folder());
+  heights->add_flag("--force", force, "replace files in --out");
+  heights->add_flag("--json", heights_json, "print every launch as JSON");
   wind->add_flag("--json", wind_json,
                  "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }
@@ -454,6 +482,7 @@ int SaltationCommands::dispatch() const {
   if (wind && *wind) return wind_command(*this);
   if (study && *study) return study_command(*this);
   if (dem_app && *dem_app) return dem_command(*this);
+  if (heights && *heights) return heights_command(*this);
   if (!conveyor || !*conveyor) return -1;
   return case_name == "D" || case_name == "E" ? map_case(*this) : distribution_case(*this);
 }

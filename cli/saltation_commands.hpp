@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "clean_wind_heights.hpp"
 #include "dem_saltation.hpp"
 
 namespace grainlab::cli {
@@ -36,16 +37,22 @@ struct SaltationCommands {
   std::string study_out, study_restart;
   int study_stop_after = 0;
   bool study_json = false, quiet = false;
+  // grainlab saltation heights (Fig. 4.22)
+  saltation::CleanWindSpec heights_spec;
+  std::string heights_out;
+  bool heights_json = false;
   // grainlab saltation dem
   validation::DemSaltationOptions dem;
   std::string dem_out;
   bool dem_json = false;
-  CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr, *dem_app = nullptr;
+  CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr, *dem_app = nullptr,
+           *heights = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
 
 int study_command(const SaltationCommands& a);
 int dem_command(const SaltationCommands& a);
+int heights_command(const SaltationCommands& a);
 
 }  // namespace grainlab::cli

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "clean_wind_heights.hpp"
 #include "convergence.hpp"
 #include "study.hpp"
 #include "wind_model.hpp"
@@ -370,4 +371,20 @@ TEST(WindModel, LaunchSpreadOfAGaussianIsItsSigmaAndHalfWidth) {
   const LaunchSpread cut = launch_spread({2.5, 7.5, 12.5}, {1, 0.8, 0.2});
   EXPECT_NEAR(cut.half_width, 0.5 * (7.5 + (0.5 - 0.8) / (0.2 - 0.8) * 5 - 2.5), 1e-12);
   EXPECT_EQ(launch_spread({}, {}).sd, 0);
+}
+
+// Fig. 4.22's flights: without air every grain rises to v^2 / 2g, and in the thesis's wind the larger grain
+// rises higher at the same launch speed.
+TEST(CleanWindHeights, VacuumIsTheParabolaAndLargerGrainsRiseHigher) {
+  CleanWindSpec s;
+  s.speeds = {50, 400};
+  s.fluid.density = 1e-30;  // no drag
+  for (const CleanWindLaunch& l : clean_wind_heights(s)) EXPECT_NEAR(l.height, l.vacuum_height, 1e-5 * l.height);
+  s.fluid = Fluid{};
+  const std::vector<CleanWindLaunch> air = clean_wind_heights(s);
+  ASSERT_EQ(air.size(), 8u);  // 2 sizes x 2 angles x 2 speeds, sizes outermost
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_LT(air[i].height, air[i + 4].height) << i;
+  EXPECT_LT(height_exponent_at_top(air, 0.025, 0), height_exponent_at_top(air, 0.1, 0));
+  s.angles = {90};
+  EXPECT_THROW(clean_wind_heights(s), std::invalid_argument);
 }

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "conveyor.hpp"
+#include "saltation_heights.hpp"
 #include "splash_file.hpp"
 #include "study.hpp"
 #include "suites.hpp"
@@ -275,6 +276,17 @@ void case1_spread_checks(Report& rep, const Cell& low, const Cell& high, std::st
       a.half_width > 0 ? 100 * (b.half_width / a.half_width - 1) : 0.0);
 }
 
+// Fig. 4.22: grains of 0.025 and 0.1 cm launched into a sediment-free wind (u* = 160 cm/s, roughness 1 cm).
+void fig4_22_section(Report& rep, std::string& md) {
+  const std::vector<saltation::CleanWindLaunch> launches = saltation::clean_wind_heights(fig4_22_spec());
+  clean_wind_height_checks(rep, launches);
+  rep.plots.push_back(clean_wind_height_plot(launches));
+  md += "## Fig. 4.22: heights in a sediment-free wind (u* = 160 cm/s, roughness 1 cm)\n\n" +
+        clean_wind_height_table(launches) +
+        "\nThe small grains' height saturates with launch speed and the large grains rise higher at every "
+        "speed, as the thesis found (`grainlab saltation heights`; docs/saltation.md).\n\n";
+}
+
 // The first height between one grain diameter and 10 cm where profile `high` crosses profile `low` (both
 // on the heights y), interpolated in ln y; 0 if they do not cross there.
 double crossing_height(const std::vector<double>& y, const std::vector<double>& low,
@@ -419,6 +431,7 @@ void run_saltation_suite(Report& rep, const SuiteOptions& o) {
   if (cells.size() >= 3 && cells[2].case_number == 1 && cells[2].r.converged)
     case1_spread_checks(rep, cells[0], cells[2], md);
   focus_checks(rep, cells, md);
+  fig4_22_section(rep, md);
   md += o.quick ? "CASE 7 (the sand-gun splash, d = 0.078 cm) runs in the full suite only.\n"
                 : "CASE 7 uses the sand-gun splash (Tables 3.11-3.12) for its coarse sand (d = 0.078 cm); a "
                   "rebound slower than sqrt(2 g d) leaves the grain in the bed (docs/saltation.md).\n";
