@@ -18,10 +18,13 @@ using saltation::CleanWindLaunch;
 namespace {
 
 std::string heights_csv(const std::vector<CleanWindLaunch>& launches) {
-  std::string csv = "diameter_cm,angle_deg,v_oy_cm_s,height_cm,length_cm,time_s,vacuum_height_cm\n";
+  std::string csv =
+      "diameter_cm,angle_deg,v_oy_cm_s,height_cm,length_cm,time_s,impact_vx_cm_s,impact_vy_cm_s,vacuum_"
+      "height_cm\n";
   for (const CleanWindLaunch& l : launches)
-    csv += fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", l.diameter, l.angle,
-                       l.v_oy, l.height, l.length, l.time, l.vacuum_height);
+    csv +=
+        fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", l.diameter,
+                    l.angle, l.v_oy, l.height, l.length, l.time, l.impact_vx, l.impact_vy, l.vacuum_height);
   return csv;
 }
 
@@ -34,6 +37,7 @@ nlohmann::json heights_json(const saltation::CleanWindSpec& s, const std::vector
                     {"height", l.height},
                     {"length", l.length},
                     {"time", l.time},
+                    {"impact_velocity", {l.impact_vx, l.impact_vy}},
                     {"vacuum_height", l.vacuum_height}});
   nlohmann::json exponents = nlohmann::json::array();
   for (double d : s.diameters)

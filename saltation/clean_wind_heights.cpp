@@ -41,7 +41,7 @@ std::vector<CleanWindLaunch> clean_wind_heights(const CleanWindSpec& s) {
     for (double angle : s.angles)
       for (double v_oy : s.speeds) {
         const Trajectory t = fly(o, y, u, v_oy * std::tan(angle * M_PI / 180), v_oy);
-        out.push_back({d, angle, v_oy, t.height, t.length, t.time, v_oy * v_oy / (2 * s.g)});
+        out.push_back({d, angle, v_oy, t.height, t.length, t.time, t.v_ix, t.v_iy, v_oy * v_oy / (2 * s.g)});
       }
   }
   return out;

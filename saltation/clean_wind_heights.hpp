@@ -25,6 +25,7 @@ struct CleanWindSpec {
 struct CleanWindLaunch {
   double diameter = 0, angle = 0, v_oy = 0;
   double height = 0, length = 0, time = 0;  // apex (cm), range (cm), flight time (s)
+  double impact_vx = 0, impact_vy = 0;      // on landing (cm/s)
   double vacuum_height = 0;                 // v_oy^2 / 2g
 };
 
