@@ -474,6 +474,38 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(cli::output_folder());
   heights->add_flag("--force", force, "replace files in --out");
   heights->add_flag("--json", heights_json, "print every launch as JSON");
+  transient = group->add_subcommand(
+      "transient",
+      "eq. 4.35: saltation in time from a seed of launches, through saturation and changes of u*");
+  transient->add_option("--case", transient_case, "analytic splash: CASE 1-6 of Table 4.3")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 6));
+  transient->add_option("--splash", transient_splash, "a grainlab-splash/1 file instead of a CASE")
+      ->check(CLI::ExistingFile);
+  transient->add_option("--ustar", transient_ustar, "wind-shear velocity at the start, cm/s")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 999.0));
+  transient
+      ->add_option("--change", transient_changes,
+                   "a time (s) and the u* (cm/s) from then on; repeat for more changes (a gust: two)")
+      ->expected(2)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  transient->add_option("--duration", transient_duration, "s")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 1000.0));
+  transient->add_option("--dt", transient_dt, "time step, s (flight times are rounded to it)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-5, 0.1));
+  transient->add_option("--record", transient_record, "s between recorded samples")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-5, 100.0));
+  transient->add_option("--grain-diameter", grain_diameter, "cm")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-4, 1.0));
+  transient->add_option("--out,-o", transient_out, "output folder: transient.csv, transient.json, plots")
+      ->check(cli::output_folder());
+  transient->add_flag("--force", force, "replace files in --out");
+  transient->add_flag("--json", transient_json, "print the summary as JSON");
   wind->add_flag("--json", wind_json,
                  "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }
@@ -483,6 +515,7 @@ int SaltationCommands::dispatch() const {
   if (study && *study) return study_command(*this);
   if (dem_app && *dem_app) return dem_command(*this);
   if (heights && *heights) return heights_command(*this);
+  if (transient && *transient) return transient_command(*this);
   if (!conveyor || !*conveyor) return -1;
   return case_name == "D" || case_name == "E" ? map_case(*this) : distribution_case(*this);
 }

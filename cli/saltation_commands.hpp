@@ -41,12 +41,18 @@ struct SaltationCommands {
   saltation::CleanWindSpec heights_spec;
   std::string heights_out;
   bool heights_json = false;
+  // grainlab saltation transient (eq. 4.35)
+  int transient_case = 1;
+  double transient_ustar = 75, transient_dt = 0.005, transient_duration = 4, transient_record = 0.01;
+  std::vector<double> transient_changes;  // time, u* pairs
+  std::string transient_splash, transient_out;
+  bool transient_json = false;
   // grainlab saltation dem
   validation::DemSaltationOptions dem;
   std::string dem_out;
   bool dem_json = false;
   CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr, *dem_app = nullptr,
-           *heights = nullptr;
+           *heights = nullptr, *transient = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
 };
@@ -54,5 +60,6 @@ struct SaltationCommands {
 int study_command(const SaltationCommands& a);
 int dem_command(const SaltationCommands& a);
 int heights_command(const SaltationCommands& a);
+int transient_command(const SaltationCommands& a);
 
 }  // namespace grainlab::cli

@@ -47,8 +47,6 @@ std::array<double, 3> table_4_3_ustars(int c) {
   throw std::invalid_argument("Table 4.3 has CASES 1 to 6");
 }
 
-namespace {
-
 // Nodes log-spaced from the roughness length to the top.
 std::vector<double> height_nodes(const WindModelOptions& o) {
   std::vector<double> y(static_cast<std::size_t>(o.heights));
@@ -66,6 +64,24 @@ std::vector<double> bin_edges(const std::vector<double>& y) {
   e[y.size()] = 1e30;
   return e;
 }
+
+void wind_from_drag(const WindModelOptions& o, const std::vector<double>& y,
+                    const std::vector<double>& impulse, std::vector<double>& u,
+                    std::vector<double>& tau_edge) {
+  const std::size_t H = y.size();
+  const double rho = o.fluid.density;
+  tau_edge.resize(H + 1);
+  tau_edge[H] = rho * o.u_star * o.u_star;
+  for (std::size_t k = H; k-- > 0;) tau_edge[k] = tau_edge[k + 1] - impulse[k];
+  u.assign(H, 0.0);
+  auto speed = [&](std::size_t k) {
+    return std::sqrt(std::max(0.0, 0.5 * (tau_edge[k] + tau_edge[k + 1])) / rho);
+  };
+  for (std::size_t k = 1; k < H; ++k)
+    u[k] = u[k - 1] + o.fluid.k * 0.5 * (speed(k - 1) + speed(k)) * std::log(y[k] / y[k - 1]);
+}
+
+namespace {
 
 // A grain still airborne after this long (s) is left where it is: it is in suspension, not saltation.
 constexpr double kLongestFlight = 1000;
@@ -433,14 +449,8 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       if (!grid2d || F[j] > 0) flights[j] = fly(o, r.y, r.u, vox[j], voy[j], &edges, &impulse, F[j] * o.dv);
     ++r.trajectory_passes;
     if (o.drag_smoothing > 0) smooth_drag(edges, impulse, o.drag_smoothing);
-    tau_edge[H] = tau0;
-    for (std::size_t k = H; k-- > 0;) tau_edge[k] = tau_edge[k + 1] - impulse[k];
-    std::vector<double> u(H, 0.0);
-    auto speed = [&](std::size_t k) {
-      return std::sqrt(std::max(0.0, 0.5 * (tau_edge[k] + tau_edge[k + 1])) / rho);
-    };
-    for (std::size_t k = 1; k < H; ++k)
-      u[k] = u[k - 1] + o.fluid.k * 0.5 * (speed(k - 1) + speed(k)) * std::log(r.y[k] / r.y[k - 1]);
+    std::vector<double> u;
+    wind_from_drag(o, r.y, impulse, u, tau_edge);
     const double change = max_relative_change(u, r.u);
     // The wind and the drag feed back negatively; at high flux the loop gain exceeds what a fixed
     // relaxation damps, so the relaxation halves whenever the change grows.

@@ -138,6 +138,18 @@ struct WindModelResult {
   long flight_steps = 0, flights = 0;  // the final pass's integrator steps and flights
 };
 
+// The model's heights: nodes log-spaced from the roughness length to `top`, and the edges of the bins
+// around them (from 0 below the first node to far above the last).
+std::vector<double> height_nodes(const WindModelOptions& o);
+std::vector<double> bin_edges(const std::vector<double>& y);
+// The wind over grains whose drag takes impulse[k] (dyn/cm^2 per s: force per area) from the air in
+// height bin k: the stress falls from rho u*^2 above by each bin's take (eq. 4.27 in quadrature; tau_edge
+// at each bin's lower edge, H + 1 values) and u integrates du / d(ln y) = k sqrt(tau / rho) from zero
+// at the first node.
+void wind_from_drag(const WindModelOptions& o, const std::vector<double>& y,
+                    const std::vector<double>& impulse, std::vector<double>& u,
+                    std::vector<double>& tau_edge);
+
 // The wind u(y) on the model's grid: zero below the roughness length, the log law above the grid.
 double wind_at(const WindModelOptions& o, const std::vector<double>& y, const std::vector<double>& u,
                double h);

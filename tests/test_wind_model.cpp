@@ -7,6 +7,7 @@
 #include "clean_wind_heights.hpp"
 #include "convergence.hpp"
 #include "study.hpp"
+#include "transient.hpp"
 #include "wind_model.hpp"
 
 using namespace grainlab::saltation;
@@ -379,7 +380,8 @@ TEST(CleanWindHeights, VacuumIsTheParabolaAndLargerGrainsRiseHigher) {
   CleanWindSpec s;
   s.speeds = {50, 400};
   s.fluid.density = 1e-30;  // no drag
-  for (const CleanWindLaunch& l : clean_wind_heights(s)) EXPECT_NEAR(l.height, l.vacuum_height, 1e-5 * l.height);
+  for (const CleanWindLaunch& l : clean_wind_heights(s))
+    EXPECT_NEAR(l.height, l.vacuum_height, 1e-5 * l.height);
   s.fluid = Fluid{};
   const std::vector<CleanWindLaunch> air = clean_wind_heights(s);
   ASSERT_EQ(air.size(), 8u);  // 2 sizes x 2 angles x 2 speeds, sizes outermost
@@ -387,4 +389,32 @@ TEST(CleanWindHeights, VacuumIsTheParabolaAndLargerGrainsRiseHigher) {
   EXPECT_LT(height_exponent_at_top(air, 0.025, 0), height_exponent_at_top(air, 0.1, 0));
   s.angles = {90};
   EXPECT_THROW(clean_wind_heights(s), std::invalid_argument);
+}
+
+// Eq. 4.35 followed in time: from a seed, CASE 1's flux grows, saturates and settles on the fixed point
+// of Fig. 4.10's solver (an independent algorithm: physical time, no relaxation), to a fraction of a per
+// cent; below the impact threshold it dies; options it cannot run are refused.
+TEST(Transient, SettlesOnTheSteadyStateAndDiesBelowThreshold) {
+  TransientOptions o;
+  o.model.u_star = 75;
+  o.dt = 0.01, o.duration = 7;
+  const SplashKernel splash = kernel_of(table_4_3(1));
+  const TransientResult r = run_transient(o, splash);
+  const WindModelResult steady = solve_wind_model(o.model, splash);
+  ASSERT_FALSE(r.died);
+  ASSERT_TRUE(steady.failure.empty());
+  EXPECT_NEAR(r.final_mass_flux, steady.mass_flux, 0.005 * steady.mass_flux);
+  EXPECT_NEAR(r.final_u_star_eff, steady.u_star_eff, 0.005 * steady.u_star_eff);
+  EXPECT_GT(r.settling_time, 0);
+  // The seed's flux grows about exponentially before the grains weigh on the wind.
+  EXPECT_GT(r.samples.at(300).mass_flux, 5 * r.samples.at(200).mass_flux);
+  EXPECT_NEAR(r.final_growth_rate, 0, 0.01);
+  o.model.u_star = 15, o.duration = 6;  // CASE 1's clean-wind impact threshold is 29.9 cm/s
+  const TransientResult below = run_transient(o, splash);
+  EXPECT_TRUE(below.died);
+  EXPECT_LT(below.final_growth_rate, -1);
+  o.dt = 0;
+  EXPECT_THROW(run_transient(o, splash), std::invalid_argument);
+  o.dt = 0.01, o.ustar_changes = {{1, 50}, {0.5, 60}};
+  EXPECT_THROW(run_transient(o, splash), std::invalid_argument);
 }

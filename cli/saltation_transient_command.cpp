@@ -1,0 +1,138 @@
+// `grainlab saltation transient`: the thesis's time-dependent saltation (eq. 4.35) from a seed of launches,
+// through saturation and any changes of u*, beside the steady state of the same splash and wind
+// (docs/saltation.md, "Saltation in time").
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "h5_output.hpp"
+#include "input_error.hpp"
+#include "report.hpp"
+#include "saltation_commands.hpp"
+#include "transient.hpp"
+
+namespace grainlab::cli {
+
+namespace fs = std::filesystem;
+using namespace grainlab::saltation;
+
+namespace {
+
+std::string transient_csv(const TransientResult& r) {
+  std::string csv =
+      "t_s,u_star_cm_s,launch_rate_per_cm2_s,airborne_per_cm2,mass_flux_g_cm_s,u_star_eff_cm_s\n";
+  for (const TransientSample& s : r.samples)
+    csv += fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", s.t, s.u_star, s.launch_rate,
+                       s.airborne, s.mass_flux, s.u_star_eff);
+  return csv;
+}
+
+std::vector<validation::PlotSpec> transient_plots(const TransientResult& r, const WindModelResult& steady) {
+  using validation::PlotSpec;
+  PlotSpec q{"transient_flux.png",
+             "Mass flux in time (dashed: the steady state)",
+             "t (s)",
+             "Q (g/(cm s))",
+             false,
+             {}};
+  PlotSpec u{"transient_ustar_eff.png",
+             "u*_eff in time (dashed: the steady state)",
+             "t (s)",
+             "u*_eff (cm/s)",
+             false,
+             {}};
+  PlotSpec::Series qs{"grainlab, eq. 4.35", "line", {}, {}, {}}, us{"grainlab, eq. 4.35", "line", {}, {}, {}};
+  for (const TransientSample& s : r.samples)
+    qs.x.push_back(s.t), qs.y.push_back(s.mass_flux), us.x.push_back(s.t), us.y.push_back(s.u_star_eff);
+  q.series.push_back(qs), u.series.push_back(us);
+  if (steady.failure.empty() && !r.samples.empty()) {
+    const double t0 = r.samples.front().t, t1 = r.samples.back().t;
+    q.series.push_back(
+        {"steady state (Fig. 4.10)", "dashed", {t0, t1}, {steady.mass_flux, steady.mass_flux}, {}});
+    u.series.push_back(
+        {"steady state (Fig. 4.10)", "dashed", {t0, t1}, {steady.u_star_eff, steady.u_star_eff}, {}});
+  }
+  return {q, u};
+}
+
+}  // namespace
+
+int transient_command(const SaltationCommands& a) {
+  if (!a.transient_out.empty() && fs::exists(a.transient_out) && !fs::is_empty(a.transient_out) && !a.force)
+    throw InputError({"--out", 0}, a.transient_out,
+                     "exists and is not empty; pass --force to replace its files");
+  if (a.transient_changes.size() % 2 != 0)
+    throw InputError({"--change", 0}, "", "give pairs of a time (s) and a new u* (cm/s)");
+  TransientOptions o;
+  o.model.u_star = a.transient_ustar;
+  o.model.grain.radius = a.grain_diameter / 2;
+  o.dt = a.transient_dt, o.duration = a.transient_duration;
+  o.record_every = std::max(1, static_cast<int>(std::lround(a.transient_record / a.transient_dt)));
+  double last = 0;
+  for (std::size_t i = 0; i < a.transient_changes.size(); i += 2) {
+    const double t = a.transient_changes[i], u = a.transient_changes[i + 1];
+    if (!(t > last && t < a.transient_duration))
+      throw InputError({"--change", 0}, fmt::format("{}", t),
+                       "change times must increase and lie inside the run (0, --duration)");
+    if (!(u > 0 && u < 1000))
+      throw InputError({"--change", 0}, fmt::format("{}", u), "u* must lie in (0, 1000) cm/s");
+    o.ustar_changes.push_back({t, u}), last = t;
+  }
+  const SplashKernel splash = a.transient_splash.empty()
+                                  ? kernel_of(table_4_3(a.transient_case))
+                                  : kernel_of(read_splash_file(a.transient_splash), o.model);
+  const TransientResult r = run_transient(o, splash);
+  // The steady state the run should approach, at the last u*.
+  WindModelOptions steady_options = o.model;
+  if (!o.ustar_changes.empty()) steady_options.u_star = o.ustar_changes.back().second;
+  const WindModelResult steady = solve_wind_model(steady_options, splash);
+  const nlohmann::json out{
+      {"grainlab_version", GRAINLAB_VERSION},
+      {"case", a.transient_case},
+      {"splash", a.transient_splash},
+      {"u_star", a.transient_ustar},
+      {"changes", a.transient_changes},
+      {"dt", o.dt},
+      {"duration", o.duration},
+      {"died", r.died},
+      {"failure", r.failure},
+      {"settling_time", r.settling_time},
+      {"final_mass_flux", r.final_mass_flux},
+      {"final_u_star_eff", r.final_u_star_eff},
+      {"final_growth_rate", r.final_growth_rate},
+      {"steady", steady.failure.empty()
+                     ? nlohmann::json{{"mass_flux", steady.mass_flux}, {"u_star_eff", steady.u_star_eff}}
+                     : nlohmann::json{{"failure", steady.failure}}},
+      {"wall_seconds", r.wall_seconds}};
+  if (!a.transient_out.empty()) {
+    fs::create_directories(a.transient_out);
+    write_file_atomically((fs::path(a.transient_out) / "transient.csv").string(), transient_csv(r));
+    write_file_atomically((fs::path(a.transient_out) / "transient.json").string(), out.dump(2));
+    validation::write_plots(transient_plots(r, steady), a.transient_out);
+  }
+  if (a.transient_json) {
+    fmt::print("{}\n", out.dump(2));
+    return 0;
+  }
+  fmt::print(
+      "time-dependent saltation (eq. 4.35), {}, u* = {} cm/s, dt {} s, {} s ({:.1f} s of wall time)\n",
+      a.transient_splash.empty() ? fmt::format("CASE {} of Table 4.3", a.transient_case) : a.transient_splash,
+      a.transient_ustar, o.dt, o.duration, r.wall_seconds);
+  if (r.died || !r.failure.empty()) fmt::print("  {}\n", r.failure);
+  fmt::print("  over the last fifth: Q {:.4g} g/(cm s), u*_eff {:.2f} cm/s; steady state: ",
+             r.final_mass_flux, r.final_u_star_eff);
+  if (steady.failure.empty())
+    fmt::print("Q {:.4g}, u*_eff {:.2f}\n", steady.mass_flux, steady.u_star_eff);
+  else
+    fmt::print("none ({})\n", steady.failure);
+  if (r.settling_time >= 0)
+    fmt::print("  the flux settles within 5 % {:.2f} s after the last change\n", r.settling_time);
+  else
+    fmt::print("  the flux has not settled within 5 % by the end: the grains in the air {} at {:.3g} per s\n",
+               r.final_growth_rate >= 0 ? "grow" : "decay", std::abs(r.final_growth_rate));
+  if (!a.transient_out.empty()) fmt::print("wrote {}/transient.csv and its plots\n", a.transient_out);
+  return 0;
+}
+
+}  // namespace grainlab::cli
