@@ -506,6 +506,19 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(cli::output_folder());
   transient->add_flag("--force", force, "replace files in --out");
   transient->add_flag("--json", transient_json, "print the summary as JSON");
+  transient
+      ->add_option("--checkpoint", transient_checkpoint, "save the run's state to this HDF5 file as it goes")
+      ->check(cli::output_file());
+  transient
+      ->add_option("--checkpoint-every", transient_checkpoint_every, "s of wall time between checkpoints")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
+  transient
+      ->add_option("--restart", transient_restart, "continue from a --checkpoint file (the same options)")
+      ->check(CLI::ExistingFile);
+  transient
+      ->add_option("--stop-at", transient_stop_at, "stop at this simulated time (s) after saving the state")
+      ->check(CLI::Range(0.0, 1e6));
   wind->add_flag("--json", wind_json,
                  "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }

@@ -45,7 +45,8 @@ struct SaltationCommands {
   int transient_case = 1;
   double transient_ustar = 75, transient_dt = 0.005, transient_duration = 4, transient_record = 0.01;
   std::vector<double> transient_changes;  // time, u* pairs
-  std::string transient_splash, transient_out;
+  std::string transient_splash, transient_out, transient_checkpoint, transient_restart;
+  double transient_checkpoint_every = 60, transient_stop_at = 0;
   bool transient_json = false;
   // grainlab saltation dem
   validation::DemSaltationOptions dem;

@@ -3,6 +3,7 @@
 // (docs/saltation.md, "Saltation in time").
 #include <fmt/format.h>
 
+#include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -11,6 +12,7 @@
 #include "report.hpp"
 #include "saltation_commands.hpp"
 #include "transient.hpp"
+#include "transient_checkpoint.hpp"
 
 namespace grainlab::cli {
 
@@ -82,7 +84,38 @@ int transient_command(const SaltationCommands& a) {
   const SplashKernel splash = a.transient_splash.empty()
                                   ? kernel_of(table_4_3(a.transient_case))
                                   : kernel_of(read_splash_file(a.transient_splash), o.model);
-  const TransientResult r = run_transient(o, splash);
+  // Everything that fixes what the run computes: a checkpoint from other options would continue another run.
+  const std::string fingerprint = fmt::format(
+      "case {}\nsplash {}\nu_star {:.17g}\nchanges {}\ndt {:.17g}\nduration {:.17g}\nrecord_every {}\n"
+      "grain_diameter {:.17g}\n",
+      a.transient_case, a.transient_splash, a.transient_ustar, nlohmann::json(a.transient_changes).dump(),
+      o.dt, o.duration, o.record_every, a.grain_diameter);
+  const auto wall0 = std::chrono::steady_clock::now();
+  TransientState state = a.transient_restart.empty()
+                             ? start_transient(o)
+                             : read_transient_checkpoint(a.transient_restart, o, fingerprint);
+  const long last_step = transient_last_step(o);
+  const long stop =
+      a.transient_stop_at > 0 ? std::min(last_step, std::lround(a.transient_stop_at / o.dt)) : last_step;
+  auto saved = std::chrono::steady_clock::now();
+  // In pieces of 100 steps, saving the state whenever --checkpoint-every seconds of wall time have passed.
+  while (!state.over && state.next_step <= stop) {
+    advance_transient(o, splash, state, std::min(stop, state.next_step + 99));
+    const auto now = std::chrono::steady_clock::now();
+    if (!a.transient_checkpoint.empty() &&
+        std::chrono::duration<double>(now - saved).count() >= a.transient_checkpoint_every) {
+      write_transient_checkpoint(a.transient_checkpoint, state, fingerprint);
+      saved = now;
+    }
+  }
+  if (!a.transient_checkpoint.empty()) write_transient_checkpoint(a.transient_checkpoint, state, fingerprint);
+  if (!state.over) {
+    fmt::print(stderr, "stopped at t = {:.6g} s; continue with --restart {}\n",
+               static_cast<double>(state.next_step) * o.dt, a.transient_checkpoint);
+    return 0;
+  }
+  TransientResult r = finish_transient(state);
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   // The steady state the run should approach, at the last u*.
   WindModelOptions steady_options = o.model;
   if (!o.ustar_changes.empty()) steady_options.u_star = o.ustar_changes.back().second;

@@ -7,6 +7,7 @@
 // starts the flux, which grows, saturates or dies. What it answers that the fixed point cannot: how long
 // the system takes to reach its steady state, whether it gets there or oscillates, and how it answers a
 // change of u* (a gust).
+#include <map>
 #include <string>
 #include <vector>
 
@@ -48,5 +49,28 @@ struct TransientResult {
 // Throws std::invalid_argument on options it cannot run (dt, duration or u* not positive, changes out of
 // order).
 TransientResult run_transient(const TransientOptions& o, const SplashKernel& splash);
+
+// The same run in pieces, so that it can be checkpointed: everything a run carries from one step to the
+// next. A run continued from a saved state ends bit for bit as one never stopped.
+struct TransientLanding {  // the grains landing at one step (see transient.cpp)
+  std::vector<double> count, vx, vy, drag;
+  double flux = 0, airborne = 0;
+};
+struct TransientState {
+  long next_step = 0;           // the step to run next
+  std::size_t next_change = 0;  // the first change of u* not yet made
+  double u_star = 0, since = 0, most = 0, flux = 0, airborne = 0;
+  std::vector<double> drag, born, vox;  // per height bin; per launch bin (the launches of next_step if 0)
+  std::map<long, TransientLanding> landings;
+  TransientResult result;  // the samples so far; died and failure once over
+  bool over = false;
+};
+TransientState start_transient(const TransientOptions& o);
+long transient_last_step(const TransientOptions& o);  // the run ends after this step
+// Runs steps up to and including `stop_step` (or to the end); true once the run is over.
+bool advance_transient(const TransientOptions& o, const SplashKernel& splash, TransientState& s,
+                       long stop_step);
+// The summary of a state that is over (or of the steps so far).
+TransientResult finish_transient(const TransientState& s);
 
 }  // namespace grainlab::saltation
