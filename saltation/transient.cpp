@@ -33,7 +33,7 @@ void summarise(TransientResult& r, double since) {
   const std::size_t tail = n - std::max<std::size_t>(1, n / 5);
   double q = 0, u = 0;
   for (std::size_t i = tail; i < n; ++i) q += r.samples[i].mass_flux, u += r.samples[i].u_star_eff;
-  r.final_mass_flux = q / static_cast<double>(n - tail),
+  r.final_mass_flux = q / static_cast<double>(n - tail);
   r.final_u_star_eff = u / static_cast<double>(n - tail);
   const TransientSample &a = r.samples[tail], &b = r.samples.back();
   if (a.airborne > 0 && b.airborne > 0 && b.t > a.t)
@@ -76,7 +76,7 @@ bool advance_transient(const TransientOptions& opt, const SplashKernel& splash, 
   if (s.drag.size() != H || s.born.size() != M || s.vox.size() != M)
     throw std::invalid_argument("the state does not fit these options' grids");
   const double m = o.grain.mass(), rho = o.fluid.density;
-  std::vector<double> v_launch(M), u, tau_edge, impulse(H);
+  std::vector<double> v_launch(M), u, tau_edge, impulse(H), sx(M);  // (scratch kept across steps)
   for (std::size_t j = 0; j < M; ++j) v_launch[j] = (j + 0.5) * o.dv;
   const long last = std::min(stop_step, transient_last_step(opt));
   for (; !s.over && s.next_step <= last; ++s.next_step) {
@@ -97,7 +97,7 @@ bool advance_transient(const TransientOptions& opt, const SplashKernel& splash, 
       for (std::size_t k = 0; k < H; ++k) s.drag[k] -= L.drag[k];
       s.flux -= L.flux, s.airborne -= L.airborne;
       std::fill(s.born.begin(), s.born.end(), 0.0);
-      std::vector<double> sx(M, 0.0);
+      std::fill(sx.begin(), sx.end(), 0.0);
       for (std::size_t j = 0; j < M; ++j) {
         if (!(L.count[j] > 0)) continue;
         const double vix = L.vx[j] / L.count[j], viy = L.vy[j] / L.count[j], vx0 = splash.launch_vx(vix, viy);
