@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "impact_bed.hpp"
 #include "impacts.hpp"
@@ -86,13 +87,16 @@ std::vector<Bed> beds_for(const ImpactCommands& a, const ImpactCase& c, bool spe
   return beds;
 }
 
-// Says how far the bed moved alone (when speaking) and stops unless it held (check_bed_held).
-void report_bed_held(const BedHold& h, const std::string& engine, double duration, bool speak) {
+// Says how far the bed moved alone (when speaking; a 3-D bed also says where: `limits` are its at-rest
+// limits) and stops unless it held (check_bed_held).
+void report_bed_held(const BedHold& h, const std::string& engine, double duration, bool speak,
+                     const std::optional<AtRestLimits>& limits = std::nullopt) {
   if (speak)
     fmt::print(stderr,
                "grainlab impact: {} holding the bed alone for {} s: largest displacement {:.3g} cm, "
-               "largest speed {:.3g} cm/s, kinetic energy {:.3g} erg\n",
-               engine, duration, h.max_displacement, h.max_speed, h.kinetic_energy);
+               "largest speed {:.3g} cm/s, kinetic energy {:.3g} erg{}\n",
+               engine, duration, h.max_displacement, h.max_speed, h.kinetic_energy,
+               limits ? "; " + where_the_bed_moved(h, *limits) : "");
   check_bed_held(h, engine);
 }
 
@@ -177,11 +181,11 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
         });
     bed = std::move(own.bed), settles = own.settles;
     if (speak) fmt::print(stderr, "grainlab impact: settled the bed on {} {} x 0.2 s\n", a.engine, settles);
-    report_bed_held(own.hold, a.engine, o.duration, speak);
+    report_bed_held(own.hold, a.engine, o.duration, speak, at_rest_limits(bed.spec));
   } else if (a.engine != "native" || a.hold) {
     // An impulse engine must hold the bed at rest first, or its "ejecta" are the bed falling apart.
     const BedHold h = hold_bed3d(bed, a.engine, o.duration, o.rigid_dt);
-    report_bed_held(h, a.engine, o.duration, speak);
+    report_bed_held(h, a.engine, o.duration, speak, at_rest_limits(bed.spec));
   }
   ProgressBar bar(!a.quiet && parallel::rank() == 0, "impacts");  // (stderr: kept with --json)
   const EnsembleProgress tick = [&](std::size_t d, std::size_t t) {

@@ -279,6 +279,20 @@ TEST(Impacts3d, ABedStillSettlingIsHeldUntilAtRest) {
   EXPECT_GT(most_holds, 1);  // a bed was held again from where a hold left it
 }
 
+// The hold's report names how many grains break a limit and how deep the largest mover sits, so a reader
+// can tell a rattler deep in the bed from the surface moving. Three grains: one deep and fast, one at the
+// top slow but displaced, one at rest.
+TEST(Impacts3d, TheHoldSaysWhereTheBedMoved) {
+  BedHold h;
+  h.displacement = {0.25, 0.09, 0.01};
+  h.speed = {8.4, 0.2, 0.1};
+  h.depth = {8.7, 0.9, 3.0};
+  const AtRestLimits limits{0.05, 1.0};
+  EXPECT_EQ(where_the_bed_moved(h, limits),
+            "2 spheres over a limit; the one that moved most (0.25 cm) sits 8.7 cm below the top");
+  EXPECT_EQ(where_the_bed_moved(BedHold{}, limits), "no spheres");
+}
+
 // A bed's build stopped after any stage, kept in a checkpoint and continued from it, makes the bed an
 // unbroken build makes, bit for bit (a 20,000-sphere sand bed takes over an hour to build).
 TEST(SandGunCheckpoint, ABuildContinuedFromAnyStageMakesTheSameBed) {

@@ -592,6 +592,14 @@ std::size_t grains_over(const BedHold& h, const AtRestLimits& limits) {
   return over;
 }
 
+std::string where_the_bed_moved(const BedHold& h, const AtRestLimits& limits) {
+  if (h.displacement.empty()) return "no spheres";
+  const auto most = std::max_element(h.displacement.begin(), h.displacement.end()) - h.displacement.begin();
+  return fmt::format(
+      "{} spheres over a limit; the one that moved most ({:.3g} cm) sits {:.3g} cm below the top",
+      grains_over(h, limits), h.displacement[most], h.depth[most]);
+}
+
 Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
                             const ImpactOptions& o) {
   if (c.bed != bed.spec.preparation)

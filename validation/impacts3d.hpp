@@ -162,6 +162,9 @@ EngineBed settle_on_engine(EngineBed start, const std::string& engine, double se
 
 // The grains of a hold that break a limit (0: the bed is at rest).
 std::size_t grains_over(const BedHold& h, const AtRestLimits& limits);
+// Where a 3-D hold's movers are, for a person deciding whether the motion matters to an impact at the top:
+// "3 spheres over a limit; the one that moved most (0.25 cm) sits 8.69 cm below the top".
+std::string where_the_bed_moved(const BedHold& h, const AtRestLimits& limits);
 
 // Impact number `run` of case `c` on `bed` on o.engine (an impulse engine steps at o.rigid_dt): the point is
 // drawn from Rng(seed, run).

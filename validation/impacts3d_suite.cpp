@@ -253,8 +253,8 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
   // 1 cm/s over an impact's 0.07 s, at_rest_limits). The impulse engines are asked too, to see whether they
   // could cross-check the impacts.
   std::string holds =
-      "| engine | largest displacement (cm) | largest speed (cm/s) | kinetic energy (erg) "
-      "|\n|---|---|---|---|\n";
+      "| engine | largest displacement (cm) | largest speed (cm/s) | kinetic energy (erg) | where "
+      "|\n|---|---|---|---|---|\n";
   std::string notes;          // what became of the engines that did not hold it
   double native_seconds = 0;  // how long native took to hold it (the soft-contact engine's time)
   std::vector<Peer> peers;    // impulse engines that run the impacts too
@@ -262,8 +262,8 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const BedHold h = hold_bed3d(bed, engine, 0.07, ImpactOptions{}.rigid_dt);
     const double hold_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    holds += fmt::format("| {} | {:.3g} | {:.3g} | {:.3g} |\n", engine, h.max_displacement, h.max_speed,
-                         h.kinetic_energy);
+    holds += fmt::format("| {} | {:.3g} | {:.3g} | {:.3g} | {} |\n", engine, h.max_displacement, h.max_speed,
+                         h.kinetic_energy, where_the_bed_moved(h, at_rest_limits(spec)));
     Check& c =
         expect_bed_at_rest(r, "impacts-3d/bed-at-rest", engine, h, "the bed", 0.07, at_rest_limits(spec));
     const bool impulses = !engine_capabilities(engine).soft_contacts;  // by capability, not by name
