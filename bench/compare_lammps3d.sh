@@ -6,7 +6,10 @@
 # SIZES are NXxNYxNZ (default 20x20x6 50x50x4 100x100x10: 2,400, 10,000 and 100,000 spheres). Each size runs
 # as specified (0 settling steps: the timed window is free fall into first contact) and settled (SETTLE
 # untimed steps first, default 50,000: a resting bed where contacts dominate). STEPS timed steps (2,000).
-# VARIANTS="specified" (or "settled") runs only those.
+# VARIANTS="specified" (or "settled") runs only those; "poured" adds a dense random bed: the same spheres
+# poured into the same box by grainlab (untimed, `bench bed3d --pour-to`), written at rest for both codes
+# (bench/bed3d_data.in reads it), then STEPS timed steps from there (POURED_SETTLE untimed ones first,
+# default 0): about six contacts a sphere, loaded springs and spinning grains, as in an impact bed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 REPEATS=${1:-3}
@@ -28,14 +31,26 @@ echo "|---|---|---|---|---|---|---|---|---|"
 for size in $SIZES; do
   IFS=x read -r NX NY NZ <<<"$size"
   for variant in $VARIANTS; do
-    if [ "$variant" = settled ]; then S=$SETTLE; else S=0; fi
+    case "$variant" in
+      settled) S=$SETTLE ;;
+      poured) S=${POURED_SETTLE:-0}
+        "$GRAINLAB" bench bed3d --nx "$NX" --ny "$NY" --nz "$NZ" --pour-to "$tmp/poured" >/dev/null 2>&1 ;;
+      *) S=0 ;;
+    esac
     # Interleaved, one LAMMPS run then one grainlab run, so both see the same machine load.
     : > "$tmp/g.rates"
     for r in $(seq "$REPEATS"); do
-      lmp -in bench/bed3d.in -var NX "$NX" -var NY "$NY" -var NZ "$NZ" -var NSETTLE "$S" -var NRUN "$STEPS" \
-        -log none -screen "$tmp/lmp.$r" >/dev/null
-      "$GRAINLAB" bench bed3d --nx "$NX" --ny "$NY" --nz "$NZ" --settle "$S" --steps "$STEPS" --repeats 1 \
-        --json "$tmp/g.json" >/dev/null 2>&1
+      if [ "$variant" = poured ]; then
+        lmp -in bench/bed3d_data.in -var DATA "$tmp/poured.data" -var NSETTLE "$S" -var NRUN "$STEPS" \
+          -log none -screen "$tmp/lmp.$r" >/dev/null
+        "$GRAINLAB" bench bed3d --bed-scene "$tmp/poured.toml" --settle "$S" --steps "$STEPS" --repeats 1 \
+          --json "$tmp/g.json" >/dev/null 2>&1
+      else
+        lmp -in bench/bed3d.in -var NX "$NX" -var NY "$NY" -var NZ "$NZ" -var NSETTLE "$S" -var NRUN "$STEPS" \
+          -log none -screen "$tmp/lmp.$r" >/dev/null
+        "$GRAINLAB" bench bed3d --nx "$NX" --ny "$NY" --nz "$NZ" --settle "$S" --steps "$STEPS" --repeats 1 \
+          --json "$tmp/g.json" >/dev/null 2>&1
+      fi
       record_grainlab_rate
     done
     table_row $((NX*NY*NZ)) "$variant"
