@@ -370,15 +370,17 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100));
   bed3d_cmd->add_option("--json", bed3d.json, "also write the result as JSON to this file")
       ->check(cli::output_file());
-  bed3d_cmd->add_flag("--scene", bed3d.scene_only,
-                      "print the bed as a scene (TOML) instead of timing it: grainlab run takes it");
-  bed3d_cmd
-      ->add_option(
-          "--pour-to", bed3d.pour_to,
-          "pour the NX x NY x NZ spheres into the same box instead of the lattice (untimed) and write "
-          "the bed at rest as BASE.toml (for --bed-scene) and BASE.data (LAMMPS read_data, "
-          "bench/bed3d_data.in); no timing")
-      ->check(cli::output_file());
+  CLI::Option* bed3d_scene_flag =
+      bed3d_cmd->add_flag("--scene", bed3d.scene_only,
+                          "print the bed as a scene (TOML) instead of timing it: grainlab run takes it");
+  CLI::Option* pour_to =
+      bed3d_cmd
+          ->add_option(
+              "--pour-to", bed3d.pour_to,
+              "pour the NX x NY x NZ spheres into the same box instead of the lattice (untimed) and write "
+              "the bed at rest as BASE.toml (for --bed-scene) and BASE.data (LAMMPS read_data, "
+              "bench/bed3d_data.in); no timing")
+          ->check(cli::output_file());
   bed3d_cmd
       ->add_option("--pour-seconds", bed3d.pour_seconds, "--pour-to: simulated settling time of the pour")
       ->default_val(0.3)
@@ -388,7 +390,9 @@ int main(int argc, char** argv) {
           "--bed-scene", bed3d.bed_scene,
           "time this 3-D scene (e.g. a --pour-to bed) instead of the lattice; --nx/--ny/--nz are not "
           "used")
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingFile)
+      ->excludes(pour_to)
+      ->excludes(bed3d_scene_flag);
   bench::LatticeBenchOptions lattice_bench;
   CLI::App* lattice_bench_cmd = bench_cmd->add_subcommand(
       "lattice", "impacts per second of the lattice-bed ripple model (Fig. 5.21) on one core");
