@@ -108,7 +108,8 @@ std::string lammps_data(const Bed3dOptions& o, const std::vector<Body3Spec>& bod
   return t;
 }
 
-// Pours the bed, and writes it at rest as BASE.toml and BASE.data (each atomically).
+// Pours the bed, and writes it as BASE.toml and BASE.data (each atomically, by rank 0 under mpirun), its
+// spheres stopped where the pour leaves them.
 int pour_bed3d(const Bed3dOptions& o) {
   const Scene pour = parse_scene(poured_bed3d_scene_toml(o), "<bench bed3d poured>");
   fmt::print(stderr, "bench bed3d: pouring {} spheres into {} x {} cm and settling them for {} s...\n",
@@ -122,6 +123,7 @@ int pour_bed3d(const Bed3dOptions& o) {
     mean_z += b.position.z() / double(bodies.size());
     top = std::max(top, b.position.z() + b.radius);
   }
+  if (parallel::rank() != 0) return 0;
   write_file_atomically(o.pour_to + ".toml", toml + bed3d_planes(o));
   write_file_atomically(o.pour_to + ".data", lammps_data(o, bodies));
   fmt::print(

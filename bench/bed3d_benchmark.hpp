@@ -12,9 +12,10 @@ struct Bed3dOptions {
   std::string json;
   bool scene_only = false;  // print the scene (TOML) instead of timing it
   // A poured bed instead of the lattice: pour_to pours NX NY NZ spheres into the same box (untimed, for
-  // pour_seconds of simulated time) and writes the bed at rest as BASE.toml (a scene, which bed_scene
-  // then times) and BASE.data (LAMMPS read_data, for bench/bed3d_data.in), so both codes start from the
-  // same state: the same positions, at rest, no spring loaded.
+  // pour_seconds of simulated time) and writes the bed, its spheres stopped where the pour leaves them,
+  // as BASE.toml (a scene, which bed_scene then times) and BASE.data (LAMMPS read_data, for
+  // bench/bed3d_data.in), so both codes start from the same state: the same positions, no velocity, no
+  // spring loaded.
   std::string pour_to, bed_scene;
   double pour_seconds = 0.3;
 };

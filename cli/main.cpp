@@ -378,7 +378,8 @@ int main(int argc, char** argv) {
           ->add_option(
               "--pour-to", bed3d.pour_to,
               "pour the NX x NY x NZ spheres into the same box instead of the lattice (untimed) and write "
-              "the bed at rest as BASE.toml (for --bed-scene) and BASE.data (LAMMPS read_data, "
+              "the bed (stopped where the pour leaves it) as BASE.toml (for --bed-scene) and BASE.data "
+              "(LAMMPS read_data, "
               "bench/bed3d_data.in); no timing")
           ->check(cli::output_file());
   bed3d_cmd
