@@ -10,6 +10,7 @@
 # poured into the same box by grainlab (untimed, `bench bed3d --pour-to`), written at rest for both codes
 # (bench/bed3d_data.in reads it), then STEPS timed steps from there (POURED_SETTLE untimed ones first,
 # default 0): about six contacts a sphere, loaded springs and spinning grains, as in an impact bed.
+# POUR_SECONDS (default 0.3) is the pour's simulated time: a deep bed needs longer to fall into place.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 REPEATS=${1:-3}
@@ -34,7 +35,8 @@ for size in $SIZES; do
     case "$variant" in
       settled) S=$SETTLE ;;
       poured) S=${POURED_SETTLE:-0}
-        "$GRAINLAB" bench bed3d --nx "$NX" --ny "$NY" --nz "$NZ" --pour-to "$tmp/poured" >/dev/null 2>&1 ;;
+        "$GRAINLAB" bench bed3d --nx "$NX" --ny "$NY" --nz "$NZ" --pour-to "$tmp/poured" \
+          --pour-seconds "${POUR_SECONDS:-0.3}" >/dev/null 2>&1 ;;
       *) S=0 ;;
     esac
     # Interleaved, one LAMMPS run then one grainlab run, so both see the same machine load.
