@@ -93,9 +93,7 @@ double heap_in_use() {
 
 namespace {
 // LAMMPS's read_data text for atom_style sphere (id type diameter density x y z), the box the planes'.
-std::string lammps_data(const Bed3dOptions& o, const std::vector<Body3Spec>& bodies) {
-  double top = 0;
-  for (const Body3Spec& b : bodies) top = std::max(top, b.position.z() + b.radius);
+std::string lammps_data(const Bed3dOptions& o, const std::vector<Body3Spec>& bodies, double top) {
   std::string t = fmt::format(
       "LAMMPS data file: grainlab bench bed3d poured {} x {} x {}\n\n{} atoms\n1 atom types\n\n0 {} xlo "
       "xhi\n0 "
@@ -116,16 +114,16 @@ int pour_bed3d(const Bed3dOptions& o) {
              long(o.nx) * o.ny * o.nz, kSpacing * o.nx, kSpacing * o.ny, o.pour_seconds);
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Body3Spec> bodies = dem::expanded_bodies3d(pour);
-  std::string toml = bed3d_head(fmt::format("bench bed3d poured {} x {} x {}, at rest", o.nx, o.ny, o.nz));
+  if (parallel::rank() != 0) return 0;
+  std::string toml = bed3d_head(fmt::format("bench bed3d poured {} x {} x {}, as poured", o.nx, o.ny, o.nz));
   double mean_z = 0, top = 0;
   for (const Body3Spec& b : bodies) {
     toml += sphere_toml(b.position);
     mean_z += b.position.z() / double(bodies.size());
     top = std::max(top, b.position.z() + b.radius);
   }
-  if (parallel::rank() != 0) return 0;
   write_file_atomically(o.pour_to + ".toml", toml + bed3d_planes(o));
-  write_file_atomically(o.pour_to + ".data", lammps_data(o, bodies));
+  write_file_atomically(o.pour_to + ".data", lammps_data(o, bodies, top));
   fmt::print(
       "bed3d poured {} x {} x {} = {} spheres in {:.0f} s: mean height {:.6f} cm, top {:.4f} cm; {}.toml "
       "(grainlab bench bed3d --bed-scene), {}.data (LAMMPS: bench/bed3d_data.in)\n",

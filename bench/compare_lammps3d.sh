@@ -7,7 +7,7 @@
 # as specified (0 settling steps: the timed window is free fall into first contact) and settled (SETTLE
 # untimed steps first, default 50,000: a resting bed where contacts dominate). STEPS timed steps (2,000).
 # VARIANTS="specified" (or "settled") runs only those; "poured" adds a dense random bed: the same spheres
-# poured into the same box by grainlab (untimed, `bench bed3d --pour-to`), written at rest for both codes
+# poured into the same box by grainlab (untimed, `bench bed3d --pour-to`), stopped and written for both codes
 # (bench/bed3d_data.in reads it), then STEPS timed steps from there (POURED_SETTLE untimed ones first,
 # default 0): about six contacts a sphere, loaded springs and spinning grains, as in an impact bed.
 # POUR_SECONDS (default 0.3) is the pour's simulated time: a deep bed needs longer to fall into place.
