@@ -106,6 +106,26 @@ std::string lammps_data(const Bed3dOptions& o, const std::vector<Body3Spec>& bod
   return t;
 }
 
+// The poured assembly's grains where the pour leaves them: expanded_bodies3d's bodies, bit for bit (the
+// same settling run, advanced in slices so that a long pour can say how far it is).
+std::vector<Body3Spec> poured_bodies(const Scene& pour, const Bed3dOptions& o) {
+  const Scene settle = dem::pour_settling_scene(pour);
+  dem::World3d world(settle);
+  const double end = pour.assemblies[0].settle_time;
+  constexpr int kSlices = 200;
+  for (int k = 1; k <= kSlices; ++k) {
+    world.advance_to(k == kSlices ? end : end * k / kSlices);
+    if (o.progress) o.progress(world.time(), end);
+  }
+  std::vector<Body3Spec> out = settle.bodies3d;
+  for (std::size_t i = 0; i < out.size(); ++i) {  // (the world keeps the scene's order)
+    out[i].position = world.bodies()[i].x;
+    out[i].orientation = world.bodies()[i].q;
+    out[i].velocity = pour.assemblies[0].velocity3;
+  }
+  return out;
+}
+
 // Pours the bed, and writes it as BASE.toml and BASE.data (each atomically, by rank 0 under mpirun), its
 // spheres stopped where the pour leaves them.
 int pour_bed3d(const Bed3dOptions& o) {
@@ -113,7 +133,7 @@ int pour_bed3d(const Bed3dOptions& o) {
   fmt::print(stderr, "bench bed3d: pouring {} spheres into {} x {} cm and settling them for {} s...\n",
              long(o.nx) * o.ny * o.nz, kSpacing * o.nx, kSpacing * o.ny, o.pour_seconds);
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<Body3Spec> bodies = dem::expanded_bodies3d(pour);
+  const std::vector<Body3Spec> bodies = poured_bodies(pour, o);
   if (parallel::rank() != 0) return 0;
   std::string toml = bed3d_head(fmt::format("bench bed3d poured {} x {} x {}, as poured", o.nx, o.ny, o.nz));
   double mean_z = 0, top = 0;

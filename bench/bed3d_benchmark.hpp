@@ -2,6 +2,7 @@
 // `grainlab bench bed3d`: issue #15's 3-D benchmark, the same work as bench/bed3d.in for LAMMPS
 // (gran/hooke/history): a simple-cubic lattice of spheres dropped inside a floor and four side planes,
 // fixed dt, timed after settling.
+#include <functional>
 #include <string>
 
 namespace grainlab::bench {
@@ -18,6 +19,9 @@ struct Bed3dOptions {
   // spring loaded.
   std::string pour_to, bed_scene;
   double pour_seconds = 0.3;
+  // Called as the pour goes on with (simulated seconds done, pour_seconds): a 100,000-sphere pour takes
+  // the better part of an hour. Empty: nothing is called.
+  std::function<void(double, double)> progress;
 };
 
 // The bed as a scene (TOML text), so it runs through the same reader as any user scene.

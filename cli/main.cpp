@@ -465,7 +465,11 @@ int main(int argc, char** argv) {
     if (*impact_bench_cmd) return bench::run_impact_bench(impact_bench);
     if (*lattice_bench_cmd) return bench::run_lattice_bench(lattice_bench);
     if (*hybrid_bench_cmd) return bench::run_hybrid_bench(hybrid_bench);
-    if (*bed3d_cmd) return bench::run_bed3d_bench(bed3d);
+    if (*bed3d_cmd) {
+      cli::ProgressBar bar(parallel::rank() == 0);  // (the pour's: stderr, so stdout keeps the results)
+      bed3d.progress = [&bar](double done, double total) { bar.update(done, total); };
+      return bench::run_bed3d_bench(bed3d);
+    }
     if (const int status = impacts.dispatch(); status >= 0) return status;
     if (const int status = sand_gun.dispatch(); status >= 0) return status;
     if (const int status = saltation.dispatch(); status >= 0) return status;
