@@ -10,6 +10,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "sphere_pair_batch.hpp"
 #include "stepping.hpp"
 #include "world3d_detail.hpp"
 
@@ -151,6 +152,7 @@ struct SphereBed::Kernel {
   std::size_t np;
   const ContactLaw* laws;
   int nm;
+  PairBatch* batch;
   double dt, h, hs;  // step, half step, the shear springs' increment (0 at the very first evaluation)
   D3 g;
   std::size_t contacts = 0;
@@ -183,6 +185,7 @@ struct SphereBed::Kernel {
         np(b.s_.planes.size()),
         laws(b.s_.laws.data()),
         nm(b.s_.n_mat),
+        batch(&b.batch_),
         dt(b.s_.dt),
         h(b.s_.dt / 2),
         hs(shear_step),
@@ -225,6 +228,125 @@ struct SphereBed::Kernel {
     moved = std::max(moved, dot(by, by));
   }
 
+  // Whether sphere i (centre pi, radius ri) is clear of the plane in its plane slot c: then the plane's
+  // spring goes. Otherwise `depth` is how deep i is in it.
+  [[gnu::always_inline]] bool clear_of_plane(std::size_t i, std::size_t c, const D3& pi, double ri,
+                                             double& depth) const {
+    const Plane3& p = bed.s_.planes[plane_of[c]];
+    depth = ri - dot(get(p.normal), pi - get(p.point));
+    if (depth > 0) return false;
+    forget(plane_xi[i * np + plane_of[c]]);
+    return true;
+  }
+  // Sphere i's planes in its slots [c, c_end), added to its sums fi and ti; `tested`: slot c is in contact
+  // at depth_c, as the caller's scan found. Returns the contacts.
+  [[gnu::always_inline]] std::size_t plane_contacts(std::size_t i, std::size_t c, std::size_t c_end,
+                                                    bool tested, double depth_c, const D3& pi, double ri,
+                                                    double mi, const ContactLaw* row_laws, const D3& vi,
+                                                    const D3& wi, D3& fi, D3& ti) const {
+    std::size_t contacts = 0;
+    double depth = depth_c;
+    for (bool first = tested; c < c_end; ++c, first = false) {
+      if (!first && clear_of_plane(i, c, pi, ri, depth)) continue;
+      const std::size_t kp = plane_of[c];
+      const D3 pn = get(bed.s_.planes[kp].normal);
+      Vec3& spring = plane_xi[i * np + kp];
+      const D3 ra = -pn * (ri - depth / 2);
+      D3 vrel = vi - get(bed.plane_v_[kp]);  // (a plane at rest: exactly vi)
+      if constexpr (Rotation) vrel = vrel + cross(wi, ra);
+      const double vn = dot(pn, vrel);
+      const ContactLaw& law = row_laws[bed.s_.plane_material[kp]];
+      const double fn = normal_force(law, depth, vn, law.normal.coefficient(mi));
+      D3 F = fn * pn;
+      if constexpr (Friction) {
+        D3 xi = get(spring);
+        F = F + shear_force_3d(law, xi, pn, vrel - vn * pn, hs, mi, fn);
+        put(spring, xi);
+      }
+      fi = fi + F;
+      if constexpr (Rotation) ti = ti + cross(ra, F);
+      ++contacts;
+    }
+    return contacts;
+  }
+
+  // The rows of a serial bed of one material, a block at a time: the scan finds the block's touching
+  // pairs, batch_forces computes them four at a time, and each row then adds up its pairs and its planes
+  // in row() order (the same bits). Rows [a, e), as many as the batch holds (a row longer than the batch
+  // goes alone through row()); returns the first row not done. Every partner of the rows has drifted.
+  static constexpr std::size_t kBlockRows = 32;
+  [[gnu::always_inline]] std::size_t block(std::size_t a, std::size_t e) {
+    const Vec3* __restrict x = this->x;
+    Vec3* __restrict f = this->f, * __restrict tq = this->tq;
+    const double* __restrict r = this->r;
+    const SphereCells::Index* __restrict list = this->list;
+    std::uint8_t* __restrict touching = this->touching;
+    const std::size_t* __restrict offsets = this->offsets;
+    PairBatch& b = *batch;
+    b.n = 0;
+    std::uint32_t starts[kBlockRows + 1];
+    std::size_t i = a;
+    for (; i < e && b.fits(offsets[i + 1] - offsets[i]); ++i) {
+      starts[i - a] = static_cast<std::uint32_t>(b.n);
+      const D3 pi = get(x[i]);
+      const double ri = r[i];
+      for (std::size_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+        const std::size_t j = list[k];
+        D3 d = pi - get(x[j]);
+        if constexpr (Periodic) {
+          double dx = d.x(), dy = d.y();
+          bed.cells_.to_nearest_image(dx, dy);
+          d.xy = Pair{dx, dy};
+        }
+        const double reach = ri + r[j], r2 = dot(d, d);
+        if (r2 < reach * reach && r2 != 0) {  // (as sphere_sphere: depth > 0, not coincident)
+          b.add(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), k, d.x(), d.y(), d.z, r2,
+                reach);
+          touching[k] = 1;
+        } else if (touching[k]) {
+          touching[k] = 0;
+          if (Friction) pair_xi[k].setZero();
+        }
+      }
+    }
+    if (i == a) {
+      row<false>(a);
+      return a + 1;
+    }
+    starts[i - a] = static_cast<std::uint32_t>(b.n);
+    batch_forces<Friction, Rotation>(b, laws[0], hs, v, w, m, r, pair_xi);
+    const double* __restrict F[3] = {b[PairBatch::fx], b[PairBatch::fy], b[PairBatch::fz]};
+    const double* __restrict TA[3] = {b[PairBatch::tax], b[PairBatch::tay], b[PairBatch::taz]};
+    const double* __restrict TB[3] = {b[PairBatch::tbx], b[PairBatch::tby], b[PairBatch::tbz]};
+    for (std::size_t row = a; row < i; ++row) {
+      const std::size_t c0 = starts[row - a], c1 = starts[row - a + 1];
+      const std::size_t p0 = plane_start[row], p1 = plane_start[row + 1];
+      if (c0 != c1 || p0 != p1) {
+        D3 fi = get(f[row]), ti = Rotation ? get(tq[row]) : D3{0, 0, 0};
+        for (std::size_t c = c0; c < c1; ++c) {
+          const D3 Fc{F[0][c], F[1][c], F[2][c]};
+          const std::size_t j = b.j[c];
+          fi = fi + Fc;
+          put(f[j], get(f[j]) - Fc);
+          if constexpr (Rotation) {
+            ti = ti + D3{TA[0][c], TA[1][c], TA[2][c]};
+            put(tq[j], get(tq[j]) - D3{TB[0][c], TB[1][c], TB[2][c]});
+          }
+        }
+        contacts += c1 - c0;
+        if (p0 != p1) {
+          const D3 vi = get(v[row]), wi = Rotation ? get(w[row]) : D3{0, 0, 0};
+          contacts +=
+              plane_contacts(row, p0, p1, false, 0, get(x[row]), r[row], m[row], laws, vi, wi, fi, ti);
+        }
+        put(f[row], fi);
+        if constexpr (Rotation) put(tq[row], ti);
+      }
+      if (x0) predict(row);
+    }
+    return i;
+  }
+
   // A ghost's row, kept out of the sweep's loop (few rows are ghosts'; inlined, it would crowd out the
   // rest). It works on a copy of the kernel: were the sweep's kernel passed by address, the compiler would
   // keep that kernel in memory, and spill its running maximum of the displacement, through every row.
@@ -239,9 +361,7 @@ struct SphereBed::Kernel {
     const SphereCells::Index* __restrict list = this->list;
     std::uint8_t* __restrict touching = this->touching;
     const std::size_t* __restrict offsets = this->offsets;
-    const std::uint32_t* __restrict plane_start = this->plane_start, * __restrict plane_of = this->plane_of;
-    Vec3* __restrict plane_xi = this->plane_xi;
-    const std::size_t np = this->np;
+    const std::uint32_t* __restrict plane_start = this->plane_start;
     const double hs = this->hs;
     std::size_t contacts = 0;
     const D3 pi = get(x[i]);
@@ -269,11 +389,7 @@ struct SphereBed::Kernel {
     };
     double depth_p = 0;
     auto plane_apart = [&](std::size_t c) __attribute__((always_inline)) {
-      const Plane3& p = bed.s_.planes[plane_of[c]];
-      depth_p = ri - dot(get(p.normal), pi - get(p.point));
-      if (depth_p > 0) return false;
-      forget(plane_xi[i * np + plane_of[c]]);
-      return true;
+      return clear_of_plane(i, c, pi, ri, depth_p);
     };
     std::size_t k = offsets[i], c = plane_start[i];
     const std::size_t end = offsets[i + 1], c_end = plane_start[i + 1];
@@ -322,29 +438,7 @@ struct SphereBed::Kernel {
       touching[k] = 1;
       if (!GhostRow) ++contacts;  // (a pair with a ghost is counted by the rank of its lower id)
     }
-    for (bool first = planes_scanned; c < c_end; ++c, first = false) {
-      if (!first && plane_apart(c)) continue;  // (the first was tested by the scan)
-      const std::size_t kp = plane_of[c];
-      const Plane3& p = bed.s_.planes[kp];
-      const D3 pn = get(p.normal);
-      const double depth = depth_p;
-      Vec3& spring = plane_xi[i * np + kp];
-      const D3 ra = -pn * (ri - depth / 2);
-      D3 vrel = vi - get(bed.plane_v_[kp]);  // (a plane at rest: exactly vi)
-      if constexpr (Rotation) vrel = vrel + cross(wi, ra);
-      const double vn = dot(pn, vrel);
-      const ContactLaw& law = row_laws[bed.s_.plane_material[kp]];
-      const double fn = normal_force(law, depth, vn, law.normal.coefficient(mi));
-      D3 F = fn * pn;
-      if constexpr (Friction) {
-        D3 xi = get(spring);
-        F = F + shear_force_3d(law, xi, pn, vrel - vn * pn, hs, mi, fn);
-        put(spring, xi);
-      }
-      fi = fi + F;
-      if constexpr (Rotation) ti = ti + cross(ra, F);
-      ++contacts;
-    }
+    contacts += plane_contacts(i, c, c_end, planes_scanned, depth_p, pi, ri, mi, row_laws, vi, wi, fi, ti);
     put(f[i], fi);
     if constexpr (Rotation) put(tq[i], ti);
     this->contacts += contacts;
@@ -451,6 +545,17 @@ template <bool Complete, class K>
 void SphereBed::sweep(K& kernel, std::size_t lag) {
   K k = kernel;  // a local copy the compiler can keep in registers (no lambdas: all of it inlined)
   const std::size_t n = x_.size(), head = std::min(lag, n);
+  if (k.nm == 1) {  // the rows in blocks (the rows below t + 1 - lag have all their partners drifted)
+    constexpr std::size_t B = K::kBlockRows;
+    std::size_t done = 0;
+    for (std::size_t t = 0; t < n; ++t) {
+      k.template drift<Complete>(t);
+      while (t + 1 >= lag + done + B) done = k.block(done, done + B);
+    }
+    while (done < n) done = k.block(done, std::min(n, done + B));
+    kernel.contacts = k.contacts, kernel.moved = k.moved;
+    return;
+  }
   for (std::size_t t = 0; t < head; ++t) k.template drift<Complete>(t);
   for (std::size_t t = head; t < n; ++t) {
     k.template drift<Complete>(t);

@@ -22,6 +22,7 @@
 #include "domain.hpp"
 #include "narrow_phase3d.hpp"
 #include "sphere_cells.hpp"
+#include "sphere_pair_batch.hpp"
 #include "world_types.hpp"
 
 namespace grainlab::dem {
@@ -169,6 +170,7 @@ class SphereBed {
   bool planes_move_ = false;
   void place_planes(double t);
   SphereCells cells_;
+  PairBatch batch_;  // the sweep's scratch: a block of rows' touching pairs
   bool pending_kick_ = false, moved_ = true, sweep_allowed_ = true;
   // Whether the next drift takes some sphere half a skin from the build positions, as predicted by the
   // last force evaluation (unknown: no prediction, drift all and look; asked: this rank's answer is
