@@ -40,6 +40,13 @@ inline V4 sqrt(V4 a) {
 inline V4 pick(M4 m, V4 a, V4 b) {  // a where m is set, else b
   return m ? a : b;
 }
+inline bool any(M4 m) {
+#ifdef __AVX__
+  return _mm256_movemask_pd(_mm256_castsi256_pd(__m256i(m))) != 0;
+#else
+  return (m[0] | m[1] | m[2] | m[3]) != 0;
+#endif
+}
 inline V4 load(const double* p) {
   V4 a;
   std::memcpy(&a, p, sizeof a);
@@ -160,11 +167,13 @@ void batch_forces(PairBatch& b, const ContactLaw& law, double hs, const Vec3* v,
       T4 fs = splat(-law.k_s) * xi - c_s * vt;
       const V4 cap = splat(law.mu) * pick(fn < zero, zero, fn);
       const V4 f2 = dot(fs, fs);
-      const M4 capped = f2 > cap * cap;
-      const T4 fs_capped = (cap / lanes4::sqrt(f2)) * fs;
-      const V4 ks = splat(law.k_s);
-      xi = pick(capped, T4{-fs_capped.x / ks, -fs_capped.y / ks, -fs_capped.z / ks}, xi);
-      fs = pick(capped, fs_capped, fs);
+      // (Sliding is the exception: the capped force and spring only for a group where some lane slides.)
+      if (const M4 capped = f2 > cap * cap; any(capped)) {
+        const T4 fs_capped = (cap / lanes4::sqrt(f2)) * fs;
+        const V4 ks = splat(law.k_s);
+        xi = pick(capped, T4{-fs_capped.x / ks, -fs_capped.y / ks, -fs_capped.z / ks}, xi);
+        fs = pick(capped, fs_capped, fs);
+      }
       F = F + fs;
       for (int l = 0; l < 4 && c + l < b.n; ++l) pair_xi[b.k[c + l]] = Vec3(xi.x[l], xi.y[l], xi.z[l]);
     }
