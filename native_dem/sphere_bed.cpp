@@ -136,6 +136,7 @@ std::size_t SphereBed::slot_of(std::int64_t id) const {
 // orientation of its lower id, then its planes; then where the next drift will take it).
 template <bool Friction, bool Rotation, bool Periodic>
 struct SphereBed::Kernel {
+  static constexpr bool kRotation = Rotation;
   SphereBed& bed;
   Vec3* __restrict x, * __restrict v, * __restrict w, * __restrict f, * __restrict tq;
   Quat* __restrict q;
@@ -194,7 +195,8 @@ struct SphereBed::Kernel {
   // An isotropic body's angular momentum I w + h tq turned back into w is w + h tq / I.
   // (Each unit copies what it uses into locals: a store through one of the arrays could otherwise, as far
   // as the compiler knows, change the members, which it would then reload after every store.)
-  template <bool Complete>
+  // Turn false: the orientation is left for turn4 (nothing reads it before the step ends).
+  template <bool Complete, bool Turn = true>
   [[gnu::always_inline]] void drift(std::size_t i) const {
     Vec3* __restrict x = this->x, * __restrict v = this->v, * __restrict w = this->w, * __restrict f = this->f, * __restrict tq = this->tq;
     const double h = this->h, dt = this->dt;
@@ -210,7 +212,7 @@ struct SphereBed::Kernel {
       if constexpr (Complete) wi = half_kicked(wi, ti, inv_i[i], h);
       wi = half_kicked(wi, ti, inv_i[i], h);
       put(w[i], wi);
-      if (nonzero(wi)) q[i] = detail3d::turned(q[i], w[i], dt);
+      if (Turn && nonzero(wi)) q[i] = detail3d::turned(q[i], w[i], dt);
       tq[i].setZero();
     }
     put(f[i], m[i] * g);
@@ -553,9 +555,13 @@ void SphereBed::sweep(K& kernel, std::size_t lag) {
     constexpr std::size_t B = K::kBlockRows;
     std::size_t done = 0;
     for (std::size_t t = 0; t < n; ++t) {
-      k.template drift<Complete>(t);
+      k.template drift<Complete, !K::kRotation>(t);
+      if (K::kRotation && t % 4 == 3) detail3d::turn4(&q_[t - 3], &w_[t - 3], s_.dt);
       while (t + 1 >= lag + done + B) done = k.block(done, done + B);
     }
+    if constexpr (K::kRotation)
+      for (std::size_t i = n - n % 4; i < n; ++i)
+        if (w_[i].x() != 0 || w_[i].y() != 0 || w_[i].z() != 0) q_[i] = detail3d::turned(q_[i], w_[i], s_.dt);
     while (done < n) done = k.block(done, std::min(n, done + B));
     kernel.contacts = k.contacts, kernel.moved = k.moved;
     return;

@@ -411,3 +411,29 @@ TEST(Turn, ASlowSpinSkipsTheSeriesWithTheSameBits) {
   EXPECT_GT(slow, 5000);  // both branches were taken
   EXPECT_LT(slow, 15000);
 }
+
+// Four turns at once (the sphere kernel's sweep) are turned()'s, bit for bit: at rest, at spins whose
+// series is skipped, summed, and past the switch to the exact turn, mixed in every group.
+TEST(Turn, FourAtATimeAreTheTurnsOneAtATime) {
+  grainlab::Rng rng(17, 0);
+  const double dt = 1e-6;
+  int differ = 0, exact = 0, still = 0;
+  for (int k = 0; k < 200000; ++k) {
+    grainlab::Quat q[4], one[4];
+    grainlab::Vec3 w[4];
+    for (int l = 0; l < 4; ++l) {
+      q[l] = grainlab::Quat(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))
+                 .normalized();
+      const double spin = std::pow(10.0, rng.uniform(-8, 5.3));  // rad/s: h from 5e-15 past 0.05
+      w[l] = grainlab::Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized() * spin;
+      if (rng.uniform(0, 1) < 0.1) w[l].setZero(), ++still;
+      exact += w[l].norm() * dt / 2 >= 0.05;
+      one[l] = grainlab::dem::detail3d::turned(q[l], w[l], dt);
+    }
+    grainlab::dem::detail3d::turn4(q, w, dt);
+    for (int l = 0; l < 4; ++l) differ += q[l].coeffs() != one[l].coeffs();
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(exact, 1000);  // every branch taken
+  EXPECT_GT(still, 1000);
+}
