@@ -596,8 +596,19 @@ void SphereBed::sweep_distributed(K& kernel, std::size_t lag) {
     if (t >= lag) any_row(t - lag);
   };
   std::size_t t = 0;
+  const bool blocks = k.nm == 1 && 4 * contacts_ >= n;  // as in sweep()
   for (const auto& [first, last] : plain_runs_) {
     for (; t < first; ++t) tested(t);
+    if (blocks) {  // the run's rows [first - lag, last - lag) in blocks, as sweep() takes them
+      constexpr std::size_t B = K::kBlockRows;
+      std::size_t done = first - lag;
+      for (; t < last; ++t) {
+        k.template drift<Complete>(t);
+        while (t + 1 >= lag + done + B) done = k.block(done, done + B);
+      }
+      while (done < last - lag) done = k.block(done, std::min<std::size_t>(last - lag, done + B));
+      continue;
+    }
     for (; t < last; ++t) {
       k.template drift<Complete>(t);
       k.template row<false>(t - lag);
