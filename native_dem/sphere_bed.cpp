@@ -272,7 +272,8 @@ struct SphereBed::Kernel {
     return contacts;
   }
 
-  // The rows of a serial bed of one material, a block at a time: the scan finds the block's touching
+  // The rows of a bed of one material (serial, or a rank's plain run of its own spheres' rows), a block
+  // at a time: the scan finds the block's touching
   // pairs, batch_forces computes them four at a time, and each row then adds up its pairs and its planes
   // in row() order (the same bits). Rows [a, e), as many as the batch holds (a row longer than the batch
   // goes alone through row()); returns the first row not done. Every partner of the rows has drifted.
@@ -320,11 +321,11 @@ struct SphereBed::Kernel {
     const double* __restrict F[3] = {b[PairBatch::fx], b[PairBatch::fy], b[PairBatch::fz]};
     const double* __restrict TA[3] = {b[PairBatch::tax], b[PairBatch::tay], b[PairBatch::taz]};
     const double* __restrict TB[3] = {b[PairBatch::tbx], b[PairBatch::tby], b[PairBatch::tbz]};
-    for (std::size_t row = a; row < i; ++row) {
-      const std::size_t c0 = starts[row - a], c1 = starts[row - a + 1];
-      const std::size_t p0 = plane_start[row], p1 = plane_start[row + 1];
+    for (std::size_t own = a; own < i; ++own) {
+      const std::size_t c0 = starts[own - a], c1 = starts[own - a + 1];
+      const std::size_t p0 = plane_start[own], p1 = plane_start[own + 1];
       if (c0 != c1 || p0 != p1) {
-        D3 fi = get(f[row]), ti = Rotation ? get(tq[row]) : D3{0, 0, 0};
+        D3 fi = get(f[own]), ti = Rotation ? get(tq[own]) : D3{0, 0, 0};
         for (std::size_t c = c0; c < c1; ++c) {
           const D3 Fc{F[0][c], F[1][c], F[2][c]};
           const std::size_t j = b.j[c];
@@ -337,14 +338,14 @@ struct SphereBed::Kernel {
         }
         contacts += c1 - c0;
         if (p0 != p1) {
-          const D3 vi = get(v[row]), wi = Rotation ? get(w[row]) : D3{0, 0, 0};
+          const D3 vi = get(v[own]), wi = Rotation ? get(w[own]) : D3{0, 0, 0};
           contacts +=
-              plane_contacts(row, p0, p1, false, 0, get(x[row]), r[row], m[row], laws, vi, wi, fi, ti);
+              plane_contacts(own, p0, p1, false, 0, get(x[own]), r[own], m[own], laws, vi, wi, fi, ti);
         }
-        put(f[row], fi);
-        if constexpr (Rotation) put(tq[row], ti);
+        put(f[own], fi);
+        if constexpr (Rotation) put(tq[own], ti);
       }
-      if (x0) predict(row);
+      if (x0) predict(own);
     }
     return i;
   }
