@@ -552,7 +552,7 @@ void SphereBed::sweep(K& kernel, std::size_t lag) {
   // block's rows take a second pass to add up, which in a bed in flight, where nothing touches, costs
   // more than the scan (the 10,000-sphere lattice as specified, 0.33 s by rows against 0.43 s in
   // blocks). A quarter of a contact a sphere at the last evaluation decides; both give the same bits.
-  if (k.nm == 1 && 4 * contacts_ >= n) {
+  if (blocks_pay(k)) {
     constexpr std::size_t B = K::kBlockRows;
     std::size_t done = 0;
     for (std::size_t t = 0; t < n; ++t) {
@@ -564,8 +564,7 @@ void SphereBed::sweep(K& kernel, std::size_t lag) {
       while (t + 1 >= lag + done + B) done = k.block(done, done + B);
     }
     if constexpr (K::kRotation)
-      for (std::size_t i = n - n % 8; i < n; ++i)
-        if (w_[i].x() != 0 || w_[i].y() != 0 || w_[i].z() != 0) q_[i] = detail3d::turned(q_[i], w_[i], s_.dt);
+      for (std::size_t i = n - n % 8; i < n; ++i) q_[i] = detail3d::turned(q_[i], w_[i], s_.dt);
     while (done < n) done = k.block(done, std::min(n, done + B));
     kernel.contacts = k.contacts, kernel.moved = k.moved;
     return;
@@ -600,7 +599,7 @@ void SphereBed::sweep_distributed(K& kernel, std::size_t lag) {
     if (t >= lag) any_row(t - lag);
   };
   std::size_t t = 0;
-  const bool blocks = k.nm == 1 && 4 * contacts_ >= n;  // as in sweep()
+  const bool blocks = blocks_pay(k);
   for (const auto& [first, last] : plain_runs_) {
     for (; t < first; ++t) tested(t);
     if (blocks) {  // the run's rows [first - lag, last - lag) in blocks, as sweep() takes them

@@ -42,11 +42,11 @@ struct PairBatch {
     (*this)[reach][n] = reach_;
     ++n;
   }
-  // The last group's spare lanes repeat the last pair (computed, never used).
+  // The last group's spare lanes repeat the last pair's inputs (computed, never used).
   void pad() {
     for (std::size_t c = n; c % 4 != 0; ++c) {
       i[c] = i[n - 1], j[c] = j[n - 1], k[c] = k[n - 1];
-      for (int col = 0; col < kColumns; ++col) (*this)[Column(col)][c] = (*this)[Column(col)][n - 1];
+      for (Column col : {dx, dy, dz, r2, reach}) (*this)[col][c] = (*this)[col][n - 1];
     }
   }
 };
