@@ -78,13 +78,35 @@ void Placed3::place() {
     const Vec3 arc = world_normals[f2].cross(world_normals[f1]);
     arcs.x[i] = arc.x(), arcs.y[i] = arc.y(), arcs.z[i] = arc.z();
   }
+  if (shaped != hull) shape();
   face_lo.resize(world_normals.size()), face_hi.resize(world_normals.size());
-  inradius = 1e300;
   for (std::size_t f = 0; f < world_normals.size(); ++f) {
-    project(*this, world_normals[f], face_lo[f], face_hi[f]);
-    inradius = std::min(inradius, world_offsets[f] - world_normals[f].dot(x));
+    const double along = world_normals[f].dot(x);
+    face_lo[f] = body_lo[f] + along, face_hi[f] = body_hi[f] + along;
   }
-  inradius = std::max(inradius, 0.0);
+  inradius = body_inradius;
+}
+
+void Placed3::shape() {
+  const Polyhedron& h = *hull;
+  const std::size_t nf = h.normals.size();
+  body_lo.assign(nf, 1e300), body_hi.assign(nf, -1e300);
+  body_inradius = 1e300;
+  for (std::size_t f = 0; f < nf; ++f) {
+    for (const Vec3& v : h.vertices) {
+      const double s = h.normals[f].dot(v);
+      body_lo[f] = std::min(body_lo[f], s), body_hi[f] = std::max(body_hi[f], s);
+    }
+    body_inradius = std::min(body_inradius, h.normals[f].dot(h.vertices[h.faces[f][0]]));
+  }
+  body_inradius = std::max(body_inradius, 0.0);
+  first_edges.assign(nf, 0), second_edges.assign(nf, 0);
+  if (h.edges.size() <= 64 && h.edge_faces.size() == h.edges.size())
+    for (std::size_t j = 0; j < h.edges.size(); ++j) {
+      first_edges[static_cast<std::size_t>(h.edge_faces[j].first)] |= std::uint64_t{1} << j;
+      second_edges[static_cast<std::size_t>(h.edge_faces[j].second)] |= std::uint64_t{1} << j;
+    }
+  shaped = hull;
 }
 
 void Placed3::Coordinates::assign(const std::vector<Vec3>& points) {
@@ -285,13 +307,7 @@ class MinkowskiEdgePairs {
         usable_(a.hull->edge_faces.size() == a.hull->edges.size() &&
                 b.hull->edge_faces.size() == b.hull->edges.size() && a.world_normals.size() <= 64 &&
                 b.world_normals.size() <= 64 && b.hull->edges.size() <= 64) {
-    if (!usable_) return;
-    std::fill_n(first_b_, b.world_normals.size(), 0), std::fill_n(second_b_, b.world_normals.size(), 0);
-    for (std::size_t j = 0; j < b.hull->edges.size(); ++j) {
-      const std::uint64_t bit = std::uint64_t{1} << j;
-      first_b_[b.hull->edge_faces[j].first] |= bit;
-      second_b_[b.hull->edge_faces[j].second] |= bit;
-    }
+    if (usable_) first_b_ = b.first_edges.data(), second_b_ = b.second_edges.data();
   }
   bool usable() const { return usable_; }
   // With `kept` (when usable()): its crossings if they still hold at this relative turn, else all of
@@ -383,7 +399,8 @@ class MinkowskiEdgePairs {
   bool usable_;
   GaussCrossings* kept_ = nullptr;
   std::uint64_t sided_ = 0;  // A's faces whose neg_b_ and pos_b_ are set
-  std::uint64_t neg_b_[64], pos_b_[64], first_b_[64], second_b_[64];
+  std::uint64_t neg_b_[64], pos_b_[64];
+  const std::uint64_t *first_b_ = nullptr, *second_b_ = nullptr;  // B's edges by their faces (Placed3)
 };
 
 // A hint names its axis by kind (0: a face of A, 1: a face of B, 2: an edge pair) and index (the face,
@@ -509,12 +526,19 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
     const double dd = d.squaredNorm(), dc = d.dot(centres);
     return need <= 0 || cc * dd - dc * dc >= need * need * dd;
   };
+  // Whether B's edge j reaches the need the faces left (need0), asked only of the edges the Gauss map
+  // pairs with some edge of A, once each (bit j of `asked`; of `reaching` when it does).
   const double need0 = bound.edge_need(a, b);
-  std::uint64_t b_reaching = ~std::uint64_t{0};
-  if (eb.size() <= 64)
-    for (std::size_t j = 0; j < eb.size(); ++j)
-      if (!edge_reaches(b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first], need0))
-        b_reaching &= ~(std::uint64_t{1} << j);
+  std::uint64_t asked = 0, reaching = 0;
+  auto b_reaching = [&](std::uint64_t among) {
+    for (std::uint64_t m = among & ~asked; m; m &= m - 1) {
+      const auto j = static_cast<std::size_t>(__builtin_ctzll(m));
+      if (edge_reaches(b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first], need0))
+        reaching |= std::uint64_t{1} << j;
+    }
+    asked |= among;
+    return among & reaching;
+  };
   // Edge axes must beat the best face axis clearly, so resting face contacts do not flicker to edges.
   // false: the pair's axis separates the bodies.
   auto edge_axis = [&](std::size_t i, const Vec3& da, std::size_t j) {
@@ -533,7 +557,7 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
     const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
     if (!edge_reaches(da, bound.edge_need(a, b))) continue;
     if (gauss.usable()) {
-      for (std::uint64_t m = gauss.partners(i) & b_reaching; m; m &= m - 1)
+      for (std::uint64_t m = b_reaching(gauss.partners(i)); m; m &= m - 1)
         if (const auto j = static_cast<std::size_t>(__builtin_ctzll(m)); !edge_axis(i, da, j))
           return apart_by(2, i * 4096 + j);
     } else {
