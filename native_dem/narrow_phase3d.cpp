@@ -540,22 +540,24 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
     return among & reaching;
   };
   // Edge axes must beat the best face axis clearly, so resting face contacts do not flicker to edges.
-  // false: the pair's axis separates the bodies.
+  // false: the pair's axis separates the bodies. `need` follows the limit (a division, taken again only
+  // when an axis lowers it rather than for every edge).
+  double need = need0;
   auto edge_axis = [&](std::size_t i, const Vec3& da, std::size_t j) {
     const Vec3 db = b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first];
     Vec3 n = da.cross(db);
     const double nn = n.squaredNorm();
     if (nn < 1e-12 * da.squaredNorm() * db.squaredNorm()) return true;  // parallel edges
-    const double need = bound.edge_need(a, b), nc = n.dot(centres);
+    const double nc = n.dot(centres);
     if (need > 0 && nc * nc < need * need * nn) return true;  // cannot win, cannot separate
     n.normalize();
     const bool overlaps = overlap_on(a, b, n, best, 2, static_cast<int>(i * 4096 + j), 1.05);
-    bound.limit = std::min(bound.limit, best.overlap);
+    if (best.overlap < bound.limit) bound.limit = best.overlap, need = bound.edge_need(a, b);
     return overlaps;
   };
   for (std::size_t i = 0; i < ea.size(); ++i) {
     const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
-    if (!edge_reaches(da, bound.edge_need(a, b))) continue;
+    if (!edge_reaches(da, need)) continue;
     if (gauss.usable()) {
       for (std::uint64_t m = b_reaching(gauss.partners(i)); m; m &= m - 1)
         if (const auto j = static_cast<std::size_t>(__builtin_ctzll(m)); !edge_axis(i, da, j))
