@@ -310,6 +310,7 @@ class MinkowskiEdgePairs {
     if (usable_) first_b_ = b.first_edges.data(), second_b_ = b.second_edges.data();
   }
   bool usable() const { return usable_; }
+  bool kept() const { return kept_ != nullptr; }  // the crossings are the kept ones: partners() costs a look
   // With `kept` (when usable()): its crossings if they still hold at this relative turn, else all of
   // them found now and kept with their margin.
   void keep_in(GaussCrossings& kept) {
@@ -556,6 +557,8 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
     return overlaps;
   };
   for (std::size_t i = 0; i < ea.size(); ++i) {
+    // (An edge with no partners is passed over first where that costs only a look.)
+    if (gauss.kept() && gauss.partners(i) == 0) continue;
     const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
     if (!edge_reaches(da, need)) continue;
     if (gauss.usable()) {
