@@ -30,9 +30,32 @@ double Polyhedron::bounding_radius() const {
   return r;
 }
 
+double Polyhedron::inradius() const {
+  double r = 1e300;
+  for (const double d : offsets) r = std::min(r, d);
+  return std::max(r, 0.0);
+}
+
 void Polyhedron::translate(const Vec3& shift) {
   for (Vec3& v : vertices) v += shift;
   for (std::size_t f = 0; f < faces.size(); ++f) offsets[f] += normals[f].dot(shift);
+  derive_extents();
+}
+
+void Polyhedron::derive_extents() {
+  const std::size_t nf = normals.size();
+  face_lo.assign(nf, 1e300), face_hi.assign(nf, -1e300);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (const Vec3& v : vertices) {
+      const double s = normals[f].dot(v);
+      face_lo[f] = std::min(face_lo[f], s), face_hi[f] = std::max(face_hi[f], s);
+    }
+  first_edges.assign(nf, 0), second_edges.assign(nf, 0);
+  if (edges.size() > 64 || edge_faces.size() != edges.size()) return;
+  for (std::size_t j = 0; j < edges.size(); ++j) {
+    first_edges[static_cast<std::size_t>(edge_faces[j].first)] |= std::uint64_t{1} << j;
+    second_edges[static_cast<std::size_t>(edge_faces[j].second)] |= std::uint64_t{1} << j;
+  }
 }
 
 std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<int>> faces,
@@ -93,6 +116,7 @@ std::string make_polyhedron(std::vector<Vec3> vertices, std::vector<std::vector<
       if (p.plane_distance(static_cast<int>(f), vertices[i]) > 1e-9 * size)
         return fmt::format("not convex: vertex {} lies outside the plane of face {}", i, f);
   }
+  p.derive_extents();
   out = std::move(p);
   return {};
 }

@@ -2,6 +2,7 @@
 // Convex polyhedra for 3-D bodies: checked construction from vertices and faces, mass properties
 // (volume, centroid, inertia tensor) and the queries the narrow phase needs.
 #include <Eigen/Dense>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,12 @@ struct Polyhedron {
   std::vector<std::pair<int, int>> edges;  // each edge once, a < b
   // Per edge, the two faces that meet there: the one that runs a -> b, then the one that runs b -> a.
   std::vector<std::pair<int, int>> edge_faces;
+  // Kept by make_polyhedron and translate for the narrow phase, which would otherwise find them for every
+  // placed grain at every step or for every pair: each face's extent along its own normal, [face_lo,
+  // face_hi] (a turn and a shift of the body add only n . x); and per face, the edges whose first (second)
+  // face it is (bit j for edge j, hulls of up to 64 edges), where the Gauss-map search starts.
+  std::vector<double> face_lo, face_hi;
+  std::vector<std::uint64_t> first_edges, second_edges;
 
   // Signed distance of p from the plane of face f (positive outside).
   double plane_distance(int f, const Vec3& p) const { return normals[f].dot(p) - offsets[f]; }
@@ -26,7 +33,11 @@ struct Polyhedron {
   // The vertex furthest along direction d.
   int support(const Vec3& d) const;
   double bounding_radius() const;  // about the frame origin
+  // The radius of the largest ball about the frame origin inside the hull (its nearest face's distance;
+  // 0 when the origin is outside).
+  double inradius() const;
   void translate(const Vec3& shift);
+  void derive_extents();  // face_lo, face_hi, first_edges and second_edges from the rest
 };
 
 // Builds and checks a polyhedron. Returns an empty string on success, else what is wrong (faces not

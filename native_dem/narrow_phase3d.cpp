@@ -78,35 +78,12 @@ void Placed3::place() {
     const Vec3 arc = world_normals[f2].cross(world_normals[f1]);
     arcs.x[i] = arc.x(), arcs.y[i] = arc.y(), arcs.z[i] = arc.z();
   }
-  if (shaped != hull) shape();
   face_lo.resize(world_normals.size()), face_hi.resize(world_normals.size());
-  for (std::size_t f = 0; f < world_normals.size(); ++f) {
+  for (std::size_t f = 0; f < world_normals.size(); ++f) {  // the hull's own extents, moved by n . x
     const double along = world_normals[f].dot(x);
-    face_lo[f] = body_lo[f] + along, face_hi[f] = body_hi[f] + along;
+    face_lo[f] = hull->face_lo[f] + along, face_hi[f] = hull->face_hi[f] + along;
   }
-  inradius = body_inradius;
-}
-
-void Placed3::shape() {
-  const Polyhedron& h = *hull;
-  const std::size_t nf = h.normals.size();
-  body_lo.assign(nf, 1e300), body_hi.assign(nf, -1e300);
-  body_inradius = 1e300;
-  for (std::size_t f = 0; f < nf; ++f) {
-    for (const Vec3& v : h.vertices) {
-      const double s = h.normals[f].dot(v);
-      body_lo[f] = std::min(body_lo[f], s), body_hi[f] = std::max(body_hi[f], s);
-    }
-    body_inradius = std::min(body_inradius, h.normals[f].dot(h.vertices[h.faces[f][0]]));
-  }
-  body_inradius = std::max(body_inradius, 0.0);
-  first_edges.assign(nf, 0), second_edges.assign(nf, 0);
-  if (h.edges.size() <= 64 && h.edge_faces.size() == h.edges.size())
-    for (std::size_t j = 0; j < h.edges.size(); ++j) {
-      first_edges[static_cast<std::size_t>(h.edge_faces[j].first)] |= std::uint64_t{1} << j;
-      second_edges[static_cast<std::size_t>(h.edge_faces[j].second)] |= std::uint64_t{1} << j;
-    }
-  shaped = hull;
+  inradius = hull->inradius();
 }
 
 void Placed3::Coordinates::assign(const std::vector<Vec3>& points) {
@@ -307,7 +284,7 @@ class MinkowskiEdgePairs {
         usable_(a.hull->edge_faces.size() == a.hull->edges.size() &&
                 b.hull->edge_faces.size() == b.hull->edges.size() && a.world_normals.size() <= 64 &&
                 b.world_normals.size() <= 64 && b.hull->edges.size() <= 64) {
-    if (usable_) first_b_ = b.first_edges.data(), second_b_ = b.second_edges.data();
+    if (usable_) first_b_ = b.hull->first_edges.data(), second_b_ = b.hull->second_edges.data();
   }
   bool usable() const { return usable_; }
   bool kept() const { return kept_ != nullptr; }  // the crossings are the kept ones: partners() costs a look
@@ -401,7 +378,7 @@ class MinkowskiEdgePairs {
   GaussCrossings* kept_ = nullptr;
   std::uint64_t sided_ = 0;  // A's faces whose neg_b_ and pos_b_ are set
   std::uint64_t neg_b_[64], pos_b_[64];
-  const std::uint64_t *first_b_ = nullptr, *second_b_ = nullptr;  // B's edges by their faces (Placed3)
+  const std::uint64_t *first_b_ = nullptr, *second_b_ = nullptr;  // B's edges by their faces (its hull's)
 };
 
 // A hint names its axis by kind (0: a face of A, 1: a face of B, 2: an edge pair) and index (the face,

@@ -42,18 +42,7 @@ struct Placed3 {
   // separating-axis test bounds an axis's overlap from below with it and skips the axes that cannot win
   // (hull_hull). Set it below minus the hulls' widths (tests use -1e300) and nothing is skipped.
   double inradius = 0;
-  // What of the above depends on the hull alone, found once per hull (`shaped`: the hull they belong to):
-  // each face's extent along its own normal and the inradius in the body's frame (a turn and a shift add
-  // only n . x to the extents), and per face of the hull, the edges whose first (second) face it is (bit
-  // j for edge j; hulls of up to 64 edges and faces), which the Gauss-map search starts from.
-  const Polyhedron* shaped = nullptr;
-  std::vector<double> body_lo, body_hi;
-  double body_inradius = 0;
-  std::vector<std::uint64_t> first_edges, second_edges;
   void place();
-
- private:
-  void shape();
 };
 
 struct Plane3 {

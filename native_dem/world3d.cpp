@@ -74,7 +74,7 @@ World3d::World3d(const Scene& scene, Decomposition decomposition)
 }
 
 // The narrow phase's view of each body, before placement. Only the general path uses it, so a bed on the
-// sphere kernel never holds it (a Placed3 is about 550 bytes, more than the kernel's whole sphere).
+// sphere kernel never holds it (a Placed3 is about 400 bytes, as much as the kernel's whole sphere).
 std::vector<Placed3> World3d::unplaced(const std::vector<Body3>& bodies) {
   std::vector<Placed3> placed(bodies.size());
   for (std::size_t i = 0; i < bodies.size(); ++i)
