@@ -37,6 +37,7 @@ const std::vector<Capabilities>& engine_catalog() {
                                          "moving wall", "sphere",  "polyhedron", "plane"};
   std::vector<std::string> native_shapes = both;
   native_shapes.push_back("moving plane");  // the rigid engines' 3-D planes are static
+  native_shapes.push_back("held body");     // 3-D bodies held in place (an impact's active zone)
   const std::vector<std::string> rigid_effects = {"gravity", "normal_contact", "friction", "rotation"};
   static const std::vector<Capabilities> all = {
       {"native",
@@ -151,6 +152,8 @@ void check_engine_supports(const Capabilities& c, const Scene& scene) {
   for (const Body3Spec& b : scene.bodies3d) {
     const std::string shape = b.shape == Body3Spec::Shape::Sphere ? "sphere" : "polyhedron";
     if (!has(c.shapes, shape)) missing(c, "handle " + shape + " bodies");
+    if (b.held && !has(c.shapes, "held body"))
+      missing(c, fmt::format("hold a body in place (body id {}: an impact's active zone)", b.id));
   }
   if (!scene.planes.empty() && !has(c.shapes, "plane")) missing(c, "handle plane walls");
   for (const PlaneSpec& p : scene.planes)

@@ -141,10 +141,12 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   // The build takes minutes (an hour for irregular grains): each stage is reported as it ends, and kept in
   // the checkpoint when there is one, with every impact finished after it (in the sand gun's file, as its
   // row 1: the fingerprint holds the case, so no sand-gun run can take it for its own).
-  const std::string impacts_of = fmt::format(
-      "case {} speed {:.17g} alpha {:.17g} mu {:.17g} radius {:.17g} engine {} steps_per_contact {:.17g} "
-      "settle_on_engine {}",
-      c.name, c.speed, c.alpha_deg, c.mu, c.radius, a.engine, a.steps_per_contact, a.settle_on_engine);
+  const std::string impacts_of =
+      fmt::format(
+          "case {} speed {:.17g} alpha {:.17g} mu {:.17g} radius {:.17g} engine {} steps_per_contact {:.17g} "
+          "settle_on_engine {}",
+          c.name, c.speed, c.alpha_deg, c.mu, c.radius, a.engine, a.steps_per_contact, a.settle_on_engine) +
+      (a.active_zone > 0 ? fmt::format(" active_zone {:.17g}", a.active_zone) : std::string());
   SandGunProgress kept;
   if (!a.impact_checkpoint.empty()) {
     if (auto p = read_sand_gun_checkpoint(a.impact_checkpoint, spec, a.seed, impacts_of)) {
@@ -172,6 +174,7 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   ImpactOptions o;
   o.engine = a.engine;
   o.steps_per_contact = a.steps_per_contact;
+  o.active_radius = a.active_zone * 2 * spec.radius;
   int settles = 0;
   if (a.settle_on_engine) {
     // The engine's own bed: an impulse engine squeezes the bed built here further (docs/impacts.md).
@@ -243,6 +246,13 @@ int impact_command(const ImpactCommands& a) {
                      "is for --dimension 3 (2-D impacts take about a second each: run them again)");
   if (!a.record.empty() && !a.force && fs::exists(a.record))
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
+  if (a.active_zone > 0 && a.dimension != 3)
+    throw InputError({"--active-zone", 0}, fmt::format("{:g}", a.active_zone),
+                     "is for --dimension 3 (a 2-D impact moves its whole bed)");
+  if (a.active_zone > 0 && a.engine != "native")
+    throw InputError(
+        {"--active-zone", 0}, fmt::format("{:g}", a.active_zone),
+        fmt::format("holds grains in place, which only the native engine does (not {})", a.engine));
   if (a.dimension == 3) return impact3d_command(a, c);
   const bool speak = !a.quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   const std::vector<Bed> beds = beds_for(a, c, speak);
@@ -472,6 +482,13 @@ void ImpactCommands::add(CLI::App& app) {
   impact_cmd->add_option("--dimension", dimension, "2 (discs, the thesis) or 3 (spheres, a poured bed)")
       ->default_val(2)
       ->check(CLI::IsMember({2, 3}));
+  impact_cmd
+      ->add_option("--active-zone", active_zone,
+                   "--dimension 3, native: move only the bed grains within this many grain diameters of "
+                   "the impact point and hold the rest in place (docs/impacts.md \"An impact's active "
+                   "zone\"); 0: the whole bed")
+      ->default_val(0.0)
+      ->check(CLI::Range(0.0, 1000.0));
   impact_cmd
       ->add_option("--checkpoint", impact_checkpoint,
                    "--dimension 3: keep the bed's build (each stage, and every 10 min within one) and "

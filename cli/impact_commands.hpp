@@ -29,6 +29,7 @@ struct ImpactCommands {
   std::string grains = "sphere";      // --dimension 3: "sphere" or "polyhedron" (irregular grains)
   std::vector<double> box;            // --dimension 3: the box's x and y (cm); empty: 67.3 x 20
   std::string impact_checkpoint;      // --dimension 3: the bed's build and the finished impacts
+  double active_zone = 0;             // --dimension 3: bed-grain diameters about the impact that move
   // grainlab rebound-model
   int model_case = 2;
   double alpha = 15, mass_ratio = -1, sigma = -2, spin = 0, gap = 0, radius_ratio = 1;

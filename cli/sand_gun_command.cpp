@@ -65,6 +65,7 @@ nlohmann::json run_json(const SandGunCommand& a, const SandGunRun& run) {
           {"seed", a.seed},
           {"bed_seed", a.bed_seed},
           {"runs", a.runs},
+          {"active_zone", a.active_zone},
           {"visible_above", run.visible_above},
           {"rows", rows},
           {"exponents", exponents}};
@@ -80,9 +81,9 @@ void SandGunCommand::add(CLI::App& app) {
       ->default_val(20000)
       ->check(CLI::Range(500, 1000000));
   cmd->add_option("--rows", rows, "the tables' rows to shoot, 1-9 (default: all)")->check(CLI::Range(1, 9));
-  cmd->add_option("--runs", runs, "impacts per row (spread over MPI ranks)")
+  cmd->add_option("--runs", runs, "impacts per row (spread over MPI ranks); 0: build the bed only")
       ->default_val(20)
-      ->check(CLI::Range(1, 100000));
+      ->check(CLI::Range(0, 100000));
   cmd->add_option("--seed", seed, "seed: impact i draws its point from (seed, i)")->default_val(1);
   cmd->add_option("--bed-seed", bed_seed, "seed of the pour")->default_val(1);
   cmd->add_option("--stiffness", stiffness, "k_n as a multiple of the default 2e7 dyn/cm")
@@ -98,6 +99,12 @@ void SandGunCommand::add(CLI::App& app) {
                   "finished impact in this HDF5 file; run again with it to continue (more --runs or other "
                   "--rows may be asked for)")
       ->check(cli::output_file());
+  cmd->add_option("--active-zone", active_zone,
+                  "move only the bed grains within this many bed-grain diameters of each impact point and "
+                  "hold the rest in place: an impact then costs what its neighbourhood costs "
+                  "(docs/impacts.md \"An impact's active zone\" measures what it changes); 0: the whole bed")
+      ->default_val(0.0)
+      ->check(CLI::Range(0.0, 1000.0));
   cmd->add_option("--visible-above", visible_above,
                   "count an ejectum only if its centre rises this many bed-grain diameters above the top of "
                   "the bed (1: the thesis's rule; the photographs' apparent surface stood a few diameters "
@@ -127,10 +134,20 @@ int SandGunCommand::dispatch() const {
         fmt::print(stderr, "grainlab {}\n", line);
       },
       [&](std::size_t d, std::size_t t) { bar.update(static_cast<double>(d), static_cast<double>(t)); },
-      checkpoint);
+      checkpoint, active_zone);
   bar.finish();
-  if (visible_above != 1) recount_sand_gun(run, visible_above);
   if (parallel::rank() != 0) return 0;
+  if (runs == 0) {  // the bed only
+    const Bed3d& bed = run.bed;
+    if (json)
+      fmt::print("{}\n", run_json(*this, run).dump(2));
+    else
+      fmt::print("sand bed of {} grains built: top {:.3f} cm, packing {:.3f}{}\n", bed.scene.bodies3d.size(),
+                 bed.top, bed.packing_fraction,
+                 checkpoint.empty() ? "" : fmt::format(", kept in {}", checkpoint));
+    return 0;
+  }
+  if (visible_above != 1) recount_sand_gun(run, visible_above);
   if (!plots.empty()) {
     write_plots(sand_gun_plots(run), plots);
     fmt::print(json ? stderr : stdout, "drew the tables' figures in {}/ (sand_gun_*.png)\n", plots);

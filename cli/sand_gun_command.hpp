@@ -13,7 +13,7 @@ struct SandGunCommand {
   std::vector<std::size_t> rows;
   std::size_t runs = 20;
   std::uint64_t seed = 1, bed_seed = 1;
-  double stiffness = 1, visible_above = 1;
+  double stiffness = 1, visible_above = 1, active_zone = 0;
   std::string checkpoint, grains = "sphere", plots;
   bool json = false, quiet = false;
 

@@ -129,6 +129,11 @@ struct Body3Spec {
   Quat orientation = Quat::Identity();  // body to world
   Vec3 spin = Vec3::Zero();             // angular velocity, world frame
   int material = 0;
+  // Held in place: the body never moves (no step changes its position, orientation or velocity), yet it
+  // pushes back on the bodies that touch it as a body of its mass would (the contact's damping uses its
+  // mass). What an impact's surroundings are when only the grains near the impact are simulated
+  // (ImpactOptions::active_radius); not read from scene files. Native engine only.
+  bool held = false;
   SourceLocation where;
 };
 

@@ -105,10 +105,16 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
   id_.resize(n);
   for (auto* a : {&x_, &v_, &w_, &f_, &tq_}) a->resize(n);
   q_.resize(n), m_.resize(n), inv_m_.resize(n), inv_i_.resize(n), r_.resize(n), mat_.resize(n);
+  in_place_.clear();
   for (std::size_t k = 0; k < n; ++k) {
     const SphereState& s = spheres[order[k]];
     id_[k] = s.id, x_[k] = s.x, v_[k] = s.v, w_[k] = s.w, f_[k] = s.f, tq_[k] = s.tq, q_[k] = s.q;
     m_[k] = s.m, inv_m_[k] = 1 / s.m, inv_i_[k] = s.inv_i, r_[k] = s.r, mat_[k] = s.material;
+    if (!s.held) continue;
+    // Held in place: zero inverse mass and inertia leave every step's kicks and drift exactly where
+    // they were, while the contacts still take the mass m into their damping.
+    in_place_.resize(n, 0), in_place_[k] = 1;
+    inv_m_[k] = 0, inv_i_[k] = 0, v_[k].setZero(), w_[k].setZero();
   }
   plane_xi_.assign(n * s_.planes.size(), Vec3::Zero());
   rest_planes_ = s_.planes;
@@ -702,12 +708,14 @@ void SphereBed::rebuild() {
   wrap_periodic();
   std::vector<SphereSpring> held = held_springs();
   if (domain_) exchange_spheres(held);
-  cells_.build(x_, max_radius_, skin_);
+  cells_.build(x_, max_radius_, skin_, in_place_.empty() ? nullptr : in_place_.data());
   // The planes each sphere can reach before the next rebuild (it moves less than half the skin): most
-  // of a bed's spheres touch none of them, and then test none. A ghost's planes are its owner's business.
+  // of a bed's spheres touch none of them, and then test none. A ghost's planes are its owner's business,
+  // and a sphere held in place needs none.
   plane_start_.assign(1, 0), plane_of_.clear();
   for (std::size_t i = 0; i < x_.size(); ++i) {
-    for (std::size_t k = 0; k < s_.planes.size() && !ghost(i); ++k)
+    const bool none = ghost(i) || (!in_place_.empty() && in_place_[i]);
+    for (std::size_t k = 0; k < s_.planes.size() && !none; ++k)
       if (rest_planes_[k].normal.dot(x_[i] - rest_planes_[k].point) <
           r_[i] + skin_ + s_.plane_motion[k].reach())
         plane_of_.push_back(static_cast<std::uint32_t>(k));

@@ -47,6 +47,7 @@ struct SphereState {
   Quat q = Quat::Identity();
   double m = 0, inv_i = 0, r = 0;  // inv_i: the isotropic inverse moment of inertia (0: no rotation)
   int material = 0;
+  bool held = false;  // held in place (Body3Spec::held): never moves, pushes back with its mass m
 };
 
 // A shear spring by body ids: b >= 0 another sphere (a < b), b < 0 plane -1 - b.
@@ -164,6 +165,9 @@ class SphereBed {
   std::vector<Quat> q_;
   std::vector<double> m_, inv_m_, inv_i_, r_;
   std::vector<std::int32_t> mat_;
+  // Per slot, whether the sphere is held in place (empty: none is). Two held spheres are never listed as
+  // a pair, and a held one tests no planes: only its pairs with free spheres are computed.
+  std::vector<std::uint8_t> in_place_;
   // Per list entry: the spring, and whether the pair touched at the last evaluation.
   std::vector<Vec3> pair_xi_;
   std::vector<std::uint8_t> touching_;

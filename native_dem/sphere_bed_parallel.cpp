@@ -31,6 +31,7 @@ bool SphereBed::any_rank(bool mine) const {
 }
 
 void SphereBed::distribute(const Decomposition& decomposition) {
+  if (!in_place_.empty()) throw std::logic_error("a bed with spheres held in place runs on one rank");
   decomposition_ = decomposition;
   Domain d;
   d.rank = parallel::rank();

@@ -6,7 +6,8 @@
 
 namespace grainlab::dem {
 
-void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double skin) {
+void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double skin,
+                        const std::uint8_t* held) {
   const std::size_t n = x.size();
   if (n > std::size_t{UINT32_MAX}) throw std::length_error("neighbour lists hold at most 2^32 - 1 bodies");
   ++builds_;
@@ -29,7 +30,8 @@ void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double sk
     for (int s = 0; s < ns; ++s)
       for (std::uint32_t m = start[around[s]]; m < start[around[s] + 1]; ++m) {
         const std::size_t j = members[m];
-        if (j > i && separation(x[i], x[j]).squaredNorm() < reach2) list_.push_back(static_cast<Index>(j));
+        if (j > i && separation(x[i], x[j]).squaredNorm() < reach2 && !(held && held[i] && held[j]))
+          list_.push_back(static_cast<Index>(j));
       }
     std::sort(list_.begin() + static_cast<long>(first), list_.end());
     offset_[i + 1] = list_.size();

@@ -34,8 +34,10 @@ class SphereCells {
     if (period_[0] > 0) dx -= period_[0] * std::round(dx / period_[0]);
     if (period_[1] > 0) dy -= period_[1] * std::round(dy / period_[1]);
   }
-  // Builds the lists for bodies at `centres` whose bounding radii are at most `max_radius`.
-  void build(const std::vector<Vec3>& centres, double max_radius, double skin = 0);
+  // Builds the lists for bodies at `centres` whose bounding radii are at most `max_radius`. `held` (one
+  // flag per body, or nullptr): two bodies both flagged (held in place) are not listed as a pair.
+  void build(const std::vector<Vec3>& centres, double max_radius, double skin = 0,
+             const std::uint8_t* held = nullptr);
   // True if the lists must be rebuilt for these positions (never built, another count, or a body moved
   // more than half the skin).
   bool stale(const std::vector<Vec3>& centres) const;

@@ -54,9 +54,11 @@ World3d::World3d(const Scene& scene, Decomposition decomposition)
     b.q = s.orientation;
     b.w = effects_.has(Effect::rotation) ? s.spin : Vec3::Zero();
     b.m = s.mass;
-    b.inv_m = 1 / s.mass;
+    b.inv_m = s.held ? 0 : 1 / s.mass;
     b.inertia = s.inertia;
-    b.inv_inertia = effects_.has(Effect::rotation) ? Mat3(s.inertia.inverse()) : Mat3::Zero();
+    b.inv_inertia = effects_.has(Effect::rotation) && !s.held ? Mat3(s.inertia.inverse()) : Mat3::Zero();
+    b.held = s.held;
+    if (s.held) b.v.setZero(), b.w.setZero();
     b.isotropic = isotropic(b.inertia) && isotropic(b.inv_inertia);
     b.hull = s.shape == Body3Spec::Shape::Polyhedron ? &s.hull : nullptr;
     b.radius = s.radius;
@@ -91,6 +93,8 @@ void World3d::check_decomposition() const {
   if (rows > 1 && scene_.periodic_y)
     throw InputError({"--ranks-y", 0}, std::to_string(rows),
                      "a 3-D scene periodic in y is split into slabs along x only: leave --ranks-y at 1");
+  if (std::any_of(b_.begin(), b_.end(), [](const Body3& b) { return b.held; }))
+    throw InputError({scene_.path, 0}, "held", "3-D scenes with bodies held in place run on one rank");
   if (scene_.accuracy.integrator != Integrator::VelocityVerlet ||
       std::any_of(b_.begin(), b_.end(), [](const Body3& b) { return b.hull || !b.isotropic; }))
     throw InputError({scene_.path, 0}, "dimension",
@@ -160,7 +164,11 @@ void World3d::bin_bodies(SphereCells& cells, std::vector<Vec3>& centres, double 
   centres.resize(b_.size());
   double r = 0;
   for (std::size_t i = 0; i < b_.size(); ++i) centres[i] = b_[i].x, r = std::max(r, b_[i].radius);
-  if (cells.stale(centres)) cells.build(centres, r, skin_fraction * r);
+  if (!cells.stale(centres)) return;
+  std::vector<std::uint8_t> held;  // (two bodies held in place are never listed as a pair)
+  for (std::size_t i = 0; i < b_.size(); ++i)
+    if (b_[i].held) held.resize(b_.size(), 0), held[i] = 1;
+  cells.build(centres, r, skin_fraction * r, held.empty() ? nullptr : held.data());
 }
 
 void World3d::place_planes(double t) {
@@ -184,8 +192,10 @@ void World3d::compute_forces(double t, double h) {
   step_force_.clear();
   contacts_now_ = 0;
   if (!effects_.has(Effect::normal_contact)) return;
-  if (placed_.size() != b_.size()) placed_ = unplaced(b_);
+  const bool first_placement = placed_.size() != b_.size();
+  if (first_placement) placed_ = unplaced(b_);
   for (std::size_t i = 0; i < b_.size(); ++i) {
+    if (b_[i].held && !first_placement) continue;  // (where it was placed first, for good)
     placed_[i].x = b_[i].x;
     placed_[i].q = b_[i].q;
     placed_[i].place();
@@ -201,6 +211,7 @@ void World3d::compute_forces(double t, double h) {
   }
   for (std::size_t i = 0; i < b_.size(); ++i) {
     auto pair = [&](std::size_t j, SeparatingHint* hint, GaussCrossings* crossings) {
+      if (b_[i].held && b_[j].held) return;  // (neither can move: nothing to compute)
       if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) return;
       scratch_.clear();
       body_body(placed_[i], placed_[j], scratch_, hint, crossings);
@@ -214,7 +225,7 @@ void World3d::compute_forces(double t, double h) {
       }
     else
       for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j, nullptr, nullptr);
-    for (std::size_t k = 0; k < planes_.size(); ++k) {
+    for (std::size_t k = 0; k < planes_.size() && !b_[i].held; ++k) {
       scratch_.clear();
       body_plane(placed_[i], planes_[k], scratch_);
       const ContactLaw& law = laws_[b_[i].material * n_mat_ + plane_material_[k]];
@@ -394,6 +405,7 @@ Energies World3d::energies() const {
   if (cells) bin_bodies(near, centres, 0);
   for (std::size_t i = 0; i < b_.size(); ++i) {
     auto pair = [&](std::size_t j) {
+      if (b_[i].held && b_[j].held) return;  // (as the force loop: never computed, never counted)
       body_body(placed[i], placed[j], cs);
       spring(b_[i].material, b_[j].material);
     };

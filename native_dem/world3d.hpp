@@ -30,6 +30,7 @@ struct Body3 {
   double radius = 0;
   int material = 0;
   bool isotropic = false;  // inertia the same about every axis (spheres, cubes): no rotation needed
+  bool held = false;       // held in place (Body3Spec::held): inv_m and the inverse inertia are zero
   Vec3 f = Vec3::Zero(), tq = Vec3::Zero();  // force and torque of the last evaluation (world)
   Mat3 world_inv_inertia() const;
   Vec3 angular_momentum() const;

@@ -68,7 +68,7 @@ void World3d::load_bed(bool spread) {
     const Body3& b = b_[i];
     SphereState& s = spheres[i];
     s.id = b.id, s.x = b.x, s.v = b.v, s.w = b.w, s.f = b.f, s.tq = b.tq, s.q = b.q;
-    s.m = b.m, s.inv_i = b.inv_inertia(0, 0), s.r = b.radius, s.material = b.material;
+    s.m = b.m, s.inv_i = b.inv_inertia(0, 0), s.r = b.radius, s.material = b.material, s.held = b.held;
     r_max = std::max(r_max, b.radius);
     by_id_.push_back({b.id, i});
   }

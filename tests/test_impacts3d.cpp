@@ -100,6 +100,64 @@ TEST(Impacts3d, SpheresStruckAsCaseAGiveBackNoMoreEnergyThanTheyGet) {
   }
 }
 
+// An impact's active zone: a zone wider than the bed changes nothing, bit for bit; a zone of a few
+// grains still gives an impact that returns no more energy than it got, and only grains inside the zone
+// can be ejected (the rest are held in place).
+TEST(Impacts3d, OnlyGrainsInsideTheActiveZoneMove) {
+  const Bed3d& bed = small_bed();
+  const ImpactCase& c = impact_case("A");
+  ImpactOptions o;
+  o.duration = 0.03;
+  const Impact3dResult whole = run_impact3d(bed, c, 3, 0, o);
+  ImpactOptions wide = o;
+  wide.active_radius = 1e6;
+  expect_same_impact(run_impact3d(bed, c, 3, 0, wide), whole);
+  ImpactOptions zone = o;
+  zone.active_radius = 8 * bed.spec.radius;  // four grain diameters
+  for (std::size_t run = 0; run < 2; ++run) {
+    const Impact3dResult r = run_impact3d(bed, c, 3, run, zone);
+    const Impact3dSummary s = summarize_impacts3d({r});
+    const double out = (r.rebounded ? std::pow(s.q.at("eps_i").mean, 2) : 0) + s.q.at("ej_energy").mean;
+    EXPECT_LT(out, 1.0 + 2e-4) << "impact " << run;
+    for (const Ejectum3d& e : r.ejecta)
+      EXPECT_LE(std::sqrt(e.x0 * e.x0 + e.y0 * e.y0 + e.z0 * e.z0), zone.active_radius)
+          << "a grain held in place was ejected (impact " << run << ", grain " << e.id << ")";
+  }
+  ImpactOptions on_ode = zone;
+  on_ode.engine = "ode";
+  EXPECT_THROW(run_impact3d(bed, c, 3, 0, on_ode), InputError);
+}
+
+// A checkpoint's impacts belong to one active zone: a file holding impacts of the whole bed is refused
+// for a zone (and the other way round), naming --active-zone; a file holding only the built bed serves
+// any zone, so one bed can be shot with several.
+TEST(SandGunCheckpoint, KeepsImpactsOfOneActiveZoneOnly) {
+  const Bed3d& bed = small_bed();
+  SandGunProgress p;
+  p.bed = bed;
+  p.build = build_record(bed);
+  p.build.finished = true;
+  TempFile f;
+  write_sand_gun_checkpoint(f.path.string(), p, 3);
+  ASSERT_TRUE(read_sand_gun_checkpoint(f.path.string(), bed.spec, 3, sand_gun_impacts_of(8)));
+  ImpactOptions o;
+  o.duration = 0.03;
+  p.done[{1, 0}] = run_impact3d(bed, impact_case("A"), 3, 0, o);
+  write_sand_gun_checkpoint(f.path.string(), p, 3);
+  for (const double zone : {8.0, 12.0}) {
+    try {
+      read_sand_gun_checkpoint(f.path.string(), bed.spec, 3, sand_gun_impacts_of(zone));
+      ADD_FAILURE() << "impacts of the whole bed were lent to a zone of " << zone;
+    } catch (const InputError& e) {
+      EXPECT_NE(e.message().find("--active-zone"), std::string::npos) << e.message();
+    }
+  }
+  write_sand_gun_checkpoint(f.path.string(), p, 3, sand_gun_impacts_of(8));
+  EXPECT_TRUE(read_sand_gun_checkpoint(f.path.string(), bed.spec, 3, sand_gun_impacts_of(8)));
+  EXPECT_THROW(read_sand_gun_checkpoint(f.path.string(), bed.spec, 3), InputError);
+  EXPECT_THROW(read_sand_gun_checkpoint(f.path.string(), bed.spec, 3, sand_gun_impacts_of(4)), InputError);
+}
+
 // A sand-gun checkpoint keeps the bed bit for bit and the impacts as they were: the bed read back gives the
 // same impact as the bed that was built, so a continued run computes what an unbroken one would.
 // CASE G's preparation: poured, stiffened and damped without friction, the spheres slide toward random

@@ -98,6 +98,8 @@ const ImpactCase& impact_case(const std::string& name) {
 
 ImpactResult run_impact(const Bed& bed, const ImpactCase& c, std::uint64_t seed, std::size_t run,
                         const ImpactOptions& o) {
+  if (o.active_radius > 0)
+    throw std::invalid_argument("2-D impacts move the whole bed: an active zone is for 3-D beds");
   const auto start = std::chrono::steady_clock::now();
   Rng rng(seed, run);
   const double alpha = c.alpha_deg * kDeg, W = bed.spec.width;

@@ -41,6 +41,11 @@ struct ImpactOptions {
   double rigid_dt = 1e-5;         // the step of impulse engines (Box2D, ODE, Bullet): no contact to resolve
   std::string record;             // non-empty: also write this impact as a run file (ParaView)
   bool overwrite = false;
+  // 3-D, native engine: only the bed grains whose centres lie within this distance (cm) of the impact
+  // point move; the rest are held in place (Body3Spec::held), so an impact costs what its neighbourhood
+  // costs, not the whole bed. 0: every grain moves. docs/impacts.md "An impact's active zone" measures
+  // what it changes.
+  double active_radius = 0;
 };
 
 enum class GrainType : int { Other = 0, Target = 1, Brink = 2, AntiBrink = 3 };

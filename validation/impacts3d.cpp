@@ -330,6 +330,11 @@ Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, con
   in.inertia = Mat3::Identity() * (0.4 * in.mass * c.radius * c.radius);  // (a uniform sphere of that mass)
   in.position = aim.release;
   in.velocity = Vec3(c.speed * std::cos(c.alpha_deg * kDeg), 0, -c.speed * std::sin(c.alpha_deg * kDeg));
+  if (o.active_radius > 0) {  // the grains beyond the active zone are held where they lie
+    const Vec3 hit =
+        bed.scene.bodies3d[aim.target].position + bed.scene.bodies3d[aim.target].radius * aim.normal;
+    for (Body3Spec& b : s.bodies3d) b.held = (b.position - hit).norm() > o.active_radius;
+  }
   s.bodies3d.push_back(in);
   const double tc = std::min(contact_time(bed.spec.k_n, mb, mb), contact_time(bed.spec.k_n, mb, in.mass));
   s.accuracy.integrator = Integrator::VelocityVerlet;

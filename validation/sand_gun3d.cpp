@@ -202,11 +202,12 @@ std::vector<Impact3dResult> kept_case_impacts(const std::string& checkpoint, con
                                               const ImpactCase& c, std::size_t runs, std::uint64_t seed,
                                               const ImpactOptions& o, const EnsembleProgress& progress) {
   if (checkpoint.empty()) return run_impact3d_ensemble(bed, c, seed, runs, o, progress);
-  const std::string impacts_of = fmt::format(
+  std::string impacts_of = fmt::format(
       "suite case {} speed {:.17g} alpha {:.17g} mu {:.17g} radius {:.17g} engine {} steps_per_contact "
       "{:.17g} duration {:.17g} window {:.17g} rigid_dt {:.17g} bed {}",
       c.name, c.speed, c.alpha_deg, c.mu, c.radius, o.engine, o.steps_per_contact, o.duration, o.window,
       o.rigid_dt, bed_fingerprint(bed));
+  if (o.active_radius > 0) impacts_of += fmt::format(" active_radius {:.17g}", o.active_radius);
   SandGunProgress kept;
   try {
     if (auto p = read_sand_gun_checkpoint(checkpoint, bed.spec, seed, impacts_of)) kept = std::move(*p);
@@ -256,8 +257,11 @@ void finish_checkpointed_bed(SandGunProgress& kept, const Bed3dSpec& spec, std::
 
 SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& rows, std::size_t runs,
                         std::uint64_t seed, const std::function<void(const std::string&)>& log,
-                        const EnsembleProgress& progress, const std::string& checkpoint) {
+                        const EnsembleProgress& progress, const std::string& checkpoint, double active_zone) {
+  if (!(active_zone >= 0)) throw std::invalid_argument("sand gun: the active zone must be >= 0 diameters");
+  const std::string impacts_of = sand_gun_impacts_of(active_zone);
   SandGunRun out;
+  out.active_zone = active_zone;
   for (std::size_t i : rows) {
     if (i < 1 || i > sand_gun_rows().size())
       throw std::invalid_argument(fmt::format("sand-gun row {} (the tables have rows 1-9)", i));
@@ -266,7 +270,7 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
   if (rows.empty()) out.rows = sand_gun_rows();
   SandGunProgress kept;
   if (std::optional<SandGunProgress> p =
-          checkpoint.empty() ? std::nullopt : read_sand_gun_checkpoint(checkpoint, spec, seed)) {
+          checkpoint.empty() ? std::nullopt : read_sand_gun_checkpoint(checkpoint, spec, seed, impacts_of)) {
     kept = std::move(*p);
     if (log)
       log(kept.build.finished
@@ -283,7 +287,7 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
       [&](const std::string& line) {
         if (log) log("sand gun: " + line);
       },
-      checkpoint);
+      checkpoint, impacts_of);
   out.bed = kept.bed;
   if (log)
     log(
@@ -291,18 +295,24 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
                     "{} holds, {} spheres still moving at the last ({:.0f} s)",
                     out.bed.top, out.bed.packing_fraction, out.bed.removed, out.bed.probes,
                     build_holds(out.bed), out.bed.deep_movers, out.bed.build_seconds));
-  const ImpactOptions o = sand_gun_options(spec);
+  ImpactOptions o = sand_gun_options(spec);
+  o.active_radius = active_zone * 2 * spec.radius;
+  if (runs == 0) out.rows.clear();  // the bed only
   for (const SandGunRow& row : out.rows) {
     out.impacts.push_back(checkpoint.empty()
                               ? run_impact3d_ensemble(out.bed, sand_gun_case(row), seed, runs, o, progress)
                               : checkpointed_impacts(kept, row.index, kept.bed, sand_gun_case(row), runs,
-                                                     seed, o, checkpoint, progress));
+                                                     seed, o, checkpoint, progress, impacts_of));
     out.quantities.push_back(sand_gun_quantities(out.impacts.back()));
     if (log)
       log(fmt::format("sand gun: row {} ({} cm/s, {} deg): {} impacts, {:.2f} ejecta each", row.index,
                       row.speed, row.alpha_deg, runs, out.quantities.back().at("ejecta").mean));
   }
   return out;
+}
+
+std::string sand_gun_impacts_of(double active_zone) {
+  return active_zone > 0 ? fmt::format("active_zone {:.17g}", active_zone) : std::string();
 }
 
 void recount_sand_gun(SandGunRun& run, double visible_above) {
@@ -360,6 +370,11 @@ std::string sand_gun_markdown(const SandGunRun& run) {
       run.bed.scene.bodies3d.size(), 2 * s.smallest_radius(), 2 * s.largest_radius(), s.mu, s.restitution,
       s.k_n, s.width, s.depth, run.bed.top, run.bed.packing_fraction, run.bed.removed, 2 * kSandRadius,
       sand_gun_options(s).duration);
+  if (run.active_zone > 0)
+    md += fmt::format(
+        "Only the bed grains within {:g} diameters of each impact point moved; the rest were held in "
+        "place (--active-zone).\n\n",
+        run.active_zone);
   md += "Table 3.11 (the rebound; angles from the vertical, in the incident plane):\n\n";
   md += table(run, {{"eps_ix", "eps_ix"},
                     {"eps_iy", "eps_iy"},

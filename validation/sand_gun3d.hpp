@@ -71,6 +71,7 @@ PowerLaw fit_power_law(const std::vector<double>& x, const std::vector<double>& 
 struct SandGunRun {
   Bed3d bed;
   double visible_above = 1;  // the ejecta counting rule of `quantities` (sand_gun_quantities)
+  double active_zone = 0;    // bed-grain diameters about each impact point that moved (0: the whole bed)
   std::vector<SandGunRow> rows;
   std::vector<std::vector<Impact3dResult>> impacts;  // per row
   std::vector<std::map<std::string, MeanInterval>> quantities;
@@ -89,7 +90,8 @@ struct SandGunProgress {
 void write_sand_gun_checkpoint(const std::string& path, const SandGunProgress& p, std::uint64_t seed,
                                const std::string& impacts_of = {});
 // Reads it back: nullopt if `path` does not exist; InputError (key --checkpoint) if it is damaged, not a
-// sand-gun checkpoint, or written for another bed spec, seed or `impacts_of`.
+// sand-gun checkpoint, or written for another bed spec or seed, or for another `impacts_of` while it
+// holds impacts (a file with a built bed and no impacts serves any `impacts_of`: the bed is the same).
 std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path, const Bed3dSpec& spec,
                                                         std::uint64_t seed,
                                                         const std::string& impacts_of = {});
@@ -120,9 +122,16 @@ std::vector<Impact3dResult> kept_case_impacts(const std::string& checkpoint, con
 // file are taken from it, and the file is rewritten (rank 0) after each stage of the bed's build and after
 // each round of impacts (one per rank), so a run stopped at any point continues from there to the same
 // numbers.
+// `active_zone` (bed-grain diameters; 0: none): only the grains within it of each impact point move
+// (ImpactOptions::active_radius); it joins the checkpoint's fingerprint, so a file's impacts are never
+// mixed across zones (a file that holds a bed and no impacts yet serves any zone). `runs` 0: only the bed.
 SandGunRun run_sand_gun(const Bed3dSpec& bed, const std::vector<std::size_t>& rows, std::size_t runs,
                         std::uint64_t seed, const std::function<void(const std::string&)>& log = {},
-                        const EnsembleProgress& progress = {}, const std::string& checkpoint = {});
+                        const EnsembleProgress& progress = {}, const std::string& checkpoint = {},
+                        double active_zone = 0);
+// What the impacts of a sand-gun run depend on besides the bed and the seed (the checkpoint's
+// `impacts_of`): empty without an active zone.
+std::string sand_gun_impacts_of(double active_zone);
 
 // Tables 3.11 and 3.12 with grainlab's spheres beside the experiment: one row per shot, each cell
 // "mean [95 % interval] (experiment)"; then the fitted exponents of ejecta per event, ejection velocity and

@@ -233,6 +233,7 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
                                                         std::uint64_t seed, const std::string& impacts_of) {
   if (!std::filesystem::exists(path)) return std::nullopt;
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--checkpoint", why); };
+  const bool zone = impacts_of.rfind("active_zone", 0) == 0;  // (sand_gun_impacts_of)
   TableFile file;
   try {
     std::map<std::string, std::vector<std::string>> wanted = {{"bed/spheres", kSphereColumns},
@@ -242,12 +243,21 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
     if (spec.polyhedra)
       wanted.insert({{"bed/hull_vertices", kHullVertexColumns}, {"bed/hull_faces", kHullFaceColumns}});
     file = read_sample_tables(path, wanted);
+    // A built bed with no impacts yet serves impacts of any kind: its fingerprint need only match the bed's.
+    const std::string bed_only = fingerprint(spec, seed, {});
+    const auto options = file.metadata.find("options");
+    const auto build = file.tables.find("bed/build");
+    if (options != file.metadata.end() && file.tables.at("impacts").rows.empty() &&
+        build != file.tables.end() && build->second.rows.size() == 1 && build->second.rows[0].size() > 5 &&
+        build->second.rows[0][5] == 1 &&
+        (options->second == bed_only || options->second.rfind(bed_only + " impacts ", 0) == 0))
+      file.metadata["options"] = fingerprint(spec, seed, impacts_of);
     require_checkpoint(
-        file, path, kKind, impacts_of.empty() ? "sand-gun checkpoint" : "impact checkpoint",
+        file, path, kKind, impacts_of.empty() || zone ? "sand-gun checkpoint" : "impact checkpoint",
         fingerprint(spec, seed, impacts_of),
-        impacts_of.empty()
-            ? "was written for another bed or seed (--spheres, --bed-seed, --stiffness, --seed): "
-              "pass the ones it was started with, or another --checkpoint"
+        impacts_of.empty() || zone
+            ? "was written for another bed, seed or active zone (--spheres, --bed-seed, --stiffness, "
+              "--seed, --active-zone): pass the ones it was started with, or another --checkpoint"
             : "was written for another bed, seed, case or engine: pass the options it was "
               "started with (only --runs may change), or another --checkpoint");
   } catch (const InputError& e) {
