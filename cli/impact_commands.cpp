@@ -221,6 +221,7 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
                      {"packing_fraction", bed.packing_fraction},
                      {"spheres_removed", bed.removed},
                      {"bed_settles_on_engine", settles},
+                     {"active_zone", a.active_zone},
                      {"rebounds", s.rebounds},
                      {"ejecta", s.ejecta},
                      {"median_wall_seconds", s.median_wall_seconds},

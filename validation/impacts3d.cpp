@@ -330,10 +330,21 @@ Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, con
   in.inertia = Mat3::Identity() * (0.4 * in.mass * c.radius * c.radius);  // (a uniform sphere of that mass)
   in.position = aim.release;
   in.velocity = Vec3(c.speed * std::cos(c.alpha_deg * kDeg), 0, -c.speed * std::sin(c.alpha_deg * kDeg));
-  if (o.active_radius > 0) {  // the grains beyond the active zone are held where they lie
+  if (o.active_radius > 0) {
+    // The grains beyond the active zone are held where they lie; those that no grain of the zone can
+    // reach (a list's reach, two radii and the skin, plus as much again for the zone's grains to move)
+    // are left out, so an impact costs the same on a bed of any size.
     const Vec3 hit =
         bed.scene.bodies3d[aim.target].position + bed.scene.bodies3d[aim.target].radius * aim.normal;
-    for (Body3Spec& b : s.bodies3d) b.held = (b.position - hit).norm() > o.active_radius;
+    const double reach = o.active_radius + 4.4 * bed.spec.largest_radius();
+    std::vector<Body3Spec> near;
+    for (Body3Spec& b : s.bodies3d) {
+      const double d = (b.position - hit).norm();
+      if (d > reach) continue;
+      b.held = d > o.active_radius;
+      near.push_back(b);
+    }
+    s.bodies3d = std::move(near);
   }
   s.bodies3d.push_back(in);
   const double tc = std::min(contact_time(bed.spec.k_n, mb, mb), contact_time(bed.spec.k_n, mb, in.mass));
@@ -626,22 +637,31 @@ Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t
   r.g = -scene.gravity3d.z();
 
   auto engine = make_engine(o.engine, scene);
-  const std::size_t n = b.size();
+  // The frame is by id: the bed's grains in the scene (all of them, or an active zone's), then the
+  // incident one. bed_index maps a frame row to the grain's place in the bed.
+  const std::size_t n = scene.bodies3d.size() - 1;
+  std::vector<std::size_t> bed_index(n);
+  for (std::size_t k = 0, i = 0; k < n; ++k) {
+    while (i < b.size() && b[i].id != scene.bodies3d[k].id) ++i;  // (both in the bed's order)
+    if (i == b.size()) throw std::logic_error("3-D impact: the scene's grains are not in the bed's order");
+    bed_index[k] = i;
+  }
   const double z_eject = bed.top + 2 * s.radius;
   std::vector<char> gone(n, 0);
   double z_left = aim.release.z();
   for (double t = 0; t < o.duration;) {
     t = std::min(o.duration, t + o.check_interval);
     engine->advance_to(t);
-    const Frame f = engine->frame();  // by id: the bed's spheres, then the incident one
-    for (std::size_t i = 0; i < n; ++i) {
-      const double z = f.position[3 * i + 2], vz = f.velocity[3 * i + 2];
-      if (gone[i] || z <= z_eject || vz <= 0) continue;
-      gone[i] = 1;
-      const Vec3 from = b[i].position - hit;
-      const double vz_launch = std::sqrt(vz * vz + 2 * r.g * std::max(0.0, z - b[i].position.z()));
-      r.ejecta.push_back({f.id[i], b[i].mass, from.x(), from.y(), from.z(), f.velocity[3 * i],
-                          f.velocity[3 * i + 1], vz, vz_launch, t});
+    const Frame f = engine->frame();
+    for (std::size_t k = 0; k < n; ++k) {
+      const double z = f.position[3 * k + 2], vz = f.velocity[3 * k + 2];
+      if (gone[k] || z <= z_eject || vz <= 0) continue;
+      gone[k] = 1;
+      const Body3Spec& at = b[bed_index[k]];
+      const Vec3 from = at.position - hit;
+      const double vz_launch = std::sqrt(vz * vz + 2 * r.g * std::max(0.0, z - at.position.z()));
+      r.ejecta.push_back({f.id[k], at.mass, from.x(), from.y(), from.z(), f.velocity[3 * k],
+                          f.velocity[3 * k + 1], vz, vz_launch, t});
     }
     if (r.rebounded) continue;
     const Vec3 p(f.position[3 * n], f.position[3 * n + 1], f.position[3 * n + 2]);
