@@ -146,7 +146,7 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
           "case {} speed {:.17g} alpha {:.17g} mu {:.17g} radius {:.17g} engine {} steps_per_contact {:.17g} "
           "settle_on_engine {}",
           c.name, c.speed, c.alpha_deg, c.mu, c.radius, a.engine, a.steps_per_contact, a.settle_on_engine) +
-      (a.active_zone > 0 ? fmt::format(" active_zone {:.17g}", a.active_zone) : std::string());
+      (a.active_zone > 0 ? " " + sand_gun_impacts_of(a.active_zone) : std::string());
   SandGunProgress kept;
   if (!a.impact_checkpoint.empty()) {
     if (auto p = read_sand_gun_checkpoint(a.impact_checkpoint, spec, a.seed, impacts_of)) {

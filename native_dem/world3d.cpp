@@ -211,7 +211,6 @@ void World3d::compute_forces(double t, double h) {
   }
   for (std::size_t i = 0; i < b_.size(); ++i) {
     auto pair = [&](std::size_t j, SeparatingHint* hint, GaussCrossings* crossings) {
-      if (b_[i].held && b_[j].held) return;  // (neither can move: nothing to compute)
       if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) return;
       scratch_.clear();
       body_body(placed_[i], placed_[j], scratch_, hint, crossings);
@@ -224,7 +223,8 @@ void World3d::compute_forces(double t, double h) {
         pair(*j, &separating_[entry], &crossings_[entry]);
       }
     else
-      for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j, nullptr, nullptr);
+      for (std::size_t j = i + 1; j < b_.size(); ++j)
+        if (!(b_[i].held && b_[j].held)) pair(j, nullptr, nullptr);  // (as the lists: held pairs left out)
     for (std::size_t k = 0; k < planes_.size() && !b_[i].held; ++k) {
       scratch_.clear();
       body_plane(placed_[i], planes_[k], scratch_);
@@ -405,14 +405,14 @@ Energies World3d::energies() const {
   if (cells) bin_bodies(near, centres, 0);
   for (std::size_t i = 0; i < b_.size(); ++i) {
     auto pair = [&](std::size_t j) {
-      if (b_[i].held && b_[j].held) return;  // (as the force loop: never computed, never counted)
       body_body(placed[i], placed[j], cs);
       spring(b_[i].material, b_[j].material);
     };
     if (cells)
       for (const SphereCells::Index* j = near.begin(i); j != near.end(i); ++j) pair(*j);
     else
-      for (std::size_t j = i + 1; j < b_.size(); ++j) pair(j);
+      for (std::size_t j = i + 1; j < b_.size(); ++j)
+        if (!(b_[i].held && b_[j].held)) pair(j);  // (as the force loop: held pairs never counted)
     for (std::size_t k = 0; k < planes_.size(); ++k) {
       body_plane(placed[i], planes_[k], cs);
       spring(b_[i].material, plane_material_[k]);

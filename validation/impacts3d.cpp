@@ -291,6 +291,7 @@ std::vector<char> carries_a_sphere(const std::vector<Body3Spec>& b) {
 
 struct Aim3 {
   Vec3 release, normal;  // normal: from the target's centre to the contact point
+  Vec3 hit;              // the contact point on the target
   std::size_t target = 0;
 };
 
@@ -312,6 +313,7 @@ Aim3 aim_at(const Bed3d& bed, double x, double y, double alpha, double ri, doubl
   }
   if (!std::isfinite(best)) throw std::runtime_error("3-D impact: the incident path misses the bed");
   aim.release = start + (best - gap) * d;
+  aim.hit = b[aim.target].position + b[aim.target].radius * aim.normal;
   return aim;
 }
 
@@ -334,12 +336,10 @@ Scene impact3d_scene(const Bed3d& bed, const ImpactCase& c, const Aim3& aim, con
     // The grains beyond the active zone are held where they lie; those that no grain of the zone can
     // reach (a list's reach, two radii and the skin, plus as much again for the zone's grains to move)
     // are left out, so an impact costs the same on a bed of any size.
-    const Vec3 hit =
-        bed.scene.bodies3d[aim.target].position + bed.scene.bodies3d[aim.target].radius * aim.normal;
     const double reach = o.active_radius + 4.4 * bed.spec.largest_radius();
     std::vector<Body3Spec> near;
     for (Body3Spec& b : s.bodies3d) {
-      const double d = (b.position - hit).norm();
+      const double d = (b.position - aim.hit).norm();
       if (d > reach) continue;
       b.held = d > o.active_radius;
       near.push_back(b);
@@ -630,7 +630,7 @@ Impact3dResult run_impact3d(const Bed3d& bed, const ImpactCase& c, std::uint64_t
   const Scene scene = impact3d_scene(bed, c, aim, o);
   const std::vector<Body3Spec>& b = bed.scene.bodies3d;
   Impact3dResult r;
-  const Vec3 hit = b[aim.target].position + b[aim.target].radius * aim.normal;
+  const Vec3& hit = aim.hit;
   r.x_impact = hit.x(), r.y_impact = hit.y(), r.z_impact = hit.z();
   r.incident_speed = c.speed, r.alpha_deg = c.alpha_deg;
   r.incident_mass = scene.bodies3d.back().mass, r.bed_mass = b[aim.target].mass;

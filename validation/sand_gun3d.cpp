@@ -207,7 +207,7 @@ std::vector<Impact3dResult> kept_case_impacts(const std::string& checkpoint, con
       "{:.17g} duration {:.17g} window {:.17g} rigid_dt {:.17g} bed {}",
       c.name, c.speed, c.alpha_deg, c.mu, c.radius, o.engine, o.steps_per_contact, o.duration, o.window,
       o.rigid_dt, bed_fingerprint(bed));
-  if (o.active_radius > 0) impacts_of += fmt::format(" active_radius {:.17g}", o.active_radius);
+  if (o.active_radius > 0) impacts_of += " " + sand_gun_impacts_of(o.active_radius / (2 * bed.spec.radius));
   SandGunProgress kept;
   try {
     if (auto p = read_sand_gun_checkpoint(checkpoint, bed.spec, seed, impacts_of)) kept = std::move(*p);
@@ -312,7 +312,7 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
 }
 
 std::string sand_gun_impacts_of(double active_zone) {
-  return active_zone > 0 ? fmt::format("active_zone {:.17g}", active_zone) : std::string();
+  return active_zone > 0 ? fmt::format("{} {:.17g}", kActiveZoneKey, active_zone) : std::string();
 }
 
 void recount_sand_gun(SandGunRun& run, double visible_above) {

@@ -130,8 +130,10 @@ SandGunRun run_sand_gun(const Bed3dSpec& bed, const std::vector<std::size_t>& ro
                         const EnsembleProgress& progress = {}, const std::string& checkpoint = {},
                         double active_zone = 0);
 // What the impacts of a sand-gun run depend on besides the bed and the seed (the checkpoint's
-// `impacts_of`): empty without an active zone.
+// `impacts_of`): the active zone in bed-grain diameters, empty without one. Every checkpoint that keeps
+// impacts appends it to its own `impacts_of` (after a space) when a zone is set.
 std::string sand_gun_impacts_of(double active_zone);
+constexpr const char* kActiveZoneKey = "active_zone";  // how sand_gun_impacts_of's text begins
 
 // Tables 3.11 and 3.12 with grainlab's spheres beside the experiment: one row per shot, each cell
 // "mean [95 % interval] (experiment)"; then the fitted exponents of ejecta per event, ejection velocity and

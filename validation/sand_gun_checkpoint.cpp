@@ -233,7 +233,7 @@ std::optional<SandGunProgress> read_sand_gun_checkpoint(const std::string& path,
                                                         std::uint64_t seed, const std::string& impacts_of) {
   if (!std::filesystem::exists(path)) return std::nullopt;
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--checkpoint", why); };
-  const bool zone = impacts_of.rfind("active_zone", 0) == 0;  // (sand_gun_impacts_of)
+  const bool zone = impacts_of.rfind(kActiveZoneKey, 0) == 0;  // a sand gun's zone (sand_gun_impacts_of)
   TableFile file;
   try {
     std::map<std::string, std::vector<std::string>> wanted = {{"bed/spheres", kSphereColumns},
