@@ -239,6 +239,17 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   return 0;
 }
 
+// --active-zone holds grains in place: spheres (3-D) on the native engine only.
+void check_active_zone(double zone, int dimension, const std::string& engine) {
+  if (zone > 0 && dimension != 3)
+    throw InputError({"--active-zone", 0}, fmt::format("{:g}", zone),
+                     "is for --dimension 3 (a 2-D impact moves its whole bed)");
+  if (zone > 0 && engine != "native")
+    throw InputError(
+        {"--active-zone", 0}, fmt::format("{:g}", zone),
+        fmt::format("holds grains in place, which only the native engine does (not {})", engine));
+}
+
 int impact_command(const ImpactCommands& a) {
   const ImpactCase& c = impact_case(a.case_name);
   if (a.runs < 1) throw InputError({"--runs", 0}, "0", "must be at least 1");
@@ -247,13 +258,7 @@ int impact_command(const ImpactCommands& a) {
                      "is for --dimension 3 (2-D impacts take about a second each: run them again)");
   if (!a.record.empty() && !a.force && fs::exists(a.record))
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
-  if (a.active_zone > 0 && a.dimension != 3)
-    throw InputError({"--active-zone", 0}, fmt::format("{:g}", a.active_zone),
-                     "is for --dimension 3 (a 2-D impact moves its whole bed)");
-  if (a.active_zone > 0 && a.engine != "native")
-    throw InputError(
-        {"--active-zone", 0}, fmt::format("{:g}", a.active_zone),
-        fmt::format("holds grains in place, which only the native engine does (not {})", a.engine));
+  check_active_zone(a.active_zone, a.dimension, a.engine);
   if (a.dimension == 3) return impact3d_command(a, c);
   const bool speak = !a.quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   const std::vector<Bed> beds = beds_for(a, c, speak);
@@ -350,6 +355,10 @@ int splash_command(const ImpactCommands& a) {
   if (!a.splash_force && fs::exists(a.splash_out))
     throw InputError({"--out", 0}, a.splash_out, "exists; pass --force to overwrite it");
   const bool speak = !a.splash_quiet && parallel::rank() == 0;  // (stderr: kept with --json)
+  if (!a.sand_gun) check_active_zone(a.splash_active_zone, a.splash_dimension, a.splash_engine);
+  if (!a.splash_box.empty() && a.splash_dimension != 3)
+    throw InputError({"--box", 0}, fmt::format("{:g} {:g}", a.splash_box[0], a.splash_box[1]),
+                     "is for --dimension 3 (the 2-D beds are the thesis's)");
   saltation::SplashFile f;
   if (a.sand_gun) {
     f = saltation::sand_gun_splash();
@@ -359,6 +368,8 @@ int splash_command(const ImpactCommands& a) {
     if (a.splash_beds > 0) o.beds = a.splash_beds;
     o.seed = a.splash_seed, o.engine = a.splash_engine;
     o.dimension = a.splash_dimension, o.spheres = a.splash_spheres;
+    if (!a.splash_box.empty()) o.box_width = a.splash_box[0], o.box_depth = a.splash_box[1];
+    o.active_zone = a.splash_active_zone;
     if (!a.splash_speeds.empty()) o.speeds_cm_s = a.splash_speeds;
     if (!a.splash_angles.empty()) o.angles_deg = a.splash_angles;
     for (double v : o.speeds_cm_s)
@@ -553,6 +564,19 @@ void ImpactCommands::add(CLI::App& app) {
                    "--dimension 3: spheres per bed (2,000 fill the 67.3 x 20 cm box; others scale its area)")
       ->default_val(2000)
       ->check(CLI::Range(100, 1000000));
+  splash_cmd
+      ->add_option("--box", splash_box,
+                   "--dimension 3: the box's x and y in cm, filled with --spheres (default: 67.3 x 20 "
+                   "scaled to --spheres)")
+      ->expected(2)
+      ->check(CLI::PositiveNumber);
+  splash_cmd
+      ->add_option("--active-zone", splash_active_zone,
+                   "--dimension 3, native: move only the bed grains within this many grain diameters of "
+                   "each impact point and hold the rest (docs/impacts.md \"An impact's active zone\"); "
+                   "0: the whole bed")
+      ->default_val(0.0)
+      ->check(CLI::Range(0.0, 1000.0));
   splash_cmd->add_flag("--sand-gun", sand_gun,
                        "write the thesis's sand-gun measurements (Tables 3.11, 3.12) instead");
   splash_cmd->add_flag("--force", splash_force, "overwrite an existing file");

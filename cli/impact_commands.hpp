@@ -45,6 +45,8 @@ struct ImpactCommands {
   std::size_t splash_stop_after = 0;
   std::vector<double> splash_speeds, splash_angles;
   int splash_dimension = 2, splash_spheres = 2000;
+  std::vector<double> splash_box;
+  double splash_active_zone = 0;
 
   CLI::App *bed_cmd = nullptr, *impact_cmd = nullptr, *rebound_cmd = nullptr, *splash_cmd = nullptr;
   void add(CLI::App& app);

@@ -297,9 +297,9 @@ SplashFile read_splash_file(const std::string& path, bool allow_partial) {
     bad(path,
         fmt::format("has schema \"{}\", expected \"{}\" (not a grainlab splash file, or another version)",
                     schema, kSplashSchema));
-  for (const char* k :
-       {"schema", "layout", "kind", "title", "source", "engine", "grainlab_version", "seed",
-        "bed_preparation", "bed_scene", "created", "notes", "complete", "runs_per_cell", "beds"})
+  for (const char* k : {"schema", "layout", "kind", "title", "source", "engine", "grainlab_version", "seed",
+                        "bed_preparation", "bed_scene", "created", "notes", "complete", "runs_per_cell",
+                        "beds", "active_zone"})
     if (const std::string v = get_string(file.id, k); !v.empty()) f.text[k] = v;
   if (f.text["kind"] != "simulated" && f.text["kind"] != "measured")
     bad(path, fmt::format("kind \"{}\" must be \"simulated\" or \"measured\"", f.text["kind"]));

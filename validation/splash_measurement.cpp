@@ -14,6 +14,7 @@ namespace grainlab::validation {
 namespace {
 
 constexpr double kDeg = M_PI / 180;
+constexpr const char* kWholeBed = "the whole bed";
 
 saltation::SplashMoment moment(const MeanInterval& m) {
   return {m.mean, m.sd, m.lo, m.hi};
@@ -58,11 +59,20 @@ void check_resumable(const saltation::SplashFile& from, const saltation::SplashF
     const auto a = from.text.find(k), b = now.text.find(k);
     return a == from.text.end() || b == now.text.end() || a->second != b->second;
   };
-  for (const char* k : {"runs_per_cell", "beds", "seed", "engine", "grainlab_version"})
+  // ("active_zone" is absent from files written before zones: they moved the whole bed.)
+  for (const char* k : {"runs_per_cell", "beds", "seed", "engine", "grainlab_version", "source"})
     if (differs(k))
       throw InputError({"--restart", 0}, k,
                        fmt::format("the checkpoint was made with {} = {}, this run has {}", k,
                                    from.text.count(k) ? from.text.at(k) : "(none)", now.text.at(k)));
+  const auto zone = [](const saltation::SplashFile& f) {
+    const auto z = f.text.find("active_zone");
+    return z == f.text.end() ? std::string(kWholeBed) : z->second;
+  };
+  if (zone(from) != zone(now))
+    throw InputError({"--restart", 0}, "active_zone",
+                     fmt::format("the checkpoint's impacts moved {}, this run's move {} (--active-zone)",
+                                 zone(from), zone(now)));
   if (from.dimension != now.dimension)
     throw InputError({"--restart", 0}, "dimension",
                      fmt::format("the checkpoint is {}-D, this run {}-D", from.dimension, now.dimension));
@@ -174,9 +184,12 @@ saltation::SplashFile measure_splash3d(const SplashOptions& o) {
   std::vector<Bed3d> beds;
   for (std::size_t k = 0; k < o.beds; ++k) {
     Bed3dSpec spec;
-    // The box keeps its shape and its depth of spheres: its area scales with the count.
-    const double scale = std::sqrt(o.spheres / double(spec.count));
-    spec.width *= scale, spec.depth *= scale;
+    if (o.box_width > 0) {
+      spec.width = o.box_width, spec.depth = o.box_depth;
+    } else {  // The box keeps its shape and its depth of spheres: its area scales with the count.
+      const double scale = std::sqrt(o.spheres / double(spec.count));
+      spec.width *= scale, spec.depth *= scale;
+    }
     spec.count = o.spheres, spec.seed = k + 1;
     if (o.log) o.log(fmt::format("pouring sphere bed {} of {} ({} spheres)", k + 1, o.beds, spec.count));
     beds.push_back(build_bed3d(spec));
@@ -201,11 +214,14 @@ saltation::SplashFile measure_splash3d(const SplashOptions& o) {
       {"bed_scene", fmt::format("{} spheres of radius {} cm, density {} g/cm^3 (the thesis disc's mass), "
                                 "k_n {:g}, restitution {}, mu {}",
                                 bs.count, bs.radius, bs.density, bs.k_n, bs.restitution, bs.mu)},
+      {"active_zone", o.active_zone > 0 ? fmt::format("the grains within {:g} diameters", o.active_zone)
+                                        : std::string(kWholeBed)},
       {"notes",
        "3-D spheres: y is vertical as in 2-D files, the lateral columns hold the axis across the incident "
        "plane; spin is not recorded (0)"}};
   ImpactOptions io;
   io.engine = o.engine;
+  io.active_radius = o.active_zone * 2 * bs.radius;
   return measure_grid(std::move(f), o, [&](double v, double a, std::uint64_t seed) {
     const ImpactCase c{fmt::format("{:.0f}cm/s-{:.0f}deg", v, a), v, a, 0.5, "loose", bs.radius};
     return make_cell3d(run_impact3d_ensemble(beds, c, seed, o.runs, io, o.progress), v, a, u, d);

@@ -18,6 +18,11 @@ struct SplashOptions {
   std::uint64_t seed = 1;
   int dimension = 2;   // 3: impacts with spheres on poured beds (impacts3d.hpp), lateral columns kept
   int spheres = 2000;  // 3-D: spheres per bed
+  // 3-D: the box's x and y in cm; {0, 0}: the 67.3 x 20 cm box, its area scaled to `spheres`.
+  double box_width = 0, box_depth = 0;
+  // 3-D, native engine: only the bed grains within this many bed-grain diameters of the impact point
+  // move, the rest are held (ImpactOptions::active_radius); 0: the whole bed.
+  double active_zone = 0;
   std::vector<double> speeds_cm_s = {300, 1000, 2000, 4000, 8100};
   std::vector<double> angles_deg = {5, 15, 25, 45, 70};
   std::function<void(const std::string&)> log;
