@@ -356,6 +356,9 @@ int splash_command(const ImpactCommands& a) {
     throw InputError({"--out", 0}, a.splash_out, "exists; pass --force to overwrite it");
   const bool speak = !a.splash_quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   if (!a.sand_gun) check_active_zone(a.splash_active_zone, a.splash_dimension, a.splash_engine);
+  if (!a.splash_bed_checkpoint.empty() && a.splash_dimension != 3)
+    throw InputError({"--bed-checkpoint", 0}, a.splash_bed_checkpoint,
+                     "is for --dimension 3 (a 2-D bed is built in seconds)");
   if (!a.splash_box.empty() && a.splash_dimension != 3)
     throw InputError({"--box", 0}, fmt::format("{:g} {:g}", a.splash_box[0], a.splash_box[1]),
                      "is for --dimension 3 (the 2-D beds are the thesis's)");
@@ -370,6 +373,7 @@ int splash_command(const ImpactCommands& a) {
     o.dimension = a.splash_dimension, o.spheres = a.splash_spheres;
     if (!a.splash_box.empty()) o.box_width = a.splash_box[0], o.box_depth = a.splash_box[1];
     o.active_zone = a.splash_active_zone;
+    o.bed_checkpoint = a.splash_bed_checkpoint;
     if (!a.splash_speeds.empty()) o.speeds_cm_s = a.splash_speeds;
     if (!a.splash_angles.empty()) o.angles_deg = a.splash_angles;
     for (double v : o.speeds_cm_s)
@@ -577,6 +581,11 @@ void ImpactCommands::add(CLI::App& app) {
                    "0: the whole bed")
       ->default_val(0.0)
       ->check(CLI::Range(0.0, 1000.0));
+  splash_cmd
+      ->add_option("--bed-checkpoint", splash_bed_checkpoint,
+                   "--dimension 3: keep each poured bed in PREFIX.bed-K.h5 and read it from there next time "
+                   "(same box, spheres and bed): a big bed is poured once for every run, zone and restart")
+      ->check(cli::output_file());
   splash_cmd->add_flag("--sand-gun", sand_gun,
                        "write the thesis's sand-gun measurements (Tables 3.11, 3.12) instead");
   splash_cmd->add_flag("--force", splash_force, "overwrite an existing file");

@@ -47,6 +47,7 @@ struct ImpactCommands {
   int splash_dimension = 2, splash_spheres = 2000;
   std::vector<double> splash_box;
   double splash_active_zone = 0;
+  std::string splash_bed_checkpoint;
 
   CLI::App *bed_cmd = nullptr, *impact_cmd = nullptr, *rebound_cmd = nullptr, *splash_cmd = nullptr;
   void add(CLI::App& app);

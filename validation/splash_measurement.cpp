@@ -8,6 +8,7 @@
 #include "impacts.hpp"
 #include "impacts3d.hpp"
 #include "input_error.hpp"
+#include "sand_gun3d.hpp"
 
 namespace grainlab::validation {
 
@@ -180,6 +181,27 @@ saltation::SplashFile measure_grid(
   return f;
 }
 
+// Bed k of a 3-D measurement: poured, or read from (and kept in) its bed checkpoint. The checkpoint's
+// fingerprint names no impacts, so any splash run of the same bed spec can read it.
+Bed3d splash_bed3d(const Bed3dSpec& spec, std::size_t k, const SplashOptions& o) {
+  const auto say = [&](const std::string& line) {
+    if (o.log) o.log(line);
+  };
+  say(fmt::format("pouring sphere bed {} of {} ({} spheres in a {:g} x {:g} cm box)", k + 1, o.beds,
+                  spec.count, spec.width, spec.depth));
+  if (o.bed_checkpoint.empty()) return build_bed3d(spec);
+  const std::string path = fmt::format("{}.bed-{}.h5", o.bed_checkpoint, k + 1);
+  constexpr const char* kBedOnly = "splash bed";
+  SandGunProgress kept;
+  if (auto p = read_sand_gun_checkpoint(path, spec, 0, kBedOnly)) {
+    kept = std::move(*p);
+    say(kept.build.finished ? fmt::format("read the bed from {}", path)
+                            : fmt::format("continuing the bed's build from {}", path));
+  }
+  finish_checkpointed_bed(kept, spec, 0, say, path, kBedOnly);
+  return kept.bed;
+}
+
 saltation::SplashFile measure_splash3d(const SplashOptions& o) {
   std::vector<Bed3d> beds;
   for (std::size_t k = 0; k < o.beds; ++k) {
@@ -191,8 +213,7 @@ saltation::SplashFile measure_splash3d(const SplashOptions& o) {
       spec.width *= scale, spec.depth *= scale;
     }
     spec.count = o.spheres, spec.seed = k + 1;
-    if (o.log) o.log(fmt::format("pouring sphere bed {} of {} ({} spheres)", k + 1, o.beds, spec.count));
-    beds.push_back(build_bed3d(spec));
+    beds.push_back(splash_bed3d(spec, k, o));
   }
   const Bed3dSpec& bs = beds[0].spec;
   saltation::SplashFile f;

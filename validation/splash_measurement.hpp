@@ -23,6 +23,10 @@ struct SplashOptions {
   // 3-D, native engine: only the bed grains within this many bed-grain diameters of the impact point
   // move, the rest are held (ImpactOptions::active_radius); 0: the whole bed.
   double active_zone = 0;
+  // 3-D: keep each poured bed in `{bed_checkpoint}.bed-K.h5` (K = 1..beds; the sand gun's checkpoint form)
+  // and read it from there when it holds a bed of the same spec: a wide bed is poured once for every run,
+  // zone and restart. Empty: pour every time.
+  std::string bed_checkpoint;
   std::vector<double> speeds_cm_s = {300, 1000, 2000, 4000, 8100};
   std::vector<double> angles_deg = {5, 15, 25, 45, 70};
   std::function<void(const std::string&)> log;
