@@ -187,17 +187,15 @@ Bed3d splash_bed3d(const Bed3dSpec& spec, std::size_t k, const SplashOptions& o)
   const auto say = [&](const std::string& line) {
     if (o.log) o.log(line);
   };
-  say(fmt::format("pouring sphere bed {} of {} ({} spheres in a {:g} x {:g} cm box)", k + 1, o.beds,
-                  spec.count, spec.width, spec.depth));
-  if (o.bed_checkpoint.empty()) return build_bed3d(spec);
+  const std::string which = fmt::format("sphere bed {} of {} ({} spheres in a {:g} x {:g} cm box)", k + 1,
+                                        o.beds, spec.count, spec.width, spec.depth);
+  if (o.bed_checkpoint.empty()) return say("pouring " + which), build_bed3d(spec);
   const std::string path = fmt::format("{}.bed-{}.h5", o.bed_checkpoint, k + 1);
   constexpr const char* kBedOnly = "splash bed";
   SandGunProgress kept;
-  if (auto p = read_sand_gun_checkpoint(path, spec, 0, kBedOnly)) {
-    kept = std::move(*p);
-    say(kept.build.finished ? fmt::format("read the bed from {}", path)
-                            : fmt::format("continuing the bed's build from {}", path));
-  }
+  if (auto p = read_sand_gun_checkpoint(path, spec, 0, kBedOnly)) kept = std::move(*p);
+  say(kept.build.finished ? fmt::format("read {} from {}", which, path)
+                          : fmt::format("pouring {}, kept in {}", which, path));
   finish_checkpointed_bed(kept, spec, 0, say, path, kBedOnly);
   return kept.bed;
 }
