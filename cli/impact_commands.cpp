@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "active_zone_option.hpp"
 #include "impact_bed.hpp"
 #include "impacts.hpp"
 #include "impacts3d.hpp"
@@ -498,13 +499,7 @@ void ImpactCommands::add(CLI::App& app) {
   impact_cmd->add_option("--dimension", dimension, "2 (discs, the thesis) or 3 (spheres, a poured bed)")
       ->default_val(2)
       ->check(CLI::IsMember({2, 3}));
-  impact_cmd
-      ->add_option("--active-zone", active_zone,
-                   "--dimension 3, native: move only the bed grains within this many grain diameters of "
-                   "the impact point and hold the rest in place (docs/impacts.md \"An impact's active "
-                   "zone\"); 0: the whole bed")
-      ->default_val(0.0)
-      ->check(CLI::Range(0.0, 1000.0));
+  add_active_zone_option(impact_cmd, active_zone, "--dimension 3, native: ");
   impact_cmd
       ->add_option("--checkpoint", impact_checkpoint,
                    "--dimension 3: keep the bed's build (each stage, and every 10 min within one) and "
@@ -574,13 +569,7 @@ void ImpactCommands::add(CLI::App& app) {
                    "scaled to --spheres)")
       ->expected(2)
       ->check(CLI::PositiveNumber);
-  splash_cmd
-      ->add_option("--active-zone", splash_active_zone,
-                   "--dimension 3, native: move only the bed grains within this many grain diameters of "
-                   "each impact point and hold the rest (docs/impacts.md \"An impact's active zone\"); "
-                   "0: the whole bed")
-      ->default_val(0.0)
-      ->check(CLI::Range(0.0, 1000.0));
+  add_active_zone_option(splash_cmd, splash_active_zone, "--dimension 3, native: ");
   splash_cmd
       ->add_option("--bed-checkpoint", splash_bed_checkpoint,
                    "--dimension 3: keep each poured bed in PREFIX.bed-K.h5 and read it from there next time "

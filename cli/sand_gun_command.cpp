@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "active_zone_option.hpp"
 #include "input_error.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
@@ -99,12 +100,7 @@ void SandGunCommand::add(CLI::App& app) {
                   "finished impact in this HDF5 file; run again with it to continue (more --runs or other "
                   "--rows may be asked for)")
       ->check(cli::output_file());
-  cmd->add_option("--active-zone", active_zone,
-                  "move only the bed grains within this many bed-grain diameters of each impact point and "
-                  "hold the rest in place: an impact then costs what its neighbourhood costs "
-                  "(docs/impacts.md \"An impact's active zone\" measures what it changes); 0: the whole bed")
-      ->default_val(0.0)
-      ->check(CLI::Range(0.0, 1000.0));
+  add_active_zone_option(cmd, active_zone);
   cmd->add_option("--visible-above", visible_above,
                   "count an ejectum only if its centre rises this many bed-grain diameters above the top of "
                   "the bed (1: the thesis's rule; the photographs' apparent surface stood a few diameters "

@@ -189,7 +189,10 @@ Bed3d splash_bed3d(const Bed3dSpec& spec, std::size_t k, const SplashOptions& o)
   };
   const std::string which = fmt::format("sphere bed {} of {} ({} spheres in a {:g} x {:g} cm box)", k + 1,
                                         o.beds, spec.count, spec.width, spec.depth);
-  if (o.bed_checkpoint.empty()) return say("pouring " + which), build_bed3d(spec);
+  if (o.bed_checkpoint.empty()) {
+    say("pouring " + which);
+    return build_bed3d(spec);
+  }
   const std::string path = fmt::format("{}.bed-{}.h5", o.bed_checkpoint, k + 1);
   constexpr const char* kBedOnly = "splash bed";
   SandGunProgress kept;
