@@ -249,7 +249,16 @@ TEST(HybridConfig, CommandLineOverridesReplaceOrAddKeysAndAreNamedWhenWrong) {
   }
 }
 
+// The working directory for a scope: a config's splash file is read from it, as the command reads it.
+struct InDirectory {
+  std::filesystem::path before = std::filesystem::current_path();
+  explicit InDirectory(const std::filesystem::path& p) { std::filesystem::current_path(p); }
+  ~InDirectory() { std::filesystem::current_path(before); }
+};
+
 TEST(HybridConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {
+  // hybrid_measured_splash.toml names data/splash/..., a path from the repository's top.
+  const InDirectory top(GRAINLAB_SOURCE_DIR);
   for (const char* name : {"huo2021_ripples.toml", "hybrid_quick.toml", "hybrid_seeded.toml",
                            "hybrid_bidisperse.toml", "hybrid_measured_splash.toml"})
     fuzz_shipped_config(
