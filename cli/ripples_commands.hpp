@@ -65,8 +65,6 @@ void check_flux_options(const ripples::hybrid::FluxOptions& o);
 ripples::hybrid::FluxResult run_flux_checkpointed(ripples::hybrid::FluxOptions run,
                                                   const ripples::hybrid::FluxOptions& o,
                                                   const std::string& checkpoint, const std::string& restart);
-// A splash that is not one of the Lammel sets is a grainlab-splash/1 file of recorded impacts: read it.
-void attach_recorded_splash(ripples::hybrid::TransportOptions& o);
 // The lattice model's splash mode: hop lengths (grain diameters) from a grainlab-splash/1 file, thrown
 // ballistically or, with splash_wind, flown through the Ch. IV wind (saltation::wind_blown_hops).
 ripples::SplashHops splash_hops(const ripples::LatticeRun& run);

@@ -9,6 +9,7 @@
 
 #include "focal_point.hpp"
 #include "h5_output.hpp"
+#include "hybrid_splash_file.hpp"
 #include "input_error.hpp"
 #include "parallel.hpp"
 #include "report.hpp"
@@ -143,7 +144,7 @@ int hybrid_focal_command(const RipplesCommands& a) {
   check_focal_options(a);
   refuse_existing_out(a.out, a.force);
   ripples::hybrid::FluxOptions base = a.flux;
-  attach_recorded_splash(base);
+  validation::attach_recorded_splash(base);
   base.distributed = parallel::size() > 1;  // each run shared by the ranks, as in hybrid-flux
   std::vector<FluxResult> runs;
   std::vector<WindProfile> profiles;

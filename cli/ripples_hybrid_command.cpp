@@ -5,7 +5,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "h5_input.hpp"
@@ -20,13 +19,6 @@
 #include "ripples_commands.hpp"
 
 namespace grainlab::cli {
-
-// A splash that is not one of the Lammel sets is a grainlab-splash/1 file of recorded impacts.
-void attach_recorded_splash(ripples::hybrid::TransportOptions& o) {
-  if (o.splash == "paper2021" || o.splash == "lammel2017") return;
-  o.recorded =
-      std::make_shared<const ripples::hybrid::RecordedSplash>(validation::read_recorded_splash(o.splash));
-}
 
 namespace {
 // A distributed run gives each rank at least one block of the collision grid's columns.
@@ -99,7 +91,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
     throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
   check_flux_options(o);
   ripples::hybrid::FluxOptions run = o;
-  attach_recorded_splash(run);
+  validation::attach_recorded_splash(run);
   run.distributed = parallel::size() > 1;  // the ranks share the domain; the first one reports
   refuse_too_many_ranks(run, "--length", "");
   // (The bar is on stderr, so it stays with --json: a scripted run of hours still shows in its log.)
@@ -338,7 +330,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   ripples::hybrid::RippleOptions& o = config.options;
   if (a.duration_override > 0)
     o.duration = a.duration_override, o.frame_every = std::min(o.frame_every, o.duration);
-  attach_recorded_splash(o);
+  validation::attach_recorded_splash(o);
   // Under mpirun the ranks share the domain (bit for bit the results of one process); the first one
   // writes and reports.
   o.distributed = parallel::size() > 1;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "hybrid_config.hpp"
+#include "hybrid_splash_file.hpp"
 #include "input_error.hpp"
 #include "ripple_config.hpp"
 
@@ -268,10 +269,9 @@ TEST(HybridConfig, ShippedConfigMutationsAreReadOrRefusedNeverCrash) {
           EXPECT_GT(c.options.u_star, 0);
           EXPECT_LE(3 * c.options.cell, c.options.width);
           EXPECT_LE(c.options.frame_every, c.options.duration);
-          // A splash file is read by the command (and fuzzed by the splash reader's tests); the
-          // options' own checks know only the Lammel sets by name.
+          // A splash file is read as the command reads it, and then checked with the options.
           RippleOptions o = c.options;
-          if (o.splash.ends_with(".h5")) o.splash = "paper2021";
+          EXPECT_NO_THROW(validation::attach_recorded_splash(o));
           EXPECT_NO_THROW(check_ripple_options(o));
         },
         2030);

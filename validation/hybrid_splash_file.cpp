@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include "input_error.hpp"
@@ -55,6 +56,11 @@ RecordedSplash recorded_splash(const saltation::SplashFile& f, const std::string
 
 RecordedSplash read_recorded_splash(const std::string& path) {
   return recorded_splash(saltation::read_splash_file(path), path);
+}
+
+void attach_recorded_splash(ripples::hybrid::TransportOptions& o) {
+  if (o.splash == "paper2021" || o.splash == "lammel2017") return;
+  o.recorded = std::make_shared<const RecordedSplash>(read_recorded_splash(o.splash));
 }
 
 }  // namespace grainlab::validation

@@ -5,6 +5,7 @@
 
 #include "recorded_splash.hpp"
 #include "splash_file.hpp"
+#include "transport.hpp"
 
 namespace grainlab::validation {
 
@@ -15,5 +16,9 @@ ripples::hybrid::RecordedSplash recorded_splash(const saltation::SplashFile& f, 
 
 // Reads the file at `path` and converts it (InputError naming the file for anything wrong).
 ripples::hybrid::RecordedSplash read_recorded_splash(const std::string& path);
+
+// A splash that is not one of the Lammel sets names a grainlab-splash/1 file of recorded impacts: read it
+// into o.recorded (the hybrid commands, and the tests that check configs as the commands run them).
+void attach_recorded_splash(ripples::hybrid::TransportOptions& o);
 
 }  // namespace grainlab::validation
