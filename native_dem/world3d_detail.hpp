@@ -54,14 +54,18 @@ inline Quat turned(const Quat& q, const Vec3& w, double dt) {
 // turned() for four spheres at once, in place: q[l] turned by w[l] over dt, l = 0..3. Each lane does
 // turned()'s operations in turned()'s order, with Eigen's quaternion product as its SSE2 code computes it
 // (x = (aw bx + ay bz) - (az by - ax bw), ...), so the same bits; a sphere that does not spin keeps its
-// q, and a fast turn (h >= 0.05) goes through turned() itself. A poured bed's spheres all spin, and one
-// at a time the turn's chain of dependent multiplications was a quarter of the sweep.
+// q (four of them return at once), and a fast turn (h >= 0.05) goes through turned() itself. A poured bed's
+// spheres all spin, and one at a time the turn's chain of dependent multiplications was a quarter of the
+// sweep.
 inline void turn4(Quat* q, const Vec3* w, double dt) {
   using namespace lanes4;
   const T4 wv{V4{w[0].x(), w[1].x(), w[2].x(), w[3].x()}, V4{w[0].y(), w[1].y(), w[2].y(), w[3].y()},
               V4{w[0].z(), w[1].z(), w[2].z(), w[3].z()}};
   const V4 zero = splat(0), one = splat(1);
   const M4 still = (wv.x == zero) & (wv.y == zero) & (wv.z == zero);
+  // Four spheres that do not spin keep their q: a resting lattice's spheres (spins exactly zero by
+  // symmetry) then cost no turn at all, as one at a time they did not.
+  if (!any(~still)) return;
   const V4 h2 = ((wv.x * wv.x + wv.y * wv.y) + wv.z * wv.z) * splat(dt * dt / 4);
   const M4 fast = h2 >= splat(0.05 * 0.05), tiny = h2 < splat(1e-16);
   constexpr double k2 = 1.0 / 2, k12 = 1.0 / 12, k30 = 1.0 / 30, k56 = 1.0 / 56;

@@ -417,16 +417,18 @@ TEST(Turn, ASlowSpinSkipsTheSeriesWithTheSameBits) {
 TEST(Turn, FourAtATimeAreTheTurnsOneAtATime) {
   grainlab::Rng rng(17, 0);
   const double dt = 1e-6;
-  int differ = 0, exact = 0, still = 0;
+  int differ = 0, exact = 0, still = 0, still_groups = 0;
   for (int k = 0; k < 200000; ++k) {
     grainlab::Quat q[4], one[4];
     grainlab::Vec3 w[4];
+    const bool group_still = rng.uniform(0, 1) < 0.05;  // four at rest: turn4 returns at once
+    still_groups += group_still;
     for (int l = 0; l < 4; ++l) {
       q[l] = grainlab::Quat(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))
                  .normalized();
       const double spin = std::pow(10.0, rng.uniform(-8, 5.3));  // rad/s: h from 5e-15 past 0.05
       w[l] = grainlab::Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized() * spin;
-      if (rng.uniform(0, 1) < 0.1) w[l].setZero(), ++still;
+      if (group_still || rng.uniform(0, 1) < 0.1) w[l].setZero(), ++still;
       exact += w[l].norm() * dt / 2 >= 0.05;
       one[l] = grainlab::dem::detail3d::turned(q[l], w[l], dt);
     }
@@ -436,4 +438,5 @@ TEST(Turn, FourAtATimeAreTheTurnsOneAtATime) {
   EXPECT_EQ(differ, 0);
   EXPECT_GT(exact, 1000);  // every branch taken
   EXPECT_GT(still, 1000);
+  EXPECT_GT(still_groups, 1000);
 }
