@@ -283,7 +283,10 @@ struct SphereBed::Kernel {
   // pairs, batch_forces computes them four at a time, and each row then adds up its pairs and its planes
   // in row() order (the same bits). Rows [a, e), as many as the batch holds (a row longer than the batch
   // goes alone through row()); returns the first row not done. Every partner of the rows has drifted.
+  // Mixed: a distributed bed's rows, among which ghosts' rows (GhostRow below) are taken in their place
+  // in the order of rows, so every sum gets its terms in the order one rank adds them.
   static constexpr std::size_t kBlockRows = 32;
+  template <bool Mixed = false>
   [[gnu::always_inline]] std::size_t block(std::size_t a, std::size_t e) {
     const Vec3* __restrict x = this->x;
     Vec3* __restrict f = this->f, * __restrict tq = this->tq;
@@ -297,6 +300,7 @@ struct SphereBed::Kernel {
     std::size_t i = a;
     for (; i < e && b.fits(offsets[i + 1] - offsets[i]); ++i) {
       starts[i - a] = static_cast<std::uint32_t>(b.n);
+      if (Mixed && ghost[i]) continue;
       const D3 pi = get(x[i]);
       const double ri = r[i];
       for (std::size_t k = offsets[i]; k < offsets[i + 1]; ++k) {
@@ -319,7 +323,10 @@ struct SphereBed::Kernel {
       }
     }
     if (i == a) {
-      row<false>(a);
+      if (Mixed && ghost[a])
+        ghost_row(*this, a);
+      else
+        row<false>(a);
       return a + 1;
     }
     starts[i - a] = static_cast<std::uint32_t>(b.n);
@@ -328,6 +335,10 @@ struct SphereBed::Kernel {
     const double* __restrict TA[3] = {b[PairBatch::tax], b[PairBatch::tay], b[PairBatch::taz]};
     const double* __restrict TB[3] = {b[PairBatch::tbx], b[PairBatch::tby], b[PairBatch::tbz]};
     for (std::size_t own = a; own < i; ++own) {
+      if (Mixed && ghost[own]) {
+        ghost_row(*this, own);
+        continue;
+      }
       const std::size_t c0 = starts[own - a], c1 = starts[own - a + 1];
       const std::size_t p0 = plane_start[own], p1 = plane_start[own + 1];
       if (c0 != c1 || p0 != p1) {
@@ -604,20 +615,23 @@ void SphereBed::sweep_distributed(K& kernel, std::size_t lag) {
     if (!skip[t]) k.template drift<Complete>(t);
     if (t >= lag) any_row(t - lag);
   };
+  // Where contacts are many, every row goes in blocks as sweep() takes them, the ghosts' rows among
+  // them: a rank's own slots come in short runs where ids do not follow the cut (a poured bed numbered
+  // x fastest, cut along x: runs of some 25 slots), and a row between runs went one pair at a time.
+  if (blocks_pay(k)) {
+    constexpr std::size_t B = K::kBlockRows;
+    std::size_t done = 0;
+    for (std::size_t t = 0; t < n; ++t) {
+      if (!skip[t]) k.template drift<Complete>(t);
+      while (t + 1 >= lag + done + B) done = k.template block<true>(done, done + B);
+    }
+    while (done < n) done = k.template block<true>(done, std::min(n, done + B));
+    kernel.contacts = k.contacts, kernel.moved = k.moved;
+    return;
+  }
   std::size_t t = 0;
-  const bool blocks = blocks_pay(k);
   for (const auto& [first, last] : plain_runs_) {
     for (; t < first; ++t) tested(t);
-    if (blocks) {  // the run's rows [first - lag, last - lag) in blocks, as sweep() takes them
-      constexpr std::size_t B = K::kBlockRows;
-      std::size_t done = first - lag;
-      for (; t < last; ++t) {
-        k.template drift<Complete>(t);
-        while (t + 1 >= lag + done + B) done = k.block(done, done + B);
-      }
-      while (done < last - lag) done = k.block(done, std::min<std::size_t>(last - lag, done + B));
-      continue;
-    }
     for (; t < last; ++t) {
       k.template drift<Complete>(t);
       k.template row<false>(t - lag);
