@@ -130,6 +130,7 @@ class SphereBed {
   }
   template <bool Complete, class K>
   void sweep_distributed(K& k, std::size_t lag);
+  void turn_eight(std::size_t a, const std::uint8_t* skip);
   template <class K>
   void forces_with(K& k);
   template <class K>
