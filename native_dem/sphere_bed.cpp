@@ -560,30 +560,55 @@ void SphereBed::pipelined(K& kernel, bool complete) {
   if (domain_) probe_balance();
 }
 
+// The turns of slots [a, a + 8), left by the drifts for here: two independent groups of four, whose
+// dependent chains of multiplications overlap (6-8 % less on the poured beds than one group at a time).
+// Mixed: only the slots that drifted in the sweep (not skipped), one at a time in a group with a skipped
+// slot (the same bits as four at a time).
+template <bool Mixed>
+void SphereBed::turn_eight(std::size_t a, const std::uint8_t* skip) {
+  for (std::size_t g = a; g < a + 8; g += 4) {
+    if (!Mixed || !(skip[g] | skip[g + 1] | skip[g + 2] | skip[g + 3])) {
+      detail3d::turn4(&q_[g], &w_[g], s_.dt);
+      continue;
+    }
+    for (std::size_t i = g; i < g + 4; ++i)
+      if (!skip[i]) q_[i] = detail3d::turned(q_[i], w_[i], s_.dt);
+  }
+}
+
+// The rows in blocks (the rows below t + 1 - lag have all their partners drifted) where they touch: a
+// block's rows take a second pass to add up, which in a bed in flight, where nothing touches, costs
+// more than the scan (the 10,000-sphere lattice as specified, 0.33 s by rows against 0.43 s in
+// blocks). A quarter of a contact a sphere at the last evaluation decides; both give the same bits.
+// Mixed: a distributed bed's sweep. Its ghosts and spheres sent (skip) do not drift here, and its ghosts'
+// rows go in their place among the blocks' rows. A rank's own slots come in short runs where ids do not
+// follow the cut (a poured bed numbered x fastest, cut along x: runs of some 25 slots), and before, every
+// row outside a run went one pair at a time.
+template <bool Complete, bool Mixed, class K>
+void SphereBed::sweep_blocks(K& kernel, std::size_t lag, const std::uint8_t* skip) {
+  K k = kernel;  // a local copy the compiler can keep in registers
+  constexpr std::size_t B = K::kBlockRows;
+  const std::size_t n = x_.size();
+  std::size_t done = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    if (!Mixed || !skip[t]) k.template drift<Complete, !K::kRotation>(t);
+    if (K::kRotation && t % 8 == 7) turn_eight<Mixed>(t - 7, skip);
+    while (t + 1 >= lag + done + B) done = k.template block<Mixed>(done, done + B);
+  }
+  if constexpr (K::kRotation)
+    for (std::size_t i = n - n % 8; i < n; ++i)
+      if (!Mixed || !skip[i]) q_[i] = detail3d::turned(q_[i], w_[i], s_.dt);
+  while (done < n) done = k.template block<Mixed>(done, std::min(n, done + B));
+  kernel.contacts = k.contacts, kernel.moved = k.moved;
+}
+
 // Drift sphere t, then the row of sphere t - lag, for every t.
 template <bool Complete, class K>
 void SphereBed::sweep(K& kernel, std::size_t lag) {
   K k = kernel;  // a local copy the compiler can keep in registers (no lambdas: all of it inlined)
   const std::size_t n = x_.size(), head = std::min(lag, n);
-  // The rows in blocks (the rows below t + 1 - lag have all their partners drifted) where they touch: a
-  // block's rows take a second pass to add up, which in a bed in flight, where nothing touches, costs
-  // more than the scan (the 10,000-sphere lattice as specified, 0.33 s by rows against 0.43 s in
-  // blocks). A quarter of a contact a sphere at the last evaluation decides; both give the same bits.
-  if (blocks_pay(k)) {
-    constexpr std::size_t B = K::kBlockRows;
-    std::size_t done = 0;
-    for (std::size_t t = 0; t < n; ++t) {
-      k.template drift<Complete, !K::kRotation>(t);
-      // Eight turns in two independent groups of four, whose dependent chains of multiplications overlap
-      // (6-8 % less on the poured beds than one group at a time).
-      if (K::kRotation && t % 8 == 7)
-        detail3d::turn4(&q_[t - 7], &w_[t - 7], s_.dt), detail3d::turn4(&q_[t - 3], &w_[t - 3], s_.dt);
-      while (t + 1 >= lag + done + B) done = k.block(done, done + B);
-    }
-    if constexpr (K::kRotation)
-      for (std::size_t i = n - n % 8; i < n; ++i) q_[i] = detail3d::turned(q_[i], w_[i], s_.dt);
-    while (done < n) done = k.block(done, std::min(n, done + B));
-    kernel.contacts = k.contacts, kernel.moved = k.moved;
+  if (blocks_pay(k)) {  // where they touch, the rows in blocks
+    sweep_blocks<Complete, false>(kernel, lag, nullptr);
     return;
   }
   for (std::size_t t = 0; t < head; ++t) k.template drift<Complete>(t);
@@ -599,19 +624,6 @@ void SphereBed::sweep(K& kernel, std::size_t lag) {
 // takes only its pairs with this rank's spheres. Between those, the plain runs are swept as a serial bed
 // is, without a test per slot: a rank's slots come in runs (ids are laid out along x, or at random in a
 // poured bed), and the tests cost a serial sweep's time 15-20 % more.
-// The turns of slots [a, a + 8) that drifted in the sweep: four at a time where all of a group did (the
-// same bits as one at a time).
-void SphereBed::turn_eight(std::size_t a, const std::uint8_t* skip) {
-  for (std::size_t g = a; g < a + 8; g += 4) {
-    if (!(skip[g] | skip[g + 1] | skip[g + 2] | skip[g + 3])) {
-      detail3d::turn4(&q_[g], &w_[g], s_.dt);
-      continue;
-    }
-    for (std::size_t i = g; i < g + 4; ++i)
-      if (!skip[i]) q_[i] = detail3d::turned(q_[i], w_[i], s_.dt);
-  }
-}
-
 template <bool Complete, class K>
 void SphereBed::sweep_distributed(K& kernel, std::size_t lag) {
   K k = kernel;  // a local copy the compiler can keep in registers
@@ -628,22 +640,8 @@ void SphereBed::sweep_distributed(K& kernel, std::size_t lag) {
     if (!skip[t]) k.template drift<Complete>(t);
     if (t >= lag) any_row(t - lag);
   };
-  // Where contacts are many, every row goes in blocks as sweep() takes them, the ghosts' rows among
-  // them: a rank's own slots come in short runs where ids do not follow the cut (a poured bed numbered
-  // x fastest, cut along x: runs of some 25 slots), and a row between runs went one pair at a time.
-  if (blocks_pay(k)) {
-    constexpr std::size_t B = K::kBlockRows;
-    std::size_t done = 0;
-    for (std::size_t t = 0; t < n; ++t) {
-      if (!skip[t]) k.template drift<Complete, !K::kRotation>(t);
-      if (K::kRotation && t % 8 == 7) turn_eight(t - 7, skip);
-      while (t + 1 >= lag + done + B) done = k.template block<true>(done, done + B);
-    }
-    if constexpr (K::kRotation)
-      for (std::size_t i = n - n % 8; i < n; ++i)
-        if (!skip[i]) q_[i] = detail3d::turned(q_[i], w_[i], s_.dt);
-    while (done < n) done = k.template block<true>(done, std::min(n, done + B));
-    kernel.contacts = k.contacts, kernel.moved = k.moved;
+  if (blocks_pay(k)) {  // where they touch, every row in blocks, the ghosts' among them
+    sweep_blocks<Complete, true>(kernel, lag, skip);
     return;
   }
   std::size_t t = 0;

@@ -130,6 +130,9 @@ class SphereBed {
   }
   template <bool Complete, class K>
   void sweep_distributed(K& k, std::size_t lag);
+  template <bool Complete, bool Mixed, class K>
+  void sweep_blocks(K& k, std::size_t lag, const std::uint8_t* skip);
+  template <bool Mixed>
   void turn_eight(std::size_t a, const std::uint8_t* skip);
   template <class K>
   void forces_with(K& k);
