@@ -48,13 +48,22 @@ def read_run(path):
     return hist[:, cols.index("t_star")], hist[:, cols.index("wavelength")], dx, profiles
 
 
+def periodic_running_mean(profile, width):
+    """The running mean over `width` (odd) key points of a profile periodic in x."""
+    half = width // 2
+    if half == 0:
+        return np.asarray(profile, dtype=float)
+    wrapped = np.r_[profile[len(profile) - half:], profile, profile[:half]]
+    return np.convolve(wrapped, np.ones(width) / width, "valid")
+
+
 def readings(profile, dx, proud):
     p = profile - profile.mean()
     nx = len(p)
     power = np.abs(np.fft.rfft(p)) ** 2
     k = int(np.argmax(power[1:])) + 1
     spectral = nx * dx / k
-    smooth = np.convolve(np.r_[p[-4:], p, p[:4]], np.ones(9) / 9, "valid")
+    smooth = periodic_running_mean(p, 9)
     crests = sum(1 for i in range(nx) if smooth[i] > smooth[i - 1] and smooth[i] >= smooth[(i + 1) % nx]
                  and smooth[i] > proud)
     return spectral, (nx * dx / crests if crests else math.nan)

@@ -2,11 +2,11 @@
 """Ripple crests tracked through the frames of hybrid ripple runs (`grainlab ripples hybrid --out RUN.h5`).
 
 Why ripples merge, or do not, is a question about single crests, which the autocorrelation's A and lambda
-average away. For each frame in the window this takes the span-averaged profile h(x), finds its crests (local
-maxima of a running mean over --smooth key points (5), placed between key points by a parabola, whose prominence, the height above the higher of the two lowest points
-before a higher crest on either side, is at least --prominence d), and follows each crest from frame to frame
-in the periodic bed (the nearest crest downwind of it, between --back d upwind and --ahead d downwind). From
-that:
+average away. For each frame in the window this takes the span-averaged profile h(x) and finds its crests:
+local maxima of a running mean over --smooth key points (5), placed between key points by a parabola, whose
+prominence (the height above the higher of the two lowest points before a higher crest on either side) is at
+least --prominence d. It follows each crest from frame to frame in the periodic bed (the nearest crest, between
+--back d upwind and --ahead d downwind). From that:
 
 - crests: the number of crests, a running median over 9 frames (so a crest flickering at the threshold is not
   a merger), at the window's start and end, and the mergers (the drops of that count);
@@ -44,8 +44,7 @@ def find_crests(h, dx, prominence, smooth=5):
     """Crests of a periodic profile: (x in d, prominence in d), on its running mean over `smooth` key points
     (a flat crest's highest key point wanders by several d from frame to frame; the bulk of it does not)."""
     n = len(h)
-    half = smooth // 2
-    s = np.convolve(np.r_[h[n - half:], h, h[:half]], np.ones(smooth) / smooth, "valid") if half else h
+    s = hybrid_wavelengths.periodic_running_mean(h, smooth)
     out = []
     for i in range(n):
         if not (s[i] > s[i - 1] and s[i] >= s[(i + 1) % n]):
