@@ -73,7 +73,9 @@ inline T4 gather(const Vec3* p, const std::uint32_t* at) {
   const Vec3 &a = p[at[0]], &b = p[at[1]], &c = p[at[2]], &d = p[at[3]];
   return {V4{a.x(), b.x(), c.x(), d.x()}, V4{a.y(), b.y(), c.y(), d.y()}, V4{a.z(), b.z(), c.z(), d.z()}};
 }
-inline V4 gather(const double* p, const std::uint32_t* at) {
+// Scalars at four indices: from an array, or from anything indexed as one.
+template <class Column>
+inline V4 gather(const Column& p, const std::uint32_t* at) {
   return V4{p[at[0]], p[at[1]], p[at[2]], p[at[3]]};
 }
 }  // namespace lanes4

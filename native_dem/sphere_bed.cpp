@@ -104,17 +104,22 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
   const std::size_t n = spheres.size();
   id_.resize(n);
   for (auto* a : {&x_, &v_, &w_, &f_, &tq_}) a->resize(n);
-  q_.resize(n), m_.resize(n), inv_m_.resize(n), inv_i_.resize(n), r_.resize(n), mat_.resize(n);
+  q_.resize(n), kind_.resize(n), mat_.resize(n);
+  kinds_.clear(), kind_at_.clear();
   in_place_.clear();
   for (std::size_t k = 0; k < n; ++k) {
     const SphereState& s = spheres[order[k]];
     id_[k] = s.id, x_[k] = s.x, v_[k] = s.v, w_[k] = s.w, f_[k] = s.f, tq_[k] = s.tq, q_[k] = s.q;
-    m_[k] = s.m, inv_m_[k] = 1 / s.m, inv_i_[k] = s.inv_i, r_[k] = s.r, mat_[k] = s.material;
-    if (!s.held) continue;
+    mat_[k] = s.material;
+    if (!s.held) {
+      kind_[k] = kind_of({s.m, 1 / s.m, s.inv_i, s.r});
+      continue;
+    }
     // Held in place: zero inverse mass and inertia leave every step's kicks and drift exactly where
     // they were, while the contacts still take the mass m into their damping.
     in_place_.resize(n, 0), in_place_[k] = 1;
-    inv_m_[k] = 0, inv_i_[k] = 0, v_[k].setZero(), w_[k].setZero();
+    kind_[k] = kind_of({s.m, 0, 0, s.r});
+    v_[k].setZero(), w_[k].setZero();
   }
   plane_xi_.assign(n * s_.planes.size(), Vec3::Zero());
   rest_planes_ = s_.planes;
@@ -122,11 +127,20 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
   s_.plane_motion.resize(s_.planes.size());
   planes_move_ = std::any_of(s_.plane_motion.begin(), s_.plane_motion.end(),
                              [](const Motion3& m) { return m.active(); });
-  pair_xi_.clear(), touching_.clear();
+  spring_at_.clear(), springs_.clear(), springs_used_ = 0;
   cells_ = SphereCells();
   if (s_.periodic_x) cells_.set_period(0, s_.periodic_x->first, s_.periodic_x->second);
   if (s_.periodic_y) cells_.set_period(1, s_.periodic_y->first, s_.periodic_y->second);
   pending_kick_ = false, moved_ = true, prediction_ = Prediction::unknown;
+}
+
+std::uint32_t SphereBed::kind_of(const SphereKind& k) {
+  std::array<std::uint64_t, 4> key;
+  std::memcpy(key.data(), &k.m, sizeof(double)), std::memcpy(key.data() + 1, &k.inv_m, sizeof(double));
+  std::memcpy(key.data() + 2, &k.inv_i, sizeof(double)), std::memcpy(key.data() + 3, &k.r, sizeof(double));
+  const auto [at, added] = kind_at_.try_emplace(key, static_cast<std::uint32_t>(kinds_.size()));
+  if (added) kinds_.push_back(k);
+  return at->second;
 }
 
 std::size_t SphereBed::slot_of(std::int64_t id) const {
@@ -140,20 +154,24 @@ std::size_t SphereBed::slot_of(std::int64_t id) const {
 // The work of one step on one sphere, specialised on the effects in play: drift (the pending half kick,
 // this step's half kick and drift, the forces reset to gravity) and row (its listed pairs, in the
 // orientation of its lower id, then its planes; then where the next drift will take it).
-template <bool Friction, bool Rotation, bool Periodic>
+template <bool Friction, bool Rotation, bool Periodic, bool Uniform>
 struct SphereBed::Kernel {
   static constexpr bool kRotation = Rotation;
   SphereBed& bed;
   Vec3* __restrict x, * __restrict v, * __restrict w, * __restrict f, * __restrict tq;
   Quat* __restrict q;
-  const double* __restrict m, * __restrict inv_m, * __restrict inv_i, * __restrict r;
+  KindColumn<&SphereKind::m, Uniform> m;
+  KindColumn<&SphereKind::inv_m, Uniform> inv_m;
+  KindColumn<&SphereKind::inv_i, Uniform> inv_i;
+  KindColumn<&SphereKind::r, Uniform> r;
   const std::int32_t* __restrict mat;
   const SphereCells::Index* __restrict list;
-  Vec3* __restrict pair_xi;
-  std::uint8_t* __restrict touching;
-  const Vec3* __restrict x0;   // where the lists were built (nullptr: not built)
-  const std::uint8_t* ghost;   // per slot, distributed beds only (nullptr: every slot is this rank's)
-  const std::size_t* offsets;  // where each slot's list entries start
+  std::uint32_t* __restrict spring_at;
+  Vec3* __restrict springs;
+  std::uint32_t* springs_used;
+  const Vec3* __restrict x0;          // where the lists were built (nullptr: not built)
+  const std::uint8_t* ghost;          // per slot, distributed beds only (nullptr: every slot is this rank's)
+  const SphereCells::Index* offsets;  // where each slot's list entries start
   const std::uint32_t *plane_start, *plane_of;
   Vec3* plane_xi;
   std::size_t np;
@@ -173,14 +191,15 @@ struct SphereBed::Kernel {
         f(b.f_.data()),
         tq(b.tq_.data()),
         q(b.q_.data()),
-        m(b.m_.data()),
-        inv_m(b.inv_m_.data()),
-        inv_i(b.inv_i_.data()),
-        r(b.r_.data()),
+        m{b.kinds_.data(), b.kind_.data()},
+        inv_m{m.kinds, m.kind},
+        inv_i{m.kinds, m.kind},
+        r{m.kinds, m.kind},
         mat(b.mat_.data()),
         list(b.cells_.entries() ? b.cells_.begin(0) : nullptr),
-        pair_xi(b.pair_xi_.data()),
-        touching(b.touching_.data()),
+        spring_at(b.spring_at_.data()),
+        springs(b.springs_.data()),
+        springs_used(&b.springs_used_),
         x0(b.cells_.builds() && b.cells_.build_positions().size() == b.x_.size()
                ? b.cells_.build_positions().data()
                : nullptr),
@@ -197,6 +216,25 @@ struct SphereBed::Kernel {
         h(b.s_.dt / 2),
         hs(shear_step),
         g(get(b.s_.gravity)) {}
+
+  // A pair in contact: the place of list entry k's spring, a fresh one (at zero) at the pair's first
+  // touch since the build.
+  [[gnu::always_inline]] std::uint32_t touch(std::size_t k) const {
+    std::uint32_t at = spring_at[k];
+    if (at & kTouching) [[likely]]
+      return at & ~kTouching;
+    if (at == kNoSpring) at = (*springs_used)++, springs[at].setZero();
+    spring_at[k] = at | kTouching;
+    return at;
+  }
+  // Apart: the spring goes (a pair apart has none, so its place keeps a zero).
+  [[gnu::always_inline]] void part(std::size_t k) const {
+    const std::uint32_t at = spring_at[k];
+    if (at & kTouching) {
+      spring_at[k] = at & ~kTouching;
+      if (Friction) springs[at & ~kTouching].setZero();
+    }
+  }
 
   // An isotropic body's angular momentum I w + h tq turned back into w is w + h tq / I.
   // (Each unit copies what it uses into locals: a store through one of the arrays could otherwise, as far
@@ -290,10 +328,9 @@ struct SphereBed::Kernel {
   [[gnu::always_inline]] std::size_t block(std::size_t a, std::size_t e) {
     const Vec3* __restrict x = this->x;
     Vec3* __restrict f = this->f, * __restrict tq = this->tq;
-    const double* __restrict r = this->r;
+    const auto r = this->r;
     const SphereCells::Index* __restrict list = this->list;
-    std::uint8_t* __restrict touching = this->touching;
-    const std::size_t* __restrict offsets = this->offsets;
+    const SphereCells::Index* __restrict offsets = this->offsets;
     PairBatch& b = *batch;
     b.n = 0;
     std::uint32_t starts[kBlockRows + 1];
@@ -313,12 +350,10 @@ struct SphereBed::Kernel {
         }
         const double reach = ri + r[j], r2 = dot(d, d);
         if (r2 < reach * reach && r2 != 0) {  // (as sphere_sphere: depth > 0, not coincident)
-          b.add(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), k, d.x(), d.y(), d.z, r2,
+          b.add(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), touch(k), d.x(), d.y(), d.z, r2,
                 reach);
-          touching[k] = 1;
-        } else if (touching[k]) {
-          touching[k] = 0;
-          if (Friction) pair_xi[k].setZero();
+        } else {
+          part(k);
         }
       }
     }
@@ -330,7 +365,7 @@ struct SphereBed::Kernel {
       return a + 1;
     }
     starts[i - a] = static_cast<std::uint32_t>(b.n);
-    batch_forces<Friction, Rotation>(b, laws[0], hs, v, w, m, r, pair_xi);
+    batch_forces<Friction, Rotation>(b, laws[0], hs, v, w, m, r, springs);
     const double* __restrict F[3] = {b[PairBatch::fx], b[PairBatch::fy], b[PairBatch::fz]};
     const double* __restrict TA[3] = {b[PairBatch::tax], b[PairBatch::tay], b[PairBatch::taz]};
     const double* __restrict TB[3] = {b[PairBatch::tbx], b[PairBatch::tby], b[PairBatch::tbz]};
@@ -375,12 +410,12 @@ struct SphereBed::Kernel {
   template <bool GhostRow>
   [[gnu::always_inline]] void row(std::size_t i) {
     const Vec3* __restrict x = this->x, * __restrict v = this->v, * __restrict w = this->w;
-    Vec3* __restrict f = this->f, * __restrict tq = this->tq, * __restrict pair_xi = this->pair_xi;
-    const double* __restrict m = this->m, * __restrict r = this->r;
+    Vec3* __restrict f = this->f, * __restrict tq = this->tq, * __restrict springs = this->springs;
+    const auto m = this->m;
+    const auto r = this->r;
     const std::int32_t* __restrict mat = this->mat;
     const SphereCells::Index* __restrict list = this->list;
-    std::uint8_t* __restrict touching = this->touching;
-    const std::size_t* __restrict offsets = this->offsets;
+    const SphereCells::Index* __restrict offsets = this->offsets;
     const std::uint32_t* __restrict plane_start = this->plane_start;
     const double hs = this->hs;
     std::size_t contacts = 0;
@@ -401,10 +436,7 @@ struct SphereBed::Kernel {
       }
       reach = ri + r[j], r2 = dot(d, d);
       if (r2 < reach * reach && r2 != 0) return false;  // (as sphere_sphere: depth > 0, not coincident)
-      if (touching[k]) {
-        touching[k] = 0;
-        if (Friction) pair_xi[k].setZero();
-      }
+      part(k);
       return true;
     };
     double depth_p = 0;
@@ -430,6 +462,7 @@ struct SphereBed::Kernel {
       if constexpr (GhostRow)
         if (ghost[j]) continue;             // neither sphere is this rank's: their owners compute the pair
       if (!first && apart(k, j)) continue;  // (the first was tested by the scan)
+      [[maybe_unused]] const std::uint32_t place = touch(k);
       const double dist = std::sqrt(r2), depth = reach - dist;
       const D3 nrm = d / dist;
       // The contact point lies r_i - depth / 2 from i's centre, against the normal (which points j to i).
@@ -445,9 +478,10 @@ struct SphereBed::Kernel {
       const double fn = normal_force(law, depth, vn, law.normal.coefficient(meff));
       D3 F = fn * nrm;
       if constexpr (Friction) {
-        D3 xi = get(pair_xi[k]);
+        Vec3& spring = springs[place];
+        D3 xi = get(spring);
         F = F + shear_force_3d(law, xi, nrm, vrel - vn * nrm, hs, meff, fn);
-        put(pair_xi[k], xi);
+        put(spring, xi);
       }
       fi = fi + F;
       put(f[j], get(f[j]) - F);
@@ -455,7 +489,6 @@ struct SphereBed::Kernel {
         ti = ti + cross(ra, F);
         put(tq[j], get(tq[j]) - cross(rb, F));
       }
-      touching[k] = 1;
       if (!GhostRow) ++contacts;  // (a pair with a ghost is counted by the rank of its lower id)
     }
     contacts += plane_contacts(i, c, c_end, planes_scanned, depth_p, pi, ri, mi, row_laws, vi, wi, fi, ti);
@@ -470,15 +503,24 @@ struct SphereBed::Kernel {
 template <class Fn>
 void SphereBed::with_kernel(double shear_step, Fn&& fn) {
   const bool periodic = s_.periodic_x || s_.periodic_y;
-  auto run = [&](auto friction, auto rotation, auto periodic_sides) {
-    Kernel<decltype(friction)::value, decltype(rotation)::value, decltype(periodic_sides)::value> k(
-        *this, shear_step);
+  // Beds of one kind of sphere (every bench bed, most scenes) with friction and rotation read their
+  // constants from registers; the other combinations take the general kernel only (compile time).
+  const bool uniform = kinds_.size() == 1;
+  auto run = [&](auto friction, auto rotation, auto periodic_sides, auto one_kind) {
+    Kernel<decltype(friction)::value, decltype(rotation)::value, decltype(periodic_sides)::value,
+           decltype(one_kind)::value>
+        k(*this, shear_step);
     fn(k);
   };
   using T = std::true_type;
   using F = std::false_type;
   auto by_periodic = [&](auto friction, auto rotation) {
-    periodic ? run(friction, rotation, T{}) : run(friction, rotation, F{});
+    auto by_kind = [&](auto periodic_sides) {
+      if constexpr (decltype(friction)::value && decltype(rotation)::value)
+        if (uniform) return run(friction, rotation, periodic_sides, T{});
+      run(friction, rotation, periodic_sides, F{});
+    };
+    periodic ? by_kind(T{}) : by_kind(F{});
   };
   if (s_.friction)
     s_.rotation ? by_periodic(T{}, T{}) : by_periodic(T{}, F{});
@@ -499,7 +541,7 @@ void SphereBed::step(bool first, double t) {
   if (first) {
     place_planes(t);
     const Vec3 g = s_.gravity;
-    for (std::size_t i = 0; i < x_.size(); ++i) f_[i] = m_[i] * g, tq_[i].setZero();
+    for (std::size_t i = 0; i < x_.size(); ++i) f_[i] = kind(i).m * g, tq_[i].setZero();
     forces(0);
   }
   place_planes(t + s_.dt);
@@ -713,8 +755,8 @@ void SphereBed::finish() {
   if (!pending_kick_) return;
   const double h = s_.dt / 2;
   for (std::size_t i = 0; i < x_.size(); ++i) {
-    put(v_[i], half_kicked(get(v_[i]), get(f_[i]), inv_m_[i], h));
-    if (s_.rotation) put(w_[i], half_kicked(get(w_[i]), get(tq_[i]), inv_i_[i], h));
+    put(v_[i], half_kicked(get(v_[i]), get(f_[i]), kind(i).inv_m, h));
+    if (s_.rotation) put(w_[i], half_kicked(get(w_[i]), get(tq_[i]), kind(i).inv_i, h));
   }
   pending_kick_ = false;
 }
@@ -746,7 +788,7 @@ void SphereBed::rebuild() {
     const bool none = ghost(i) || (!in_place_.empty() && in_place_[i]);
     for (std::size_t k = 0; k < s_.planes.size() && !none; ++k)
       if (rest_planes_[k].normal.dot(x_[i] - rest_planes_[k].point) <
-          r_[i] + skin_ + s_.plane_motion[k].reach())
+          kind(i).r + skin_ + s_.plane_motion[k].reach())
         plane_of_.push_back(static_cast<std::uint32_t>(k));
     plane_start_.push_back(static_cast<std::uint32_t>(plane_of_.size()));
   }
@@ -790,15 +832,17 @@ void SphereBed::place_springs(std::vector<SphereSpring> held) {
       if (it != id_.end() && *it == sp.a)
         plane_xi_[static_cast<std::size_t>(it - id_.begin()) * np - 1 - sp.b] = sp.xi;
     }
-  pair_xi_.assign(cells_.entries(), Vec3::Zero());
-  touching_.assign(cells_.entries(), 0);
+  spring_at_.assign(cells_.entries(), kNoSpring);
+  springs_.resize(cells_.entries());  // (uninitialised: each place is set when it is taken)
+  springs_used_ = 0;
   auto it = held.begin();
   const SphereCells::Index* list = cells_.begin(0);
   for (std::size_t i = 0; i < x_.size() && it != held.end(); ++i)
     for (std::size_t k = cells_.first(i); k < cells_.first(i + 1); ++k) {
       const std::int64_t a = id_[i], b = id_[list[k]];
       while (it != held.end() && (it->a < a || (it->a == a && (it->b < 0 || it->b < b)))) ++it;
-      if (it != held.end() && it->a == a && it->b == b) pair_xi_[k] = it->xi, touching_[k] = 1, ++it;
+      if (it != held.end() && it->a == a && it->b == b)
+        spring_at_[k] = springs_used_ | kTouching, springs_[springs_used_++] = it->xi, ++it;
     }
 }
 
@@ -813,16 +857,16 @@ std::vector<double> SphereBed::elastic_shares() const {
     for (std::size_t k = cells_.first(i); k < cells_.first(i + 1); ++k) {
       const std::size_t j = list[k];
       const ContactLaw& law = s_.laws[mat_[i] * s_.n_mat + mat_[j]];
-      const double depth = r_[i] + r_[j] - cells_.separation(x_[i], x_[j]).norm();
+      const double depth = kind(i).r + kind(j).r - cells_.separation(x_[i], x_[j]).norm();
       double u = 0;
       if (depth > 0) u += 0.5 * law.k_n * depth * depth;
-      if (s_.friction) u += 0.5 * law.k_s * pair_xi_[k].squaredNorm();
+      if (s_.friction) u += 0.5 * law.k_s * pair_spring(k).squaredNorm();
       share[i] += 0.5 * u;
       share[j] += 0.5 * u;
     }
     for (std::size_t k = 0; k < np; ++k) {
       const ContactLaw& law = s_.laws[mat_[i] * s_.n_mat + s_.plane_material[k]];
-      const double depth = r_[i] - s_.planes[k].normal.dot(x_[i] - s_.planes[k].point);
+      const double depth = kind(i).r - s_.planes[k].normal.dot(x_[i] - s_.planes[k].point);
       if (depth > 0) share[i] += 0.5 * law.k_n * depth * depth;
       if (s_.friction) share[i] += 0.5 * law.k_s * plane_xi_[i * np + k].squaredNorm();
     }
@@ -838,8 +882,8 @@ std::vector<SphereSpring> SphereBed::held_springs() const {
   for (std::size_t i = 0; i < x_.size(); ++i) {
     for (std::size_t k = cells_.builds() ? cells_.first(i) : 0; cells_.builds() && k < cells_.first(i + 1);
          ++k)
-      if (holds(pair_xi_[k]) && !(ghost(i) && ghost(list[k])))
-        out.push_back({id_[i], id_[list[k]], pair_xi_[k]});
+      if (holds(pair_spring(k)) && !(ghost(i) && ghost(list[k])))
+        out.push_back({id_[i], id_[list[k]], pair_spring(k)});
     for (std::size_t k = 0; k < np && !ghost(i); ++k)
       if (holds(plane_xi_[i * np + k]))
         out.push_back({id_[i], -1 - static_cast<std::int64_t>(k), plane_xi_[i * np + k]});

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace grainlab::dem {
@@ -34,7 +35,9 @@ void SphereCells::build(const std::vector<Vec3>& x, double max_radius, double sk
           list_.push_back(static_cast<Index>(j));
       }
     std::sort(list_.begin() + static_cast<long>(first), list_.end());
-    offset_[i + 1] = list_.size();
+    if (list_.size() > std::numeric_limits<Index>::max())
+      throw std::length_error("neighbour lists longer than 2^32 entries");
+    offset_[i + 1] = static_cast<Index>(list_.size());
   }
 }
 

@@ -48,7 +48,8 @@ class SphereCells {
   // Where i's entries start in the concatenated lists (per-entry data sits at the same positions).
   std::size_t first(std::size_t i) const { return offset_[i]; }
   std::size_t entries() const { return list_.size(); }
-  const std::size_t* offsets() const { return offset_.data(); }  // first(i) for every i, and the end
+  // first(i) for every i, and the end (32 bits too: the sweep reads two a sphere every step)
+  const Index* offsets() const { return offset_.data(); }
   std::size_t builds() const { return builds_; }
   // Where the centres were at the last build.
   const std::vector<Vec3>& build_positions() const { return built_at_; }
@@ -57,7 +58,7 @@ class SphereCells {
   CellGrid<3> grid_;
   double skin_ = 0, reach_ = 0;
   std::vector<Vec3> built_at_;
-  std::vector<std::size_t> offset_;
+  std::vector<Index> offset_;
   std::vector<Index> list_;
   std::size_t builds_ = 0;
   double period_[2] = {0, 0}, period_lo_[2] = {0, 0};

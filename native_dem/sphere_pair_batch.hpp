@@ -21,8 +21,8 @@
 namespace grainlab::dem {
 
 // The touching pairs of a block of rows, in row order: who (slots i < j of the pair's row and partner,
-// list entry k) and the separation d = x_i - x_j the scan measured; batch_forces adds each one's force on
-// i, and torques on i and j. Arrays are padded to whole groups of four.
+// the place k of its spring) and the separation d = x_i - x_j the scan measured; batch_forces adds each one's
+// force on i, and torques on i and j. Arrays are padded to whole groups of four.
 struct PairBatch {
   static constexpr std::size_t kCapacity = 256;
   enum Column { dx, dy, dz, r2, reach, fx, fy, fz, tax, tay, taz, tbx, tby, tbz, kColumns };
@@ -35,9 +35,9 @@ struct PairBatch {
   double* operator[](Column c) { return columns.data() + c * (kCapacity + 4); }
   const double* operator[](Column c) const { return columns.data() + c * (kCapacity + 4); }
   bool fits(std::size_t more) const { return n + more <= kCapacity; }
-  void add(std::uint32_t row, std::uint32_t partner, std::size_t entry, double x, double y, double z,
+  void add(std::uint32_t row, std::uint32_t partner, std::size_t spring, double x, double y, double z,
            double rr, double reach_) {
-    i[n] = row, j[n] = partner, k[n] = entry;
+    i[n] = row, j[n] = partner, k[n] = spring;
     (*this)[dx][n] = x, (*this)[dy][n] = y, (*this)[dz][n] = z, (*this)[r2][n] = rr,
     (*this)[reach][n] = reach_;
     ++n;
@@ -52,10 +52,11 @@ struct PairBatch {
 };
 
 // Forces (fx..fz: on i, its opposite on j), torques (ta on i, tb on j, to be subtracted) and the springs
-// (written back to pair_xi) of the batch's pairs under one contact law. hs: the springs' increment.
-template <bool Friction, bool Rotation>
+// (written back to springs) of the batch's pairs under one contact law. hs: the springs' increment.
+// m and r: the spheres' masses and radii by slot (arrays, or anything indexed as one).
+template <bool Friction, bool Rotation, class Masses, class Radii>
 void batch_forces(PairBatch& b, const ContactLaw& law, double hs, const Vec3* v, const Vec3* w,
-                  const double* m, const double* r, Vec3* pair_xi) {
+                  const Masses& m, const Radii& r, Vec3* springs) {
   using namespace lanes4;
   if (b.n == 0) return;
   b.pad();
@@ -83,7 +84,7 @@ void batch_forces(PairBatch& b, const ContactLaw& law, double hs, const Vec3* v,
     if constexpr (Friction) {
       T4 xi;
       for (int l = 0; l < 4; ++l) {
-        const Vec3& s = pair_xi[b.k[c + l]];
+        const Vec3& s = springs[b.k[c + l]];
         xi.x[l] = s.x(), xi.y[l] = s.y(), xi.z[l] = s.z();
       }
       // lay_into_tangent_plane: laid back into the plane keeping its length, if it has left it.
@@ -108,7 +109,7 @@ void batch_forces(PairBatch& b, const ContactLaw& law, double hs, const Vec3* v,
         fs = pick(capped, fs_capped, fs);
       }
       F = F + fs;
-      for (int l = 0; l < 4 && c + l < b.n; ++l) pair_xi[b.k[c + l]] = Vec3(xi.x[l], xi.y[l], xi.z[l]);
+      for (int l = 0; l < 4 && c + l < b.n; ++l) springs[b.k[c + l]] = Vec3(xi.x[l], xi.y[l], xi.z[l]);
     }
     store(&b[PairBatch::fx][c], F.x), store(&b[PairBatch::fy][c], F.y), store(&b[PairBatch::fz][c], F.z);
     if constexpr (Rotation) {
