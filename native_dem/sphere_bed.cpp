@@ -104,22 +104,20 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
   const std::size_t n = spheres.size();
   id_.resize(n);
   for (auto* a : {&x_, &v_, &w_, &f_, &tq_}) a->resize(n);
-  q_.resize(n), kind_.resize(n), mat_.resize(n);
+  q_.resize(n), m_.resize(n), inv_m_.resize(n), inv_i_.resize(n), r_.resize(n), mat_.resize(n);
   kinds_.clear(), kind_at_.clear();
   in_place_.clear();
   for (std::size_t k = 0; k < n; ++k) {
     const SphereState& s = spheres[order[k]];
     id_[k] = s.id, x_[k] = s.x, v_[k] = s.v, w_[k] = s.w, f_[k] = s.f, tq_[k] = s.tq, q_[k] = s.q;
-    mat_[k] = s.material;
-    if (!s.held) {
-      kind_[k] = kind_of({s.m, 1 / s.m, s.inv_i, s.r});
-      continue;
+    m_[k] = s.m, inv_m_[k] = 1 / s.m, inv_i_[k] = s.inv_i, r_[k] = s.r, mat_[k] = s.material;
+    if (s.held) {
+      // Held in place: zero inverse mass and inertia leave every step's kicks and drift exactly where
+      // they were, while the contacts still take the mass m into their damping.
+      in_place_.resize(n, 0), in_place_[k] = 1;
+      inv_m_[k] = 0, inv_i_[k] = 0, v_[k].setZero(), w_[k].setZero();
     }
-    // Held in place: zero inverse mass and inertia leave every step's kicks and drift exactly where
-    // they were, while the contacts still take the mass m into their damping.
-    in_place_.resize(n, 0), in_place_[k] = 1;
-    kind_[k] = kind_of({s.m, 0, 0, s.r});
-    v_[k].setZero(), w_[k].setZero();
+    kind_of({m_[k], inv_m_[k], inv_i_[k], r_[k]});
   }
   plane_xi_.assign(n * s_.planes.size(), Vec3::Zero());
   rest_planes_ = s_.planes;
@@ -134,13 +132,11 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
   pending_kick_ = false, moved_ = true, prediction_ = Prediction::unknown;
 }
 
-std::uint32_t SphereBed::kind_of(const SphereKind& k) {
+void SphereBed::kind_of(const SphereKind& k) {
   std::array<std::uint64_t, 4> key;
   std::memcpy(key.data(), &k.m, sizeof(double)), std::memcpy(key.data() + 1, &k.inv_m, sizeof(double));
   std::memcpy(key.data() + 2, &k.inv_i, sizeof(double)), std::memcpy(key.data() + 3, &k.r, sizeof(double));
-  const auto [at, added] = kind_at_.try_emplace(key, static_cast<std::uint32_t>(kinds_.size()));
-  if (added) kinds_.push_back(k);
-  return at->second;
+  if (kind_at_.try_emplace(key, static_cast<std::uint32_t>(kinds_.size())).second) kinds_.push_back(k);
 }
 
 std::size_t SphereBed::slot_of(std::int64_t id) const {
@@ -160,10 +156,12 @@ struct SphereBed::Kernel {
   SphereBed& bed;
   Vec3* __restrict x, * __restrict v, * __restrict w, * __restrict f, * __restrict tq;
   Quat* __restrict q;
-  KindColumn<&SphereKind::m, Uniform> m;
-  KindColumn<&SphereKind::inv_m, Uniform> inv_m;
-  KindColumn<&SphereKind::inv_i, Uniform> inv_i;
-  KindColumn<&SphereKind::r, Uniform> r;
+  // The spheres' constants: the bed's one kind (Uniform), or each slot's from the arrays.
+  const SphereKind* kinds;
+  const double* __restrict m_slots, * __restrict inv_m_slots, * __restrict inv_i_slots, * __restrict radii;
+  // Masses and radii as arrays, made where they are used.
+  KindColumn<&SphereKind::m, Uniform> masses() const { return {kinds, m_slots}; }
+  KindColumn<&SphereKind::r, Uniform> radius() const { return {kinds, radii}; }
   const std::int32_t* __restrict mat;
   const SphereCells::Index* __restrict list;
   std::uint32_t* __restrict spring_at;
@@ -191,10 +189,11 @@ struct SphereBed::Kernel {
         f(b.f_.data()),
         tq(b.tq_.data()),
         q(b.q_.data()),
-        m{b.kinds_.data(), b.kind_.data()},
-        inv_m{m.kinds, m.kind},
-        inv_i{m.kinds, m.kind},
-        r{m.kinds, m.kind},
+        kinds(b.kinds_.data()),
+        m_slots(b.m_.data()),
+        inv_m_slots(b.inv_m_.data()),
+        inv_i_slots(b.inv_i_.data()),
+        radii(b.r_.data()),
         mat(b.mat_.data()),
         list(b.cells_.entries() ? b.cells_.begin(0) : nullptr),
         spring_at(b.spring_at_.data()),
@@ -244,22 +243,25 @@ struct SphereBed::Kernel {
   [[gnu::always_inline]] void drift(std::size_t i) const {
     Vec3* __restrict x = this->x, * __restrict v = this->v, * __restrict w = this->w, * __restrict f = this->f, * __restrict tq = this->tq;
     const double h = this->h, dt = this->dt;
+    // The sphere's constants, read before any store (after one, the compiler would read them again).
+    const double im = Uniform ? kinds->inv_m : inv_m_slots[i], ii = Uniform ? kinds->inv_i : inv_i_slots[i],
+                 mi = Uniform ? kinds->m : m_slots[i];
     const D3 fi = get(f[i]);
     D3 vi = get(v[i]);
-    if constexpr (Complete) vi = half_kicked(vi, fi, inv_m[i], h);
-    vi = half_kicked(vi, fi, inv_m[i], h);
+    if constexpr (Complete) vi = half_kicked(vi, fi, im, h);
+    vi = half_kicked(vi, fi, im, h);
     const D3 xi = drifted(get(x[i]), vi, dt);
     put(v[i], vi), put(x[i], xi);
     if constexpr (Rotation) {
       const D3 ti = get(tq[i]);
       D3 wi = get(w[i]);
-      if constexpr (Complete) wi = half_kicked(wi, ti, inv_i[i], h);
-      wi = half_kicked(wi, ti, inv_i[i], h);
+      if constexpr (Complete) wi = half_kicked(wi, ti, ii, h);
+      wi = half_kicked(wi, ti, ii, h);
       put(w[i], wi);
       if (Turn && nonzero(wi)) q[i] = detail3d::turned(q[i], w[i], dt);
       tq[i].setZero();
     }
-    put(f[i], m[i] * g);
+    put(f[i], mi * g);
   }
   [[gnu::always_inline]] void note_moved(std::size_t i) {
     const D3 by = get(x[i]) - get(x0[i]);
@@ -269,7 +271,8 @@ struct SphereBed::Kernel {
   // slots): the same operations drift will do, so the same bits.
   [[gnu::always_inline]] void predict(std::size_t i) {
     const D3 fi = get(f[i]);
-    const D3 v_next = half_kicked(half_kicked(get(v[i]), fi, inv_m[i], h), fi, inv_m[i], h);
+    const double im = Uniform ? kinds->inv_m : inv_m_slots[i];
+    const D3 v_next = half_kicked(half_kicked(get(v[i]), fi, im, h), fi, im, h);
     const D3 by = drifted(get(x[i]), v_next, dt) - get(x0[i]);
     moved = std::max(moved, dot(by, by));
   }
@@ -328,7 +331,8 @@ struct SphereBed::Kernel {
   [[gnu::always_inline]] std::size_t block(std::size_t a, std::size_t e) {
     const Vec3* __restrict x = this->x;
     Vec3* __restrict f = this->f, * __restrict tq = this->tq;
-    const auto r = this->r;
+    const auto r = radius();
+    const auto m = masses();
     const SphereCells::Index* __restrict list = this->list;
     const SphereCells::Index* __restrict offsets = this->offsets;
     PairBatch& b = *batch;
@@ -411,8 +415,8 @@ struct SphereBed::Kernel {
   [[gnu::always_inline]] void row(std::size_t i) {
     const Vec3* __restrict x = this->x, * __restrict v = this->v, * __restrict w = this->w;
     Vec3* __restrict f = this->f, * __restrict tq = this->tq, * __restrict springs = this->springs;
-    const auto m = this->m;
-    const auto r = this->r;
+    const auto m = masses();
+    const auto r = radius();
     const std::int32_t* __restrict mat = this->mat;
     const SphereCells::Index* __restrict list = this->list;
     const SphereCells::Index* __restrict offsets = this->offsets;
@@ -541,7 +545,7 @@ void SphereBed::step(bool first, double t) {
   if (first) {
     place_planes(t);
     const Vec3 g = s_.gravity;
-    for (std::size_t i = 0; i < x_.size(); ++i) f_[i] = kind(i).m * g, tq_[i].setZero();
+    for (std::size_t i = 0; i < x_.size(); ++i) f_[i] = m_[i] * g, tq_[i].setZero();
     forces(0);
   }
   place_planes(t + s_.dt);
@@ -755,8 +759,8 @@ void SphereBed::finish() {
   if (!pending_kick_) return;
   const double h = s_.dt / 2;
   for (std::size_t i = 0; i < x_.size(); ++i) {
-    put(v_[i], half_kicked(get(v_[i]), get(f_[i]), kind(i).inv_m, h));
-    if (s_.rotation) put(w_[i], half_kicked(get(w_[i]), get(tq_[i]), kind(i).inv_i, h));
+    put(v_[i], half_kicked(get(v_[i]), get(f_[i]), inv_m_[i], h));
+    if (s_.rotation) put(w_[i], half_kicked(get(w_[i]), get(tq_[i]), inv_i_[i], h));
   }
   pending_kick_ = false;
 }
@@ -788,7 +792,7 @@ void SphereBed::rebuild() {
     const bool none = ghost(i) || (!in_place_.empty() && in_place_[i]);
     for (std::size_t k = 0; k < s_.planes.size() && !none; ++k)
       if (rest_planes_[k].normal.dot(x_[i] - rest_planes_[k].point) <
-          kind(i).r + skin_ + s_.plane_motion[k].reach())
+          r_[i] + skin_ + s_.plane_motion[k].reach())
         plane_of_.push_back(static_cast<std::uint32_t>(k));
     plane_start_.push_back(static_cast<std::uint32_t>(plane_of_.size()));
   }
@@ -832,6 +836,8 @@ void SphereBed::place_springs(std::vector<SphereSpring> held) {
       if (it != id_.end() && *it == sp.a)
         plane_xi_[static_cast<std::size_t>(it - id_.begin()) * np - 1 - sp.b] = sp.xi;
     }
+  if (cells_.entries() >= kNoSpring)  // (a place must stay clear of the flag and of kNoSpring)
+    throw std::length_error("neighbour lists of 2^31 - 1 entries or more");
   spring_at_.assign(cells_.entries(), kNoSpring);
   springs_.resize(cells_.entries());  // (uninitialised: each place is set when it is taken)
   springs_used_ = 0;
@@ -857,7 +863,7 @@ std::vector<double> SphereBed::elastic_shares() const {
     for (std::size_t k = cells_.first(i); k < cells_.first(i + 1); ++k) {
       const std::size_t j = list[k];
       const ContactLaw& law = s_.laws[mat_[i] * s_.n_mat + mat_[j]];
-      const double depth = kind(i).r + kind(j).r - cells_.separation(x_[i], x_[j]).norm();
+      const double depth = r_[i] + r_[j] - cells_.separation(x_[i], x_[j]).norm();
       double u = 0;
       if (depth > 0) u += 0.5 * law.k_n * depth * depth;
       if (s_.friction) u += 0.5 * law.k_s * pair_spring(k).squaredNorm();
@@ -866,7 +872,7 @@ std::vector<double> SphereBed::elastic_shares() const {
     }
     for (std::size_t k = 0; k < np; ++k) {
       const ContactLaw& law = s_.laws[mat_[i] * s_.n_mat + s_.plane_material[k]];
-      const double depth = kind(i).r - s_.planes[k].normal.dot(x_[i] - s_.planes[k].point);
+      const double depth = r_[i] - s_.planes[k].normal.dot(x_[i] - s_.planes[k].point);
       if (depth > 0) share[i] += 0.5 * law.k_n * depth * depth;
       if (s_.friction) share[i] += 0.5 * law.k_s * plane_xi_[i * np + k].squaredNorm();
     }

@@ -54,24 +54,23 @@ struct SphereState {
 };
 
 // The constants of a sphere: its mass, inverse mass (0: held in place), isotropic inverse moment of
-// inertia and radius. Slots with the same four share one entry of a table and keep only its index: a bed of
-// one grain size keeps one entry, and each sphere 4 bytes where the four arrays took 32. (On a settled
-// bed of 100,000 spheres those 28 bytes a sphere were the difference between a step's arrays fitting the
-// 32 MB L3 cache or not: bench/README.md.)
+// inertia and radius. A bed whose spheres all have the same four (every bench bed, most scenes) is
+// stepped by a kernel that keeps them in registers and reads none of the four arrays: 32 bytes a sphere
+// fewer to stream, which on a settled bed of 100,000 spheres was part of the difference between a
+// step's arrays fitting the 32 MB L3 cache or not (bench/README.md).
 struct SphereKind {
   double m = 0, inv_m = 0, inv_i = 0, r = 0;
 };
-// One of SphereKind's fields by slot, read through the slots' indices: `column[i]` as from an array.
-// Uniform: every slot has the first kind, and no index is read.
+// One of the constants by slot: the bed's one kind's (Uniform), or the slot's own from its array.
 template <double SphereKind::*Field, bool Uniform>
 struct KindColumn {
   const SphereKind* kinds;
-  const std::uint32_t* kind;
+  const double* slots;
   double operator[](std::size_t slot) const {
     if constexpr (Uniform)
       return kinds->*Field;
     else
-      return kinds[kind[slot]].*Field;
+      return slots[slot];
   }
 };
 
@@ -192,12 +191,11 @@ class SphereBed {
   std::vector<std::int64_t> id_;
   std::vector<Vec3> x_, v_, w_, f_, tq_;
   std::vector<Quat> q_;
-  // Per slot, its entry in kinds_; kind_at_ finds an entry by its four values' bits.
-  std::vector<std::uint32_t> kind_;
+  std::vector<double> m_, inv_m_, inv_i_, r_;
+  // The distinct sets of the four among the slots (one: a uniform bed), found by their bits.
   std::vector<SphereKind> kinds_;
   std::map<std::array<std::uint64_t, 4>, std::uint32_t> kind_at_;
-  std::uint32_t kind_of(const SphereKind& k);
-  const SphereKind& kind(std::size_t slot) const { return kinds_[kind_[slot]]; }
+  void kind_of(const SphereKind& k);
   std::vector<std::int32_t> mat_;
   // Per slot, whether the sphere is held in place (empty: none is). Two held spheres are never listed as
   // a pair, and a held one tests no planes: only its pairs with free spheres are computed.
@@ -272,8 +270,7 @@ void SphereBed::each_state(Fn&& fn) const {
   for (std::size_t k = 0; k < x_.size(); ++k) {
     if (ghost(k)) continue;
     s.id = id_[k], s.x = x_[k], s.v = v_[k], s.w = w_[k], s.f = f_[k], s.tq = tq_[k], s.q = q_[k];
-    const SphereKind& c = kind(k);
-    s.m = c.m, s.inv_i = c.inv_i, s.r = c.r, s.material = mat_[k];
+    s.m = m_[k], s.inv_i = inv_i_[k], s.r = r_[k], s.material = mat_[k];
     fn(static_cast<const SphereState&>(s));
   }
 }

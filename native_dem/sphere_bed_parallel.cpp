@@ -67,7 +67,8 @@ void SphereBed::distribute(const Decomposition& decomposition) {
     for (std::uint32_t i : keep) out.push_back(a[i]);
     a = std::move(out);
   };
-  pick(id_), pick(x_), pick(v_), pick(w_), pick(f_), pick(tq_), pick(q_), pick(kind_), pick(mat_);
+  pick(id_), pick(x_), pick(v_), pick(w_), pick(f_), pick(tq_), pick(q_), pick(m_), pick(inv_m_),
+      pick(inv_i_), pick(r_), pick(mat_);
   plane_xi_ = std::move(planes);
   ghost_.assign(x_.size(), 0);
   spring_at_.clear(), springs_.clear(), springs_used_ = 0;
@@ -89,8 +90,8 @@ void SphereBed::sort_slots() {
     for (std::uint32_t i : order) out.push_back(a[i]);
     a = std::move(out);
   };
-  permute(id_), permute(x_), permute(v_), permute(w_), permute(f_), permute(tq_), permute(q_), permute(kind_),
-      permute(mat_), permute(ghost_);
+  permute(id_), permute(x_), permute(v_), permute(w_), permute(f_), permute(tq_), permute(q_), permute(m_),
+      permute(inv_m_), permute(inv_i_), permute(r_), permute(mat_), permute(ghost_);
 }
 
 void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
@@ -120,7 +121,8 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
       for (std::uint32_t i : own) out.push_back(a[i]);
       a = std::move(out);
     };
-    pick(id_), pick(x_), pick(v_), pick(w_), pick(f_), pick(tq_), pick(q_), pick(kind_), pick(mat_);
+    pick(id_), pick(x_), pick(v_), pick(w_), pick(f_), pick(tq_), pick(q_), pick(m_), pick(inv_m_),
+        pick(inv_i_), pick(r_), pick(mat_);
     ghost_.assign(x_.size(), 0);
   }
   // Spheres whose centre left the region go to their new owner with every spring they are part of.
@@ -154,9 +156,9 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
                            q_[i].x(),
                            q_[i].y(),
                            q_[i].z(),
-                           kind(i).m,
-                           kind(i).inv_i,
-                           kind(i).r,
+                           m_[i],
+                           inv_i_[i],
+                           r_[i],
                            static_cast<double>(mat_[i])});
   }
   std::vector<std::vector<double>> springs(d.size);
@@ -183,7 +185,8 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
       for (std::uint32_t i : stay) out.push_back(a[i]);
       a = std::move(out);
     };
-    pick(id_), pick(x_), pick(v_), pick(w_), pick(f_), pick(tq_), pick(q_), pick(kind_), pick(mat_);
+    pick(id_), pick(x_), pick(v_), pick(w_), pick(f_), pick(tq_), pick(q_), pick(m_), pick(inv_m_),
+        pick(inv_i_), pick(r_), pick(mat_);
   }
   for (int q = 0; q < d.size; ++q) {
     if (q == d.rank || arrived[q].empty()) continue;
@@ -195,7 +198,8 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
           w_.emplace_back(in[7], in[8], in[9]);
       f_.emplace_back(in[10], in[11], in[12]), tq_.emplace_back(in[13], in[14], in[15]);
       q_.emplace_back(in[16], in[17], in[18], in[19]);
-      kind_.push_back(kind_of({in[20], 1 / in[20], in[21], in[22]}));
+      m_.push_back(in[20]), inv_m_.push_back(1 / in[20]), inv_i_.push_back(in[21]), r_.push_back(in[22]);
+      kind_of({m_.back(), inv_m_.back(), inv_i_.back(), r_.back()});
       mat_.push_back(static_cast<std::int32_t>(in[23]));
     }
     for (const double* end = arrived[q].data() + arrived[q].size(); in + kSpring <= end; in += kSpring)
@@ -213,8 +217,8 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
       if (q != d.rank && d.distance_to_region(x, y, q) < d.halo) {
         sent_ids[q].push_back(id_[i]);
         ghosts[q].insert(ghosts[q].end(), {static_cast<double>(id_[i]), x, y, x_[i].z(), v_[i].x(), v_[i].y(),
-                                           v_[i].z(), w_[i].x(), w_[i].y(), w_[i].z(), kind(i).m, kind(i).r,
-                                           static_cast<double>(mat_[i]), kind(i).inv_i});
+                                           v_[i].z(), w_[i].x(), w_[i].y(), w_[i].z(), m_[i], r_[i],
+                                           static_cast<double>(mat_[i]), inv_i_[i]});
       }
   }
   const std::vector<std::vector<double>> received = parallel::all_to_all(ghosts);
@@ -227,8 +231,9 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
       x_.emplace_back(in[1], in[2], in[3]), v_.emplace_back(in[4], in[5], in[6]),
           w_.emplace_back(in[7], in[8], in[9]);
       f_.emplace_back(Vec3::Zero()), tq_.emplace_back(Vec3::Zero()), q_.emplace_back(Quat::Identity());
-      kind_.push_back(kind_of({in[10], 1 / in[10], in[13], in[11]}));
-      mat_.push_back(static_cast<std::int32_t>(in[12]));
+      m_.push_back(in[10]), inv_m_.push_back(1 / in[10]), r_.push_back(in[11]);
+      mat_.push_back(static_cast<std::int32_t>(in[12])), inv_i_.push_back(in[13]);
+      kind_of({m_.back(), inv_m_.back(), inv_i_.back(), r_.back()});
       ghost_.push_back(1);
     }
   sort_slots();
