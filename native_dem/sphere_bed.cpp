@@ -105,7 +105,6 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
   id_.resize(n);
   for (auto* a : {&x_, &v_, &w_, &f_, &tq_}) a->resize(n);
   q_.resize(n), m_.resize(n), inv_m_.resize(n), inv_i_.resize(n), r_.resize(n), mat_.resize(n);
-  kinds_.clear(), kind_at_.clear();
   in_place_.clear();
   for (std::size_t k = 0; k < n; ++k) {
     const SphereState& s = spheres[order[k]];
@@ -117,8 +116,10 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
       in_place_.resize(n, 0), in_place_[k] = 1;
       inv_m_[k] = 0, inv_i_[k] = 0, v_[k].setZero(), w_[k].setZero();
     }
-    kind_of({m_[k], inv_m_[k], inv_i_[k], r_[k]});
   }
+  one_kind_ = n > 0;
+  if (n > 0) kind_ = {m_[0], inv_m_[0], inv_i_[0], r_[0]};
+  for (std::size_t k = 1; k < n && one_kind_; ++k) note_kind(k);
   plane_xi_.assign(n * s_.planes.size(), Vec3::Zero());
   rest_planes_ = s_.planes;
   plane_v_.assign(s_.planes.size(), Vec3::Zero());
@@ -132,11 +133,9 @@ void SphereBed::load(const SphereBedSetup& setup, const std::vector<SphereState>
   pending_kick_ = false, moved_ = true, prediction_ = Prediction::unknown;
 }
 
-void SphereBed::kind_of(const SphereKind& k) {
-  std::array<std::uint64_t, 4> key;
-  std::memcpy(key.data(), &k.m, sizeof(double)), std::memcpy(key.data() + 1, &k.inv_m, sizeof(double));
-  std::memcpy(key.data() + 2, &k.inv_i, sizeof(double)), std::memcpy(key.data() + 3, &k.r, sizeof(double));
-  if (kind_at_.try_emplace(key, static_cast<std::uint32_t>(kinds_.size())).second) kinds_.push_back(k);
+void SphereBed::note_kind(std::size_t slot) {
+  const SphereKind k{m_[slot], inv_m_[slot], inv_i_[slot], r_[slot]};
+  if (std::memcmp(&k, &kind_, sizeof k) != 0) one_kind_ = false;  // (bits: 0 and -0 are two kinds)
 }
 
 std::size_t SphereBed::slot_of(std::int64_t id) const {
@@ -157,11 +156,13 @@ struct SphereBed::Kernel {
   Vec3* __restrict x, * __restrict v, * __restrict w, * __restrict f, * __restrict tq;
   Quat* __restrict q;
   // The spheres' constants: the bed's one kind (Uniform), or each slot's from the arrays.
-  const SphereKind* kinds;
+  const SphereKind* one;
   const double* __restrict m_slots, * __restrict inv_m_slots, * __restrict inv_i_slots, * __restrict radii;
-  // Masses and radii as arrays, made where they are used.
-  KindColumn<&SphereKind::m, Uniform> masses() const { return {kinds, m_slots}; }
-  KindColumn<&SphereKind::r, Uniform> radius() const { return {kinds, radii}; }
+  // The four as arrays, made where they are used.
+  KindColumn<&SphereKind::m, Uniform> masses() const { return {one, m_slots}; }
+  KindColumn<&SphereKind::inv_m, Uniform> inverse_masses() const { return {one, inv_m_slots}; }
+  KindColumn<&SphereKind::inv_i, Uniform> inverse_inertias() const { return {one, inv_i_slots}; }
+  KindColumn<&SphereKind::r, Uniform> radius() const { return {one, radii}; }
   const std::int32_t* __restrict mat;
   const SphereCells::Index* __restrict list;
   std::uint32_t* __restrict spring_at;
@@ -189,7 +190,7 @@ struct SphereBed::Kernel {
         f(b.f_.data()),
         tq(b.tq_.data()),
         q(b.q_.data()),
-        kinds(b.kinds_.data()),
+        one(&b.kind_),
         m_slots(b.m_.data()),
         inv_m_slots(b.inv_m_.data()),
         inv_i_slots(b.inv_i_.data()),
@@ -244,8 +245,7 @@ struct SphereBed::Kernel {
     Vec3* __restrict x = this->x, * __restrict v = this->v, * __restrict w = this->w, * __restrict f = this->f, * __restrict tq = this->tq;
     const double h = this->h, dt = this->dt;
     // The sphere's constants, read before any store (after one, the compiler would read them again).
-    const double im = Uniform ? kinds->inv_m : inv_m_slots[i], ii = Uniform ? kinds->inv_i : inv_i_slots[i],
-                 mi = Uniform ? kinds->m : m_slots[i];
+    const double im = inverse_masses()[i], ii = inverse_inertias()[i], mi = masses()[i];
     const D3 fi = get(f[i]);
     D3 vi = get(v[i]);
     if constexpr (Complete) vi = half_kicked(vi, fi, im, h);
@@ -271,7 +271,7 @@ struct SphereBed::Kernel {
   // slots): the same operations drift will do, so the same bits.
   [[gnu::always_inline]] void predict(std::size_t i) {
     const D3 fi = get(f[i]);
-    const double im = Uniform ? kinds->inv_m : inv_m_slots[i];
+    const double im = inverse_masses()[i];
     const D3 v_next = half_kicked(half_kicked(get(v[i]), fi, im, h), fi, im, h);
     const D3 by = drifted(get(x[i]), v_next, dt) - get(x0[i]);
     moved = std::max(moved, dot(by, by));
@@ -509,7 +509,7 @@ void SphereBed::with_kernel(double shear_step, Fn&& fn) {
   const bool periodic = s_.periodic_x || s_.periodic_y;
   // Beds of one kind of sphere (every bench bed, most scenes) with friction and rotation read their
   // constants from registers; the other combinations take the general kernel only (compile time).
-  const bool uniform = kinds_.size() == 1;
+  const bool uniform = one_kind_;
   auto run = [&](auto friction, auto rotation, auto periodic_sides, auto one_kind) {
     Kernel<decltype(friction)::value, decltype(rotation)::value, decltype(periodic_sides)::value,
            decltype(one_kind)::value>

@@ -14,9 +14,7 @@
 //   the same pass as the first half kick and drift of the next (the same operations on the same values,
 //   so the same bits), together with the force reset and the list-staleness test; then the force loop.
 //   The pending half kick is completed by finish() before anyone looks at the state.
-#include <array>
 #include <cstdint>
-#include <map>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -64,11 +62,11 @@ struct SphereKind {
 // One of the constants by slot: the bed's one kind's (Uniform), or the slot's own from its array.
 template <double SphereKind::*Field, bool Uniform>
 struct KindColumn {
-  const SphereKind* kinds;
+  const SphereKind* one;
   const double* slots;
   double operator[](std::size_t slot) const {
     if constexpr (Uniform)
-      return kinds->*Field;
+      return one->*Field;
     else
       return slots[slot];
   }
@@ -192,10 +190,11 @@ class SphereBed {
   std::vector<Vec3> x_, v_, w_, f_, tq_;
   std::vector<Quat> q_;
   std::vector<double> m_, inv_m_, inv_i_, r_;
-  // The distinct sets of the four among the slots (one: a uniform bed), found by their bits.
-  std::vector<SphereKind> kinds_;
-  std::map<std::array<std::uint64_t, 4>, std::uint32_t> kind_at_;
-  void kind_of(const SphereKind& k);
+  // Whether every slot has the same four, to the bit, and which: set at load, cleared when a sphere of
+  // another kind arrives from another rank.
+  bool one_kind_ = false;
+  SphereKind kind_;
+  void note_kind(std::size_t slot);
   std::vector<std::int32_t> mat_;
   // Per slot, whether the sphere is held in place (empty: none is). Two held spheres are never listed as
   // a pair, and a held one tests no planes: only its pairs with free spheres are computed.

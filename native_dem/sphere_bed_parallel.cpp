@@ -199,7 +199,7 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
       f_.emplace_back(in[10], in[11], in[12]), tq_.emplace_back(in[13], in[14], in[15]);
       q_.emplace_back(in[16], in[17], in[18], in[19]);
       m_.push_back(in[20]), inv_m_.push_back(1 / in[20]), inv_i_.push_back(in[21]), r_.push_back(in[22]);
-      kind_of({m_.back(), inv_m_.back(), inv_i_.back(), r_.back()});
+      note_kind(m_.size() - 1);
       mat_.push_back(static_cast<std::int32_t>(in[23]));
     }
     for (const double* end = arrived[q].data() + arrived[q].size(); in + kSpring <= end; in += kSpring)
@@ -233,7 +233,7 @@ void SphereBed::exchange_spheres(std::vector<SphereSpring>& held) {
       f_.emplace_back(Vec3::Zero()), tq_.emplace_back(Vec3::Zero()), q_.emplace_back(Quat::Identity());
       m_.push_back(in[10]), inv_m_.push_back(1 / in[10]), r_.push_back(in[11]);
       mat_.push_back(static_cast<std::int32_t>(in[12])), inv_i_.push_back(in[13]);
-      kind_of({m_.back(), inv_m_.back(), inv_i_.back(), r_.back()});
+      note_kind(m_.size() - 1);
       ghost_.push_back(1);
     }
   sort_slots();
