@@ -104,15 +104,18 @@ void put_motion(const std::vector<double>& r, Body3Spec& b) {
 // through repeats its code from the stage's start: its finished runs hand back how they left the
 // spheres, and the run it was in continues from its world's saved state, so the stage ends bit for bit
 // as an unbroken one. While a run goes on, the stage hands its state to `save` every `every` seconds of
-// the stage (its runs may each be shorter).
+// the stage (its runs may each be shorter), and says how far the run has come to `progress` once a
+// minute (a stage of a bed of irregular grains can take an hour).
 class StageRuns {
  public:
   using Save = std::function<void(const SampleTable&, const std::map<std::string, SampleTable>&)>;
-  StageRuns(Bed3dBuild& b, double every, Save save, BedRanks ranks)
+  using Progress = std::function<void(double done, double duration)>;
+  StageRuns(Bed3dBuild& b, double every, Save save, BedRanks ranks, Progress progress = {})
       : done_(std::move(b.runs_done)),
         under_way_(std::move(b.run_under_way)),
         every_(every),
         save_(std::move(save)),
+        progress_(std::move(progress)),
         ranks_(ranks) {
     b.runs_done = {}, b.run_under_way = {};
   }
@@ -130,13 +133,18 @@ class StageRuns {
     if (replay(run, scene.bodies3d)) return scene.bodies3d;
     dem::World3d w(scene, decomposition(scene));
     if (!under_way_.empty()) restore(w);
-    // With a checkpoint to feed, in slices of 2,000 steps, looking at the clock after each: slicing a
-    // fixed-step run leaves its steps as they were.
-    const double slice = save_ ? 2000 * scene.accuracy.dt : duration;
+    // With a checkpoint to feed or progress to tell, in slices of 2,000 steps, looking at the clock after
+    // each: slicing a fixed-step run leaves its steps as they were.
+    const double slice = save_ || progress_ ? 2000 * scene.accuracy.dt : duration;
     for (double before = -1; w.time() != before;) {  // until a slice takes no step: the run's end
       before = w.time();
       w.advance_to(std::min(duration, w.time() + slice));
       const auto now = std::chrono::steady_clock::now();
+      if (progress_ && std::chrono::duration<double>(now - since_progress_).count() >= kProgressEvery &&
+          w.time() < duration) {
+        progress_(w.time(), duration);
+        since_progress_ = now;
+      }
       bool due = save_ && std::chrono::duration<double>(now - since_save_).count() >= every_;
       if (w.distributed()) due = parallel::any_all(due);  // (saving a spread world is collective)
       if (!due) continue;
@@ -209,13 +217,16 @@ class StageRuns {
     under_way_.clear();
   }
 
+  static constexpr double kProgressEvery = 60;  // s
   SampleTable done_;
   std::map<std::string, SampleTable> under_way_;
   double every_;
   Save save_;
+  Progress progress_;
   BedRanks ranks_;
   std::size_t next_run_ = 0;
   std::chrono::steady_clock::time_point since_save_ = std::chrono::steady_clock::now();  // (the stage's)
+  std::chrono::steady_clock::time_point since_progress_ = since_save_;
 };
 
 // The highest point of a grain.
@@ -499,7 +510,16 @@ Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::str
         after_stage(at_start);
       };
     }
-    StageRuns runs(b, save_every, std::move(save), ranks);
+    StageRuns::Progress progress;
+    if (log)
+      progress = [&](double done, double duration) {
+        const double elapsed =
+            seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        log(fmt::format("bed of {} {}: stage {} under way, {:.4g} of {:.4g} s simulated ({:.0f} s)",
+                        spec.count, spec.polyhedra ? "irregular grains" : "spheres", b.stage, done, duration,
+                        elapsed));
+      };
+    StageRuns runs(b, save_every, std::move(save), ranks, std::move(progress));
     const std::string what = next_stage(spec, b, runs);
     b.seconds = seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (log)
