@@ -50,6 +50,11 @@ void Polyhedron::derive_extents() {
       const double s = normals[f].dot(v);
       face_lo[f] = std::min(face_lo[f], s), face_hi[f] = std::max(face_hi[f], s);
     }
+  edge_lengths.resize(edges.size());
+  for (std::size_t j = 0; j < edges.size(); ++j)
+    edge_lengths[j] = (vertices[static_cast<std::size_t>(edges[j].second)] -
+                       vertices[static_cast<std::size_t>(edges[j].first)])
+                          .norm();
   first_edges.assign(nf, 0), second_edges.assign(nf, 0);
   if (edges.size() > 64 || edge_faces.size() != edges.size()) return;
   for (std::size_t j = 0; j < edges.size(); ++j) {

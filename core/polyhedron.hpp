@@ -26,6 +26,7 @@ struct Polyhedron {
   // face it is (bit j for edge j, hulls of up to 64 edges), where the Gauss-map search starts.
   std::vector<double> face_lo, face_hi;
   std::vector<std::uint64_t> first_edges, second_edges;
+  std::vector<double> edge_lengths;  // per edge (how fast its pairs' axes can turn: narrow_phase3d)
 
   // Signed distance of p from the plane of face f (positive outside).
   double plane_distance(int f, const Vec3& p) const { return normals[f].dot(p) - offsets[f]; }
@@ -37,7 +38,7 @@ struct Polyhedron {
   // 0 when the origin is outside).
   double inradius() const;
   void translate(const Vec3& shift);
-  void derive_extents();  // face_lo, face_hi, first_edges and second_edges from the rest
+  void derive_extents();  // face_lo, face_hi, first_edges, second_edges and edge_lengths from the rest
 };
 
 // Builds and checks a polyhedron. Returns an empty string on success, else what is wrong (faces not

@@ -262,6 +262,12 @@ int face_contacts(const Placed3& ref, int rf, const Placed3& inc, bool ref_is_b,
   return added;
 }
 
+// Whether kept crossings are those a fresh search would find at relative turn `turn` (conj(qA) qB).
+bool crossings_hold(const GaussCrossings& kept, const Placed3& a, const Quat& turn) {
+  return kept.rest == 0 && kept.margin > 0 && kept.partners.size() == a.hull->edges.size() &&
+         2 * (kept.turn.conjugate() * turn).vec().norm() < kept.margin;
+}
+
 // Only edge pairs that form a face of the Minkowski difference A - B can give the least overlap (or
 // separate the two): those whose arcs on the Gauss map cross, the arc of A's edge running between the
 // normals of its two faces, the arc of B's between its two negated. The other pairs' axes overlap more
@@ -297,12 +303,12 @@ class MinkowskiEdgePairs {
       return;
     }
     const Quat turn = a_.q.conjugate() * b_.q;
-    if (kept.margin > 0 && kept.partners.size() == a_.hull->edges.size() &&
-        2 * (kept.turn.conjugate() * turn).vec().norm() < kept.margin) {
+    if (crossings_hold(kept, a_, turn)) {
       kept.used = true;
       kept_ = &kept;
       return;
     }
+    kept.least.axis = kNoHint;                   // (found among crossings no longer held)
     if (!kept.partners.empty() && !kept.used) {  // found, never used: this pair turns too fast
       kept.partners.clear(), kept.margin = -1, kept.rest = kRest;
       return;
@@ -318,8 +324,10 @@ class MinkowskiEdgePairs {
   // circle separates the other's ends (the products of their sides are negative), and they cross on the
   // arcs, not opposite them. Only when usable(). The sides are taken as they are first needed, since the
   // search asks of only some of A's edges.
-  std::uint64_t partners(std::size_t i) {
-    if (kept_) return kept_->partners[i];
+  std::uint64_t partners(std::size_t i) { return kept_ ? kept_->partners[i] : found(i); }
+
+ private:
+  std::uint64_t found(std::size_t i) {
     const auto [fa1, fa2] = a_.hull->edge_faces[i];
     face_sides(fa1), face_sides(fa2);
     std::uint64_t neg_a = 0, pos_a = 0;
@@ -338,8 +346,6 @@ class MinkowskiEdgePairs {
     const std::uint64_t on_arcs = (below1 & pos_b_[fa2]) | (above1 & neg_b_[fa2]);
     return straddle_a & straddle_b & on_arcs;
   }
-
- private:
   // Which of B's arcs A's face normal k lies below and above (n . arc = arc . n), once per k.
   void face_sides(int k) {
     const std::uint64_t bit = std::uint64_t{1} << k;
@@ -389,11 +395,11 @@ SeparatingHint hint_for(int kind, std::size_t index) {
 }
 
 // The overlap of A and B on the axis a hint names, as the search would weigh it (edge pairs by 1.05):
-// below zero when that axis separates them now, 1e300 for a hint that fits neither body.
-double hinted_overlap(const Placed3& a, const Placed3& b, SeparatingHint hint) {
+// below zero when that axis separates them now, 1e300 for a hint that fits neither body. When they
+// overlap on it, `on` is that axis as the search would have it for its best (the same bits).
+double hinted_overlap(const Placed3& a, const Placed3& b, SeparatingHint hint, Axis& on) {
   const int kind = hint >> kHintKindShift;
   const std::size_t index = static_cast<std::size_t>(hint & ((1 << kHintKindShift) - 1));
-  Axis on;
   if (kind == 0 || kind == 1) {
     const std::size_t faces = (kind == 0 ? a : b).world_normals.size();
     if (index >= faces) return 1e300;
@@ -407,7 +413,7 @@ double hinted_overlap(const Placed3& a, const Placed3& b, SeparatingHint hint) {
   const Vec3 db = b.world_vertices[eb.second] - b.world_vertices[eb.first];
   const Vec3 n = da.cross(db);
   if (n.squaredNorm() < 1e-12 * da.squaredNorm() * db.squaredNorm()) return 1e300;
-  return overlap_on(a, b, n.normalized(), on, 2, 0, 1.05) ? on.overlap : -1;
+  return overlap_on(a, b, n.normalized(), on, 2, static_cast<int>(index), 1.05) ? on.overlap : -1;
 }
 
 // Most axes of two touching grains are far from the line of their centres, and on those the grains
@@ -421,8 +427,12 @@ struct AxisBound {
   double limit = 1e300, slack = 0;
   // On a face normal n of `owner`, whose own extent on it is [lo, hi]; `other` is the other hull.
   bool skips_face(double lo, double hi, const Vec3& n, const Placed3& other) const {
+    return face_floor(lo, hi, n, other) > limit;
+  }
+  // The least overlap the inscribed ball allows on that face normal.
+  double face_floor(double lo, double hi, const Vec3& n, const Placed3& other) const {
     const double c = n.dot(other.x);
-    return std::min(hi - c, c - lo) + other.inradius - slack > limit;
+    return std::min(hi - c, c - lo) + other.inradius - slack;
   }
   // What |n . (xA - xB)| must reach on an edge pair's unit axis n for it to be projected.
   double edge_need(const Placed3& a, const Placed3& b) const {
@@ -460,6 +470,142 @@ int sphere_hull(const Placed3& s, const Placed3& h, bool sphere_is_a, std::vecto
   return 1;
 }
 
+namespace {
+
+// What the search saw of the axes that did not win, for a least axis to be kept (LeastAxis): the two
+// lowest face overlaps projected (the lowest may be the winner), the lowest floor of the faces skipped,
+// and each edge pair projected (its index and weighed overlap, in the order of the search).
+struct SeenAxes {
+  double face_low[2] = {1e300, 1e300};
+  int face_id[2] = {-1, -1};  // kind * 64 + face
+  double skipped_floor = 1e300;
+  // The first kEdges edge pairs projected (any others are bounded by their floors, which hold too).
+  static constexpr std::size_t kEdges = 32;
+  struct Edge {
+    int index;
+    double overlap;
+  } edges[kEdges];  // (left unset: filled as they come)
+  std::size_t n_edges = 0;
+  void edge(int index, double overlap) {
+    if (n_edges < kEdges) edges[n_edges++] = Edge{index, overlap};
+  }
+  void face(const Axis& on) {
+    const int id = on.kind * 64 + on.index;
+    if (on.overlap < face_low[0])
+      face_low[1] = face_low[0], face_id[1] = face_id[0], face_low[0] = on.overlap, face_id[0] = id;
+    else if (on.overlap < face_low[1])
+      face_low[1] = on.overlap, face_id[1] = id;
+  }
+  double other_faces(const Axis& best) const {
+    const bool first_won = best.kind < 2 && face_id[0] == best.kind * 64 + best.index;
+    return std::min(skipped_floor, first_won ? face_low[1] : face_low[0]);
+  }
+};
+
+// The contacts of A and B given the least axis of their separating-axis test.
+int contacts_on(const Placed3& a, const Placed3& b, const Axis& best, std::vector<ContactPoint3>& out) {
+  if (best.kind == 0) return face_contacts(a, best.index, b, false, out);
+  if (best.kind == 1) return face_contacts(b, best.index, a, true, out);
+  // Edge-edge: among edge pairs parallel to the winning pair, the closest pair touches.
+  const auto& ea = a.hull->edges;
+  const auto& eb = b.hull->edges;
+  const auto [i0, j0] = std::pair<int, int>{best.index / 4096, best.index % 4096};
+  const Vec3 da0 = (a.world_vertices[ea[i0].second] - a.world_vertices[ea[i0].first]).normalized();
+  const Vec3 db0 = (b.world_vertices[eb[j0].second] - b.world_vertices[eb[j0].first]).normalized();
+  // Parallel: the unit edge's |cos| with the unit d0 at least 1 - 1e-9. An edge whose |cos| is clearly
+  // below (under 0.99, far beyond any rounding) is passed over before its direction is normalised: most
+  // edges are, and the test then gives the same answers for a fraction of the square roots.
+  auto parallel = [](const Vec3& d, const Vec3& d0) {
+    const double c = d.dot(d0);
+    return c * c >= 0.9801 * d.squaredNorm() && std::abs(d.normalized().dot(d0)) >= 1 - 1e-9;
+  };
+  double gap_min = 1e300;
+  Vec3 point = Vec3::Zero();
+  int feature = 0;
+  for (std::size_t i = 0; i < ea.size(); ++i) {
+    if (!parallel(a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first], da0)) continue;
+    for (std::size_t j = 0; j < eb.size(); ++j) {
+      if (!parallel(b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first], db0)) continue;
+      double gap;
+      const Vec3 m = segment_midpoint(a.world_vertices[ea[i].first], a.world_vertices[ea[i].second],
+                                      b.world_vertices[eb[j].first], b.world_vertices[eb[j].second], gap);
+      if (gap < gap_min) gap_min = gap, point = m, feature = 200000 + static_cast<int>(i * 64 + j);
+    }
+  }
+  out.push_back({point, best.n, best.overlap / 1.05, feature});
+  return 1;
+}
+
+// Whether the kept least axis is still the least, its overlap now `on.overlap` (LeastAxis). It also asks
+// that the grains overlap by clearly more than rounding on it: then every axis, the line of centres
+// included, overlaps them, as the search would find.
+bool least_holds(const Placed3& a, const Placed3& b, const GaussCrossings& kept, const Axis& on,
+                 double slack) {
+  const LeastAxis& l = kept.least;
+  const Quat turn = a.q.conjugate() * b.q;
+  if (!crossings_hold(kept, a, turn) || !(on.overlap > 2 * slack && on.overlap < 1e300)) return false;
+  const double dp = (a.q.conjugate() * (b.x - a.x) - l.at).norm();
+  const double s = 2 * (l.turn.conjugate() * turn).vec().norm();
+  if (!(s <= l.span)) return false;
+  const double need = on.overlap + slack;
+  return l.faces - dp - l.face_lever * s > need &&
+         l.edges + (l.edges_at_span - l.edges) * (s / l.span) - 1.05 * dp > need;
+}
+
+// Keeps the least axis `best` a search has just found among the kept crossings `kept`, with the bounds
+// on every other axis (LeastAxis): the overlaps the search projected, and for the rest the floors of the
+// inscribed balls (AxisBound). An edge pair of the crossings too nearly parallel to give an axis now
+// could give one after a turn, from any direction: then nothing is kept.
+void keep_least(const Placed3& a, const Placed3& b, MinkowskiEdgePairs& gauss, const SeenAxes& seen,
+                const Axis& best, double slack, GaussCrossings& kept) {
+  LeastAxis& l = kept.least;
+  l.axis = kNoHint;
+  if (static_cast<std::size_t>(best.index) >= (std::size_t{1} << kHintKindShift)) return;
+  const Vec3 centres = a.x - b.x;
+  l.at = a.q.conjugate() * (b.x - a.x);
+  l.turn = a.q.conjugate() * b.q;
+  l.faces = seen.other_faces(best);
+  // A's faces: B's points move by dp and by the turn about B's centre. B's faces: their normals turn too,
+  // against A's points and B's centre as far as |at| from A's.
+  l.face_lever = std::max(b.radius, a.radius + l.at.norm());
+  // While the crossings hold, the turn since they were found is under their margin, so the turn since
+  // now under that plus the turn they had already made (2 sin(x / 2) is subadditive).
+  l.span = kept.margin + 2 * (kept.turn.conjugate() * l.turn).vec().norm();
+  const double reach = a.radius + b.radius + l.at.norm();
+  double low = 1e300, low_at_span = 1e300;
+  const auto& ea = a.hull->edges;
+  const auto& eb = b.hull->edges;
+  const std::vector<double>& la = a.hull->edge_lengths;
+  const std::vector<double>& lb = b.hull->edge_lengths;
+  std::size_t k = 0;  // the next projected edge pair in seen.edges
+  for (std::size_t i = 0; i < ea.size(); ++i) {
+    const std::uint64_t partners = gauss.partners(i);
+    if (!partners) continue;
+    const Vec3 da = a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first];
+    for (std::uint64_t m = partners; m; m &= m - 1) {
+      const auto j = static_cast<std::size_t>(__builtin_ctzll(m));
+      const int index = static_cast<int>(i * 4096 + j);
+      while (k < seen.n_edges && seen.edges[k].index < index) ++k;
+      if (best.kind == 2 && best.index == index) continue;
+      const Vec3 db = b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first];
+      const Vec3 w = da.cross(db);
+      const double ww = w.squaredNorm(), lengths = la[i] * lb[j];
+      if (ww < 1e-12 * lengths * lengths) return;
+      const double wn = std::sqrt(ww);
+      // The unit axis w / |w| turns by at most 2 |da| |db| / |w| times s.
+      const double lever = 2 * lengths / wn * reach + b.radius;
+      const double o = k < seen.n_edges && seen.edges[k].index == index
+                           ? seen.edges[k].overlap
+                           : 1.05 * (a.inradius + b.inradius - slack - std::abs(w.dot(centres)) / wn);
+      low = std::min(low, o), low_at_span = std::min(low_at_span, o - 1.05 * lever * l.span);
+    }
+  }
+  l.edges = low, l.edges_at_span = low_at_span;
+  l.axis = hint_for(best.kind, static_cast<std::size_t>(best.index));
+}
+
+}  // namespace
+
 int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out, SeparatingHint* hint,
               GaussCrossings* crossings) {
   const Vec3 centres = a.x - b.x;
@@ -468,8 +614,14 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
   bound.slack =
       1e-9 * (a.radius + b.radius) + 1e-13 * (a.x.lpNorm<Eigen::Infinity>() + b.x.lpNorm<Eigen::Infinity>());
   if (hint && *hint != kNoHint) {  // the axis that separated, or was least, the last time
-    bound.limit = hinted_overlap(a, b, *hint);
+    Axis on;
+    bound.limit = hinted_overlap(a, b, *hint, on);
     if (bound.limit < 0) return 0;
+    // Still the least of a touching pair: that axis alone (LeastAxis).
+    if (crossings && crossings->least.axis == *hint && least_holds(a, b, *crossings, on, bound.slack)) {
+      crossings->used = true;
+      return contacts_on(a, b, on, out);
+    }
   }
   // Apart: remember the axis that showed it, for the next call.
   auto apart_by = [&](int kind, std::size_t index) {
@@ -482,20 +634,29 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
   // what the axes below would find; it does not enter `best`.
   if (Axis unused; centres.squaredNorm() > 0 && !overlap_on(a, b, centres.normalized(), unused, 0, 0, 1.0))
     return 0;
-  for (std::size_t f = 0; f < a.world_normals.size(); ++f) {
-    if (bound.skips_face(a.face_lo[f], a.face_hi[f], a.world_normals[f], b)) continue;
-    if (!overlap_on_face(a, b, 0, f, best)) return apart_by(0, f);
-    bound.limit = std::min(bound.limit, best.overlap);
-  }
-  for (std::size_t f = 0; f < b.world_normals.size(); ++f) {
-    if (bound.skips_face(b.face_lo[f], b.face_hi[f], b.world_normals[f], a)) continue;
-    if (!overlap_on_face(a, b, 1, f, best)) return apart_by(1, f);
-    bound.limit = std::min(bound.limit, best.overlap);
+  SeenAxes seen;
+  for (int kind = 0; kind < 2; ++kind) {  // the face normals of A, then of B
+    const Placed3& owner = kind == 0 ? a : b;
+    const Placed3& other = kind == 0 ? b : a;
+    for (std::size_t f = 0; f < owner.world_normals.size(); ++f) {
+      const double floor =
+          bound.face_floor(owner.face_lo[f], owner.face_hi[f], owner.world_normals[f], other);
+      if (floor > bound.limit) {
+        seen.skipped_floor = std::min(seen.skipped_floor, floor);
+        continue;
+      }
+      Axis on;
+      if (!overlap_on_face(a, b, kind, f, on)) return apart_by(kind, f);
+      seen.face(on);
+      if (on.overlap < best.overlap) best = on;
+      bound.limit = std::min(bound.limit, best.overlap);
+    }
   }
   const auto& ea = a.hull->edges;
   const auto& eb = b.hull->edges;
   MinkowskiEdgePairs gauss(a, b);
   if (crossings && gauss.usable()) gauss.keep_in(*crossings);
+  const bool keeping = crossings && gauss.kept();  // a least axis found now can be kept
   // An edge pair's axis n is projected only if |n . (xA - xB)| reaches `need` (AxisBound). Every axis of
   // an edge with direction d is square to it, so an edge too nearly along the line of centres reaches it
   // on none, and is left out before its pairs are sought.
@@ -529,9 +690,13 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
     const double nc = n.dot(centres);
     if (need > 0 && nc * nc < need * need * nn) return true;  // cannot win, cannot separate
     n.normalize();
-    const bool overlaps = overlap_on(a, b, n, best, 2, static_cast<int>(i * 4096 + j), 1.05);
+    const int index = static_cast<int>(i * 4096 + j);
+    Axis on;
+    if (!overlap_on(a, b, n, on, 2, index, 1.05)) return false;
+    if (keeping) seen.edge(index, on.overlap);
+    if (on.overlap < best.overlap) best = on;
     if (best.overlap < bound.limit) bound.limit = best.overlap, need = bound.edge_need(a, b);
-    return overlaps;
+    return true;
   };
   for (std::size_t i = 0; i < ea.size(); ++i) {
     // (An edge with no partners is passed over first where that costs only a look.)
@@ -550,34 +715,8 @@ int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& ou
   // Touching: the least axis is the likeliest least one next time, and its overlap a tight limit.
   if (hint && static_cast<std::size_t>(best.index) < (std::size_t{1} << kHintKindShift))
     *hint = hint_for(best.kind, static_cast<std::size_t>(best.index));
-  if (best.kind == 0) return face_contacts(a, best.index, b, false, out);
-  if (best.kind == 1) return face_contacts(b, best.index, a, true, out);
-  // Edge-edge: among edge pairs parallel to the winning pair, the closest pair touches.
-  const auto [i0, j0] = std::pair<int, int>{best.index / 4096, best.index % 4096};
-  const Vec3 da0 = (a.world_vertices[ea[i0].second] - a.world_vertices[ea[i0].first]).normalized();
-  const Vec3 db0 = (b.world_vertices[eb[j0].second] - b.world_vertices[eb[j0].first]).normalized();
-  // Parallel: the unit edge's |cos| with the unit d0 at least 1 - 1e-9. An edge whose |cos| is clearly
-  // below (under 0.99, far beyond any rounding) is passed over before its direction is normalised: most
-  // edges are, and the test then gives the same answers for a fraction of the square roots.
-  auto parallel = [](const Vec3& d, const Vec3& d0) {
-    const double c = d.dot(d0);
-    return c * c >= 0.9801 * d.squaredNorm() && std::abs(d.normalized().dot(d0)) >= 1 - 1e-9;
-  };
-  double gap_min = 1e300;
-  Vec3 point = Vec3::Zero();
-  int feature = 0;
-  for (std::size_t i = 0; i < ea.size(); ++i) {
-    if (!parallel(a.world_vertices[ea[i].second] - a.world_vertices[ea[i].first], da0)) continue;
-    for (std::size_t j = 0; j < eb.size(); ++j) {
-      if (!parallel(b.world_vertices[eb[j].second] - b.world_vertices[eb[j].first], db0)) continue;
-      double gap;
-      const Vec3 m = segment_midpoint(a.world_vertices[ea[i].first], a.world_vertices[ea[i].second],
-                                      b.world_vertices[eb[j].first], b.world_vertices[eb[j].second], gap);
-      if (gap < gap_min) gap_min = gap, point = m, feature = 200000 + static_cast<int>(i * 64 + j);
-    }
-  }
-  out.push_back({point, best.n, best.overlap / 1.05, feature});
-  return 1;
+  if (keeping) keep_least(a, b, gauss, seen, best, bound.slack, *crossings);
+  return contacts_on(a, b, best, out);
 }
 
 int body_body(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out, SeparatingHint* hint,

@@ -3,6 +3,7 @@
 // the normal pointing from body B into body A (the force on A is along +normal), the overlap depth and
 // a feature number that stays the same while the same vertex, edge pair or clipped point is touching,
 // so the tangential spring can be kept from step to step.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -68,12 +69,31 @@ constexpr SeparatingHint kNoHint = -1;
 // the crossings, and the contacts, are the same to the bit as when found afresh.
 // A pair that turns past its margin before the crossings serve even once is searched afresh (and
 // lazily) for a few calls before they are kept again: finding all of them costs more than one search.
+// A touching pair's least axis, kept with the crossings it was found among, while no other axis can have
+// come down to it. Each other axis's overlap when the axis was found bounds it from below; a relative
+// shift of B by dp (in A's frame) and a relative turn by theta can lower it by at most |dp| + lever * s,
+// s = 2 sin(theta / 2), the lever being how far the turn can carry the points that set it (on an edge
+// pair's axis, also how fast the axis itself turns). While every bound stays above the least axis's
+// overlap now, the full search would find that same axis, so hull_hull projects it alone, and the
+// contacts are the same to the bit.
+struct LeastAxis {
+  SeparatingHint axis = kNoHint;  // kNoHint: none kept
+  Vec3 at = Vec3::Zero();         // B's centre in A's frame when found
+  Quat turn = Quat(0, 0, 0, 0);   // conj(qA) qB when found
+  // Every other face axis overlaps by at least faces - |dp| - face_lever s.
+  double faces = 0, face_lever = 0;
+  // The edge pairs of the crossings, weighed by 1.05: at least edges - 1.05 |dp| at s = 0 and
+  // edges_at_span - 1.05 |dp| at s = span, and the line between them in between (each pair's bound is
+  // a line in s); span bounds s while the crossings hold.
+  double edges = 0, edges_at_span = 0, span = 0;
+};
 struct GaussCrossings {
   Quat turn = Quat(0, 0, 0, 0);  // conj(qA) qB when found
   double margin = -1;            // 2 sin(half the relative turn since) must stay below it; < 0: none kept
   std::vector<std::uint64_t> partners;
   bool used = false;  // served a search since found
   int rest = 0;       // calls left before keeping them again
+  LeastAxis least;    // found among these crossings
 };
 int hull_hull(const Placed3& a, const Placed3& b, std::vector<ContactPoint3>& out,
               SeparatingHint* hint = nullptr, GaussCrossings* crossings = nullptr);

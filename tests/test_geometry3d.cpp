@@ -273,6 +273,51 @@ TEST(NarrowPhase3d, KeptGaussCrossingsChangeNoContact) {
   EXPECT_GT(resting, 150);
 }
 
+// A touching pair keeps its least axis while no other axis can have come down to it (LeastAxis): the
+// bounds on the others shrink with the shift and turn since it was found. Moved by random shifts and
+// turns of 1e-8 to 1e-2 (of the radius, in rad), or by shifts alone, a pair must find the same contacts to
+// the bit with the kept axis as afresh; the kept axis must serve at the small steps and be found again at the
+// large ones. (With the shift or the turn left out of the bounds, this test fails: a kept axis then outlives
+// its place. Measured: 36,905 touching calls, 29,550 served by a kept axis, 2,186 kept anew.)
+TEST(NarrowPhase3d, KeptLeastAxisChangesNoContact) {
+  Rng rng(19);
+  const std::vector<Polyhedron> hulls = eight_wobbly_icosahedra(rng);
+  int served = 0, kept_anew = 0, touching = 0;
+  for (int trial = 0; trial < 1500; ++trial) {
+    const ClosePair p = close_pair(rng, hulls, trial);
+    GaussCrossings kept;
+    SeparatingHint hint = kNoHint;
+    Quat qb = p.qb;
+    Vec3 xb = p.xb;
+    // A third of the pairs only shift (their crossings then hold throughout, and only the bounds can end
+    // a kept axis), a third only turn, a third do both.
+    const double step = std::pow(10.0, rng.uniform(-8, -2));
+    const double turning = trial % 3 ? step : 0.0, shifting = trial % 3 == 2 ? 0.0 : step;
+    for (int k = 0; k < 40; ++k) {
+      const Vec3 axis = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
+      qb = (quat_from_rotation_vector(axis * turning) * qb).normalized();
+      xb += Vec3(rng.normal(), rng.normal(), rng.normal()).normalized() * shifting *
+            hulls[p.ib].bounding_radius();
+      const Placed3 a = placed_box(hulls[p.ia], Vec3::Zero(), p.qa), b = placed_box(hulls[p.ib], xb, qb);
+      std::vector<ContactPoint3> afresh, again;
+      const Vec3 at = kept.least.at;
+      const SeparatingHint before = kept.least.axis;
+      const int n = hull_hull(a, b, afresh);
+      ASSERT_EQ(hull_hull(a, b, again, &hint, &kept), n) << trial << " " << k;
+      expect_same_contacts(again, afresh, trial);
+      if (n == 0) continue;
+      ++touching;
+      if (before != kNoHint && kept.least.axis == before && kept.least.at == at)
+        ++served;
+      else if (kept.least.axis != kNoHint)
+        ++kept_anew;
+    }
+  }
+  EXPECT_GT(touching, 20000);
+  EXPECT_GT(served, 10000);
+  EXPECT_GT(kept_anew, 1000);
+}
+
 TEST(NarrowPhase3d, SphereAgainstFaceEdgeAndCorner) {
   const Polyhedron h = make_box({1, 1, 1});
   const Placed3 box = placed_box(h, {0, 0, 0});
