@@ -3,7 +3,6 @@
 // the normal pointing from body B into body A (the force on A is along +normal), the overlap depth and
 // a feature number that stays the same while the same vertex, edge pair or clipped point is touching,
 // so the tangential spring can be kept from step to step.
-#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -61,14 +60,6 @@ int sphere_hull(const Placed3& sphere, const Placed3& hull, bool sphere_is_a,
 // hint only makes the answer sooner, never another: the contacts are the same to the bit with or without.
 using SeparatingHint = std::int32_t;
 constexpr SeparatingHint kNoHint = -1;
-// A pair's Gauss-map crossings (for each edge of A, the edges of B it forms a face of the Minkowski
-// difference with), found from the signs of A's face normals against B's arcs and B's against A's. The
-// signs depend only on how B is turned relative to A, so in a resting bed they stay the same from step
-// to step: kept here, they are used again while the relative turn since they were found is smaller than
-// the least angle by which any of those signs stands from flipping (with an allowance for rounding), so
-// the crossings, and the contacts, are the same to the bit as when found afresh.
-// A pair that turns past its margin before the crossings serve even once is searched afresh (and
-// lazily) for a few calls before they are kept again: finding all of them costs more than one search.
 // A touching pair's least axis, kept with the crossings it was found among, while no other axis can have
 // come down to it. Each other axis's overlap when the axis was found bounds it from below; a relative
 // shift of B by dp (in A's frame) and a relative turn by theta can lower it by at most |dp| + lever * s,
@@ -87,6 +78,14 @@ struct LeastAxis {
   // a line in s); span bounds s while the crossings hold.
   double edges = 0, edges_at_span = 0, span = 0;
 };
+// A pair's Gauss-map crossings (for each edge of A, the edges of B it forms a face of the Minkowski
+// difference with), found from the signs of A's face normals against B's arcs and B's against A's. The
+// signs depend only on how B is turned relative to A, so in a resting bed they stay the same from step
+// to step: kept here, they are used again while the relative turn since they were found is smaller than
+// the least angle by which any of those signs stands from flipping (with an allowance for rounding), so
+// the crossings, and the contacts, are the same to the bit as when found afresh.
+// A pair that turns past its margin before the crossings serve even once is searched afresh (and
+// lazily) for a few calls before they are kept again: finding all of them costs more than one search.
 struct GaussCrossings {
   Quat turn = Quat(0, 0, 0, 0);  // conj(qA) qB when found
   double margin = -1;            // 2 sin(half the relative turn since) must stay below it; < 0: none kept

@@ -141,7 +141,7 @@ class StageRuns {
       w.advance_to(std::min(duration, w.time() + slice));
       const auto now = std::chrono::steady_clock::now();
       if (progress_ && std::chrono::duration<double>(now - since_progress_).count() >= kProgressEvery &&
-          w.time() < duration) {
+          w.time() + slice / 2 < duration) {  // (not for a run that has just ended)
         progress_(w.time(), duration);
         since_progress_ = now;
       }
