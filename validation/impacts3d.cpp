@@ -105,11 +105,12 @@ void put_motion(const std::vector<double>& r, Body3Spec& b) {
 // spheres, and the run it was in continues from its world's saved state, so the stage ends bit for bit
 // as an unbroken one. While a run goes on, the stage hands its state to `save` every `every` seconds of
 // the stage (its runs may each be shorter), and says how far the run has come to `progress` once a
-// minute (a stage of a bed of irregular grains can take an hour).
+// minute (a stage of a bed of irregular grains can take an hour), with the wall time its pace so far
+// leaves to go.
 class StageRuns {
  public:
   using Save = std::function<void(const SampleTable&, const std::map<std::string, SampleTable>&)>;
-  using Progress = std::function<void(double done, double duration)>;
+  using Progress = std::function<void(double done, double duration, double seconds_left)>;
   StageRuns(Bed3dBuild& b, double every, Save save, BedRanks ranks, Progress progress = {})
       : done_(std::move(b.runs_done)),
         under_way_(std::move(b.run_under_way)),
@@ -133,6 +134,8 @@ class StageRuns {
     if (replay(run, scene.bodies3d)) return scene.bodies3d;
     dem::World3d w(scene, decomposition(scene));
     if (!under_way_.empty()) restore(w);
+    const double from = w.time();  // (the pace is taken from here: a run continued counts its own part)
+    const auto began = std::chrono::steady_clock::now();
     // With a checkpoint to feed or progress to tell, in slices of 2,000 steps, looking at the clock after
     // each: slicing a fixed-step run leaves its steps as they were.
     const double slice = save_ || progress_ ? 2000 * scene.accuracy.dt : duration;
@@ -142,7 +145,8 @@ class StageRuns {
       const auto now = std::chrono::steady_clock::now();
       if (progress_ && std::chrono::duration<double>(now - since_progress_).count() >= kProgressEvery &&
           w.time() + slice / 2 < duration) {  // (not for a run that has just ended)
-        progress_(w.time(), duration);
+        const double pace = std::chrono::duration<double>(now - began).count() / (w.time() - from);
+        progress_(w.time(), duration, (duration - w.time()) * pace);
         since_progress_ = now;
       }
       bool due = save_ && std::chrono::duration<double>(now - since_save_).count() >= every_;
@@ -512,12 +516,14 @@ Bed3d build_bed3d(const Bed3dSpec& spec, const std::function<void(const std::str
     }
     StageRuns::Progress progress;
     if (log)
-      progress = [&](double done, double duration) {
+      progress = [&](double done, double duration, double seconds_left) {
         const double elapsed =
             seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        log(fmt::format("bed of {} {}: stage {} under way, {:.4g} of {:.4g} s simulated ({:.0f} s)",
+        log(
+            fmt::format("bed of {} {}: stage {} under way, {:.4g} of {:.4g} s simulated, this run's end in "
+                        "about {:.0f} min ({:.0f} s)",
                         spec.count, spec.polyhedra ? "irregular grains" : "spheres", b.stage, done, duration,
-                        elapsed));
+                        std::ceil(seconds_left / 60), elapsed));
       };
     StageRuns runs(b, save_every, std::move(save), ranks, std::move(progress));
     const std::string what = next_stage(spec, b, runs);
