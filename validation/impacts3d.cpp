@@ -105,8 +105,8 @@ void put_motion(const std::vector<double>& r, Body3Spec& b) {
 // spheres, and the run it was in continues from its world's saved state, so the stage ends bit for bit
 // as an unbroken one. While a run goes on, the stage hands its state to `save` every `every` seconds of
 // the stage (its runs may each be shorter), and says how far the run has come to `progress` once a
-// minute (a stage of a bed of irregular grains can take an hour), with the wall time its pace so far
-// leaves to go.
+// minute (a stage of a bed of irregular grains can take an hour), with the wall time left at its pace
+// since the last report (a pour's first part, free fall, runs far faster than its end).
 class StageRuns {
  public:
   using Save = std::function<void(const SampleTable&, const std::map<std::string, SampleTable>&)>;
@@ -134,8 +134,8 @@ class StageRuns {
     if (replay(run, scene.bodies3d)) return scene.bodies3d;
     dem::World3d w(scene, decomposition(scene));
     if (!under_way_.empty()) restore(w);
-    const double from = w.time();  // (the pace is taken from here: a run continued counts its own part)
-    const auto began = std::chrono::steady_clock::now();
+    double paced_from = w.time();  // (a run continued counts its own part)
+    auto paced_since = std::chrono::steady_clock::now();
     // With a checkpoint to feed or progress to tell, in slices of 2,000 steps, looking at the clock after
     // each: slicing a fixed-step run leaves its steps as they were.
     const double slice = save_ || progress_ ? 2000 * scene.accuracy.dt : duration;
@@ -145,8 +145,10 @@ class StageRuns {
       const auto now = std::chrono::steady_clock::now();
       if (progress_ && std::chrono::duration<double>(now - since_progress_).count() >= kProgressEvery &&
           w.time() + slice / 2 < duration) {  // (not for a run that has just ended)
-        const double pace = std::chrono::duration<double>(now - began).count() / (w.time() - from);
+        const double pace =
+            std::chrono::duration<double>(now - paced_since).count() / (w.time() - paced_from);
         progress_(w.time(), duration, (duration - w.time()) * pace);
+        paced_from = w.time(), paced_since = now;
         since_progress_ = now;
       }
       bool due = save_ && std::chrono::duration<double>(now - since_save_).count() >= every_;
