@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <string>
 
+#include "time_left.hpp"
+
 namespace grainlab::cli {
 
 class ProgressBar {
@@ -48,11 +50,9 @@ class ProgressBar {
                  extra.empty() ? "" : (extra + " ").c_str());
     drawn_ = true;
   }
-  // Seconds left at the rate since `first` was done, `elapsed` seconds ago. A run continued from a
-  // checkpoint starts part-way: the part done before took none of this clock's time (a paper-sized run
-  // resumed at 12 % once showed "left 7m" with 8 hours to go).
+  // Seconds left at the rate since `first` was done, `elapsed` seconds ago (core/time_left.hpp).
   static double time_left(double elapsed, double first, double done, double total) {
-    return done > first ? elapsed * std::max(0.0, total - done) / (done - first) : 0;
+    return grainlab::time_left(elapsed, first, done, total);
   }
   void finish() {
     if (drawn_) std::fputc('\n', stderr);

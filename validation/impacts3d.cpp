@@ -15,6 +15,7 @@
 #include "input_error.hpp"
 #include "parallel.hpp"
 #include "rng.hpp"
+#include "time_left.hpp"
 #include "world3d.hpp"
 
 namespace grainlab::validation {
@@ -145,9 +146,8 @@ class StageRuns {
       const auto now = std::chrono::steady_clock::now();
       if (progress_ && std::chrono::duration<double>(now - since_progress_).count() >= kProgressEvery &&
           w.time() + slice / 2 < duration) {  // (not for a run that has just ended)
-        const double pace =
-            std::chrono::duration<double>(now - paced_since).count() / (w.time() - paced_from);
-        progress_(w.time(), duration, (duration - w.time()) * pace);
+        const double over = std::chrono::duration<double>(now - paced_since).count();
+        progress_(w.time(), duration, time_left(over, paced_from, w.time(), duration));
         paced_from = w.time(), paced_since = now;
         since_progress_ = now;
       }
