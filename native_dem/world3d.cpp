@@ -4,6 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "parallel.hpp"
 #include "stepping.hpp"
@@ -15,6 +19,18 @@ using detail3d::effective_gravity;
 using detail3d::turned;
 
 namespace {
+// The general path's threads: OpenMP's (OMP_NUM_THREADS, else every core), but one a rank when MPI ranks
+// share the machine (mpirun -np 2 on two cores would otherwise run four threads on them), unless
+// OMP_NUM_THREADS says otherwise. The sums are the same on any number (find_listed_contacts).
+int narrow_phase_threads() {
+#ifdef _OPENMP
+  if (parallel::size() > 1 && !std::getenv("OMP_NUM_THREADS")) return 1;
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
 // A sphere's (or a cube's) inertia is the same about every axis: turning it changes nothing, so the
 // rotation matrices can be skipped (the hot path of sphere beds).
 bool isotropic(const Mat3& m) {
@@ -36,7 +52,10 @@ Vec3 Body3::angular_momentum() const {
 }
 
 World3d::World3d(const Scene& scene, Decomposition decomposition)
-    : scene_(scene), effects_(scene.effects), decomposition_(decomposition) {
+    : scene_(scene),
+      effects_(scene.effects),
+      decomposition_(decomposition),
+      threads_(narrow_phase_threads()) {
   if (effects_.has(Effect::wind_drag))
     throw InputError({scene.path, 0}, "effects",
                      "the native engine models \"wind_drag\" in 2-D only so far (docs/saltation.md)");
@@ -171,6 +190,94 @@ void World3d::bin_bodies(SphereCells& cells, std::vector<Vec3>& centres, double 
   cells.build(centres, r, skin_fraction * r, held.empty() ? nullptr : held.data());
 }
 
+// A single fast grain (an impactor, an ejectum) moves half the skin in a few steps, and every rebuild
+// of the lists used to start every pair of the bed without its hint and crossings again: a 5,000-grain
+// bed paid a full separating-axis search on all its touching pairs after each. The pairs that stay in
+// the lists keep what they knew; hints only make the answer sooner, so the contacts are the same to the bit.
+void World3d::carry_pair_memory() {
+  const std::size_t n = b_.size();
+  std::vector<SeparatingHint> separating(cells_.entries(), kNoHint);
+  std::vector<GaussCrossings> crossings(cells_.entries());
+  if (memory_offsets_.size() == n + 1 && separating_.size() == memory_partners_.size())
+    for (std::size_t i = 0; i < n; ++i) {
+      std::size_t old = memory_offsets_[i];
+      const std::size_t old_end = memory_offsets_[i + 1];
+      for (std::size_t e = cells_.first(i); e < cells_.first(i + 1) && old < old_end; ++e) {
+        const SphereCells::Index j = *(cells_.begin(0) + e);
+        while (old < old_end && memory_partners_[old] < j) ++old;  // (both lists ascend)
+        if (old < old_end && memory_partners_[old] == j) {
+          separating[e] = separating_[old];
+          crossings[e] = std::move(crossings_[old]);
+        }
+      }
+    }
+  separating_.swap(separating);
+  crossings_.swap(crossings);
+  memory_offsets_.assign(cells_.offsets(), cells_.offsets() + n + 1);
+  memory_partners_.assign(cells_.begin(0), cells_.begin(0) + cells_.entries());
+  separating_build_ = cells_.builds();
+}
+
+void World3d::place_bodies(bool first_placement) {
+  const auto n = static_cast<std::ptrdiff_t>(b_.size());
+#pragma omp parallel for schedule(static) num_threads(threads_) if (n >= kThreadsFrom)
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    if (b_[i].held && !first_placement) continue;  // (where it was placed first, for good)
+    placed_[i].x = b_[i].x;
+    placed_[i].q = b_[i].q;
+    placed_[i].place();
+  }
+}
+
+// Each thread takes one contiguous run of bodies, the same from step to step, so the pairs' kept axes and
+// crossings stay in its core's cache (handing out blocks as threads came free moved them between cores
+// and gained nothing on two). The runs are cut for equal work: a touching pair costs about what twenty
+// listed pairs do, and the bodies' touching pairs of the last evaluation say where they are.
+void World3d::find_listed_contacts() {
+  const std::size_t n = b_.size();
+  const int parts = n >= kThreadsFrom ? threads_ : 1;
+  cut_parts(parts);
+  part_contacts_.resize(static_cast<std::size_t>(parts));
+  entry_contacts_.assign(cells_.entries(), 0);
+  plane_contacts_.assign(n * planes_.size(), 0);
+#pragma omp parallel for schedule(static, 1) num_threads(parts) if (parts > 1)
+  for (int p = 0; p < parts; ++p) {
+    std::vector<ContactPoint3>& out = part_contacts_[static_cast<std::size_t>(p)];
+    out.clear();
+    for (std::size_t i = part_start_[p]; i < part_start_[p + 1]; ++i) {
+      for (std::size_t e = cells_.first(i); e < cells_.first(i + 1); ++e) {
+        const std::size_t j = cells_.begin(0)[e], before = out.size();
+        if ((b_[i].x - b_[j].x).norm() < b_[i].radius + b_[j].radius)
+          body_body(placed_[i], placed_[j], out, &separating_[e], &crossings_[e]);
+        // (two convex bodies touch at a face's clipped points at most: far fewer than 65,536)
+        entry_contacts_[e] = static_cast<std::uint16_t>(out.size() - before);
+      }
+      for (std::size_t k = 0; k < planes_.size() && !b_[i].held; ++k) {
+        const std::size_t before = out.size();
+        body_plane(placed_[i], planes_[k], out);
+        plane_contacts_[i * planes_.size() + k] = static_cast<std::uint16_t>(out.size() - before);
+      }
+    }
+  }
+}
+
+void World3d::cut_parts(int parts) {
+  const std::size_t n = b_.size();
+  touching_.resize(n, 0);
+  double total = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    total += double(cells_.first(i + 1) - cells_.first(i)) + 20.0 * touching_[i];
+  part_start_.assign(static_cast<std::size_t>(parts) + 1, n);
+  part_start_[0] = 0;
+  double sum = 0;
+  int p = 1;
+  for (std::size_t i = 0; i < n && p < parts; ++i) {
+    sum += double(cells_.first(i + 1) - cells_.first(i)) + 20.0 * touching_[i];
+    if (sum >= total * p / parts) part_start_[static_cast<std::size_t>(p++)] = i + 1;
+  }
+}
+
 void World3d::place_planes(double t) {
   for (std::size_t k = 0; k < planes_.size(); ++k) {
     const Motion3& m = scene_.planes[k].motion;
@@ -194,43 +301,49 @@ void World3d::compute_forces(double t, double h) {
   if (!effects_.has(Effect::normal_contact)) return;
   const bool first_placement = placed_.size() != b_.size();
   if (first_placement) placed_ = unplaced(b_);
-  for (std::size_t i = 0; i < b_.size(); ++i) {
-    if (b_[i].held && !first_placement) continue;  // (where it was placed first, for good)
-    placed_[i].x = b_[i].x;
-    placed_[i].q = b_[i].q;
-    placed_[i].place();
-  }
+  place_bodies(first_placement);
   const bool cells = b_.size() >= kCellsFrom;
   if (cells) {
     bin_bodies(cells_, centres_, 0.2);
-    if (separating_build_ != cells_.builds() || separating_.size() != cells_.entries()) {  // new lists
-      separating_.assign(cells_.entries(), kNoHint);
-      crossings_.assign(cells_.entries(), GaussCrossings{});
-      separating_build_ = cells_.builds();
-    }
+    if (separating_build_ != cells_.builds() || separating_.size() != cells_.entries()) carry_pair_memory();
+    find_listed_contacts();
   }
+  std::size_t found = 0, part = 0;  // where body i's pairs' contacts start in its part's buffer
   for (std::size_t i = 0; i < b_.size(); ++i) {
-    auto pair = [&](std::size_t j, SeparatingHint* hint, GaussCrossings* crossings) {
-      if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) return;
-      scratch_.clear();
-      body_body(placed_[i], placed_[j], scratch_, hint, crossings);
+    auto touch = [&](std::size_t j, const ContactPoint3* c, std::size_t count) {
       const ContactLaw& law = laws_[b_[i].material * n_mat_ + b_[j].material];
-      for (const ContactPoint3& c : scratch_) add_contact(b_[i], &b_[j], c, law, b_[j].id, h);
+      for (std::size_t k = 0; k < count; ++k) add_contact(b_[i], &b_[j], c[k], law, b_[j].id, h);
     };
-    if (cells)
-      for (const SphereCells::Index* j = cells_.begin(i); j != cells_.end(i); ++j) {
-        const auto entry = static_cast<std::size_t>(j - cells_.begin(0));
-        pair(*j, &separating_[entry], &crossings_[entry]);
+    if (cells) {
+      while (i == part_start_[part + 1]) ++part, found = 0;
+      const std::vector<ContactPoint3>& from = part_contacts_[part];
+      touching_[i] = 0;
+      for (std::size_t e = cells_.first(i); e < cells_.first(i + 1); ++e) {
+        touch(cells_.begin(0)[e], from.data() + found, entry_contacts_[e]);
+        found += entry_contacts_[e], touching_[i] += entry_contacts_[e] > 0;
       }
-    else
-      for (std::size_t j = i + 1; j < b_.size(); ++j)
-        if (!(b_[i].held && b_[j].held)) pair(j, nullptr, nullptr);  // (as the lists: held pairs left out)
+    } else
+      for (std::size_t j = i + 1; j < b_.size(); ++j) {
+        if (b_[i].held && b_[j].held) continue;  // (as the lists: held pairs left out)
+        if ((b_[i].x - b_[j].x).norm() >= b_[i].radius + b_[j].radius) continue;
+        scratch_.clear();
+        body_body(placed_[i], placed_[j], scratch_);
+        touch(j, scratch_.data(), scratch_.size());
+      }
     for (std::size_t k = 0; k < planes_.size() && !b_[i].held; ++k) {
-      scratch_.clear();
-      body_plane(placed_[i], planes_[k], scratch_);
+      const ContactPoint3* c = nullptr;
+      std::size_t count = 0;
+      if (cells) {
+        c = part_contacts_[part].data() + found, count = plane_contacts_[i * planes_.size() + k];
+        found += count;
+      } else {
+        scratch_.clear();
+        body_plane(placed_[i], planes_[k], scratch_);
+        c = scratch_.data(), count = scratch_.size();
+      }
       const ContactLaw& law = laws_[b_[i].material * n_mat_ + plane_material_[k]];
-      for (const ContactPoint3& c : scratch_)
-        add_contact(b_[i], nullptr, c, law, -1 - static_cast<std::int64_t>(k), h);
+      for (std::size_t m = 0; m < count; ++m)
+        add_contact(b_[i], nullptr, c[m], law, -1 - static_cast<std::int64_t>(k), h);
     }
   }
 }
@@ -290,7 +403,11 @@ void World3d::step_verlet() {
     compute_forces(t_, 0);
     commit_history();
   }
-  for (Body3& b : b_) {
+  const auto n = static_cast<std::ptrdiff_t>(b_.size());
+  const bool threads = n >= kThreadsFrom && threads_ > 1;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    Body3& b = b_[static_cast<std::size_t>(i)];
     b.v = half_kicked(b.v, b.f, b.inv_m, h);
     b.x = drifted(b.x, b.v, dt);
     if (!effects_.has(Effect::rotation)) continue;
@@ -308,7 +425,9 @@ void World3d::step_verlet() {
   t_ += dt;
   compute_forces(t_, dt);
   commit_history();
-  for (Body3& b : b_) {
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    Body3& b = b_[static_cast<std::size_t>(i)];
     b.v = half_kicked(b.v, b.f, b.inv_m, h);
     if (effects_.has(Effect::rotation)) b.w = b.world_inv_inertia() * (b.angular_momentum() + h * b.tq);
   }

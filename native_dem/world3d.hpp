@@ -75,6 +75,9 @@ class World3d {
   // neighbour lists instead of in a map. false (before the first advance): the general path, for tests.
   void use_sphere_kernel(bool on) { sphere_kernel_allowed_ = on; }
   bool on_sphere_kernel() const { return mode_ == Mode::spheres; }
+  // Threads for the general path's narrow phase and integration (before the first advance; default:
+  // narrow_phase_threads() in world3d.cpp). Any number gives the same bits.
+  void use_threads(int n) { threads_ = std::max(1, n); }
   // Tests: false makes the sphere kernel take two passes every step instead of one sweep.
   void allow_sweep(bool on) { bed_.allow_sweep(on); }
 
@@ -103,6 +106,17 @@ class World3d {
   // largest bounding radius) since the last build. From kCellsFrom bodies on; fewer are paired all with
   // all, which visits the same pairs in the same order.
   void bin_bodies(SphereCells& cells, std::vector<Vec3>& centres, double skin_fraction) const;
+  // After the lists are rebuilt, moves each pair's separating axis and Gauss-map crossings to the pair's
+  // place in the new lists (pairs new to them start without).
+  void carry_pair_memory();
+  // Places every body and finds the contacts of every listed pair, in parallel (OpenMP), each thread over
+  // its own run of bodies (part) into its own buffer, in list order; the per-entry counts say which
+  // contacts are whose, so the forces are then summed in one thread in exactly the serial order.
+  void place_bodies(bool first_placement);
+  void find_listed_contacts();
+  void cut_parts(int parts);
+  // Below this many bodies a step is too short to share between threads.
+  static constexpr std::ptrdiff_t kThreadsFrom = 256;
   void add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law, std::int64_t key_b,
                    double h);
   Vec3 angular_acceleration(const Body3& b) const;
@@ -168,6 +182,14 @@ class World3d {
   std::vector<SeparatingHint> separating_;
   std::vector<GaussCrossings> crossings_;  // per entry too: a touching pair's Gauss-map crossings
   std::size_t separating_build_ = 0;
+  // The lists separating_ and crossings_ are laid out by (cells_'s offsets and partners at that build).
+  std::vector<SphereCells::Index> memory_offsets_, memory_partners_;
+  std::vector<std::vector<ContactPoint3>> part_contacts_;  // find_listed_contacts' output, per part
+  std::vector<std::size_t> part_start_;                    // the parts' first bodies, and n
+  std::vector<std::uint32_t> touching_;                    // each body's touching pairs at the last sum
+  std::vector<std::uint16_t> plane_contacts_;  // and each body's with each plane (after its pairs')
+  std::vector<std::uint16_t> entry_contacts_;  // and how many of them each list entry has
+  int threads_ = 1;                            // narrow_phase_threads(), at construction
   PairForces impulses_, step_force_, end_force_;
   double t_ = 0, dt_ = 0, dt_prev_ = 0;
   bool have_prev_ = false;

@@ -168,6 +168,9 @@ std::vector<Impact3dResult> checkpointed_impacts(SandGunProgress& kept, std::siz
   for (std::size_t i = 0; i < runs; ++i)
     if (!kept.done.count({row, i})) missing.push_back(i);
   const std::size_t round = static_cast<std::size_t>(parallel::size());
+  // (Told before the first impact too: the time-left estimate counts from what was done when it began,
+  // and told first only after an impact it said "left 0m00s" until the second.)
+  if (progress && !missing.empty()) progress(runs - missing.size(), runs);
   for (std::size_t k = 0; k < missing.size(); k += round) {
     const std::vector<std::size_t> these(
         missing.begin() + static_cast<long>(k),
