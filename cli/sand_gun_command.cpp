@@ -90,10 +90,11 @@ void SandGunCommand::add(CLI::App& app) {
   cmd->add_option("--stiffness", stiffness, "k_n as a multiple of the default 2e7 dyn/cm")
       ->default_val(1)
       ->check(CLI::Range(0.01, 100.0));
-  cmd->add_option("--grains", grains,
-                  "sphere, or polyhedron: irregular convex grains of the spheres' volumes (the general 3-D "
-                  "path, 60-80 times slower: a 5,000-grain bed took 5.6 hours on one core, so use --checkpoint; "
-                  "it uses every core, or OMP_NUM_THREADS of them)")
+  cmd->add_option(
+         "--grains", grains,
+         "sphere, or polyhedron: irregular convex grains of the spheres' volumes (the general 3-D "
+         "path, 60-80 times slower: a 5,000-grain bed took 5.6 hours on one core, so use --checkpoint; "
+         "it uses every core, or OMP_NUM_THREADS of them)")
       ->default_val("sphere")
       ->check(CLI::IsMember({"sphere", "polyhedron"}));
   cmd->add_option("--checkpoint", checkpoint,

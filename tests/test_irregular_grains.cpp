@@ -137,7 +137,8 @@ TEST(IrregularGrains, ThreadsChangeNoBit) {
     runs.push_back(w.bodies());
     if (threads == 1) contacts = w.count_contacts();
   }
-  EXPECT_GT(contacts, 100u) << contacts;  // grains on the floor and on each other: the contacts were exercised
+  EXPECT_GT(contacts, 100u)
+      << contacts;  // grains on the floor and on each other: the contacts were exercised
   for (std::size_t k = 1; k < runs.size(); ++k)
     for (std::size_t i = 0; i < runs[0].size(); ++i) {
       EXPECT_EQ(runs[k][i].x, runs[0][i].x) << k << " " << i;
