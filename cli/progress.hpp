@@ -50,10 +50,6 @@ class ProgressBar {
                  extra.empty() ? "" : (extra + " ").c_str());
     drawn_ = true;
   }
-  // Seconds left at the rate since `first` was done, `elapsed` seconds ago (core/time_left.hpp).
-  static double time_left(double elapsed, double first, double done, double total) {
-    return grainlab::time_left(elapsed, first, done, total);
-  }
   void finish() {
     if (drawn_) std::fputc('\n', stderr);
     drawn_ = false;

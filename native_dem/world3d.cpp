@@ -220,7 +220,7 @@ void World3d::carry_pair_memory() {
 
 void World3d::place_bodies(bool first_placement) {
   const auto n = static_cast<std::ptrdiff_t>(b_.size());
-#pragma omp parallel for schedule(static) num_threads(threads_) if (n >= kThreadsFrom)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threaded())
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::size_t>(k);
     if (b_[i].held && !first_placement) continue;  // (where it was placed first, for good)
@@ -236,11 +236,11 @@ void World3d::place_bodies(bool first_placement) {
 // listed pairs do, and the bodies' touching pairs of the last evaluation say where they are.
 void World3d::find_listed_contacts() {
   const std::size_t n = b_.size();
-  const int parts = n >= kThreadsFrom ? threads_ : 1;
+  const int parts = threaded() ? threads_ : 1;
   cut_parts(parts);
   part_contacts_.resize(static_cast<std::size_t>(parts));
-  entry_contacts_.assign(cells_.entries(), 0);
-  plane_contacts_.assign(n * planes_.size(), 0);
+  entry_contacts_.resize(cells_.entries());    // (every entry is written below,
+  plane_contacts_.resize(n * planes_.size());  // and every plane of a body that is not held)
 #pragma omp parallel for schedule(static, 1) num_threads(parts) if (parts > 1)
   for (int p = 0; p < parts; ++p) {
     std::vector<ContactPoint3>& out = part_contacts_[static_cast<std::size_t>(p)];
@@ -265,15 +265,18 @@ void World3d::find_listed_contacts() {
 void World3d::cut_parts(int parts) {
   const std::size_t n = b_.size();
   touching_.resize(n, 0);
-  double total = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    total += double(cells_.first(i + 1) - cells_.first(i)) + 20.0 * touching_[i];
   part_start_.assign(static_cast<std::size_t>(parts) + 1, n);
   part_start_[0] = 0;
+  if (parts == 1) return;
+  auto work = [&](std::size_t i) {
+    return double(cells_.first(i + 1) - cells_.first(i)) + 20.0 * touching_[i];
+  };
+  double total = 0;
+  for (std::size_t i = 0; i < n; ++i) total += work(i);
   double sum = 0;
   int p = 1;
   for (std::size_t i = 0; i < n && p < parts; ++i) {
-    sum += double(cells_.first(i + 1) - cells_.first(i)) + 20.0 * touching_[i];
+    sum += work(i);
     if (sum >= total * p / parts) part_start_[static_cast<std::size_t>(p++)] = i + 1;
   }
 }
@@ -404,7 +407,7 @@ void World3d::step_verlet() {
     commit_history();
   }
   const auto n = static_cast<std::ptrdiff_t>(b_.size());
-  const bool threads = n >= kThreadsFrom && threads_ > 1;
+  const bool threads = threaded();
 #pragma omp parallel for schedule(static) num_threads(threads_) if (threads)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     Body3& b = b_[static_cast<std::size_t>(i)];

@@ -116,7 +116,8 @@ class World3d {
   void find_listed_contacts();
   void cut_parts(int parts);
   // Below this many bodies a step is too short to share between threads.
-  static constexpr std::ptrdiff_t kThreadsFrom = 256;
+  static constexpr std::size_t kThreadsFrom = 256;
+  bool threaded() const { return threads_ > 1 && b_.size() >= kThreadsFrom; }
   void add_contact(Body3& a, Body3* b, const ContactPoint3& c, const ContactLaw& law, std::int64_t key_b,
                    double h);
   Vec3 angular_acceleration(const Body3& b) const;

@@ -90,10 +90,10 @@ namespace grainlab::cli {
 // The estimate of time left counts only what this clock saw done: a run continued at 12 % of its way,
 // 60 s after restarting and now at 13 %, has 87 % left at 1 % a minute (87 min), not 60 s x 87 / 13.
 TEST(ProgressBar, TimeLeftCountsOnlyTheWorkThisClockSaw) {
-  EXPECT_NEAR(ProgressBar::time_left(60, 12, 13, 100), 87 * 60, 1e-9);
-  EXPECT_NEAR(ProgressBar::time_left(60, 0, 25, 100), 180, 1e-9);  // a fresh run: as before
-  EXPECT_EQ(ProgressBar::time_left(60, 12, 12, 100), 0);           // nothing done yet: no estimate
-  EXPECT_EQ(ProgressBar::time_left(60, 0, 120, 100), 0);           // past the end
+  EXPECT_NEAR(grainlab::time_left(60, 12, 13, 100), 87 * 60, 1e-9);
+  EXPECT_NEAR(grainlab::time_left(60, 0, 25, 100), 180, 1e-9);  // a fresh run: as before
+  EXPECT_EQ(grainlab::time_left(60, 12, 12, 100), 0);           // nothing done yet: no estimate
+  EXPECT_EQ(grainlab::time_left(60, 0, 120, 100), 0);           // past the end
 }
 
 }  // namespace grainlab::cli
