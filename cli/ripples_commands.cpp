@@ -11,6 +11,7 @@
 #include "ensemble.hpp"
 #include "h5_output.hpp"
 #include "input_error.hpp"
+#include "lammel_splash.hpp"
 #include "output_path.hpp"
 #include "plot_beside.hpp"
 #include "ripple_config.hpp"
@@ -366,10 +367,10 @@ void RipplesCommands::add(CLI::App& app) {
         ->default_val(2000)
         ->check(CLI::Range(0.0, 1e8));
     c->add_option("--splash", flux.splash,
-                  "Lammel parameter set (paper2021, lammel2017) or a grainlab-splash/1 file of recorded "
-                  "impacts (grainlab splash)")
+                  "Lammel parameter set (paper2021, paper2021-effective, lammel2017) or a grainlab-splash/1 "
+                  "file of recorded impacts (grainlab splash)")
         ->default_val("paper2021")
-        ->check(CLI::IsMember({"paper2021", "lammel2017"}) | CLI::ExistingFile);
+        ->check(CLI::IsMember(ripples::hybrid::LammelParameters::names()) | CLI::ExistingFile);
     c->add_flag(
         "--no-collisions", [this](std::int64_t) { flux.collisions = false; }, "no mid-air collisions");
     c->add_flag("--wind-loosened", flux.wind_loosened,

@@ -117,6 +117,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"mass_flux_star", r.mass_flux_star},
                            {"mass_flux_sd", r.mass_flux_sd},
                            {"airborne", r.airborne},
+                           {"airborne_mass_star", r.airborne_mass_star},
                            {"u_star_bed", r.u_star_bed},
                            {"impact_speed", r.mean_impact_speed},
                            {"impact_angle_deg", r.mean_impact_angle_deg},

@@ -10,6 +10,7 @@
 #include "hybrid_config.hpp"
 #include "hybrid_splash_file.hpp"
 #include "input_error.hpp"
+#include "lammel_splash.hpp"
 #include "ripple_config.hpp"
 
 using namespace grainlab::ripples;
@@ -180,6 +181,8 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   EXPECT_NE(error_of("[hybrid]\nustar = 3\n").find("ustar"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nu_star = -3\n").find("h.toml:2"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nsplash = \"x\"\n").find("splash"), std::string::npos);
+  for (const std::string& set : LammelParameters::names())  // every named set, none a file
+    EXPECT_EQ(parse_hybrid_config(good + "splash = \"" + set + "\"\n", "h.toml").options.splash, set);
   EXPECT_NE(error_of("[hybrid]\nejecta_launch = \"up\"\n").find("ejecta_launch"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nwind_follows_bed = 1\n").find("wind_follows_bed"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nwidth = 5\ncell = 2\n").find("cell"), std::string::npos);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "input_error.hpp"
+#include "lammel_splash.hpp"
 
 namespace grainlab::validation {
 
@@ -59,7 +60,7 @@ RecordedSplash read_recorded_splash(const std::string& path) {
 }
 
 void attach_recorded_splash(ripples::hybrid::TransportOptions& o) {
-  if (o.splash == "paper2021" || o.splash == "lammel2017") return;
+  if (ripples::hybrid::LammelParameters::is_named(o.splash)) return;
   o.recorded = std::make_shared<const RecordedSplash>(read_recorded_splash(o.splash));
 }
 

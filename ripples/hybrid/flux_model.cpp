@@ -145,6 +145,7 @@ FluxResult run_flux(const FluxOptions& o) {
     r.mass_flux = f.q_sum / n, r.airborne = f.air_sum / n;
     r.mass_flux_sd = std::sqrt(std::max(0.0, f.q_sum2 / n - r.mass_flux * r.mass_flux));
     r.mass_flux_star = r.mass_flux / run.flux_unit();
+    r.airborne_mass_star = r.airborne * M_PI / (6 * o.length * o.width);  // grains of diameter d on L W d^2
     for (double u : f.u_sum) r.u_mean.push_back(u / n);
   }
   if (run.tally.impacts > 0 && f.window_start >= 0) {

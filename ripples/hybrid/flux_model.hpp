@@ -34,6 +34,7 @@ struct FluxResult {
   double mass_flux = 0, mass_flux_star = 0;  // window means: g/(cm s) and Q / (rho_p d sqrt(s g^ d))
   double mass_flux_sd = 0;                   // of the window's samples (one per t*)
   double airborne = 0;                       // grains in flight, window mean
+  double airborne_mass_star = 0;             // their mass per bed area over rho_p d (M* of eq. 31's balance)
   double u_star_bed = 0;                     // sqrt(tau_f / rho_f) at the bed
   double impacts_per_area_time = 0;          // 1/(cm^2 s)
   double mean_impact_speed = 0, mean_impact_angle_deg = 0;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "lammel_splash.hpp"
 #include "ripple_config.hpp"
 #include "ripple_run.hpp"
 #include "toml_reader.hpp"
@@ -78,8 +79,9 @@ void read_sizes(const TomlReader& r, RippleOptions& o) {
 void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
   o.splash = r.string_or("splash", o.splash);
   // A Lammel parameter set, or a grainlab-splash/1 file of recorded impacts (the command reads it).
-  if (o.splash != "paper2021" && o.splash != "lammel2017" && !std::filesystem::is_regular_file(o.splash))
-    r.fail("splash", "must be \"paper2021\", \"lammel2017\" or a grainlab-splash/1 file that exists");
+  if (!LammelParameters::is_named(o.splash) && !std::filesystem::is_regular_file(o.splash))
+    r.fail("splash", "must be a Lammel set (" + LammelParameters::names_quoted() +
+                         ") or a grainlab-splash/1 file that exists");
   o.wind_loosened = r.boolean_or("wind_loosened", o.wind_loosened);
   const std::string launch = r.string_or("ejecta_launch", "normal");
   if (launch != "normal" && launch != "vertical")
@@ -121,9 +123,9 @@ HybridConfig parse_hybrid_config(const std::string& text, const std::string& pat
   read_splash_and_run(r, o);
   read_sizes(r, o);
   r.finish();
-  if (!o.sizes.empty() && o.splash != "paper2021" && o.splash != "lammel2017")
-    r.fail("sizes",
-           "a recorded splash holds impacts of one grain size: use splash = \"paper2021\" or \"lammel2017\"");
+  if (!o.sizes.empty() && !LammelParameters::is_named(o.splash))
+    r.fail("sizes", "a recorded splash holds impacts of one grain size: use a Lammel set (" +
+                        LammelParameters::names_quoted() + ")");
   // Defaults follow a short duration; values given must fit it.
   if (!r.has("frame_every")) o.frame_every = std::min(o.frame_every, o.duration);
   if (!r.has("sample_every")) o.sample_every = std::min(o.sample_every, o.frame_every);

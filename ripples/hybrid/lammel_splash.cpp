@@ -32,15 +32,35 @@ LammelParameters LammelParameters::paper2021() {
   return {};
 }
 
+LammelParameters LammelParameters::paper2021_effective() {
+  return {"paper2021-effective", 0.9, 0.0, true, 0.06};
+}
+
 LammelParameters LammelParameters::lammel2017() {
   return {"lammel2017", 0.73, -0.18, true, 0.05};
 }
 
+const std::vector<std::string>& LammelParameters::names() {
+  static const std::vector<std::string> known = {"paper2021", "paper2021-effective", "lammel2017"};
+  return known;
+}
+
+bool LammelParameters::is_named(const std::string& name) {
+  return std::find(names().begin(), names().end(), name) != names().end();
+}
+
+std::string LammelParameters::names_quoted() {
+  std::string quoted;
+  for (const std::string& n : names()) quoted += (quoted.empty() ? "\"" : ", \"") + n + "\"";
+  return quoted;
+}
+
 LammelParameters LammelParameters::named(const std::string& name) {
   if (name == "paper2021") return paper2021();
+  if (name == "paper2021-effective") return paper2021_effective();
   if (name == "lammel2017") return lammel2017();
-  throw std::invalid_argument("unknown splash parameter set \"" + name +
-                              "\" (known: \"paper2021\", \"lammel2017\")");
+  throw std::invalid_argument("unknown splash parameter set \"" + name + "\" (known: " + names_quoted() +
+                              ")");
 }
 
 LammelCoefficients lammel_coefficients(const LammelParameters& p, double d1, double d2) {

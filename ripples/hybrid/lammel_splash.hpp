@@ -1,11 +1,13 @@
 #pragma once
 // The statistical splash of Lammel et al. (2017) as the 3-D hybrid ripple model uses it (Huo et al. 2021,
 // eqs 8-15; reconstructed in spec frontiers-3d-ripples.md): the mean rebound restitution, the rebound
-// angle distribution, and the number and energies of ejecta, all in the frame of the local bed. Two
+// angle distribution, and the number and energies of ejecta, all in the frame of the local bed. Three
 // parameter sets: "paper2021" (the seed's reading: eps 0.9, mu 0, eta = m1/m2, 6 % of the energy the
-// rebound does not keep goes to ejecta) and "lammel2017" (eps 0.73, tangential nu = -0.18 in place of mu,
-// the effective mass ratio eta = eps d1^3 / (d1^3 + eps d2^3), 5 %). docs/hybrid.md says which a run used.
+// rebound does not keep goes to ejecta), "paper2021-effective" (the same with the effective mass ratio
+// eta = eps d1^3 / (d1^3 + eps d2^3), the other eta convention in use) and "lammel2017" (eps 0.73,
+// tangential nu = -0.18 in place of mu, the effective eta, 5 %). docs/hybrid.md says which a run used.
 #include <string>
+#include <vector>
 
 #include "rng.hpp"
 
@@ -18,7 +20,12 @@ struct LammelParameters {
   bool effective_eta = false;     // eta = eps d1^3/(d1^3 + eps d2^3) instead of m1/m2 = d1^3/d2^3
   double ejecta_fraction = 0.06;  // of (1 - e^2) E1, given to ejecta (the 0.06 of eq. 15)
   static LammelParameters paper2021();
+  static LammelParameters paper2021_effective();
   static LammelParameters lammel2017();
+  // The sets' names, and whether `name` is one of them (otherwise it names a recorded splash file).
+  static const std::vector<std::string>& names();
+  static bool is_named(const std::string& name);
+  static std::string names_quoted();  // "paper2021", ... for messages
   // By name; throws std::invalid_argument naming the known sets.
   static LammelParameters named(const std::string& name);
 };
