@@ -373,6 +373,9 @@ void RipplesCommands::add(CLI::App& app) {
         ->check(CLI::IsMember(ripples::hybrid::LammelParameters::names()) | CLI::ExistingFile);
     c->add_flag(
         "--no-collisions", [this](std::int64_t) { flux.collisions = false; }, "no mid-air collisions");
+    c->add_flag("--collide-within-splash", flux.collide_within_splash,
+                "let the grains one splash sends up collide with each other (before 2026-12-03 they did; "
+                "docs/hybrid.md)");
     c->add_flag("--wind-loosened", flux.wind_loosened,
                 "eq. 19: ejecta need E_eff = E_d2 (1 - tau_fw / tau_ft) (Shao & Lu's threshold)");
     c->add_option("--dead-rise", flux.dead_rise,

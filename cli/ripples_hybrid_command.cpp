@@ -41,10 +41,11 @@ std::string flux_fingerprint(const ripples::hybrid::FluxOptions& o) {
   return fmt::format(
       "u_star {:.17g}, diameter {:.17g}, grain_density {:.17g}, fluid_density {:.17g}, viscosity {:.17g}, "
       "length {:.17g}, width {:.17g}, average_from {:.17g}, splash {}, collisions {}, wind_loosened {}, "
-      "dead_rise {:.17g}, swept {}, fast_substeps {}, travel {:.17g}, dt_max {:.17g}, seed {}",
+      "dead_rise {:.17g}, swept {}, fast_substeps {}, travel {:.17g}, dt_max {:.17g}, seed {}, "
+      "collide_within_splash {}",
       o.u_star, o.diameter, o.grain_density, o.fluid_density, o.viscosity, o.length, o.width, o.average_from,
       o.splash, o.collisions, o.wind_loosened, o.dead_rise, o.swept, o.fast_substeps, o.travel, o.dt_max,
-      o.seed);
+      o.seed, o.collide_within_splash);
 }
 
 void check_flux_options(const ripples::hybrid::FluxOptions& o) {
@@ -123,6 +124,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
                            {"impact_angle_deg", r.mean_impact_angle_deg},
                            {"bed_friction", r.bed_friction},
                            {"collisions", r.collisions},
+                           {"collide_within_splash", o.collide_within_splash},
                            {"splash", o.splash},
                            {"wind_loosened", o.wind_loosened},
                            {"swept", o.swept},

@@ -212,6 +212,7 @@ TEST(HybridFlux, FastSubstepsCollideGrainsTheColumnsCannotPair) {
   const double d = o.diameter, u = std::sqrt(o.g * d);
   tables["grains"].rows = {{31.5 * d, 5 * d, 50 * d, 0, 0, 0}, {27 * d, 5 * d, 50 * d, 500 * u, 0, 0}};
   tables["ids"].rows = {{0}, {1}, {2}};
+  tables["splashes"].rows = {{-1}, {-1}};
   tables["clock"].rows[0][3] = 500 * u * 500 * u;  // the fastest speed and the spread the next step is
   tables["spread"].rows = {{0, 500 * u, 0, 0}};    // cut to without fast_substeps (below)
   t.restore(tables, "");
@@ -229,6 +230,45 @@ TEST(HybridFlux, FastSubstepsCollideGrainsTheColumnsCannotPair) {
   slow.restore(tables, "");
   while (slow.time() < t.time()) slow.step();
   EXPECT_NEAR(slow.grains().vx[0], g.vx[0], 0.02 * 500 * u);
+}
+
+// Two grains that one splash sent up (the same splash number) pass through each other unless
+// collide_within_splash; grains of different splashes collide. An old checkpoint (no splash numbers)
+// continues only with collide_within_splash, the rule it ran under.
+TEST(HybridFlux, GrainsOfOneSplashDoNotCollideWithEachOther) {
+  TransportOptions o;
+  o.length = 100, o.width = 10, o.triggers = 1;
+  const double d = o.diameter, u = std::sqrt(o.g * d);
+  auto run = [&](bool within, double s0, double s1) {
+    o.collide_within_splash = within;
+    Transport t(o, nullptr);
+    std::map<std::string, SampleTable> tables;
+    for (SampleTable& table : t.save("")) tables[table.name] = table;
+    // Overlapping at 50 d up, closing at 2 sqrt(g d).
+    tables["grains"].rows = {{30 * d, 5 * d, 50 * d, u, 0, 0}, {30.9 * d, 5 * d, 50 * d, -u, 0, 0}};
+    tables["ids"].rows = {{0}, {1}, {7}};
+    tables["splashes"].rows = {{s0}, {s1}};
+    t.restore(tables, "");
+    t.step();
+    return t.total_collisions();
+  };
+  EXPECT_EQ(run(false, 5, 5), 0u);
+  EXPECT_EQ(run(true, 5, 5), 1u);
+  EXPECT_EQ(run(false, 5, 6), 1u);
+  EXPECT_EQ(run(false, -1, -1), 1u);  // neither from a splash (trigger grains)
+  Transport t(o, nullptr);
+  std::map<std::string, SampleTable> tables;
+  for (SampleTable& table : t.save("")) tables[table.name] = table;
+  tables.erase("splashes");
+  o.collide_within_splash = false;
+  Transport fresh(o, nullptr);
+  EXPECT_THROW(fresh.restore(tables, ""), std::invalid_argument);
+  o.collide_within_splash = true;
+  Transport old_rule(o, nullptr);
+  EXPECT_NO_THROW(old_rule.restore(tables, ""));
+  tables["splashes"] = t.save("")[2];
+  tables["splashes"].rows = {{2.5}};
+  EXPECT_THROW(fresh.restore(tables, ""), std::invalid_argument);  // not a whole number
 }
 
 TEST(HybridFlux, FastSubstepsCarryTheSweptStepsFlux) {

@@ -13,7 +13,7 @@ void Grains::remove_marked(const std::vector<char>& drop) {
     if (i < drop.size() && drop[i]) continue;
     if (keep != i)
       x[keep] = x[i], y[keep] = y[i], z[keep] = z[i], vx[keep] = vx[i], vy[keep] = vy[i], vz[keep] = vz[i],
-      kind[keep] = kind[i], id[keep] = id[i];
+      kind[keep] = kind[i], id[keep] = id[i], splash[keep] = splash[i];
     ++keep;
   }
   truncate(keep);
@@ -21,7 +21,7 @@ void Grains::remove_marked(const std::vector<char>& drop) {
 
 void Grains::truncate(std::size_t n) {
   for (auto* v : {&x, &y, &z, &vx, &vy, &vz}) v->resize(n);
-  kind.resize(n), id.resize(n);
+  kind.resize(n), id.resize(n), splash.resize(n);
 }
 
 // From the back, in place: the grains past the first arrival's place move once, the rest stay (no copy
@@ -33,7 +33,7 @@ void Grains::merge(const Grains& more) {
   std::size_t a = n, b = k, w = n + k;
   auto put = [this, &w](const Grains& g, std::size_t i) {
     x[w] = g.x[i], y[w] = g.y[i], z[w] = g.z[i], vx[w] = g.vx[i], vy[w] = g.vy[i], vz[w] = g.vz[i];
-    kind[w] = g.kind[i], id[w] = g.id[i];
+    kind[w] = g.kind[i], id[w] = g.id[i], splash[w] = g.splash[i];
   };
   while (b > 0) {
     --w;
@@ -46,12 +46,13 @@ void Grains::merge(const Grains& more) {
 
 void pack_grain(const Grains& g, std::size_t i, std::vector<double>& out) {
   out.insert(out.end(), {static_cast<double>(g.id[i]), g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i],
-                         static_cast<double>(g.kind[i])});
+                         static_cast<double>(g.kind[i]), splash_value(g.splash[i])});
 }
 
 void unpack_grains(const double* v, std::size_t count, Grains& into) {
   for (std::size_t k = 0; k < count; ++k, v += kGrainValues)
-    into.add(v[1], v[2], v[3], v[4], v[5], v[6], static_cast<int>(v[7]), static_cast<std::uint64_t>(v[0]));
+    into.add(v[1], v[2], v[3], v[4], v[5], v[6], static_cast<int>(v[7]), static_cast<std::uint64_t>(v[0]),
+             splash_number(v[8]));
 }
 
 CollisionGrid::CollisionGrid(double length, double width, double d, double cell_x, double cell_y)
@@ -247,6 +248,7 @@ bool CollisionGrid::swept_contact(const Grains& g, std::size_t i, std::size_t j,
 
 template <bool kMixed>
 bool CollisionGrid::pair(Grains& g, std::size_t i, std::size_t j, double m, const CollisionLaw& law) {
+  if (!within_splash_ && g.splash[i] == g.splash[j] && g.splash[i] != kNoSplash) return false;
   Separation s;
   if (!overlap<kMixed>(g, i, j, s)) return false;
   double mi = m, mj = m;

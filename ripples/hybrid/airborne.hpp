@@ -13,14 +13,20 @@ namespace grainlab::ripples::hybrid {
 // The transport keeps them in ascending id order (ids are handed out in increasing order, removal keeps
 // the order, arrivals from other MPI ranks are merged in), so that every order-dependent step (collisions,
 // splashes) sees them in an order that does not depend on how the domain is split.
+inline constexpr std::uint64_t kNoSplash = ~std::uint64_t{0};
 struct Grains {
   std::vector<double> x, y, z, vx, vy, vz;
   std::vector<std::uint8_t> kind;  // size class (all 0 in a run of one size)
   std::vector<std::uint64_t> id;
+  // The number of the splash that last sent the grain up (kNoSplash: none, e.g. a trigger grain). The
+  // grains of one splash leave the bed with the velocities the splash function gave them, already the
+  // outcome of their contacts with each other, so they do not collide with each other in the air.
+  std::vector<std::uint64_t> splash;
   std::size_t size() const { return x.size(); }
-  void add(double px, double py, double pz, double ux, double uy, double uz, int k = 0, std::uint64_t n = 0) {
+  void add(double px, double py, double pz, double ux, double uy, double uz, int k = 0, std::uint64_t n = 0,
+           std::uint64_t s = kNoSplash) {
     x.push_back(px), y.push_back(py), z.push_back(pz), vx.push_back(ux), vy.push_back(uy), vz.push_back(uz);
-    kind.push_back(static_cast<std::uint8_t>(k)), id.push_back(n);
+    kind.push_back(static_cast<std::uint8_t>(k)), id.push_back(n), splash.push_back(s);
   }
   // Drops every grain i < drop.size() with drop[i] set, keeping the others' order.
   void remove_marked(const std::vector<char>& drop);
@@ -29,9 +35,16 @@ struct Grains {
   void truncate(std::size_t n);
 };
 
-// Grain i of g as kGrainValues numbers (id, x, y, z, vx, vy, vz, kind) appended to `out`, and back: what
-// crosses between MPI ranks and into checkpoints.
-inline constexpr std::size_t kGrainValues = 8;
+// Grain i of g as kGrainValues numbers (id, x, y, z, vx, vy, vz, kind, splash) appended to `out`, and
+// back: what crosses between MPI ranks and into checkpoints.
+inline constexpr std::size_t kGrainValues = 9;
+// A splash number as a double (exact below 2^53; kNoSplash as -1) and back.
+inline double splash_value(std::uint64_t s) {
+  return s == kNoSplash ? -1.0 : static_cast<double>(s);
+}
+inline std::uint64_t splash_number(double v) {
+  return v < 0 ? kNoSplash : static_cast<std::uint64_t>(v);
+}
 void pack_grain(const Grains& g, std::size_t i, std::vector<double>& out);
 void unpack_grains(const double* values, std::size_t count, Grains& into);
 
@@ -96,6 +109,8 @@ class CollisionGrid {
   // fraction of a diameter). The columns must be at least d plus the largest relative travel over the
   // span wide.
   void set_sweep(double span) { sweep_ = span; }
+  // Whether grains sent up by the same splash (Grains::splash) collide with each other: not by default.
+  void set_collide_within_splash(bool collide) { within_splash_ = collide; }
   // Swept pairs: moves the first g.size() grains by the shifts their collisions gave them, and forgets
   // the shifts (those of ghost grains appended for collide_across and removed since).
   void apply_shifts(Grains& g);
@@ -138,6 +153,7 @@ class CollisionGrid {
   [[gnu::always_inline]] inline bool swept_contact(const Grains& g, std::size_t i, std::size_t j,
                                                    double reach, Separation& s) const;
   double inv_hx_, inv_hy_, d_, length_, width_, sweep_ = 0;
+  bool within_splash_ = false;
   std::vector<double> diameters_, masses_;
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};
   std::vector<std::uint32_t> head_;  // per occupied column: the last grain chained into it

@@ -92,6 +92,7 @@ void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
   o.dead_rise = r.number_or("dead_rise", o.dead_rise, Range{0, 10, false});
   o.loosened_floor = r.number_or("loosened_floor", o.loosened_floor, Range{0, 1, true});
   o.collisions = r.boolean_or("collisions", o.collisions);
+  o.collide_within_splash = r.boolean_or("collide_within_splash", o.collide_within_splash);
   o.collision_restitution = r.number_or("collision_restitution", o.collision_restitution, Range{0, 1, false});
   o.collision_friction = r.number_or("collision_friction", o.collision_friction, Range::non_negative());
   o.triggers = static_cast<int>(r.integer_or("triggers", o.triggers, 1, 10000000));

@@ -119,6 +119,7 @@ Transport::Transport(const TransportOptions& o, HeightField* bed)
     for (const SizeClass& c : classes_) diameters.push_back(c.d), masses.push_back(c.m);
     grid_.set_sizes(diameters, masses);
   }
+  grid_.set_collide_within_splash(o.collide_within_splash);
   for (auto* v : {&drag_mean_, &volume_mean_}) v->assign(wind_.bins(), 0.0);
   for (auto* v : {&drag_now_, &volume_now_}) v->assign(wind_.bins(), 0);
   // Fixed-point units: 2^-16 of the drag gravity would give the reference grain over the longest step,
@@ -252,7 +253,8 @@ Grains by_id(const Grains& g) {
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return g.id[a] < g.id[b]; });
   Grains out;
-  for (std::size_t i : order) out.add(g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], g.id[i]);
+  for (std::size_t i : order)
+    out.add(g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], g.id[i], g.splash[i]);
   return out;
 }
 }  // namespace
@@ -565,7 +567,8 @@ void Transport::collide_fast() {
     unpack_grains(near_all.data(), near_all.size() / kGrainValues, near);
     near = by_id(near);
     for (std::size_t k = 0; k < near.size(); ++k)
-      t.add(near.x[k], near.y[k], near.z[k], near.vx[k], near.vy[k], near.vz[k], near.kind[k], near.id[k]);
+      t.add(near.x[k], near.y[k], near.z[k], near.vx[k], near.vy[k], near.vz[k], near.kind[k], near.id[k],
+            near.splash[k]);
   }
   std::vector<std::size_t> column(t.size());
   for (std::size_t k = 0; k < t.size(); ++k)
@@ -682,7 +685,8 @@ void Transport::launch(double x, double y, double bed_height, double vx, double 
   ++launched_;
   spread_by(vx, vy);
   if (mine(x))
-    grains_.add(x, y, bed_height + 0.5 * classes_[static_cast<std::size_t>(kind)].d, vx, vy, vz, kind, id);
+    grains_.add(x, y, bed_height + 0.5 * classes_[static_cast<std::size_t>(kind)].d, vx, vy, vz, kind, id,
+                splash_now_);
   tally.bed_px -= vx, tally.bed_pz += vz;
   v2_launch_ = std::max(v2_launch_, vx * vx + vy * vy + vz * vz);
 }
@@ -691,6 +695,7 @@ void Transport::rebound(const Hit& h, double x, double y, double z, double vx, d
   spread_by(vx, vy);  // (on every rank: each does every splash)
   if (h.local < 0) return;
   const auto i = static_cast<std::size_t>(h.local);
+  grains_.splash[i] = splash_now_;
   grains_.x[i] = x, grains_.y[i] = y, grains_.z[i] = z;
   grains_.vx[i] = vx, grains_.vy[i] = vy, grains_.vz[i] = vz;
 }
@@ -814,6 +819,8 @@ void Transport::splash(Hit& h) {
   }
   const double theta = std::atan2(-vn, vt);
   tally.impacts += 1, tally.speed_sum += speed, tally.angle_sum += theta;
+  // The splash's number: one of the grains' numbers, unused by any grain (ids only need to ascend).
+  splash_now_ = next_id_++;
   tally.bed_px += h.vx, tally.bed_pz -= h.vz;
   if (o_.recorded) {
     recorded_splash(h, px, py, b, {tx, ty, tz}, speed, theta);
@@ -967,9 +974,14 @@ std::vector<SampleTable> Transport::save(const std::string& prefix) const {
   SampleTable grains{prefix + "grains", "airborne grains: cm, cm/s", kGrainColumns, {}};
   SampleTable ids{
       prefix + "ids", "airborne grains' numbers, in the order of grains; then the next number", {"id"}, {}};
+  SampleTable splashes{prefix + "splashes",
+                       "airborne grains' splash numbers (-1: none), in the order of grains",
+                       {"splash"},
+                       {}};
   for (std::size_t i = 0; i < all.size(); ++i) {
     grains.rows.push_back({all.x[i], all.y[i], all.z[i], all.vx[i], all.vy[i], all.vz[i]});
     ids.rows.push_back({static_cast<double>(all.id[i])});
+    splashes.rows.push_back({splash_value(all.splash[i])});
   }
   ids.rows.push_back({static_cast<double>(next_id_)});
   const std::vector<std::int64_t> drag = summed(drag_now_), volume = summed(volume_now_);
@@ -986,7 +998,7 @@ std::vector<SampleTable> Transport::save(const std::string& prefix) const {
         static_cast<double>(rng & 0xffffffffull), static_cast<double>(grain_steps),
         static_cast<double>(steps), static_cast<double>(total_collisions()), tally.impacts, tally.speed_sum,
         tally.angle_sum, static_cast<double>(tally.deaths), static_cast<double>(tally.ejecta)}}};
-  std::vector<SampleTable> out{grains, ids, wind, clock};
+  std::vector<SampleTable> out{grains, ids, splashes, wind, clock};
   if (o_.swept)
     out.push_back({prefix + "spread",
                    "swept steps: the least and most v_x and v_y the next step starts from, cm/s",
@@ -1036,6 +1048,25 @@ void Transport::restore(const std::map<std::string, SampleTable>& tables, const 
       throw std::invalid_argument("the checkpoint's next grain id is not above its grains'");
     next_id_ = static_cast<std::uint64_t>(ids.back()[0]);
   }
+  // Splash numbers: as saved. A checkpoint from before they existed ran with every pair colliding, and
+  // continues the same only so.
+  std::vector<std::uint64_t> splash(rows.size(), kNoSplash);
+  if (!tables.count(prefix + "splashes") && !o_.collide_within_splash)
+    throw std::invalid_argument(
+        "the checkpoint is from a build whose grains of one splash collided with each other (before "
+        "2026-12-03): continue it with collide_within_splash, or start again");
+  if (tables.count(prefix + "splashes")) {
+    const auto& s = checkpoint_table(tables, prefix + "splashes", 1).rows;
+    if (s.size() != rows.size())
+      throw std::invalid_argument("the checkpoint's splash numbers do not match its grains");
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (!(s[i][0] == -1 ||
+            (s[i][0] >= 0 && s[i][0] < static_cast<double>(next_id_) && s[i][0] == std::floor(s[i][0]))))
+        throw std::invalid_argument(
+            "the checkpoint's splash numbers are not whole numbers below its next id");
+      splash[i] = splash_number(s[i][0]);
+    }
+  }
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
     const double kind = mixed_ ? kinds[i][0] : 0;
@@ -1043,7 +1074,8 @@ void Transport::restore(const std::map<std::string, SampleTable>& tables, const 
       throw std::invalid_argument("the checkpoint has a grain of an unknown size class");
     if (!(r[0] >= 0 && r[0] < length_ && r[1] >= 0 && r[1] < width_))
       throw std::invalid_argument("the checkpoint has a grain outside the domain");
-    if (mine(r[0])) grains_.add(r[0], r[1], r[2], r[3], r[4], r[5], static_cast<int>(kind), numbers[i]);
+    if (mine(r[0]))
+      grains_.add(r[0], r[1], r[2], r[3], r[4], r[5], static_cast<int>(kind), numbers[i], splash[i]);
   }
   airborne_ = rows.size();
   // The sums since the last wind update: all on the first rank (fixed point, exact below 2^53 units).

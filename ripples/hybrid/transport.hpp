@@ -54,6 +54,12 @@ struct TransportOptions {
   double wind_interval = 1;  // t* between wind updates
   double wind_memory = 20;   // t*: the grains' drag is a running mean over this
   bool collisions = true;
+  // Whether the grains one splash sends up (its rebound and ejecta, launched from within a diameter of
+  // each other) may collide with each other in the air. The splash function's velocities are already
+  // the outcome of their contacts in the bed, so by default they do not: colliding them again took most
+  // of the rebound's speed in five of six mid-air collisions (docs/hybrid.md, "Collisions within a
+  // splash").
+  bool collide_within_splash = false;
   double collision_restitution = 0.9, collision_friction = 0.4;
   std::string splash = "paper2021";  // LammelParameters::named; with `recorded`, the file's name
   // Recorded impacts (a grainlab-splash/1 file's cells) in place of the Lammel splash, when set.
@@ -239,6 +245,7 @@ class Transport {
   std::vector<int> owner_;
   long first_x_ = 0, last_x_ = 0;
   std::uint64_t next_id_ = 0, airborne_ = 0, launched_ = 0, settled_ = 0;  // (the last two: this step's)
+  std::uint64_t splash_now_ = kNoSplash;  // the number of the splash being done (Grains::splash)
   std::vector<char> dead_;
   Rng rng_;
   Grains grains_;
