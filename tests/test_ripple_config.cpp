@@ -185,6 +185,11 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
     EXPECT_EQ(parse_hybrid_config(good + "splash = \"" + set + "\"\n", "h.toml").options.splash, set);
   EXPECT_NE(error_of("[hybrid]\nejecta_launch = \"up\"\n").find("ejecta_launch"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nwind_follows_bed = 1\n").find("wind_follows_bed"), std::string::npos);
+  EXPECT_FALSE(c.options.collide_within_splash);  // a splash's grains do not collide with each other
+  EXPECT_TRUE(
+      parse_hybrid_config(good + "collide_within_splash = true\n", "h.toml").options.collide_within_splash);
+  EXPECT_NE(error_of("[hybrid]\ncollide_within_splash = 1\n").find("collide_within_splash"),
+            std::string::npos);
   EXPECT_NE(error_of("[hybrid]\nwidth = 5\ncell = 2\n").find("cell"), std::string::npos);
   EXPECT_NE(error_of("[hybrid]\ntravel = 1.5\n").find("travel"), std::string::npos);  // needs swept
   EXPECT_NE(error_of("[hybrid]\nswept = true\ntravel = 5\n").find("travel"), std::string::npos);
