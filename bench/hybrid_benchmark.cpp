@@ -56,10 +56,9 @@ int run_hybrid_bench(const HybridBenchOptions& o) {
   const double equivalent = long_steps.t_star_per_second * full.grain_steps_per_t_star;
   // Memory: per airborne grain six doubles of state, an 8-byte id, an 8-byte splash number, a 1-byte size
   // class, and three 4-byte indices in the collision grid (chain link, column x and y); per one-diameter
-  // column of the grid
-  // (length x width / d^2 of them) a 4-byte chain head and an occupancy bit. Swept steps add a 4-byte
-  // slot per grain (and 28 bytes for each grain that collided in the step: its shift) and use columns
-  // (1 + 4/3 travel) x (1 + 2/3 travel) = 3 d x 2 d wide.
+  // column of the grid (length x width / d^2 of them) a 4-byte chain head and an occupancy bit. Swept steps
+  // add a 4-byte slot per grain (and 28 bytes for each grain that collided in the step: its shift) and use
+  // columns (1 + 4/3 travel) x (1 + 2/3 travel) = 3 d x 2 d wide.
   const double per_grain = 6 * 8 + 8 + 8 + 1 + 3 * 4, per_column = 4 + 1.0 / 8;
   fmt::print(
       "hybrid model, {} d x {} d, u* = {} cm/s, {} t*, median of {}: {:.3g} grain-steps/s ({:.0f} grains "

@@ -235,6 +235,20 @@ TEST(HybridFlux, FastSubstepsCollideGrainsTheColumnsCannotPair) {
 // Two grains that one splash sent up (the same splash number) pass through each other unless
 // collide_within_splash; grains of different splashes collide. An old checkpoint (no splash numbers)
 // continues only with collide_within_splash, the rule it ran under.
+// Eq. 31 as printed, against its two factors (airborne mass times transport velocity), and nothing below
+// the threshold.
+TEST(HybridFlux, FluxLawIsAirborneMassTimesTransportVelocity) {
+  const double s = 0.0303, sd = 0.0093, excess = s - sd;
+  const double printed = 2 * std::sqrt(sd) / (0.42 * 0.61) * excess * (1 + 2.3 / 0.61 * excess);
+  EXPECT_NEAR(flux_law(s, sd), printed, 1e-15);
+  EXPECT_NEAR(flux_law_mass(s, sd), excess / 0.61, 1e-15);
+  EXPECT_NEAR(flux_law_velocity(s, sd), 2 * std::sqrt(sd) / 0.42 * (1 + 2.3 / 0.61 * excess), 1e-15);
+  EXPECT_NEAR(flux_law(s, sd, 0.42, 1.0), excess * flux_law_velocity(s, sd, 0.42, 1.0), 1e-15);
+  EXPECT_EQ(flux_law(0.005, sd), 0.0);
+  EXPECT_EQ(flux_law_mass(0.005, sd), 0.0);
+  EXPECT_EQ(flux_law_velocity(0.005, sd), 0.0);
+}
+
 TEST(HybridFlux, GrainsOfOneSplashDoNotCollideWithEachOther) {
   TransportOptions o;
   o.length = 100, o.width = 10, o.triggers = 1;

@@ -168,15 +168,14 @@ double flux_checks(Report& rep, const FluxOptions& base, bool quick, const Suite
     const FluxResult& r = runs[k];
     const double predicted = flux_law(r.shields, sd);
     // The same law with the model's own bed friction: how much of the gap mu_b explains.
-    const double own = r.bed_friction > 0 ? flux_law(r.shields, sd, 0.42, r.bed_friction) : 0;
-    // Eq. 31 is Q* = M* v*: the airborne mass (S - S_d) / mu_b that the bed's friction and a bed stress
-    // held at the threshold (Owen) allow, times a transport velocity (2 sqrt(S_d) / kappa)(1 + c_M (S -
-    // S_d) / mu_b). Each factor against the model's own, with its measured mu_b.
-    const double excess = r.shields - sd;
-    const double mass_ratio =
-        r.bed_friction > 0 && excess > 0 ? r.airborne_mass_star * r.bed_friction / excess : NAN;
-    const double law_velocity = 2 * std::sqrt(sd) / 0.42 * (1 + 2.3 * excess / r.bed_friction);
-    const double velocity_ratio = r.airborne_mass_star > 0 && r.bed_friction > 0
+    const double own = r.bed_friction > 0 ? flux_law(r.shields, sd, kLawKappa, r.bed_friction) : 0;
+    // Eq. 31 is Q* = M* v*: the airborne mass the bed's friction and a bed stress held at the threshold
+    // (Owen) allow, times a transport velocity. Each factor against the model's own, with its measured mu_b.
+    const double law_mass = r.bed_friction > 0 ? flux_law_mass(r.shields, sd, r.bed_friction) : 0;
+    const double law_velocity =
+        r.bed_friction > 0 ? flux_law_velocity(r.shields, sd, kLawKappa, r.bed_friction) : 0;
+    const double mass_ratio = law_mass > 0 ? r.airborne_mass_star / law_mass : NAN;
+    const double velocity_ratio = law_velocity > 0 && r.airborne_mass_star > 0
                                       ? r.mass_flux_star / r.airborne_mass_star / law_velocity
                                       : NAN;
     md += fmt::format(

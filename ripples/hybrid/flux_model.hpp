@@ -63,8 +63,15 @@ struct CleanWind {
 };
 CleanWind clean_wind(const FluxOptions& o);
 
-// Eq. 31 (Pahtz & Duran 2020 form): Q* = (2 sqrt(S_d) / (kappa mu_b)) (S - S_d) [1 + (c_M / mu_b)(S - S_d)].
-double flux_law(double shields, double shields_threshold, double kappa = 0.42, double mu_b = 0.61,
-                double c_m = 2.3);
+// Eq. 31 (Pahtz & Duran 2020 form): Q* = (2 sqrt(S_d) / (kappa mu_b)) (S - S_d) [1 + (c_M / mu_b)(S - S_d)],
+// with the paper's constants. It is the product of an airborne mass per bed area (over rho_p d), M* = (S -
+// S_d) / mu_b, and a transport velocity (over sqrt(s g^ d)), v* = (2 sqrt(S_d) / kappa)(1 + (c_M / mu_b)(S
+// - S_d)); both are zero below S_d.
+inline constexpr double kLawKappa = 0.42, kLawBedFriction = 0.61, kLawCM = 2.3;
+double flux_law_mass(double shields, double shields_threshold, double mu_b = kLawBedFriction);
+double flux_law_velocity(double shields, double shields_threshold, double kappa = kLawKappa,
+                         double mu_b = kLawBedFriction, double c_m = kLawCM);
+double flux_law(double shields, double shields_threshold, double kappa = kLawKappa,
+                double mu_b = kLawBedFriction, double c_m = kLawCM);
 
 }  // namespace grainlab::ripples::hybrid

@@ -40,8 +40,23 @@ LammelParameters LammelParameters::lammel2017() {
   return {"lammel2017", 0.73, -0.18, true, 0.05};
 }
 
+namespace {
+// The sets by name: the one list names() and named() read.
+struct NamedSet {
+  const char* name;
+  LammelParameters (*make)();
+};
+constexpr NamedSet kNamedSets[] = {{"paper2021", &LammelParameters::paper2021},
+                                   {"paper2021-effective", &LammelParameters::paper2021_effective},
+                                   {"lammel2017", &LammelParameters::lammel2017}};
+}  // namespace
+
 const std::vector<std::string>& LammelParameters::names() {
-  static const std::vector<std::string> known = {"paper2021", "paper2021-effective", "lammel2017"};
+  static const std::vector<std::string> known = [] {
+    std::vector<std::string> n;
+    for (const NamedSet& s : kNamedSets) n.emplace_back(s.name);
+    return n;
+  }();
   return known;
 }
 
@@ -56,9 +71,8 @@ std::string LammelParameters::names_quoted() {
 }
 
 LammelParameters LammelParameters::named(const std::string& name) {
-  if (name == "paper2021") return paper2021();
-  if (name == "paper2021-effective") return paper2021_effective();
-  if (name == "lammel2017") return lammel2017();
+  for (const NamedSet& s : kNamedSets)
+    if (name == s.name) return s.make();
   throw std::invalid_argument("unknown splash parameter set \"" + name + "\" (known: " + names_quoted() +
                               ")");
 }
