@@ -164,16 +164,18 @@ namespace {
 using ripples::hybrid::BedFrame;
 
 const std::vector<std::string> kHistoryColumns = {
-    "t_star",   "amplitude",  "wavelength", "ripple_index", "mean_height", "shift", "mass_flux_star",
-    "airborne", "u_star_bed", "loosening",  "size_crest",   "size_trough", "z0"};
-// Checkpoints written before frames carried the log layer's roughness (2026-11-28) lack its column.
-constexpr std::size_t kHistoryColumnsBeforeZ0 = 12;
+    "t_star",     "amplitude",      "wavelength", "ripple_index", "mean_height",
+    "shift",      "mass_flux_star", "airborne",   "u_star_bed",   "loosening",
+    "size_crest", "size_trough",    "z0",         "stoss_deg",    "lee_deg"};
+// Checkpoints written before frames carried the log layer's roughness (2026-11-28) lack its column and the
+// flank slopes' (2026-12-03); those written between, the flank slopes'. Their frames read NaN there.
+constexpr std::size_t kHistoryColumnsBeforeZ0 = 12, kHistoryColumnsBeforeSlopes = 13;
 
 std::vector<double> history_row(const BedFrame& f) {
   return {f.t_star,     f.stats.amplitude, f.stats.wavelength, f.stats.ripple_index,
           f.stats.mean, f.shift,           f.mass_flux_star,   f.airborne,
           f.u_star_bed, f.loosening,       f.size_crest,       f.size_trough,
-          f.z0};
+          f.z0,         f.stats.stoss_deg, f.stats.lee_deg};
 }
 
 nlohmann::json number_or_null(double v) {
@@ -185,6 +187,8 @@ BedFrame frame_of_row(const std::vector<double>& r) {
   f.t_star = r[0], f.stats = {r[1], r[2], r[3], r[4]}, f.shift = r[5], f.mass_flux_star = r[6];
   f.airborne = r[7], f.u_star_bed = r[8], f.loosening = r[9], f.size_crest = r[10], f.size_trough = r[11];
   if (r.size() > kHistoryColumnsBeforeZ0) f.z0 = r[12];
+  f.stats.stoss_deg = f.stats.lee_deg = std::nan("");
+  if (r.size() > kHistoryColumnsBeforeSlopes) f.stats.stoss_deg = r[13], f.stats.lee_deg = r[14];
   return f;
 }
 
@@ -271,9 +275,11 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
                      "overrides");
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
   const std::vector<std::string>& columns = file.tables.at("cli/history").columns;
-  const std::vector<std::string> before_z0(kHistoryColumns.begin(),
-                                           kHistoryColumns.begin() + kHistoryColumnsBeforeZ0);
-  if (columns != kHistoryColumns && columns != before_z0)
+  auto first = [&](std::size_t n) {
+    return std::vector<std::string>(kHistoryColumns.begin(), kHistoryColumns.begin() + static_cast<long>(n));
+  };
+  if (columns != kHistoryColumns && columns != first(kHistoryColumnsBeforeZ0) &&
+      columns != first(kHistoryColumnsBeforeSlopes))
     refuse("has a frame history with other columns than a hybrid ripple run writes");
   try {
     run.restore(file.tables, "run/");
@@ -440,7 +446,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                  {"time_unit", "t*"}});
     if (talk) fmt::print("wrote {} and {}\n", a.out, xmf);
     draw_plot_beside(a.out, "_ripples", "plot_hybrid.py", {a.out}, a.force, a.json,
-                     "the bed, the space-time plot, A, lambda, RI and Q*");
+                     "the bed, the space-time plot, A, lambda, RI, Q* and the flank slopes");
   }
   const auto& tr = run.transport();
   const double rate = wall > 0 ? static_cast<double>(tr.grain_steps - steps_before) / wall : 0;
@@ -468,6 +474,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"amplitude", last.stats.amplitude},
                            {"wavelength", last.stats.wavelength},
                            {"ripple_index", last.stats.ripple_index},
+                           {"stoss_deg", number_or_null(last.stats.stoss_deg)},
+                           {"lee_deg", number_or_null(last.stats.lee_deg)},
                            {"mass_flux_star", last.mass_flux_star},
                            {"growth_rate", number_or_null(trend.growth_rate)},
                            {"chi", number_or_null(trend.chi)},
@@ -503,9 +511,10 @@ int hybrid_ripples_command(const RipplesCommands& a) {
     return 0;
   }
   fmt::print(
-      "t* = {:.0f}: A = {:.3g} d, lambda = {:.3g} d, RI = {:.3g}; Q* = {:.4g} ({:.0f} grains airborne)\n",
-      last.t_star, last.stats.amplitude, last.stats.wavelength, last.stats.ripple_index, last.mass_flux_star,
-      last.airborne);
+      "t* = {:.0f}: A = {:.3g} d, lambda = {:.3g} d, RI = {:.3g}, flanks {:.3g} deg stoss / {:.3g} deg lee; "
+      "Q* = {:.4g} ({:.0f} grains airborne)\n",
+      last.t_star, last.stats.amplitude, last.stats.wavelength, last.stats.ripple_index, last.stats.stoss_deg,
+      last.stats.lee_deg, last.mass_flux_star, last.airborne);
   fmt::print(
       "  growth rate of A {:.3g} per t* (first half), chi = {:.3g} (second half), migration {:.3g} d per "
       "t*\n",

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Plots of a hybrid ripple run (`grainlab ripples hybrid --config F --out RUN.h5`): the bed at the last
 frame (plan view), the slice-averaged profile h(x, t) as a space-time image, A(t), lambda(t), RI(t),
-Q*(t) against t*, and the bed's growth rate by wavelength band (positive: ripples grow there). A bed of
+Q*(t) against t*, the bed's growth rate by wavelength band (positive: ripples grow there), and the mean
+stoss and lee angles of the ripples' flanks against t* (runs since 2026-12-03). A bed of
 several sizes adds the surface layer's mean grain size along the bed beside its height at the last frame,
 and the mean size at crests and troughs against t*.
 
@@ -64,8 +65,10 @@ def main():
     col = {c: hist[:, i] for i, c in enumerate(cols)}
     t = col["t_star"]
     sizes = "surface_size" in f and len(f["surface_size"]) > 0  # (not in a checkpoint)
-    fig = plt.figure(figsize=(13, 12 if sizes else 9))
-    grid = fig.add_gridspec(4 if sizes else 3, 5)
+    slopes = "stoss_deg" in col
+    rows = 3 + slopes + sizes
+    fig = plt.figure(figsize=(13, 3 * rows))
+    grid = fig.add_gridspec(rows, 5)
     ax = fig.add_subplot(grid[0, :])
     ny, nx = last.shape
     im = ax.imshow(last - last.mean(), origin="lower", cmap="terrain", aspect="auto",
@@ -95,16 +98,24 @@ def main():
         ax.axhline(0, color="k", lw=0.8)
         ax.set_xscale("log")
         ax.set(xlabel="wavelength (d)", ylabel="growth rate per t* (+- 2 s.e.)")
+    if slopes:
+        ax = fig.add_subplot(grid[3, :3])
+        keep = np.isfinite(col["stoss_deg"]) & (t > 0)
+        ax.plot(t[keep], col["stoss_deg"][keep], "o-", ms=3, label="stoss (rising downwind)")
+        ax.plot(t[keep], col["lee_deg"][keep], "o-", ms=3, label="lee")
+        ax.set(xlabel="t*", ylabel="mean flank angle (deg)",
+               title="ripple flanks, slice by slice (early on: the grain-scale roughness)")
+        ax.legend()
     if sizes:
         size_rows = f["surface_size"][:]
-        ax = fig.add_subplot(grid[3, :3])
+        ax = fig.add_subplot(grid[3 + slopes, :3])
         x = np.arange(profiles.shape[1]) * dx
         ax.plot(x, profiles[-1] - profiles[-1].mean(), color="tab:brown", label="h - mean (d)")
         ax.set(xlabel="x (d)", ylabel="h - mean (d)", title=f"surface at t* = {size_rows[-1, 0]:.0f}")
         twin = ax.twinx()
         twin.plot(x, size_rows[-1, 1:], color="tab:blue", lw=0.8)
         twin.set_ylabel("mean surface grain size (d)", color="tab:blue")
-        ax = fig.add_subplot(grid[3, 3:])
+        ax = fig.add_subplot(grid[3 + slopes, 3:])
         ax.plot(t, col["size_crest"], "o-", ms=3, label="crest quarter")
         ax.plot(t, col["size_trough"], "o-", ms=3, label="trough quarter")
         ax.set(xlabel="t*", ylabel="mean surface size (d)")

@@ -5,6 +5,8 @@
 #include <complex>
 #include <unsupported/Eigen/FFT>
 
+#include "surface_analysis.hpp"
+
 namespace grainlab::ripples::hybrid {
 
 namespace {
@@ -55,6 +57,24 @@ double correlation_peak_shift(const std::vector<double>& c, double dx, double ma
   return (static_cast<double>(best) + off) * dx;
 }
 
+// The stoss and lee angles of BedStatistics. Slice by slice, not on the across-averaged profile: crests
+// that are not straight across the bed (Y-junctions, defects) would be smeared flat by the average.
+void flank_slopes(const std::vector<double>& h, std::size_t nx, std::size_t ny, double dx, BedStatistics& r) {
+  double stoss = 0, lee = 0;
+  int slices = 0;
+  for (std::size_t j = 0; j < ny; ++j) {
+    const std::vector<double> row(h.begin() + static_cast<long>(j * nx),
+                                  h.begin() + static_cast<long>((j + 1) * nx));
+    const double rms = surface_shape(row, dx, 1e300).rms;  // (no extremes: the rms alone)
+    // Half the rms height, as `ripples analyze` takes by default, but at least a grain: on a bed without
+    // ripples half the rms is the grain-scale roughness, whose bumps a key point apart read as 14 deg flanks.
+    const SurfaceShape s = surface_shape(row, dx, std::max(0.5 * rms, 1.0));
+    if (rms <= 0 || s.crests == 0) continue;
+    stoss += s.stoss_deg, lee += s.lee_deg, ++slices;
+  }
+  if (slices > 0) r.stoss_deg = stoss / slices, r.lee_deg = lee / slices;
+}
+
 }  // namespace
 
 std::vector<double> slice_autocorrelation(const std::vector<double>& h, std::size_t nx, std::size_t ny) {
@@ -84,6 +104,7 @@ BedStatistics bed_statistics(const std::vector<double>& h, std::size_t nx, std::
     r.wavelength = (static_cast<double>(best) + off) * dx;
     if (r.amplitude > 0) r.ripple_index = r.wavelength / r.amplitude;
   }
+  flank_slopes(h, nx, ny, dx, r);
   return r;
 }
 

@@ -14,9 +14,15 @@ struct BedStatistics {
   double wavelength = 0;    // same unit as dx; 0 when C has no peak beyond its first trough
   double ripple_index = 0;  // lambda / A (0 without a wavelength)
   double mean = 0;
+  // The ripples' flanks, slice by slice (surface_shape of surface_analysis.hpp, crests and troughs standing
+  // out by half the slice's rms height and by at least one grain diameter, h's unit), averaged over the
+  // slices that have crests: the mean angle (deg) of
+  // the rising flank from trough to crest going downwind (stoss) and of the falling one (lee). Field
+  // ripples are asymmetric, with a lee steeper than the stoss (thesis Table 5.1); 0 on a bed with none.
+  double stoss_deg = 0, lee_deg = 0;
 };
 
-// h: nx * ny heights, x fastest, spacing dx, periodic in x.
+// h: nx * ny heights, x fastest, spacing dx, periodic in x. Wind towards +x.
 BedStatistics bed_statistics(const std::vector<double>& h, std::size_t nx, std::size_t ny, double dx);
 // The slice-averaged autocorrelation C(dl) at lags 0..nx-1 (periodic).
 std::vector<double> slice_autocorrelation(const std::vector<double>& h, std::size_t nx, std::size_t ny);
