@@ -99,7 +99,7 @@ int analyze_command(const RipplesCommands& a) {
       a.analyze_smooth > 0 ? tombrello_smooth(p.h, a.analyze_smooth, a.analyze_sigma) : p.h;
   // Crests and troughs must stand out by --relief, by default half the surface's rms height.
   double relief = a.analyze_relief;
-  if (relief <= 0) relief = 0.5 * surface_shape(smooth, p.dx, 1e300).rms;
+  if (relief <= 0) relief = 0.5 * rms_height(smooth);
   const SurfaceShape shape = surface_shape(smooth, p.dx, relief);
   const std::vector<double> f = length_scale_distribution(
       smooth, std::max<int>(1, static_cast<int>(smooth.size() / 4)), a.analyze_sigma);

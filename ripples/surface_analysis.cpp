@@ -91,15 +91,20 @@ double autocorrelation_wavelength(const std::vector<double>& h) {
   return 0;
 }
 
+double rms_height(const std::vector<double>& y) {
+  if (y.empty()) return 0;
+  double mean = 0, sum = 0;
+  for (double v : y) mean += v;
+  mean /= static_cast<double>(y.size());
+  for (double v : y) sum += (v - mean) * (v - mean);
+  return std::sqrt(sum / static_cast<double>(y.size()));
+}
+
 SurfaceShape surface_shape(const std::vector<double>& y, double dx, double min_relief) {
   SurfaceShape s;
   const std::size_t n = y.size();
   if (n < 4) return s;
-  double mean = 0;
-  for (double v : y) mean += v;
-  mean /= static_cast<double>(n);
-  for (double v : y) s.rms += (v - mean) * (v - mean);
-  s.rms = std::sqrt(s.rms / static_cast<double>(n));
+  s.rms = rms_height(y);
   // Two passes round the ring: the first finds the phase, the second records (index, height) extremes.
   std::vector<std::pair<std::size_t, double>> ext;
   int dir = 0;

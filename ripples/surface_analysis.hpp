@@ -23,6 +23,9 @@ std::vector<double> power_spectrum(const std::vector<double>& h);
 // highest maximum (grid steps); 0 if none.
 double autocorrelation_wavelength(const std::vector<double>& h);
 
+// The rms of y about its mean (0 for fewer than one point).
+double rms_height(const std::vector<double>& y);
+
 // Least-squares slope of y against x; NaN with fewer than 3 points or no spread in x.
 double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y);
 

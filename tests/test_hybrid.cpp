@@ -232,9 +232,6 @@ TEST(HybridFlux, FastSubstepsCollideGrainsTheColumnsCannotPair) {
   EXPECT_NEAR(slow.grains().vx[0], g.vx[0], 0.02 * 500 * u);
 }
 
-// Two grains that one splash sent up (the same splash number) pass through each other unless
-// collide_within_splash; grains of different splashes collide. An old checkpoint (no splash numbers)
-// continues only with collide_within_splash, the rule it ran under.
 // Eq. 31 as printed, against its two factors (airborne mass times transport velocity), and nothing below
 // the threshold.
 TEST(HybridFlux, FluxLawIsAirborneMassTimesTransportVelocity) {
@@ -249,6 +246,9 @@ TEST(HybridFlux, FluxLawIsAirborneMassTimesTransportVelocity) {
   EXPECT_EQ(flux_law_velocity(0.005, sd), 0.0);
 }
 
+// Two grains that one splash sent up (the same splash number) pass through each other unless
+// collide_within_splash; grains of different splashes collide. An old checkpoint (no splash numbers)
+// continues only with collide_within_splash, the rule it ran under.
 TEST(HybridFlux, GrainsOfOneSplashDoNotCollideWithEachOther) {
   TransportOptions o;
   o.length = 100, o.width = 10, o.triggers = 1;
@@ -523,8 +523,10 @@ TEST(HybridBedStatistics, FlanksOfAnAsymmetricRippleHaveTheirAngles) {
       h[j * nx + i] = height * rise + 0.1 * rng.uniform();
     }
   const BedStatistics s = bed_statistics(h, nx, ny, dx);
-  EXPECT_NEAR(s.stoss_deg, std::atan(height / crest) * 180 / M_PI, 0.6);
-  EXPECT_NEAR(s.lee_deg, std::atan(height / (wavelength - crest)) * 180 / M_PI, 1.5);
+  // The noise moves a crest or trough by up to 0.1 d: 0.1 / 48 rad (0.12 deg) on the stoss, 0.1 / 12 rad
+  // (0.48 deg) on the lee at most. (Measured: 3.572 and 14.022 deg.)
+  EXPECT_NEAR(s.stoss_deg, std::atan(height / crest) * 180 / M_PI, 0.15);
+  EXPECT_NEAR(s.lee_deg, std::atan(height / (wavelength - crest)) * 180 / M_PI, 0.5);
   // The same bed with the wind the other way (x reversed) swaps the flanks (to the extremes picked where the
   // ring is cut, which may differ by a flank: 1e-3 deg here, against 10 deg between the two).
   std::vector<double> back(h.size());

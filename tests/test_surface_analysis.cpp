@@ -23,6 +23,11 @@ TEST(SurfaceAnalysis, WavelengthOfASineThreeWays) {
   const std::vector<double> p = power_spectrum(h);
   EXPECT_EQ(std::max_element(p.begin(), p.end()) - p.begin() + 1, 1000 / 50);
   EXPECT_EQ(length_scale_peak(length_scale_distribution(h, 120, 0.5)), 50);
+  // Whole periods of a sine of amplitude a about any level: rms a / sqrt 2.
+  std::vector<double> raised = h;
+  for (double& v : raised) v += 7;
+  EXPECT_NEAR(rms_height(raised), 4 / std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(rms_height({}), 0);
 }
 
 TEST(SurfaceAnalysis, TombrelloSmoothingKeepsAStepAndCalmsNoise) {

@@ -65,11 +65,10 @@ void flank_slopes(const std::vector<double>& h, std::size_t nx, std::size_t ny, 
   for (std::size_t j = 0; j < ny; ++j) {
     const std::vector<double> row(h.begin() + static_cast<long>(j * nx),
                                   h.begin() + static_cast<long>((j + 1) * nx));
-    const double rms = surface_shape(row, dx, 1e300).rms;  // (no extremes: the rms alone)
     // Half the rms height, as `ripples analyze` takes by default, but at least a grain: on a bed without
     // ripples half the rms is the grain-scale roughness, whose bumps a key point apart read as 14 deg flanks.
-    const SurfaceShape s = surface_shape(row, dx, std::max(0.5 * rms, 1.0));
-    if (rms <= 0 || s.crests == 0) continue;
+    const SurfaceShape s = surface_shape(row, dx, std::max(0.5 * rms_height(row), 1.0));
+    if (s.crests == 0) continue;
     stoss += s.stoss_deg, lee += s.lee_deg, ++slices;
   }
   if (slices > 0) r.stoss_deg = stoss / slices, r.lee_deg = lee / slices;

@@ -16,9 +16,9 @@ struct BedStatistics {
   double mean = 0;
   // The ripples' flanks, slice by slice (surface_shape of surface_analysis.hpp, crests and troughs standing
   // out by half the slice's rms height and by at least one grain diameter, h's unit), averaged over the
-  // slices that have crests: the mean angle (deg) of
-  // the rising flank from trough to crest going downwind (stoss) and of the falling one (lee). Field
-  // ripples are asymmetric, with a lee steeper than the stoss (thesis Table 5.1); 0 on a bed with none.
+  // slices that have crests: the mean angle (deg) of the rising flank from trough to crest going downwind
+  // (stoss) and of the falling one (lee). Field ripples are asymmetric, with a lee steeper than the stoss
+  // (thesis Table 5.1); 0 on a bed with none.
   double stoss_deg = 0, lee_deg = 0;
 };
 
