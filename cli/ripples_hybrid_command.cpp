@@ -488,6 +488,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"wind_follows_bed", o.wind_follows_bed},
                            {"wind_relief_fades", o.wind_relief_fades},
                            {"wind_loosened", o.wind_loosened},
+                           {"ejecta_launch", o.ejecta_vertical ? "vertical" : "normal"},
+                           {"splash_frame", o.splash_level ? "level" : "facet"},
                            {"swept", o.swept},
                            {"fast_substeps", o.fast_substeps},
                            {"fast_collisions", tr.fast_collisions},

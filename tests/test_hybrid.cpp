@@ -662,6 +662,35 @@ TEST(RecordedSplash, TransportLaunchesTheRecordedEjecta) {
   EXPECT_NEAR(vz / std::hypot(vx, vy), 2.0 / 3.0, 1e-12);
 }
 
+// splash_frame: on a bed of 14 deg facets (a triangle wave, slopes +-0.25 between key points) the same
+// recorded rebound, (along, normal) = (3, 2), leaves at 2 in 3 to the horizontal in the level frame and
+// at 2 in 3 to the facet hit in the paper's frame, 14 deg steeper or shallower.
+TEST(RecordedSplash, ReboundLeavesInTheFrameTheSplashIsTakenIn) {
+  saltation::SplashFile f = two_by_two();
+  for (auto& c : f.cells) c.rebound = {{0, 1, 3, 2, 0}, {1, 1, 3, 2, 0}}, c.ejecta.clear();
+  ripples::hybrid::TransportOptions o;
+  o.length = 40, o.width = 10, o.triggers = 1, o.collisions = false;
+  o.recorded = std::make_shared<const ripples::hybrid::RecordedSplash>(recorded_splash(f, "frame.h5"));
+  const double d = o.diameter;
+  for (const bool level : {true, false}) {
+    ripples::hybrid::HeightField bed({o.length * d, o.width * d, 2 * d, d, 0.6, 30, 20 * d, false});
+    for (std::size_t j = 0; j < bed.ny(); ++j)
+      for (std::size_t i = 0; i < bed.nx(); ++i)  // 20 key points: two teeth of 5 up, 5 down
+        bed.heights()[j * bed.nx() + i] =
+            0.25 * bed.cell() * static_cast<double>(std::min(i % 10, 10 - i % 10));
+    bed.refresh();
+    o.splash_level = level;
+    ripples::hybrid::Transport t(o, &bed);
+    while (t.tally.impacts == 0) t.step();
+    ASSERT_EQ(t.airborne(), 1u);
+    const double rise = t.grains().vz[0] / std::hypot(t.grains().vx[0], t.grains().vy[0]);
+    if (level)
+      EXPECT_NEAR(rise, 2.0 / 3.0, 1e-12);
+    else  // tan(33.7 +- 14.0 deg): 0.36 or 1.10
+      EXPECT_GT(std::abs(rise - 2.0 / 3.0), 0.25) << rise;
+  }
+}
+
 }  // namespace grainlab::validation
 
 namespace grainlab::ripples::hybrid {

@@ -184,6 +184,9 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   for (const std::string& set : LammelParameters::names())  // every named set, none a file
     EXPECT_EQ(parse_hybrid_config(good + "splash = \"" + set + "\"\n", "h.toml").options.splash, set);
   EXPECT_NE(error_of("[hybrid]\nejecta_launch = \"up\"\n").find("ejecta_launch"), std::string::npos);
+  EXPECT_NE(error_of("[hybrid]\nsplash_frame = \"slope\"\n").find("splash_frame"), std::string::npos);
+  EXPECT_FALSE(c.options.splash_level);  // the paper's frame: the bed triangle hit
+  EXPECT_TRUE(parse_hybrid_config(good + "splash_frame = \"level\"\n", "h.toml").options.splash_level);
   EXPECT_NE(error_of("[hybrid]\nwind_follows_bed = 1\n").find("wind_follows_bed"), std::string::npos);
   EXPECT_FALSE(c.options.collide_within_splash);  // a splash's grains do not collide with each other
   EXPECT_TRUE(

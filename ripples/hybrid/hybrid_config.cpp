@@ -87,6 +87,10 @@ void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
   if (launch != "normal" && launch != "vertical")
     r.fail("ejecta_launch", "must be \"normal\" (to the local bed) or \"vertical\"");
   o.ejecta_vertical = launch == "vertical";
+  const std::string frame = r.string_or("splash_frame", "facet");
+  if (frame != "facet" && frame != "level")
+    r.fail("splash_frame", "must be \"facet\" (the bed triangle hit) or \"level\"");
+  o.splash_level = frame == "level";
   o.wind_follows_bed = r.boolean_or("wind_follows_bed", o.wind_follows_bed);
   o.wind_relief_fades = r.boolean_or("wind_relief_fades", o.wind_relief_fades);
   o.dead_rise = r.number_or("dead_rise", o.dead_rise, Range{0, 10, false});

@@ -803,12 +803,15 @@ void Transport::splash(Hit& h) {
   // into the bed) where its path crossed the surface.
   double px = h.x, py = h.y;
   if (o_.swept) crossing(h, r, px, py);
-  const BedPoint b = bed_ ? bed_->at(px, py) : BedPoint{0, 0, 0, 1};
-  const double vn = h.vx * b.nx + h.vy * b.ny + h.vz * b.nz;
-  if (vn >= 0) {  // leaving the bed; buried only if the bed rose over it
-    if (bed_ && bottom < b.h - c1.d) bed_->deposit(h.x, h.y, k1), settle(h);
+  const BedPoint facet = bed_ ? bed_->at(px, py) : BedPoint{0, 0, 0, 1};
+  if (h.vx * facet.nx + h.vy * facet.ny + h.vz * facet.nz >= 0) {  // leaving the bed; buried only if
+    if (bed_ && bottom < facet.h - c1.d) bed_->deposit(h.x, h.y, k1), settle(h);  // the bed rose over it
     return;
   }
+  // The splash's frame: the triangle hit (the paper's), or the level bed for a grain coming down.
+  const bool level = o_.splash_level && h.vz < 0;
+  const BedPoint b = level ? BedPoint{facet.h, 0, 0, 1} : facet;
+  const double vn = h.vx * b.nx + h.vy * b.ny + h.vz * b.nz;
   double tx = h.vx - vn * b.nx, ty = h.vy - vn * b.ny, tz = h.vz - vn * b.nz;
   const double vt = std::sqrt(tx * tx + ty * ty + tz * tz), speed = std::hypot(vt, vn);
   if (vt > 0) {

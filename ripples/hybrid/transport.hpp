@@ -69,6 +69,9 @@ struct TransportOptions {
   bool wind_loosened = false;
   // Ejecta leave along the local bed's normal (the spec's reading of the paper), or straight up.
   bool ejecta_vertical = false;
+  // The splash (impact angle, rebound and ejecta) in the frame of the bed triangle hit (the paper's
+  // section 2.2), or of the level bed, as if the bed were flat where the grain lands.
+  bool splash_level = false;
   double loosened_floor = 0.1;
   // The wind column's height is measured from the mean bed level (the paper's horizontally homogeneous
   // column), or from the bed right beneath each grain, so that the near-bed wind follows the topography
