@@ -46,7 +46,7 @@ def run(*args, expect=0):
 
 write("cm-saw.h5", sawtooth, 5000)
 r = json.loads(run("cm-saw.h5", "--json", "--at", "2000").stdout)
-assert r["ripples"] == 12 and r["t_star"] == 2000 and r["t_star_after"] == 3000, r  # 4 per slice, 3 slices
+assert r["ripples"] == 12 and r["at"] == 2000 and r["after"] == 3000 and r["change_per"] == "1,000 t*", r  # 4 per slice, 3 slices
 # Crests and troughs are found on the running mean over 5 key points (2.5 d), which moves a sharp crest
 # toward the gentle flank by up to half of that: lengths within 1.25 d, the angles within what that and
 # the rounded height allow, the lee's steepest slope within a phase bin's share of its length more. The
@@ -65,12 +65,28 @@ assert abs(r["steepest_lee_deg"] - math.degrees(math.atan(HEIGHT / LEE))) < 0.7,
 assert r["steepest_lee_deg"] > 2.5 * r["steepest_stoss_deg"], r  # 11.3 against 3.8 deg
 # mid-flank bins, away from the crest and the troughs that the 1 d of travel rounds: erosion of
 # c tan(stoss) = 0.0667 d and growth of c tan(lee) = 0.2 d per 1,000 t*
-phase, change = np.array(r["phase"]), np.array(r["change_per_1000"])
+phase, change = np.array(r["phase"]), np.array(r["change"])
 stoss = change[(phase > 0.1) & (phase < 0.4)]
 lee = change[(phase > 0.65) & (phase < 0.9)]
 assert np.all(np.abs(stoss + 1000 * SPEED * HEIGHT / STOSS) < 0.002), stoss
 assert np.all(np.abs(lee - 1000 * SPEED * HEIGHT / LEE) < 0.01), lee
 assert "height" in run("cm-saw.h5").stdout and run("cm-saw.h5", "--plot", "cm.png") and os.path.getsize("cm.png") > 0
+
+# The lattice bed's file: one slice of columns (sqrt(3) d / 2 each), heights in layers (d / 2), frames in
+# ejections per grain. The same train, its x and heights in those units, moving 0.05 d per ejection.
+COLUMN = math.sqrt(3) / 2
+with h5py.File("cm-lattice.h5", "w") as f:
+    times = np.arange(0, 10.5, 1.0)
+    x_lattice = np.arange(int(LENGTH / COLUMN)) * COLUMN
+    f.create_dataset("h", data=[2 * np.interp((x_lattice - 0.05 * t) % (STOSS + LEE), [0, STOSS, STOSS + LEE],
+                                                [0, HEIGHT, 0]) for t in times])
+    f.create_dataset("history", data=np.c_[times, np.zeros(len(times))]).attrs["columns"] = \
+        "ejections_per_grain,roughness"
+lattice = json.loads(run("cm-lattice.h5", "--json", "--at", "4").stdout)
+assert lattice["change_per"] == "ejection per grain" and lattice["after"] == 6, lattice
+assert abs(lattice["stoss_length"] - STOSS) <= 2.5 * COLUMN and abs(lattice["lee_length"] - LEE) <= 2.5 * COLUMN, lattice
+phase, change = np.array(lattice["phase"]), np.array(lattice["change"])
+assert np.all(np.abs(change[(phase > 0.1) & (phase < 0.4)] + 0.05 * HEIGHT / STOSS) < 0.002), lattice
 
 # Bad input: a missing file, a checkpoint, a flat bed, an odd number of bins.
 assert "cannot be read" in run("cm-none.h5", expect=2).stderr
