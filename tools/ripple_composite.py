@@ -14,8 +14,8 @@ of every slice:
 
 - the mean ripple's height above the mean of its two troughs (d), phase by phase;
 - the bed's change from that frame to the frame --span later (d), per 1,000 t* (per ejection per grain on
-  the lattice bed): negative where the bed erodes, positive where it grows. A ripple moving downwind unchanged erodes its stoss at c tan(stoss)
-  and builds its lee at c tan(lee), c its speed;
+  the lattice bed): negative where the bed erodes, positive where it grows. A ripple moving downwind
+  unchanged erodes its stoss at c tan(stoss) and builds its lee at c tan(lee), c its speed;
 - the mean stoss and lee lengths (d) and the mean height; the flanks' mean angles from them, and the mean
   over the ripples of each flank's steepest slope between neighbouring key points (of the running mean).
 
@@ -77,7 +77,10 @@ def ripples_of(profile, dx, prominence, smooth):
     its running mean over `smooth` key points."""
     n = len(profile)
     s = hybrid_wavelengths.periodic_running_mean(profile, smooth)
-    crests = sorted({int(round(x / dx)) % n for x, _ in find_crests(profile, dx, prominence, smooth)})
+    # find_crests places each crest between key points; its key point is the higher of the two around it,
+    # so two crests are at least two key points apart and a trough lies between them
+    crests = sorted({max(math.floor(x / dx) % n, math.ceil(x / dx) % n, key=lambda i: s[i])
+                     for x, _ in find_crests(profile, dx, prominence, smooth)})
     if len(crests) < 2:
         return s, []
     troughs = []  # troughs[j]: the lowest point between crest j and crest j + 1
