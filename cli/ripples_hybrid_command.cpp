@@ -490,6 +490,9 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"wind_loosened", o.wind_loosened},
                            {"ejecta_launch", o.ejecta_vertical ? "vertical" : "normal"},
                            {"splash_frame", o.splash_level ? "level" : "facet"},
+                           {"cell", o.cell},
+                           {"repose_deg", o.repose_deg},
+                           {"key_point_repose_deg", key_point_repose_deg(o)},
                            {"swept", o.swept},
                            {"fast_substeps", o.fast_substeps},
                            {"fast_collisions", tr.fast_collisions},
@@ -521,6 +524,10 @@ int hybrid_ripples_command(const RipplesCommands& a) {
       "  growth rate of A {:.3g} per t* (first half), chi = {:.3g} (second half), migration {:.3g} d per "
       "t*\n",
       trend.growth_rate, trend.chi, trend.migration_speed);
+  fmt::print(
+      "  key points {} d apart: a settling grain rolls on past steps steeper than {:.1f} deg (repose {} deg "
+      "less its own rise over a cell)\n",
+      o.cell, key_point_repose_deg(o), o.repose_deg);
   if (!trend.response.empty()) {
     fmt::print(
         "  the bed's response by wavelength band (growth rate per t*, downwind phase speed d per t*):\n");

@@ -749,6 +749,37 @@ TEST(HybridBed, GrainsOfSeveralSizesMoveTheSurfaceByTheirVolume) {
   EXPECT_THROW(bed.set_mixture({1.5, 0}, {0.5, 0.5}, 0.05), std::invalid_argument);
 }
 
+// A pile built grain by grain on one key point of a flat bed sheds its first grain once the step to its
+// neighbours passes the key points' own repose angle, repose less one grain's rise over a cell, which
+// the run reports: on 1.5 d cells 17.7 deg, well below the 30 deg of repose itself; on 4 d cells 29.4.
+TEST(HybridBed, APileShedsAtTheKeyPointsOwnReposeAngle) {
+  for (const double cell : {1.5, 2.0, 4.0}) {
+    RippleOptions o;
+    o.cell = cell;
+    HeightFieldParams p;
+    const double d = 0.025;
+    p.length = p.width = 16 * cell * d, p.cell = cell * d, p.diameter = d;
+    p.packing = o.packing, p.repose_deg = o.repose_deg;
+    HeightField bed(p);
+    const std::size_t top = 8 * bed.nx() + 8;
+    double step = 0;  // the top's step to its (still flat) neighbours before the grain that rolled
+    for (int n = 0; n < 1000 && bed.rolled == 0; ++n) {
+      step = bed.heights()[top];
+      bed.deposit(8 * p.cell, 8 * p.cell);
+    }
+    ASSERT_EQ(bed.rolled, 1) << cell;
+    const double angle = std::atan(step / p.cell) / kDeg, expected = key_point_repose_deg(o);
+    EXPECT_GT(angle, expected) << cell;
+    EXPECT_LE(step, std::tan(expected * kDeg) * p.cell + bed.step() * (1 + 1e-12)) << cell;
+    if (cell == 1.5) {
+      EXPECT_NEAR(expected, 17.7, 0.05);
+    }
+    if (cell == 4.0) {
+      EXPECT_NEAR(expected, 29.4, 0.05);
+    }
+  }
+}
+
 // A bidisperse bed under wind (the paper's case 2 sizes, 1.5 d and 0.5 d): the fine grains, lighter and
 // needing a sixteenth of the coarse grains' E_d2 = m g d to leave, make up more of the airborne grains
 // than of the bed; the run is reproducible and a checkpoint continues it exactly.

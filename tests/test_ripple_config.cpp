@@ -207,6 +207,11 @@ TEST(HybridConfig, ReadsThePresetAndNamesMistakes) {
   EXPECT_NE(error_of(good + "sizes = [1.5, 0.5]\nfractions = [1.0]\n").find("h.toml:8"), std::string::npos);
   EXPECT_NE(error_of(good + "sizes = [1.5]\n").find("sizes"), std::string::npos);
   EXPECT_NE(error_of(good + "sizes = [1.0, 2.5]\n").find("cell"), std::string::npos);
+  // One size too: a grain raising its 1 d key point 0.87 d would always roll on (cell >= 1.16 d).
+  EXPECT_NE(error_of("[hybrid]\nlength = 300\nwidth = 12\ncell = 1\n").find("cell >= 1.16"),
+            std::string::npos);
+  EXPECT_EQ(parse_hybrid_config("[hybrid]\nlength = 300\nwidth = 12\ncell = 1.25\n", "h.toml").options.cell,
+            1.25);
   EXPECT_NE(error_of(good + "fractions = [0.5, 0.5]\n").find("needs sizes"), std::string::npos);
   EXPECT_NE(error_of(good + "sizes = [1.5, -0.5]\n").find("between"), std::string::npos);
   EXPECT_NE(error_of(good + "ejecta_size = \"big\"\n").find("ejecta_size"), std::string::npos);

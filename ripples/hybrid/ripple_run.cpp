@@ -21,12 +21,26 @@ RippleOptions::RippleOptions() {
   wind_follows_bed = true;
 }
 
+namespace {
+double largest_grain(const RippleOptions& o) {
+  return o.sizes.empty() ? 1.0 : *std::max_element(o.sizes.begin(), o.sizes.end());
+}
+// How far one grain of s diameters raises its key point, in diameters.
+double grain_rise(const RippleOptions& o, double s) {
+  return M_PI / 6 * s * s * s / (o.packing * o.cell * o.cell);
+}
+}  // namespace
+
+double key_point_repose_deg(const RippleOptions& o) {
+  const double allowed = std::tan(o.repose_deg * M_PI / 180) * o.cell;
+  return std::atan((allowed - grain_rise(o, largest_grain(o))) / o.cell) * 180 / M_PI;
+}
+
 std::string cell_too_small(const RippleOptions& o) {
-  if (o.sizes.empty()) return "";
   // One grain of the largest size must not raise its key point by more than repose allows over a cell:
-  // nothing would then smooth the spike it leaves.
-  const double s = *std::max_element(o.sizes.begin(), o.sizes.end());
-  const double rise = M_PI / 6 * s * s * s / (o.packing * o.cell * o.cell);
+  // nothing would then smooth the spike it leaves, and every grain that settles would roll on to the
+  // lowest point around it (on a bed of one size, cell < 1.16 d at repose 30 deg).
+  const double s = largest_grain(o), rise = grain_rise(o, s);
   const double allowed = std::tan(o.repose_deg * M_PI / 180) * o.cell;
   if (rise < allowed) return "";
   return fmt::format(

@@ -31,8 +31,14 @@ struct RippleOptions : TransportOptions {
   double sample_every = 10;       // t* between flux samples
 };
 void check_ripple_options(const RippleOptions& o);  // throws std::invalid_argument
-// Why the key-point spacing cannot carry the largest grain size (empty when it can, or for one size).
+// Why the key-point spacing cannot carry the largest grain size (empty when it can).
 std::string cell_too_small(const RippleOptions& o);
+// The steepest step between neighbouring key points, in degrees, on which a settling grain of the largest
+// size stays where it fell: repose less the grain's own rise over a cell. The repose rule keeps every step
+// within repose once the grain has settled, so on fine cells it holds the bed's grain-scale slopes well
+// below repose (17.7 deg at cell 1.5 d, 25.1 at 2 d, 29.4 at 4 d), and that sets the ripples' flanks
+// (docs/hybrid.md, "The key points' own repose angle").
+double key_point_repose_deg(const RippleOptions& o);
 // The frames' times in t*: 0, every, 2 every, ... up to the duration, and the duration itself when it is
 // not a whole number of intervals (the last one is then shorter), so that a run always reaches it.
 std::vector<double> frame_times(double duration, double every);
