@@ -29,19 +29,21 @@ double largest_grain(const RippleOptions& o) {
 double grain_rise(const RippleOptions& o, double s) {
   return M_PI / 6 * s * s * s / (o.packing * o.cell * o.cell);
 }
+// The steepest step repose allows between neighbouring key points, in diameters.
+double repose_step(const RippleOptions& o) {
+  return std::tan(o.repose_deg * M_PI / 180) * o.cell;
+}
 }  // namespace
 
 double key_point_repose_deg(const RippleOptions& o) {
-  const double allowed = std::tan(o.repose_deg * M_PI / 180) * o.cell;
-  return std::atan((allowed - grain_rise(o, largest_grain(o))) / o.cell) * 180 / M_PI;
+  return std::atan((repose_step(o) - grain_rise(o, largest_grain(o))) / o.cell) * 180 / M_PI;
 }
 
 std::string cell_too_small(const RippleOptions& o) {
   // One grain of the largest size must not raise its key point by more than repose allows over a cell:
   // nothing would then smooth the spike it leaves, and every grain that settles would roll on to the
   // lowest point around it (on a bed of one size, cell < 1.16 d at repose 30 deg).
-  const double s = largest_grain(o), rise = grain_rise(o, s);
-  const double allowed = std::tan(o.repose_deg * M_PI / 180) * o.cell;
+  const double s = largest_grain(o), rise = grain_rise(o, s), allowed = repose_step(o);
   if (rise < allowed) return "";
   return fmt::format(
       "cell {} d is too small for grains of {} d: one raises its key point {:.2f} d, more than repose allows "
