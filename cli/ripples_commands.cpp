@@ -471,6 +471,11 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_ripples->add_option(
       "--restart", hybrid_restart,
       "continue a run from its checkpoint (same config; --duration may differ, to go on past the end)");
+  hybrid_ripples
+      ->add_option("--impacts-from", impacts_from,
+                   "log every impact from this t* on into --out's table /impacts (tools/impact_slopes.py "
+                   "reads it with the frames; about 100 bytes per impact)")
+      ->check(CLI::NonNegativeNumber);
   hybrid_ripples->add_flag("--force", force, "overwrite --out");
   hybrid_ripples->add_flag("--json", json, "print the result as JSON");
   hybrid_ripples->add_flag("--quiet", quiet, "no progress bar");

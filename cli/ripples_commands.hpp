@@ -39,6 +39,7 @@ struct RipplesCommands {
   std::vector<std::string> overrides;                    // ripples hybrid --set KEY=VALUE
   std::string hybrid_checkpoint, hybrid_restart;
   double checkpoint_every = 10000, stop_at = 0;  // t*
+  double impacts_from = -1;                      // ripples hybrid --impacts-from: t*; < 0 logs none
   ripples::hybrid::FluxOptions flux;
   bool quiet = false;
   void add(CLI::App& app);

@@ -334,6 +334,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   refuse_existing_out(a.out, a.force);
   if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
     throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
+  if (a.impacts_from >= 0 && a.out.empty())
+    throw InputError({"--impacts-from", 0}, fmt::format("{}", a.impacts_from), "needs --out to log into");
   const std::string text = ripples::read_config_text(a.config);
   ripples::hybrid::HybridConfig config = ripples::hybrid::parse_hybrid_config(text, a.config, a.overrides);
   ripples::hybrid::RippleOptions& o = config.options;
@@ -382,8 +384,12 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   const std::vector<double> times = ripples::hybrid::frame_times(o.duration, o.frame_every);
   double next_checkpoint =
       (std::floor(frames.back().t_star / a.checkpoint_every + 1e-9) + 1) * a.checkpoint_every;
+  // The impact log (the first rank's: every rank does every splash), from the frame interval that reaches
+  // --impacts-from; a continued run logs only what it runs itself.
+  std::vector<ripples::hybrid::ImpactRecord> impact_log;
   for (std::size_t k = frames.size(); k < times.size(); ++k) {
     const double t = times[k];
+    if (out && a.impacts_from >= 0 && t > a.impacts_from) run.log_impacts(&impact_log);
     run.advance_to(t, [&](double now) {
       bar.update(now, o.duration, fmt::format("{} grains airborne", run.transport().airborne()));
     });
@@ -428,6 +434,9 @@ int hybrid_ripples_command(const RipplesCommands& a) {
       response.rows.push_back({b.lambda_min, b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed});
     std::vector<SampleTable> tables{history, flux, response};
     if (!o.sizes.empty()) tables.push_back(size_profiles(frames, bed.nx()));
+    if (a.impacts_from >= 0)
+      tables.push_back(
+          ripples::hybrid::impact_table(impact_log, a.impacts_from, run.transport().time_unit(), o.diameter));
     const std::string xmf = out->commit(
         tables, {{"grainlab_version", GRAINLAB_VERSION},
                  {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},

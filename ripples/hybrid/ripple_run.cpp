@@ -127,6 +127,27 @@ void RippleRun::advance_to(double t_star, const std::function<void(double)>& pro
   }
 }
 
+SampleTable impact_table(const std::vector<ImpactRecord>& log, double from, double time_unit,
+                         double diameter) {
+  SampleTable t{
+      "impacts",
+      fmt::format("every impact on the bed from t* = {:g}: t*,", from) +
+          " x and y (d, x downwind) where it met the bed, its velocity (cm/s), the normal of the "
+          "bed triangle it met, its size class, its speed (cm/s) and its descent below the "
+          "horizontal (deg)",
+      {"t_star", "x", "y", "vx", "vy", "vz", "nx", "ny", "nz", "size_class", "speed", "descent_deg"},
+      {}};
+  for (const ImpactRecord& r : log) {
+    const double t_star = r.t / time_unit;
+    if (t_star < from) continue;
+    const double speed = std::sqrt(r.vx * r.vx + r.vy * r.vy + r.vz * r.vz);
+    const double descent = std::atan2(-r.vz, std::hypot(r.vx, r.vy)) * 180 / M_PI;
+    t.rows.push_back({t_star, r.x / diameter, r.y / diameter, r.vx, r.vy, r.vz, r.nx, r.ny, r.nz,
+                      static_cast<double>(r.kind), speed, descent});
+  }
+  return t;
+}
+
 namespace {
 // A periodic running mean over 2 m + 1 values.
 std::vector<double> running_mean(const std::vector<double>& v, std::size_t m) {

@@ -77,6 +77,8 @@ class RippleRun {
   BedFrame frame();
   const HeightField& bed() const { return bed_; }
   const Transport& transport() const { return *transport_; }
+  // Every impact from now on is appended to `log` (null: none are).
+  void log_impacts(std::vector<ImpactRecord>* log) { transport_->impact_log = log; }
   // Flux samples since the start: t*, Q*, grains airborne.
   const std::vector<std::array<double, 3>>& series() const { return series_; }
   const RippleOptions& options() const { return o_; }
@@ -96,6 +98,12 @@ class RippleRun {
   // checkpoints are taken at frames, where it is zero.
   std::vector<double> wind_sum_;
 };
+
+// The impacts of `log` from t* = `from` on as a table "impacts": t*, where (d, x downwind), the velocity
+// (cm/s), the bed triangle's normal, the size class, and the speed (cm/s) and descent angle below the
+// horizontal (deg) that the analysis reads (tools/impact_slopes.py).
+SampleTable impact_table(const std::vector<ImpactRecord>& log, double from, double time_unit,
+                         double diameter);
 
 // The heights (d) at which a ripple run fits its frames' log layer: 300-1000 d, or within a shorter
 // column, its upper part (a quarter to 0.85 of its height).

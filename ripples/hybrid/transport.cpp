@@ -822,6 +822,7 @@ void Transport::splash(Hit& h) {
   }
   const double theta = std::atan2(-vn, vt);
   tally.impacts += 1, tally.speed_sum += speed, tally.angle_sum += theta;
+  if (impact_log) impact_log->push_back({t_, px, py, h.vx, h.vy, h.vz, facet.nx, facet.ny, facet.nz, k1});
   // The splash's number: one of the grains' numbers, unused by any grain (ids only need to ascend).
   splash_now_ = next_id_++;
   tally.bed_px += h.vx, tally.bed_pz -= h.vz;

@@ -132,6 +132,17 @@ struct ImpactTally {
   double bed_px = 0, bed_pz = 0;
 };
 
+// One impact as the splash met it, for a log (nothing in the model reads it back): where the grain met the
+// bed, its velocity, and the normal of the bed triangle there (the grain-scale facet, whichever frame the
+// splash is taken in).
+struct ImpactRecord {
+  double t;           // s
+  double x, y;        // cm
+  double vx, vy, vz;  // cm/s
+  double nx, ny, nz;
+  int kind;  // size class
+};
+
 // The x columns of the collision grid are grouped into this many blocks (fewer on short domains: a block
 // is at least two columns wide); a distributed run gives each rank whole blocks, so it can use at most
 // this many ranks. A constant, not the rank count: it fixes the order of mid-air collisions.
@@ -160,6 +171,8 @@ class Transport {
   double galileo() const;
   double density_ratio() const { return s_; }
   ImpactTally tally;  // every impact's, on every rank
+  // When set, every impact is appended here, on every rank alike (every rank does every splash).
+  std::vector<ImpactRecord>* impact_log = nullptr;
   std::uint64_t grain_steps = 0, steps = 0;
   std::uint64_t collisions = 0;  // this rank's: total_collisions() sums them
   // fast_substeps: the pairs the fast pass collided (every rank does it whole: the same on each); also
