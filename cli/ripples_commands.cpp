@@ -474,7 +474,7 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_ripples
       ->add_option("--impacts-from", impacts_from,
                    "log every impact from this t* on into --out's table /impacts (tools/impact_slopes.py "
-                   "reads it with the frames; about 100 bytes per impact)")
+                   "reads it with the frames; 96 bytes per impact in the file)")
       ->check(CLI::NonNegativeNumber);
   hybrid_ripples->add_flag("--force", force, "overwrite --out");
   hybrid_ripples->add_flag("--json", json, "print the result as JSON");

@@ -64,12 +64,20 @@ def slopes_of(bed, dx, smooth_d):
     return (np.roll(s, -1, axis=1) - np.roll(s, 1, axis=1)) / (2 * dx)
 
 
+def nearest(times, t):
+    """The index of the time in `times` (ascending) nearest each of `t`, without a len(t) x len(times)
+    table (a long log on the paper's domain has millions of impacts and a hundred frames)."""
+    hi = np.clip(np.searchsorted(times, t), 1, len(times) - 1)
+    lo = hi - 1
+    return np.where(t - times[lo] <= times[hi] - t, lo, hi) if len(times) > 1 else np.zeros(len(t), int)
+
+
 def analyse(path, smooth_d, fast, slow):
     times, beds, dx, unit, _ = read_frames(path)
     if unit != "t*":
         fail(f"{path}: not a hybrid ripple run")
     imp = read_impacts(path)
-    frame_of = np.abs(imp["t_star"][:, None] - times[None, :]).argmin(axis=1)
+    frame_of = nearest(times, imp["t_star"])
     used = np.unique(frame_of)
     slope_at = np.empty(len(frame_of))
     bed_slopes, weights = [], []
@@ -89,9 +97,9 @@ def analyse(path, smooth_d, fast, slow):
     descent = imp["descent_deg"]
     is_fast, is_slow = imp["speed"] > fast, imp["speed"] < slow
     alpha = float(descent[is_fast].mean()) if is_fast.any() else float("nan")
-    shadow = np.maximum(0.0, 1 + bed_slopes / math.tan(math.radians(alpha))) if is_fast.any() else None
     edges = np.tan(np.radians(EDGES_DEG))
-    bed_share = np.histogram(bed_slopes, edges, weights=weights)[0] / weights.sum()
+    bed_weight = np.histogram(bed_slopes, edges, weights=weights)[0]
+    bed_share = bed_weight / weights.sum()
 
     def rate(mask):  # impacts per key point in each bin, over the mean
         if not mask.any():
@@ -101,12 +109,11 @@ def analyse(path, smooth_d, fast, slow):
             return share / bed_share
 
     theory = np.full(len(edges) - 1, np.nan)
-    if shadow is not None:
+    if is_fast.any():  # the shadow rule's rate on each key point, binned and over its bed mean
+        shadow = np.maximum(0.0, 1 + bed_slopes / math.tan(math.radians(alpha)))
         mean = np.sum(shadow * weights) / weights.sum()
-        sums = np.histogram(bed_slopes, edges, weights=shadow * weights)[0]
-        counts = np.histogram(bed_slopes, edges, weights=weights)[0]
         with np.errstate(invalid="ignore", divide="ignore"):
-            theory = sums / counts / mean
+            theory = np.histogram(bed_slopes, edges, weights=shadow * weights)[0] / bed_weight / mean
     all_rate, fast_rate, slow_rate = rate(np.ones(len(slope_at), bool)), rate(is_fast), rate(is_slow)
     rows = []
     for q in range(len(edges) - 1):
