@@ -483,6 +483,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"amplitude", last.stats.amplitude},
                            {"wavelength", last.stats.wavelength},
                            {"ripple_index", last.stats.ripple_index},
+                           {"ripple_index_5e4_3e5", number_or_null(trend.window_ripple_index)},
+                           {"ripple_index_5e4_3e5_frames", trend.window_frames},
                            {"stoss_deg", number_or_null(last.stats.stoss_deg)},
                            {"lee_deg", number_or_null(last.stats.lee_deg)},
                            {"mass_flux_star", last.mass_flux_star},
@@ -533,6 +535,9 @@ int hybrid_ripples_command(const RipplesCommands& a) {
       "  growth rate of A {:.3g} per t* (first half), chi = {:.3g} (second half), migration {:.3g} d per "
       "t*\n",
       trend.growth_rate, trend.chi, trend.migration_speed);
+  if (trend.window_frames > 0)
+    fmt::print("  mean RI over t* = 5e4-3e5 (the paper's Fig. 9 inset): {:.3g} ({} frames)\n",
+               trend.window_ripple_index, trend.window_frames);
   fmt::print(
       "  key points {} d apart: a settling grain rolls on past steps steeper than {:.1f} deg (repose {} deg "
       "less its own rise over a cell)\n",

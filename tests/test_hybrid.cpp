@@ -537,6 +537,25 @@ TEST(HybridBedStatistics, FlanksOfAnAsymmetricRippleHaveTheirAngles) {
   EXPECT_NEAR(r.lee_deg, s.stoss_deg, 0.01);
 }
 
+TEST(HybridRipples, TrendsAverageTheRippleIndexOverThePapersWindow) {
+  // Frames every 25,000 t* to 400,000 with RI = t* / 10,000: the frames at 50,000-300,000 (11 of them)
+  // average to 17.5; before and after the window they do not count.
+  std::vector<BedFrame> frames;
+  for (int k = 0; k <= 16; ++k) {
+    BedFrame f;
+    f.t_star = 25000.0 * k;
+    f.stats.ripple_index = f.t_star / 10000;
+    frames.push_back(f);
+  }
+  const RippleTrends t = ripple_trends(frames);
+  EXPECT_EQ(t.window_frames, 11u);
+  EXPECT_NEAR(t.window_ripple_index, 17.5, 1e-12);
+  frames.resize(2);  // none in the window
+  const RippleTrends none = ripple_trends(frames);
+  EXPECT_EQ(none.window_frames, 0u);
+  EXPECT_TRUE(std::isnan(none.window_ripple_index));
+}
+
 TEST(HybridRipples, RunsAreReproducibleAndKeepTheBedsVolume) {
   RippleOptions o;
   o.u_star = 40, o.length = 120, o.width = 8, o.triggers = 10, o.duration = 200, o.frame_every = 100;

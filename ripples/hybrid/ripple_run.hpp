@@ -122,6 +122,10 @@ struct RippleTrends {
   // The linear response by wavelength band (d, per t*, d per t*) over the frames after the flat start
   // that are equally spaced: a positive growth rate marks the band in which ripples emerge.
   std::vector<BandResponse> response;
+  // The mean RI over the frames in the paper's window, t* = 5e4-3e5 (its Fig. 9 inset averages RI over
+  // that window, one value per wind speed), and how many frames it averages; NaN and 0 without any.
+  double window_ripple_index = 0;
+  std::size_t window_frames = 0;
 };
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames);
 
