@@ -88,6 +88,10 @@ def main():
         ax.plot(t[keep], col[key][keep], "o-", ms=3)
         if log:
             ax.set_xscale("log"), ax.set_yscale("log")
+        if key == "ripple_index":  # the paper's band over its window (Fig. 9 inset), beside the run
+            ax.fill_between([5e4, 3e5], 12, 25, color="tab:orange", alpha=0.2, lw=0,
+                            label="paper")
+            ax.legend(fontsize="x-small", loc="lower left")
         ax.set(xlabel="t*", ylabel=label)
     if "bed_response" in f and len(f["bed_response"]) > 0:
         rcols = text(f["bed_response"].attrs["columns"]).split(",")
