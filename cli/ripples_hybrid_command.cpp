@@ -164,18 +164,20 @@ namespace {
 using ripples::hybrid::BedFrame;
 
 const std::vector<std::string> kHistoryColumns = {
-    "t_star",     "amplitude",      "wavelength", "ripple_index", "mean_height",
-    "shift",      "mass_flux_star", "airborne",   "u_star_bed",   "loosening",
-    "size_crest", "size_trough",    "z0",         "stoss_deg",    "lee_deg"};
-// Checkpoints written before frames carried the log layer's roughness (2026-11-28) lack its column and the
-// flank slopes' (2026-12-03); those written between, the flank slopes'. Their frames read NaN there.
-constexpr std::size_t kHistoryColumnsBeforeZ0 = 12, kHistoryColumnsBeforeSlopes = 13;
+    "t_star",   "amplitude",     "wavelength", "ripple_index", "mean_height", "shift", "mass_flux_star",
+    "airborne", "u_star_bed",    "loosening",  "size_crest",   "size_trough", "z0",    "stoss_deg",
+    "lee_deg",  "collision_rate"};
+// Checkpoints written before frames carried the log layer's roughness (2026-11-28) lack its column, the
+// flank slopes' (2026-12-03) and the collision rate's (2026-12-04); those written between, the later ones.
+// Their frames read NaN there.
+constexpr std::size_t kHistoryColumnsBeforeZ0 = 12, kHistoryColumnsBeforeSlopes = 13,
+                      kHistoryColumnsBeforeCollisions = 15;
 
 std::vector<double> history_row(const BedFrame& f) {
   return {f.t_star,     f.stats.amplitude, f.stats.wavelength, f.stats.ripple_index,
           f.stats.mean, f.shift,           f.mass_flux_star,   f.airborne,
           f.u_star_bed, f.loosening,       f.size_crest,       f.size_trough,
-          f.z0,         f.stats.stoss_deg, f.stats.lee_deg};
+          f.z0,         f.stats.stoss_deg, f.stats.lee_deg,    f.collision_rate};
 }
 
 nlohmann::json number_or_null(double v) {
@@ -189,6 +191,7 @@ BedFrame frame_of_row(const std::vector<double>& r) {
   if (r.size() > kHistoryColumnsBeforeZ0) f.z0 = r[12];
   f.stats.stoss_deg = f.stats.lee_deg = std::nan("");
   if (r.size() > kHistoryColumnsBeforeSlopes) f.stats.stoss_deg = r[13], f.stats.lee_deg = r[14];
+  if (r.size() > kHistoryColumnsBeforeCollisions) f.collision_rate = r[15];
   return f;
 }
 
@@ -279,7 +282,7 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
     return std::vector<std::string>(kHistoryColumns.begin(), kHistoryColumns.begin() + static_cast<long>(n));
   };
   if (columns != kHistoryColumns && columns != first(kHistoryColumnsBeforeZ0) &&
-      columns != first(kHistoryColumnsBeforeSlopes))
+      columns != first(kHistoryColumnsBeforeSlopes) && columns != first(kHistoryColumnsBeforeCollisions))
     refuse("has a frame history with other columns than a hybrid ripple run writes");
   try {
     run.restore(file.tables, "run/");
@@ -418,7 +421,9 @@ int hybrid_ripples_command(const RipplesCommands& a) {
         "per frame: t* = t / sqrt(d / g^); amplitude 2 sqrt(2 C(0)), wavelength (first peak of the "
         "slice-averaged autocorrelation), ripple index, mean height, downwind shift since the "
         "previous frame (grain diameters); Q* and grains airborne averaged since the previous "
-        "frame; u* at the bed (cm/s); E_eff / E_d2",
+        "frame; u* at the bed (cm/s); E_eff / E_d2; the surface grain size at crests and troughs (d); z0 "
+        "of the log layer (d); the stoss and lee angles (deg); mid-air collisions per t* per 1,000 d^2 "
+        "of bed since the previous frame",
         kHistoryColumns,
         {}};
     for (const BedFrame& f : frames) history.rows.push_back(history_row(f));

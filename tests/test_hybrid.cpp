@@ -575,6 +575,39 @@ TEST(HybridRipples, RunsAreReproducibleAndKeepTheBedsVolume) {
   EXPECT_GT(f.stats.amplitude, 0);
 }
 
+// Each frame's collision rate counts the mid-air collisions since the previous frame, per t* per 1,000 d^2:
+// over the frames they add up to the run's count, a run continued from a frame (as checkpoints are) counts
+// from there, and a run without collisions has none.
+TEST(HybridRipples, FramesCountTheCollisionsSinceThePreviousFrame) {
+  RippleOptions o;
+  o.u_star = 70, o.length = 120, o.width = 8, o.triggers = 40, o.duration = 300, o.frame_every = 100;
+  const double area = o.length * o.width / 1000;
+  RippleRun a(o), b(o);
+  EXPECT_TRUE(std::isnan(a.frame().collision_rate));  // no interval yet
+  double counted = 0, previous = a.t_star();
+  std::vector<double> rates;
+  for (double t : {100.0, 200.0, 300.0}) {
+    a.advance_to(t);
+    const BedFrame f = a.frame();
+    counted += f.collision_rate * (f.t_star - previous) * area, previous = f.t_star;
+    rates.push_back(f.collision_rate);
+    if (t == 100) {
+      std::map<std::string, SampleTable> m;
+      for (auto& table : a.save("r/")) m[table.name] = table;
+      b.restore(m, "r/");
+    }
+  }
+  ASSERT_GT(a.transport().total_collisions(), 0u);
+  EXPECT_NEAR(counted, static_cast<double>(a.transport().total_collisions()), 1e-6);
+  b.advance_to(200);
+  EXPECT_EQ(b.frame().collision_rate, rates[1]);
+  o.collisions = false;
+  RippleRun none(o);
+  none.frame();
+  none.advance_to(100);
+  EXPECT_EQ(none.frame().collision_rate, 0);
+}
+
 // A seeded sine: the bed starts as it, with the wavelength rounded to fit the length, zero mean volume,
 // and the diagnostics read it back (A = 2 sqrt(2 C(0)) is twice a sine's amplitude).
 TEST(HybridRipples, StartsFromASeededSine) {

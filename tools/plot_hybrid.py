@@ -2,9 +2,9 @@
 """Plots of a hybrid ripple run (`grainlab ripples hybrid --config F --out RUN.h5`): the bed at the last
 frame (plan view), the slice-averaged profile h(x, t) as a space-time image, A(t), lambda(t), RI(t),
 Q*(t) against t*, the bed's growth rate by wavelength band (positive: ripples grow there), and the mean
-stoss and lee angles of the ripples' flanks against t* (runs since 2026-12-03). A bed of
-several sizes adds the surface layer's mean grain size along the bed beside its height at the last frame,
-and the mean size at crests and troughs against t*.
+stoss and lee angles of the ripples' flanks against t* (runs since 2026-12-03) and the mid-air collision
+rate (runs since 2026-12-04). A bed of several sizes adds the surface layer's mean grain size along the
+bed beside its height at the last frame, and the mean size at crests and troughs against t*.
 
     /usr/bin/python3 tools/plot_hybrid.py RUN.h5 [out.png]
 
@@ -110,6 +110,12 @@ def main():
         ax.set(xlabel="t*", ylabel="mean flank angle (deg)",
                title="ripple flanks, slice by slice (early on: the grain-scale roughness)")
         ax.legend()
+        if "collision_rate" in col and np.isfinite(col["collision_rate"]).any():  # runs since 2026-12-04
+            ax = fig.add_subplot(grid[3, 3:])
+            keep = np.isfinite(col["collision_rate"])
+            ax.plot(t[keep], col["collision_rate"][keep], "o-", ms=3, color="tab:purple")
+            ax.set(xlabel="t*", ylabel="per t* per 1,000 d^2",
+                   title="mid-air collisions (they lower the ripples)")
     if sizes:
         size_rows = f["surface_size"][:]
         ax = fig.add_subplot(grid[3 + slopes, :3])

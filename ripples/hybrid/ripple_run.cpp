@@ -211,6 +211,11 @@ BedFrame RippleRun::frame() {
   f.u_star_bed = std::sqrt(transport_->wind().bed_stress());
   f.loosening = transport_->loosening();
   if (const SurfaceLayer* layer = bed_.layer()) surface_sizes(*layer, f);
+  const std::uint64_t collisions = transport_->total_collisions();  // (collective: every rank takes frames)
+  if (f.t_star > frame_t_star_)
+    f.collision_rate = static_cast<double>(collisions - frame_collisions_) / (f.t_star - frame_t_star_) /
+                       (o_.length * o_.width / 1000);
+  frame_collisions_ = collisions, frame_t_star_ = f.t_star;
   q_sum_ = air_sum_ = samples_ = 0;
   last_h_ = f.h;
   return f;
@@ -264,6 +269,7 @@ void RippleRun::restore(const std::map<std::string, SampleTable>& tables, const 
   transport_->restore(tables, prefix + "transport/");
   if (SurfaceLayer* layer = bed_.layer())
     layer->restore(grid_values(checkpoint_table(tables, prefix + "layer", layer->kinds())));
+  frame_collisions_ = transport_->total_collisions(), frame_t_star_ = t_star();  // checkpoints are at frames
 }
 
 std::array<double, 2> frame_log_band(double column_height) {

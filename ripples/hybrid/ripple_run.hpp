@@ -64,6 +64,10 @@ struct BedFrame {
   // smoothed over a quarter wavelength (coarse crests: crest > trough). Empty / NaN on a bed of one size.
   std::vector<double> size_profile;
   double size_crest = std::nan(""), size_trough = std::nan("");
+  // Mid-air collisions per t* per 1,000 d^2 of bed since the previous frame (NaN at the first): they set
+  // how high the ripples grow for their length (docs/hybrid.md, "Mid-air collisions set the ripples'
+  // aspect").
+  double collision_rate = std::nan("");
 };
 
 class RippleRun {
@@ -97,6 +101,9 @@ class RippleRun {
   // The wind at the column's nodes summed over the samples since the previous frame. Not in save():
   // checkpoints are taken at frames, where it is zero.
   std::vector<double> wind_sum_;
+  // The collisions counted and t* at the previous frame (a restored run: at its checkpoint, a frame).
+  std::uint64_t frame_collisions_ = 0;
+  double frame_t_star_ = 0;
 };
 
 // The impacts of `log` from t* = `from` on as a table "impacts": t*, where (d, x downwind), the velocity
