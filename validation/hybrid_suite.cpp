@@ -381,9 +381,8 @@ void ripple_checks(Report& rep, bool quick, const SuiteOptions& so, std::string&
       "## Ripple run ({} d x {} d, u* = {} cm/s, S = {:.4f}, {} t*)\n\n"
       "At the end: A = {:.3g} d, lambda = {:.3g} d, RI = {:.3g}, flanks {:.3g} deg stoss and {:.3g} deg lee, "
       "Q* = {:.4g} (fixed flat bed {:.4g}); growth rate of A {:.3g} per t*, chi = {:.3g}, migration {:.3g} d "
-      "per t*. Grains settled {}, taken {}, rolled by the repose rule {}. Mean RI over t* = 5e4-3e5: {:.3g} "
-      "({} "
-      "frames).\n\n",
+      "per t*. Grains settled {}, taken {}, rolled by the repose rule {}. Mean RI over t* = 5e4-3e5: "
+      "{:.3g} ({} frames).\n\n",
       o.length, o.width, o.u_star, run.transport().shields(), o.duration, last.stats.amplitude,
       last.stats.wavelength, last.stats.ripple_index, last.stats.stoss_deg, last.stats.lee_deg,
       last.mass_flux_star, flat.mass_flux_star, trend.growth_rate, trend.chi, trend.migration_speed,

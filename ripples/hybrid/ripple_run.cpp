@@ -304,9 +304,10 @@ RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {
   }
   double index_sum = 0;
   for (const BedFrame& f : frames)
-    if (f.t_star >= 5e4 - 1e-6 && f.t_star <= 3e5 + 1e-6 && std::isfinite(f.stats.ripple_index))
+    if (f.t_star >= RippleTrends::kWindowStart - 1e-6 && f.t_star <= RippleTrends::kWindowEnd + 1e-6 &&
+        std::isfinite(f.stats.ripple_index))
       index_sum += f.stats.ripple_index, ++r.window_frames;
-  r.window_ripple_index = r.window_frames > 0 ? index_sum / static_cast<double>(r.window_frames) : NAN;
+  if (r.window_frames > 0) r.window_ripple_index = index_sum / static_cast<double>(r.window_frames);
   r.growth_rate = least_squares_slope(t, ln_a);
   r.chi = least_squares_slope(ln_t, ln_l);
   r.migration_speed = std::nan("");

@@ -131,7 +131,8 @@ struct RippleTrends {
   std::vector<BandResponse> response;
   // The mean RI over the frames in the paper's window, t* = 5e4-3e5 (its Fig. 9 inset averages RI over
   // that window, one value per wind speed), and how many frames it averages; NaN and 0 without any.
-  double window_ripple_index = 0;
+  static constexpr double kWindowStart = 5e4, kWindowEnd = 3e5;
+  double window_ripple_index = std::nan("");
   std::size_t window_frames = 0;
 };
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames);
