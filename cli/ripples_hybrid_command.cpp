@@ -164,20 +164,36 @@ namespace {
 using ripples::hybrid::BedFrame;
 
 const std::vector<std::string> kHistoryColumns = {
-    "t_star",   "amplitude",     "wavelength", "ripple_index", "mean_height", "shift", "mass_flux_star",
-    "airborne", "u_star_bed",    "loosening",  "size_crest",   "size_trough", "z0",    "stoss_deg",
-    "lee_deg",  "collision_rate"};
+    "t_star",         "amplitude",      "wavelength",   "ripple_index",      "mean_height",
+    "shift",          "mass_flux_star", "airborne",     "u_star_bed",        "loosening",
+    "size_crest",     "size_trough",    "z0",           "stoss_deg",         "lee_deg",
+    "collision_rate", "crest_spacing",  "crest_height", "crest_ripple_index"};
 // Checkpoints written before frames carried the log layer's roughness (2026-11-28) lack its column, the
-// flank slopes' (2026-12-03) and the collision rate's (2026-12-04); those written between, the later ones.
-// Their frames read NaN there.
+// flank slopes' (2026-12-03), the collision rate's and the crest measures' (2026-12-04); those written
+// between, the later ones. Their frames read NaN there.
 constexpr std::size_t kHistoryColumnsBeforeZ0 = 12, kHistoryColumnsBeforeSlopes = 13,
-                      kHistoryColumnsBeforeCollisions = 15;
+                      kHistoryColumnsBeforeCollisions = 15, kHistoryColumnsBeforeCrests = 16;
 
 std::vector<double> history_row(const BedFrame& f) {
-  return {f.t_star,     f.stats.amplitude, f.stats.wavelength, f.stats.ripple_index,
-          f.stats.mean, f.shift,           f.mass_flux_star,   f.airborne,
-          f.u_star_bed, f.loosening,       f.size_crest,       f.size_trough,
-          f.z0,         f.stats.stoss_deg, f.stats.lee_deg,    f.collision_rate};
+  return {f.t_star,
+          f.stats.amplitude,
+          f.stats.wavelength,
+          f.stats.ripple_index,
+          f.stats.mean,
+          f.shift,
+          f.mass_flux_star,
+          f.airborne,
+          f.u_star_bed,
+          f.loosening,
+          f.size_crest,
+          f.size_trough,
+          f.z0,
+          f.stats.stoss_deg,
+          f.stats.lee_deg,
+          f.collision_rate,
+          f.stats.crest_spacing,
+          f.stats.crest_height,
+          f.stats.crest_ripple_index};
 }
 
 nlohmann::json number_or_null(double v) {
@@ -192,6 +208,9 @@ BedFrame frame_of_row(const std::vector<double>& r) {
   f.stats.stoss_deg = f.stats.lee_deg = std::nan("");
   if (r.size() > kHistoryColumnsBeforeSlopes) f.stats.stoss_deg = r[13], f.stats.lee_deg = r[14];
   if (r.size() > kHistoryColumnsBeforeCollisions) f.collision_rate = r[15];
+  f.stats.crest_spacing = f.stats.crest_height = f.stats.crest_ripple_index = std::nan("");
+  if (r.size() > kHistoryColumnsBeforeCrests)
+    f.stats.crest_spacing = r[16], f.stats.crest_height = r[17], f.stats.crest_ripple_index = r[18];
   return f;
 }
 
@@ -423,7 +442,8 @@ int hybrid_ripples_command(const RipplesCommands& a) {
         "previous frame (grain diameters); Q* and grains airborne averaged since the previous "
         "frame; u* at the bed (cm/s); E_eff / E_d2; the surface grain size at crests and troughs (d); z0 "
         "of the log layer (d); the stoss and lee angles (deg); mid-air collisions per t* per 1,000 d^2 "
-        "of bed since the previous frame",
+        "of bed since the previous frame; the crests' mean spacing and height (d) and their ratio, slice "
+        "by slice",
         kHistoryColumns,
         {}};
     for (const BedFrame& f : frames) history.rows.push_back(history_row(f));
@@ -490,6 +510,10 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"ripple_index", last.stats.ripple_index},
                            {"ripple_index_5e4_3e5", number_or_null(trend.window_ripple_index)},
                            {"ripple_index_5e4_3e5_frames", trend.window_frames},
+                           {"crest_spacing", number_or_null(last.stats.crest_spacing)},
+                           {"crest_height", number_or_null(last.stats.crest_height)},
+                           {"crest_ripple_index", number_or_null(last.stats.crest_ripple_index)},
+                           {"crest_ripple_index_5e4_3e5", number_or_null(trend.window_crest_ripple_index)},
                            {"stoss_deg", number_or_null(last.stats.stoss_deg)},
                            {"lee_deg", number_or_null(last.stats.lee_deg)},
                            {"mass_flux_star", last.mass_flux_star},
@@ -540,9 +564,13 @@ int hybrid_ripples_command(const RipplesCommands& a) {
       "  growth rate of A {:.3g} per t* (first half), chi = {:.3g} (second half), migration {:.3g} d per "
       "t*\n",
       trend.growth_rate, trend.chi, trend.migration_speed);
+  fmt::print("  crests: {:.3g} d apart, {:.3g} d high, RI {:.3g} (slice by slice)\n",
+             last.stats.crest_spacing, last.stats.crest_height, last.stats.crest_ripple_index);
   if (trend.window_frames > 0)
-    fmt::print("  mean RI over t* = 5e4-3e5 (the paper's Fig. 9 inset): {:.3g} ({} frames)\n",
-               trend.window_ripple_index, trend.window_frames);
+    fmt::print(
+        "  mean RI over t* = 5e4-3e5 (the paper's Fig. 9 inset): {:.3g} ({} frames); the crests' RI: "
+        "{:.3g}\n",
+        trend.window_ripple_index, trend.window_frames, trend.window_crest_ripple_index);
   fmt::print(
       "  key points {} d apart: a settling grain rolls on past steps steeper than {:.1f} deg (repose {} deg "
       "less its own rise over a cell)\n",

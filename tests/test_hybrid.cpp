@@ -537,6 +537,30 @@ TEST(HybridBedStatistics, FlanksOfAnAsymmetricRippleHaveTheirAngles) {
   EXPECT_NEAR(r.lee_deg, s.stoss_deg, 0.01);
 }
 
+TEST(HybridBedStatistics, CrestsGiveTheirMeanSpacingAndHeight) {
+  // Eight ripples 10 d high whose lengths alternate 100 and 140 d (960 d in all), each rising over 0.7 of
+  // its length; a different phase in each slice and grain-scale noise (0.1 d). Crest to crest they are 120 d
+  // apart on average, so the crests' ripple index is 120 / 10 = 12 whatever the spacings' spread.
+  const std::size_t nx = 480, ny = 4;
+  const double dx = 2, height = 10;
+  Rng rng(5);
+  std::vector<double> h(nx * ny);
+  for (std::size_t j = 0; j < ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      const double x = std::fmod(static_cast<double>(i) * dx + 50.0 * static_cast<double>(j), 240.0);
+      const double start = x < 100 ? 0 : 100, length = x < 100 ? 100 : 140, u = (x - start) / length;
+      h[j * nx + i] = height * (u < 0.7 ? u / 0.7 : (1 - u) / 0.3) + 0.1 * rng.uniform();
+    }
+  const BedStatistics s = bed_statistics(h, nx, ny, dx);
+  // A crest or trough moves by at most a key point (2 d) with the noise, on a 120 d mean: 1 d, 0.1 d.
+  EXPECT_NEAR(s.crest_spacing, 120, 1.0);
+  EXPECT_NEAR(s.crest_height, height, 0.1);
+  EXPECT_NEAR(s.crest_ripple_index, 12, 0.15);
+  const BedStatistics flat = bed_statistics(std::vector<double>(nx * ny, 1.0), nx, ny, dx);
+  EXPECT_EQ(flat.crest_spacing, 0);
+  EXPECT_EQ(flat.crest_ripple_index, 0);
+}
+
 TEST(HybridRipples, TrendsAverageTheRippleIndexOverThePapersWindow) {
   // Frames every 25,000 t* to 400,000 with RI = t* / 10,000: the frames at 50,000-300,000 (11 of them)
   // average to 17.5; before and after the window they do not count.
@@ -545,15 +569,19 @@ TEST(HybridRipples, TrendsAverageTheRippleIndexOverThePapersWindow) {
     BedFrame f;
     f.t_star = 25000.0 * k;
     f.stats.ripple_index = f.t_star / 10000;
+    // The crests' RI: half the autocorrelation's, and missing (an older checkpoint's frames) up to 100,000.
+    f.stats.crest_ripple_index = f.t_star <= 100000 ? std::nan("") : f.stats.ripple_index / 2;
     frames.push_back(f);
   }
   const RippleTrends t = ripple_trends(frames);
   EXPECT_EQ(t.window_frames, 11u);
   EXPECT_NEAR(t.window_ripple_index, 17.5, 1e-12);
-  frames.resize(2);  // none in the window
+  EXPECT_NEAR(t.window_crest_ripple_index, 10.625, 1e-12);  // 12.5-30 by 2.5 (8 frames), halved
+  frames.resize(2);                                     // none in the window
   const RippleTrends none = ripple_trends(frames);
   EXPECT_EQ(none.window_frames, 0u);
   EXPECT_TRUE(std::isnan(none.window_ripple_index));
+  EXPECT_TRUE(std::isnan(none.window_crest_ripple_index));
 }
 
 TEST(HybridRipples, RunsAreReproducibleAndKeepTheBedsVolume) {

@@ -80,12 +80,20 @@ def main():
     im = ax.imshow(dev, origin="lower", cmap="terrain", aspect="auto", extent=[0, nx * dx, t[0], t[-1]])
     fig.colorbar(im, ax=ax, label="slice-mean h - mean (d)")
     ax.set(xlabel="x (d)", ylabel="t*", title="h(x, t), averaged across the bed (streaks leaning right: bedforms moving downwind)")
+    # Beside each autocorrelation measure, the crests' own (runs since 2026-12-04): their mean spacing jumps
+    # less when the crests are unevenly spaced (docs/hybrid.md, "Two measures of the wavelength").
+    crest_of = {"amplitude": "crest_height", "wavelength": "crest_spacing", "ripple_index": "crest_ripple_index"}
     for k, (key, label, log) in enumerate([("amplitude", "A (d)", True), ("wavelength", "lambda (d)", True),
                                             ("ripple_index", "RI = lambda / A", True),
                                             ("mass_flux_star", "Q*", False)]):
         ax = fig.add_subplot(grid[2, k])
         keep = (col[key] > 0) & (t > 0)
-        ax.plot(t[keep], col[key][keep], "o-", ms=3)
+        ax.plot(t[keep], col[key][keep], "o-", ms=3, label="autocorrelation" if key in crest_of else None)
+        crest = col.get(crest_of.get(key, ""))
+        if crest is not None and (crest > 0).any():
+            keep = (crest > 0) & (t > 0)
+            ax.plot(t[keep], crest[keep], "--", color="tab:green", lw=1, label="crests")
+            ax.legend(fontsize="x-small", loc="upper left")
         if log:
             ax.set_xscale("log"), ax.set_yscale("log")
         if key == "ripple_index":  # the paper's band over its window (Fig. 9 inset), beside the run

@@ -57,10 +57,10 @@ double correlation_peak_shift(const std::vector<double>& c, double dx, double ma
   return (static_cast<double>(best) + off) * dx;
 }
 
-// The stoss and lee angles of BedStatistics. Slice by slice, not on the across-averaged profile: crests
-// that are not straight across the bed (Y-junctions, defects) would be smeared flat by the average.
-void flank_slopes(const std::vector<double>& h, std::size_t nx, std::size_t ny, double dx, BedStatistics& r) {
-  double stoss = 0, lee = 0;
+// The flank angles and crest measures of BedStatistics. Slice by slice, not on the across-averaged profile:
+// crests that are not straight across the bed (Y-junctions, defects) would be smeared flat by the average.
+void slice_shapes(const std::vector<double>& h, std::size_t nx, std::size_t ny, double dx, BedStatistics& r) {
+  double stoss = 0, lee = 0, spacing = 0, height = 0;
   int slices = 0;
   for (std::size_t j = 0; j < ny; ++j) {
     const std::vector<double> row(h.begin() + static_cast<long>(j * nx),
@@ -70,8 +70,12 @@ void flank_slopes(const std::vector<double>& h, std::size_t nx, std::size_t ny, 
     const SurfaceShape s = surface_shape(row, dx, std::max(0.5 * rms_height(row), 1.0));
     if (s.crests == 0) continue;
     stoss += s.stoss_deg, lee += s.lee_deg, ++slices;
+    spacing += s.wavelength, height += s.height;
   }
-  if (slices > 0) r.stoss_deg = stoss / slices, r.lee_deg = lee / slices;
+  if (slices == 0) return;
+  r.stoss_deg = stoss / slices, r.lee_deg = lee / slices;
+  r.crest_spacing = spacing / slices, r.crest_height = height / slices;
+  if (r.crest_height > 0) r.crest_ripple_index = r.crest_spacing / r.crest_height;
 }
 
 }  // namespace
@@ -103,7 +107,7 @@ BedStatistics bed_statistics(const std::vector<double>& h, std::size_t nx, std::
     r.wavelength = (static_cast<double>(best) + off) * dx;
     if (r.amplitude > 0) r.ripple_index = r.wavelength / r.amplitude;
   }
-  flank_slopes(h, nx, ny, dx, r);
+  slice_shapes(h, nx, ny, dx, r);
   return r;
 }
 

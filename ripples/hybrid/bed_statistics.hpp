@@ -20,6 +20,11 @@ struct BedStatistics {
   // (stoss) and of the falling one (lee). Field ripples are asymmetric, with a lee steeper than the stoss
   // (thesis Table 5.1); 0 on a bed with none.
   double stoss_deg = 0, lee_deg = 0;
+  // The crests' own wavelength and height from the same slices: the mean crest-to-crest spacing and
+  // crest-to-next-trough drop (h's and dx's units), and their ratio. A cross-check on the autocorrelation,
+  // whose first peak fades when the crests are unevenly spaced and then jumps to the next (docs/hybrid.md,
+  // "Two measures of the wavelength"); 0 on a bed with none.
+  double crest_spacing = 0, crest_height = 0, crest_ripple_index = 0;
 };
 
 // h: nx * ny heights, x fastest, spacing dx, periodic in x. Wind towards +x.

@@ -302,12 +302,15 @@ RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {
     }
     r.response = band_response(series, frames.back().dx, interval);
   }
-  double index_sum = 0;
-  for (const BedFrame& f : frames)
-    if (f.t_star >= RippleTrends::kWindowStart - 1e-6 && f.t_star <= RippleTrends::kWindowEnd + 1e-6 &&
-        std::isfinite(f.stats.ripple_index))
-      index_sum += f.stats.ripple_index, ++r.window_frames;
+  double index_sum = 0, crest_sum = 0;
+  std::size_t crest_frames = 0;
+  for (const BedFrame& f : frames) {
+    if (f.t_star < RippleTrends::kWindowStart - 1e-6 || f.t_star > RippleTrends::kWindowEnd + 1e-6) continue;
+    if (std::isfinite(f.stats.ripple_index)) index_sum += f.stats.ripple_index, ++r.window_frames;
+    if (std::isfinite(f.stats.crest_ripple_index)) crest_sum += f.stats.crest_ripple_index, ++crest_frames;
+  }
   if (r.window_frames > 0) r.window_ripple_index = index_sum / static_cast<double>(r.window_frames);
+  if (crest_frames > 0) r.window_crest_ripple_index = crest_sum / static_cast<double>(crest_frames);
   r.growth_rate = least_squares_slope(t, ln_a);
   r.chi = least_squares_slope(ln_t, ln_l);
   r.migration_speed = std::nan("");

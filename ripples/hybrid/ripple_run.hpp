@@ -134,6 +134,9 @@ struct RippleTrends {
   static constexpr double kWindowStart = 5e4, kWindowEnd = 3e5;
   double window_ripple_index = std::nan("");
   std::size_t window_frames = 0;
+  // The same mean of the crests' ripple index (BedStatistics::crest_ripple_index), over the window's frames
+  // that have one (older checkpoints' frames do not).
+  double window_crest_ripple_index = std::nan("");
 };
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames);
 
