@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Sets of `grainlab ripples hybrid --json` runs (seeds of one set-up) compared set against set.
 
-For each set: the mean and standard error over its runs of the final amplitude, wavelength, ripple index,
-migration speed, Q*, mid-air collisions and wall time, of the wavelength and amplitude averaged over a
+For each set: the mean and standard error over its runs of the final amplitude, wavelength, ripple index
+(the autocorrelation's and the crests'; both also averaged over the paper's window t* = 5e4-3e5), migration speed, Q*, mid-air collisions and wall time, of the wavelength and amplitude averaged over a
 window of t*, and of each wavelength band's growth rate and phase speed (the runs' "bed_response"). With
 --plot, one figure: A(t), lambda(t) and RI(t) averaged over each set's runs (shaded: +- one standard
 error), and the bands' growth rates against wavelength.
@@ -38,6 +38,10 @@ def summarise(runs, window):
         "amplitude": [r["amplitude"] for r in runs],
         "wavelength": [r["wavelength"] for r in runs],
         "ripple_index": [r["ripple_index"] for r in runs],
+        # (Runs since 2026-12-04: the crests' own RI, and both RIs averaged over the paper's window.)
+        "crest_ripple_index": [r.get("crest_ripple_index") for r in runs],
+        "ripple_index_window": [r.get("ripple_index_5e4_3e5") for r in runs],
+        "crest_ripple_index_window": [r.get("crest_ripple_index_5e4_3e5") for r in runs],
         "migration_speed": [r.get("migration_speed") for r in runs],
         "mass_flux_star": [r["mass_flux_star"] for r in runs],
         "collisions": [r.get("collisions") for r in runs],
@@ -72,7 +76,10 @@ def fmt(m, se, scale=1.0, digits=3):
 
 def print_tables(sets, window):
     rows = [("runs", "runs", 1), ("final A (d)", "amplitude", 1), ("final lambda (d)", "wavelength", 1),
-            ("final RI", "ripple_index", 1), ("migration (1e-3 d per t*)", "migration_speed", 1e3),
+            ("final RI", "ripple_index", 1), ("final RI of the crests", "crest_ripple_index", 1),
+            ("mean RI, t* 5e4-3e5", "ripple_index_window", 1),
+            ("mean RI of the crests, t* 5e4-3e5", "crest_ripple_index_window", 1),
+            ("migration (1e-3 d per t*)", "migration_speed", 1e3),
             ("Q*", "mass_flux_star", 1), ("mid-air collisions", "collisions", 1), ("wall (s)", "wall_seconds", 1)]
     if window:
         rows[1:1] = [(f"lambda, t* {window[0]:g}-{window[1]:g} (d)", "wavelength_window", 1),
