@@ -297,12 +297,13 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
                      "overrides");
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
   const std::vector<std::string>& columns = file.tables.at("cli/history").columns;
-  auto first = [&](std::size_t n) {
-    return std::vector<std::string>(kHistoryColumns.begin(), kHistoryColumns.begin() + static_cast<long>(n));
-  };
-  if (columns != kHistoryColumns && columns != first(kHistoryColumnsBeforeZ0) &&
-      columns != first(kHistoryColumnsBeforeSlopes) && columns != first(kHistoryColumnsBeforeCollisions))
-    refuse("has a frame history with other columns than a hybrid ripple run writes");
+  // This build's columns, or the first columns of them that an older build wrote.
+  bool known = columns == kHistoryColumns;
+  for (std::size_t n : {kHistoryColumnsBeforeZ0, kHistoryColumnsBeforeSlopes, kHistoryColumnsBeforeCollisions,
+                        kHistoryColumnsBeforeCrests})
+    known = known || columns == std::vector<std::string>(kHistoryColumns.begin(),
+                                                         kHistoryColumns.begin() + static_cast<long>(n));
+  if (!known) refuse("has a frame history with other columns than a hybrid ripple run writes");
   try {
     run.restore(file.tables, "run/");
     const auto& history = file.tables.at("cli/history").rows;

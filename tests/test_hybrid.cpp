@@ -577,7 +577,7 @@ TEST(HybridRipples, TrendsAverageTheRippleIndexOverThePapersWindow) {
   EXPECT_EQ(t.window_frames, 11u);
   EXPECT_NEAR(t.window_ripple_index, 17.5, 1e-12);
   EXPECT_NEAR(t.window_crest_ripple_index, 10.625, 1e-12);  // 12.5-30 by 2.5 (8 frames), halved
-  frames.resize(2);                                     // none in the window
+  frames.resize(2);                                         // none in the window
   const RippleTrends none = ripple_trends(frames);
   EXPECT_EQ(none.window_frames, 0u);
   EXPECT_TRUE(std::isnan(none.window_ripple_index));
