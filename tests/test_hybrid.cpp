@@ -573,6 +573,9 @@ TEST(HybridRipples, TrendsAverageTheRippleIndexOverThePapersWindow) {
     f.stats.crest_ripple_index = f.t_star <= 100000 ? std::nan("") : f.stats.ripple_index / 2;
     frames.push_back(f);
   }
+  BedFrame ripple_free;  // a frame without a wavelength or crests (both 0) is not an index of 0
+  ripple_free.t_star = 60000;
+  frames.insert(frames.begin() + 3, ripple_free);
   const RippleTrends t = ripple_trends(frames);
   EXPECT_EQ(t.window_frames, 11u);
   EXPECT_NEAR(t.window_ripple_index, 17.5, 1e-12);

@@ -306,8 +306,9 @@ RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {
   std::size_t crest_frames = 0;
   for (const BedFrame& f : frames) {
     if (f.t_star < RippleTrends::kWindowStart - 1e-6 || f.t_star > RippleTrends::kWindowEnd + 1e-6) continue;
-    if (std::isfinite(f.stats.ripple_index)) index_sum += f.stats.ripple_index, ++r.window_frames;
-    if (std::isfinite(f.stats.crest_ripple_index)) crest_sum += f.stats.crest_ripple_index, ++crest_frames;
+    // 0 means the frame has no wavelength (or no crests): undefined, not an index of zero.
+    if (f.stats.ripple_index > 0) index_sum += f.stats.ripple_index, ++r.window_frames;
+    if (f.stats.crest_ripple_index > 0) crest_sum += f.stats.crest_ripple_index, ++crest_frames;
   }
   if (r.window_frames > 0) r.window_ripple_index = index_sum / static_cast<double>(r.window_frames);
   if (crest_frames > 0) r.window_crest_ripple_index = crest_sum / static_cast<double>(crest_frames);

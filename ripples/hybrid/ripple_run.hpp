@@ -130,12 +130,13 @@ struct RippleTrends {
   // that are equally spaced: a positive growth rate marks the band in which ripples emerge.
   std::vector<BandResponse> response;
   // The mean RI over the frames in the paper's window, t* = 5e4-3e5 (its Fig. 9 inset averages RI over
-  // that window, one value per wind speed), and how many frames it averages; NaN and 0 without any.
+  // that window, one value per wind speed), and how many frames it averages (those with a wavelength);
+  // NaN and 0 without any.
   static constexpr double kWindowStart = 5e4, kWindowEnd = 3e5;
   double window_ripple_index = std::nan("");
   std::size_t window_frames = 0;
   // The same mean of the crests' ripple index (BedStatistics::crest_ripple_index), over the window's frames
-  // that have one (older checkpoints' frames do not).
+  // that have one (older checkpoints' frames and crestless beds do not).
   double window_crest_ripple_index = std::nan("");
 };
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames);
