@@ -238,6 +238,10 @@ int wind_command(const SaltationCommands& a) {
             {"airborne_hop_height", r.airborne_hop_height},
             {"airborne_hop_length", r.airborne_hop_length},
             {"impact_velocity", {r.mean_impact_vx, r.mean_impact_vy}},
+            {"spreads",  // standard deviations over the hops
+             {{"hop_height", r.sd_hop_height},
+              {"hop_length", r.sd_hop_length},
+              {"impact_velocity", {r.sd_impact_vx, r.sd_impact_vy}}}},
             {"launch_vy",
              {{"mean", r.launch_vy.mean}, {"sd", r.launch_vy.sd}, {"half_width", r.launch_vy.half_width}}},
             {"peak_heights",
@@ -261,6 +265,10 @@ int wind_command(const SaltationCommands& a) {
   fmt::print("  mass flux {:.4g} g/(cm s); {:.4g} launches per cm^2 per s\n", r.mass_flux, r.launch_rate);
   fmt::print("  mean hop height {:.2f} cm, length {:.1f} cm; mean impact velocity ({:.0f}, {:.0f}) cm/s\n",
              r.mean_hop_height, r.mean_hop_length, r.mean_impact_vx, r.mean_impact_vy);
+  fmt::print(
+      "  their s.d. over the hops: height {:.2f} cm, length {:.1f} cm, impact velocity ({:.0f}, {:.0f}) "
+      "cm/s\n",
+      r.sd_hop_height, r.sd_hop_length, r.sd_impact_vx, r.sd_impact_vy);
   fmt::print("  over the grains in the air at an instant: hop height {:.2f} cm, length {:.1f} cm\n",
              r.airborne_hop_height, r.airborne_hop_length);
   fmt::print("  launch v_oy: mean {:.1f} cm/s, s.d. {:.1f}, half width at half maximum {:.1f}\n",

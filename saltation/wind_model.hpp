@@ -131,8 +131,12 @@ struct WindModelResult {
   // its flight time): what a snapshot of the saltation layer shows.
   double airborne_hop_height = 0, airborne_hop_length = 0;
   double mean_impact_vx = 0, mean_impact_vy = 0;  // launch-weighted (cm/s)
+  // The same four quantities' standard deviations over the hops (launch-weighted). Of these the thesis
+  // writes, for CASE 1, that "in going from u* = 35 to 125 cm/sec, the half-widths of the distributions of
+  // these quantities increase by ten to thirty percent" (its half-width is a sigma, as for c2).
+  double sd_hop_height = 0, sd_hop_length = 0, sd_impact_vx = 0, sd_impact_vy = 0;
   // The spread of the launch distribution F(v_oy) (summed over v_ox), which the thesis describes for
-  // CASE 1 (Fig. 4.11: "half-widths of about 45 cm/sec", growing 10-30 % from u* = 35 to 125).
+  // CASE 1 (Fig. 4.11: "half-widths of about 45 cm/sec").
   LaunchSpread launch_vy;
   double wall_seconds = 0;
   long flight_steps = 0, flights = 0;  // the final pass's integrator steps and flights
