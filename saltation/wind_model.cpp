@@ -571,18 +571,21 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     r.mean_hop_height = hsum / rate, r.mean_hop_length = lsum / rate, r.mean_impact_vx = vxs / rate,
     r.mean_impact_vy = vys / rate;
   if (airborne > 0) r.airborne_hop_height = ahsum / airborne, r.airborne_hop_length = alsum / airborne;
-  double hvar = 0, lvar = 0, vxvar = 0, vyvar = 0;  // about the means, for round-off's sake
-  for (std::size_t j = 0; j < S && rate > 0; ++j) {
-    if (grid2d && Fs[j] <= 0) continue;
-    const Trajectory& t = flights[j];
-    const double w = Fs[j] * o.dv / rate;
-    hvar += w * (t.height - r.mean_hop_height) * (t.height - r.mean_hop_height);
-    lvar += w * (t.length - r.mean_hop_length) * (t.length - r.mean_hop_length);
-    vxvar += w * (t.v_ix - r.mean_impact_vx) * (t.v_ix - r.mean_impact_vx);
-    vyvar += w * (t.v_iy - r.mean_impact_vy) * (t.v_iy - r.mean_impact_vy);
-  }
-  r.sd_hop_height = std::sqrt(hvar), r.sd_hop_length = std::sqrt(lvar);
-  r.sd_impact_vx = std::sqrt(vxvar), r.sd_impact_vy = std::sqrt(vyvar);
+  // The launch-weighted standard deviation of one trajectory quantity, about its mean (not from the raw
+  // sums, for round-off's sake).
+  auto spread = [&](double Trajectory::*field, double mean) {
+    double var = 0;
+    for (std::size_t j = 0; j < S && rate > 0; ++j)
+      if (!grid2d || Fs[j] > 0) {
+        const double dev = flights[j].*field - mean;
+        var += Fs[j] * o.dv / rate * dev * dev;
+      }
+    return std::sqrt(var);
+  };
+  r.sd_hop_height = spread(&Trajectory::height, r.mean_hop_height);
+  r.sd_hop_length = spread(&Trajectory::length, r.mean_hop_length);
+  r.sd_impact_vx = spread(&Trajectory::v_ix, r.mean_impact_vx);
+  r.sd_impact_vy = spread(&Trajectory::v_iy, r.mean_impact_vy);
   // Per v_oy bin for the tables: F summed over v_ox, its mean v_ox, and a flight at that mean.
   for (std::size_t k = 0; k < M; ++k) {
     double f = 0, fx = 0;
