@@ -24,17 +24,24 @@ class ProgressBar {
   // `extra`: a few words on the state of the run, shown after the estimate (e.g. "5120 grains airborne");
   // on a terminal the rest of the line is cleared, since the words may get shorter.
   void update(double done, double total, const std::string& extra = "") {
+    update_weighted(done, total, done, total, extra);
+  }
+  // The same, for units of unequal size: the counts are shown ("3 of 13 suites"), while the bar and the
+  // time left follow `work` (each unit weighted by its typical cost), so that a long unit finished first
+  // does not make the rest look as long.
+  void update_weighted(double done, double total, double work, double work_total,
+                       const std::string& extra = "") {
     if (!enabled_) return;
-    if (done < last_done_) start_ = clock::now();
-    if (!counting_ || done < last_done_) counting_ = true, first_done_ = done, first_ = clock::now();
-    last_done_ = done;
+    if (work < last_done_) start_ = clock::now();
+    if (!counting_ || work < last_done_) counting_ = true, first_done_ = work, first_ = clock::now();
+    last_done_ = work;
     const double elapsed = seconds_since(start_);
     const double every = terminal_ ? 0.1 : 60.0, first = terminal_ ? 1.0 : 60.0;
     if (elapsed < first || seconds_since(last_) < every) return;
     last_ = clock::now();
-    const double f = total > 0 ? std::min(1.0, done / total) : 1.0;
+    const double f = work_total > 0 ? std::min(1.0, work / work_total) : 1.0;
     const int width = 30, filled = static_cast<int>(f * width);
-    const double left = time_left(seconds_since(first_), first_done_, done, total);
+    const double left = time_left(seconds_since(first_), first_done_, work, work_total);
     const std::string where = unit_.empty()
                                   ? fmt_number("t = %.4g s", done)
                                   : fmt_number("%.0f", done) + fmt_number(" of %.0f ", total) + unit_;
@@ -77,7 +84,7 @@ class ProgressBar {
   }
   bool enabled_, terminal_;
   std::string unit_;
-  double last_done_ = 0, first_done_ = 0;  // first_done_: done at the first update of this task
+  double last_done_ = 0, first_done_ = 0;  // in work; first_done_: at the first update of this task
   bool drawn_ = false, counting_ = false;
   clock::time_point start_ = clock::now(), last_ = clock::now() - std::chrono::seconds(1), first_ = start_;
 };

@@ -241,7 +241,15 @@ Report run_in_processes(const std::vector<const Suite*>& chosen, const validatio
                chosen.size(), jobs, logs.string());
   std::map<pid_t, Child> running;
   std::map<pid_t, ChildHold> held;  // sent this process's SIGINT, SIGTERM or SIGHUP
+  // The bar and its estimate count each suite by its typical time (quick form; a suite's full form takes
+  // longer in much the same order), so that the long suites, which start first, do not make the short
+  // ones behind them look as long. Told once at the start, so the first suite done gives an estimate.
+  double work = 0, work_total = 0;
+  for (std::size_t k = 0; k < chosen.size(); ++k) work_total += chosen[k]->quick_minutes;
+  for (std::size_t k = 0; k < chosen.size(); ++k)  // (those taken from a stopped run's parts)
+    if (std::find(queue.begin(), queue.end(), k) == queue.end()) work += chosen[k]->quick_minutes;
   ProgressBar bar(speak, "suites");
+  bar.update_weighted(double(done), double(chosen.size()), work, work_total);
   while (done < chosen.size()) {
     while (running.size() < jobs && next < queue.size()) {
       const std::size_t k = queue[next++];
@@ -270,7 +278,8 @@ Report run_in_processes(const std::vector<const Suite*>& chosen, const validatio
       if (!reported)
         fmt::print(stderr, "  its process stopped early; the end of its output:\n{}", last_lines(log, 15));
     }
-    bar.update(double(done), double(chosen.size()));
+    work += s.quick_minutes;
+    bar.update_weighted(double(done), double(chosen.size()), work, work_total);
   }
   bar.finish();
   Report report;

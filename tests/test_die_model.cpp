@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "die_model.hpp"
 #include "ensemble.hpp"
@@ -67,6 +69,17 @@ TEST(Ensemble, WilsonIntervalKnownValues) {
   EXPECT_DOUBLE_EQ(none.lo, 0.0);
   EXPECT_NEAR(none.hi, 0.27753, 1e-5);
   EXPECT_EQ(throws_for_half_width(0.5, 0.02), 2401);
+}
+
+// An ensemble tells its progress before its first run as well as after each, so that a progress bar
+// has a start to time the first run from ("left 0m00s" until the second run otherwise).
+TEST(Ensemble, ProgressIsToldFromTheStart) {
+  std::vector<std::pair<std::size_t, std::size_t>> told;
+  run_ensemble(
+      3, 1, [](std::size_t i) { return std::vector<double>{double(i)}; },
+      [&](std::size_t done, std::size_t total) { told.emplace_back(done, total); });
+  const std::vector<std::pair<std::size_t, std::size_t>> expected = {{0, 3}, {1, 3}, {2, 3}, {3, 3}};
+  EXPECT_EQ(told, expected);
 }
 
 // A throw's outcome depends on (seed, index) alone: the same throw twice is the same, and a fair die

@@ -14,6 +14,8 @@ std::vector<std::vector<double>> run_ensemble(std::size_t runs, std::size_t widt
   const std::size_t rank = parallel::rank(), ranks = parallel::size();
   std::vector<double> table(runs * width, 0.0);  // zeros from the other ranks: the sum is exact
   std::size_t done = 0;
+  // Told at the start too, so that the first run done already gives an estimate of the time left.
+  if (progress && runs > 0) progress(0, runs);
   for (std::size_t i = rank; i < runs; i += ranks) {
     const std::vector<double> row = run(i);
     if (row.size() != width) throw std::logic_error("ensemble run returned the wrong number of values");
