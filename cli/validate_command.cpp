@@ -317,6 +317,9 @@ void ValidateCommand::add(CLI::App& app) {
                   "reused, so the hours of its bed and 90 impacts are not spent again; each Table 3.1 "
                   "case's impacts are kept beside it (FILE.case-X-ENGINE.h5), so a stopped suite continues")
       ->check(cli::output_file());
+  cmd->add_flag("--list", list,
+                "name the suites (with --suite: those), their typical time in quick form and what each "
+                "checks; run nothing");
   // Internal: how a --jobs parent asks a child for its part of the report.
   cmd->add_option("--part", part, "")->group("");
 }
@@ -324,6 +327,14 @@ void ValidateCommand::add(CLI::App& app) {
 int ValidateCommand::dispatch() const {
   if (!*cmd) return -1;
   const std::vector<const Suite*> chosen = chosen_suites(suites);
+  if (list) {
+    if (parallel::rank() == 0) {
+      fmt::print("{:<17} {:>9}  {}\n", "suite", "quick", "what it checks (the full form takes longer)");
+      for (const Suite* s : chosen)
+        fmt::print("{:<17} {:>5.2f} min  {}\n", s->name, s->quick_minutes, s->description);
+    }
+    return 0;
+  }
   check_output_path("--out", out, true);  // the default, which the option's own check does not see
   if (parallel::rank() == 0) fs::create_directories(out);
   const bool speak = !quiet && parallel::rank() == 0;

@@ -16,6 +16,7 @@ struct ValidateCommand {
   std::string sand_gun_checkpoint;  // impacts-3d: the sand gun's bed and impacts, kept and reused
   bool quick = false, quiet = false;
   bool resume = false;  // take the suites an interrupted run into the same --out finished, run the rest
+  bool list = false;    // name the suites, their typical quick times and what they check; run nothing
   int jobs = 0;         // 0: one per core (1 under mpirun, where the ranks share each suite's ensembles)
 
   CLI::App* cmd = nullptr;

@@ -52,8 +52,9 @@ const std::vector<Suite>& suites() {
        "model with the DEM's own splash",
        run_dem_saltation_suite, 4.9},
       {"hybrid",
-       "the 3-D hybrid ripple model (Huo et al. 2021), so far: drag limits, mid-air collisions, the Lammel "
-       "splash's moments, the grain-free wind, flux runs on a flat bed against eq. 31",
+       "the 3-D hybrid ripple model (Huo et al. 2021): drag limits, mid-air collisions, the Lammel splash's "
+       "moments, the grain-free wind, flux on a flat bed against eq. 31, ripple growth, coarsening, ripple "
+       "index and migration, the initial wavelength against u*, beds of two sizes",
        run_hybrid_suite, 1.0},
   };
   return all;
