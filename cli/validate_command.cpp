@@ -245,9 +245,11 @@ Report run_in_processes(const std::vector<const Suite*>& chosen, const validatio
   // longer in much the same order), so that the long suites, which start first, do not make the short
   // ones behind them look as long. Told once at the start, so the first suite done gives an estimate.
   double work = 0, work_total = 0;
-  for (std::size_t k = 0; k < chosen.size(); ++k) work_total += chosen[k]->quick_minutes;
-  for (std::size_t k = 0; k < chosen.size(); ++k)  // (those taken from a stopped run's parts)
-    if (std::find(queue.begin(), queue.end(), k) == queue.end()) work += chosen[k]->quick_minutes;
+  for (std::size_t k = 0; k < chosen.size(); ++k) {
+    work_total += chosen[k]->quick_minutes;
+    if (std::find(queue.begin(), queue.end(), k) == queue.end())  // taken from a stopped run's parts
+      work += chosen[k]->quick_minutes;
+  }
   ProgressBar bar(speak, "suites");
   bar.update_weighted(double(done), double(chosen.size()), work, work_total);
   while (done < chosen.size()) {

@@ -19,7 +19,6 @@ import sys
 
 FENCE = re.compile(r"^```")
 SHORT = re.compile(r"[a-z][a-z0-9-]* .*--[a-z].*")
-TOP_LEVEL = set()  # grainlab's subcommands, filled in by main()
 SHELL_BREAKS = re.compile(r"\s(?:&&|\|\||\||;|>>|>|2>|<)\s|\s&$")
 
 
@@ -58,8 +57,9 @@ class Cli:
         return self.cache[key]
 
 
-def commands(path):
-    """(line number, command text) for each grainlab command in a markdown file."""
+def commands(path, top_level):
+    """(line number, command text) for each grainlab command in a markdown file; `top_level`: grainlab's
+    subcommands, which an inline span may start with instead of its name."""
     lines = open(path, encoding="utf-8").read().split("\n")
     in_code = False
     pending, start = "", 0
@@ -82,10 +82,10 @@ def commands(path):
         text, pending = pending, ""
         if re.search(r"(^|[\s/])grainlab\s", text) and not text.startswith("#"):
             yield start, text
-    yield from inline_commands(prose)
+    yield from inline_commands(prose, top_level)
 
 
-def inline_commands(prose):
+def inline_commands(prose, top_level):
     """The commands in inline code spans, which may run over a line break within a paragraph."""
     text = "\n".join(line for _, line in prose)
     first_line = [n for n, _ in prose]
@@ -94,7 +94,7 @@ def inline_commands(prose):
         span = " ".join(m.group(1).split())
         if re.match(r"(?:build/release/)?grainlab ", span):
             yield line_of(m.start()), span
-        elif SHORT.fullmatch(span) and span.split()[0] in TOP_LEVEL:  # `saltation wind --json`
+        elif SHORT.fullmatch(span) and span.split()[0] in top_level:  # `saltation wind --json`
             yield line_of(m.start()), "grainlab " + span
 
 
@@ -112,7 +112,7 @@ def grainlab_part(text):
 
 
 def placeholder(token):
-    return bool(re.fullmatch(r"[A-Z][A-Z0-9_]*(\.\.\.)?|\.\.\.|\S*\.\.\.", token))
+    return bool(re.fullmatch(r"[A-Z][A-Z0-9_]*|\S*\.\.\.", token))
 
 
 def check(cli, tokens, repo):
@@ -162,10 +162,10 @@ def main():
         print(f"doc_commands: {a.grainlab}: not an executable", file=sys.stderr)
         return 2
     cli = Cli(a.grainlab)
-    TOP_LEVEL.update(cli.help([])[0])
+    top_level = cli.help([])[0]
     bad = seen = 0
     for f in a.files:
-        for n, text in commands(f):
+        for n, text in commands(f, top_level):
             tokens = grainlab_part(text)
             if tokens is None:
                 continue
