@@ -254,9 +254,6 @@ void check_active_zone(double zone, int dimension, const std::string& engine) {
 int impact_command(const ImpactCommands& a) {
   const ImpactCase& c = impact_case(a.case_name);
   if (a.runs < 1) throw InputError({"--runs", 0}, "0", "must be at least 1");
-  if (!a.impact_checkpoint.empty() && a.dimension != 3)
-    throw InputError({"--checkpoint", 0}, a.impact_checkpoint,
-                     "is for --dimension 3 (2-D impacts take about a second each: run them again)");
   if (!a.record.empty() && !a.force && fs::exists(a.record))
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
   check_active_zone(a.active_zone, a.dimension, a.engine);
@@ -278,9 +275,14 @@ int impact_command(const ImpactCommands& a) {
                "{} {} bed(s), engine {}{}\n",
                c.name, c.speed, c.alpha_deg, c.mu, c.radius, a.runs, beds.size(), c.bed, a.engine,
                parallel::size() > 1 ? fmt::format(", {} MPI ranks", parallel::size()) : "");
-  const ImpactEnsemble e = run_impact_ensemble(beds, c, a.seed, a.runs, o, [&](std::size_t d, std::size_t t) {
-    bar.update(static_cast<double>(d), static_cast<double>(t));
-  });
+  if (speak && !a.impact_checkpoint.empty())
+    fmt::print(stderr, "grainlab impact: {} {}\n",
+               fs::exists(a.impact_checkpoint) ? "continuing from" : "keeping every finished impact in",
+               a.impact_checkpoint);
+  const ImpactEnsemble e = run_impact_ensemble(
+      beds, c, a.seed, a.runs, o,
+      [&](std::size_t d, std::size_t t) { bar.update(static_cast<double>(d), static_cast<double>(t)); },
+      a.impact_checkpoint);
   bar.finish();
   if (!a.record.empty() && parallel::rank() == 0) {
     ImpactOptions ro = o;
@@ -502,9 +504,9 @@ void ImpactCommands::add(CLI::App& app) {
   add_active_zone_option(impact_cmd, active_zone, "--dimension 3, native: ");
   impact_cmd
       ->add_option("--checkpoint", impact_checkpoint,
-                   "--dimension 3: keep the bed's build (each stage, and every 10 min within one) and "
-                   "every finished impact in this "
-                   "file; run the same command again to continue from it (--runs may grow)")
+                   "keep every finished impact in this file (and, with --dimension 3, the bed's build: each "
+                   "stage, and every 10 min within one); run the same command again to continue from it "
+                   "(--runs may grow)")
       ->check(cli::output_file());
   impact_cmd->add_option("--spheres", spheres, "--dimension 3: spheres poured into the 67.3 x 20 cm box")
       ->default_val(2000)

@@ -28,7 +28,7 @@ struct ImpactCommands {
   bool settle_on_engine = false;      // --dimension 3: settle the bed on --engine before its impacts
   std::string grains = "sphere";      // --dimension 3: "sphere" or "polyhedron" (irregular grains)
   std::vector<double> box;            // --dimension 3: the box's x and y (cm); empty: 67.3 x 20
-  std::string impact_checkpoint;      // --dimension 3: the bed's build and the finished impacts
+  std::string impact_checkpoint;      // the finished impacts (--dimension 3: and the bed's build)
   double active_zone = 0;             // --dimension 3: bed-grain diameters about the impact that move
   // grainlab rebound-model
   int model_case = 2;

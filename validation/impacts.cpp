@@ -8,8 +8,10 @@
 #include <cmath>
 #include <limits>
 
+#include "binary_fingerprint.hpp"
 #include "engine.hpp"
 #include "ensemble.hpp"
+#include "ensemble_checkpoint.hpp"
 #include "input_error.hpp"
 #include "rng.hpp"
 
@@ -316,19 +318,44 @@ ImpactResult unpack(const std::vector<double>& row, std::size_t& dropped) {
   return r;
 }
 
+// Everything that decides a 2-D ensemble's impacts: the case, the seed, the options and the beds (their
+// scene text, which holds every disc to the last bit, hashed).
+std::string impacts_fingerprint(const std::vector<Bed>& beds, const ImpactCase& c, std::uint64_t seed,
+                                const ImpactOptions& o) {
+  std::string f = fmt::format(
+      "case {} speed {:.17g} alpha {:.17g} mu {:.17g} bed {} radius {:.17g} disc_mass_ratio {} seed {} "
+      "engine {} duration {:.17g} steps_per_contact {:.17g} check_interval {:.17g} window {:.17g} "
+      "rigid_dt {:.17g} beds",
+      c.name, c.speed, c.alpha_deg, c.mu, c.bed, c.radius, c.disc_mass_ratio, seed, o.engine, o.duration,
+      o.steps_per_contact, o.check_interval, o.window, o.rigid_dt);
+  for (const Bed& b : beds) {
+    const std::string text = bed_scene_text(b.spec, b.scene.bodies, 0);
+    f += fmt::format(" {:016x}", fnv1a(text.data(), text.size()));
+  }
+  return f;
+}
+
 }  // namespace
 
 ImpactEnsemble run_impact_ensemble(const std::vector<Bed>& beds, const ImpactCase& c, std::uint64_t seed,
                                    std::size_t runs, const ImpactOptions& o,
-                                   const std::function<void(std::size_t, std::size_t)>& progress) {
+                                   const std::function<void(std::size_t, std::size_t)>& progress,
+                                   const std::string& checkpoint) {
   if (beds.empty()) throw std::logic_error("impact ensemble without a bed");
-  const auto rows = run_ensemble(
+  EnsembleCheckpoint kept;
+  if (!checkpoint.empty())
+    kept = {
+        checkpoint, "2-D impact checkpoint", impacts_fingerprint(beds, c, seed, o),
+        "was written for another case, seed, engine or bed (--case, --seed, --engine, "
+        "--steps-per-contact, --bed, --beds): pass the ones it was started with (only --runs may change), "
+        "or another --checkpoint"};
+  const auto rows = run_checkpointed_ensemble(
       runs, kHead + kMaxEjecta * kPerEjectum,
       [&](std::size_t i) {
         std::size_t dropped = 0;
         return pack(run_impact(beds[i % beds.size()], c, seed, i, o), dropped);
       },
-      progress);
+      kept, progress);
   ImpactEnsemble out;
   for (const auto& row : rows) {
     std::size_t dropped = 0;

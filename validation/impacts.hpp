@@ -127,9 +127,15 @@ struct ImpactEnsemble {
   std::vector<ImpactResult> impacts;
   std::size_t ejecta_dropped = 0;
 };
+// With a `checkpoint` path, every finished impact is kept in that file as the ensemble goes
+// (ensemble_checkpoint.hpp), and the impacts found there are taken from it: the same command run again
+// continues a stopped ensemble, or a finished one to more runs, to the numbers of one that never stopped.
+// The file's fingerprint holds the case, the seed, the options and a digest of every bed, so impacts on
+// another bed or case are refused (InputError, key --checkpoint), never mixed in.
 ImpactEnsemble run_impact_ensemble(const std::vector<Bed>& beds, const ImpactCase& c, std::uint64_t seed,
                                    std::size_t runs, const ImpactOptions& o,
-                                   const std::function<void(std::size_t, std::size_t)>& progress = {});
+                                   const std::function<void(std::size_t, std::size_t)>& progress = {},
+                                   const std::string& checkpoint = {});
 
 }  // namespace grainlab::validation
 
