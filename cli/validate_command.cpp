@@ -308,7 +308,8 @@ void ValidateCommand::add(CLI::App& app) {
   cmd->add_flag(
       "--resume", resume,
       "continue an interrupted validation into the same --out: the suites it finished (same options, "
-      "same binary) are taken from OUT/.parts, the rest are run");
+      "same binary) are taken from OUT/.parts, the rest are run (the impacts suite from the impacts it "
+      "had finished)");
   cmd->add_option("--jobs,-j", jobs,
                   "suites run at once, each in its own process (0: one per core; under mpirun always 1)")
       ->default_val(0)
@@ -342,13 +343,19 @@ int ValidateCommand::dispatch() const {
   const bool speak = !quiet && parallel::rank() == 0;
   validation::SuiteOptions base;
   base.quick = quick, base.out_dir = out, base.sand_gun_checkpoint = sand_gun_checkpoint;
-  if (!part.empty()) {
+  // The suites' long ensembles as they go, by quick or full and by this binary (a rebuilt one may give
+  // other numbers): kept for --resume in the parts folder, cleared with it.
+  base.ensembles_dir = (fs::path(out) / ".parts" /
+                        fmt::format("ensembles-{}-{:016x}", quick ? "quick" : "full", binary_fingerprint()))
+                           .string();
+  if (!part.empty()) {  // (a child of --jobs: its parent made the folders)
     const Report r = run_here(chosen, base, speak, nullptr);
     if (parallel::rank() == 0) write_file_atomically(part, validation::report_part_json(r));
     return r.passed() ? 0 : 1;
   }
   const std::size_t processes = job_count(jobs, chosen.size());
   const SuiteParts parts(base, resume);
+  if (parallel::rank() == 0) fs::create_directories(base.ensembles_dir);
   const Report report = processes > 1 ? run_in_processes(chosen, base, speak, processes, parts)
                                       : run_here(chosen, base, speak, &parts);
   if (parallel::rank() != 0) return report.passed() ? 0 : 1;

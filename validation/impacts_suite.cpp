@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "impacts.hpp"
 #include "parallel.hpp"
@@ -15,6 +16,17 @@ namespace grainlab::validation {
 namespace {
 
 constexpr std::uint64_t kSeed = 2026;
+
+// Case `c`'s `runs` impacts on `beds`, kept in the suite's ensembles folder (if any) as they go, under
+// `name`; `what` is logged first, saying so when the impacts of an interrupted run are taken up.
+ImpactEnsemble kept_impacts(const SuiteOptions& o, const std::string& name, const std::string& what,
+                            const std::vector<Bed>& beds, const ImpactCase& c, std::size_t runs,
+                            const ImpactOptions& opt) {
+  const std::string checkpoint = o.ensemble_checkpoint(name);
+  const bool taken = !checkpoint.empty() && std::filesystem::exists(checkpoint);
+  if (o.log) o.log(what + (taken ? ", continuing from the impacts of the interrupted run" : ""));
+  return run_impact_ensemble(beds, c, kSeed, runs, opt, o.progress, checkpoint);
+}
 
 struct CaseResult {
   ImpactCase c;
@@ -316,8 +328,10 @@ std::string cross_engine_section(Report& rep, const std::map<std::string, std::v
       if (o.quick && prep == "dense") continue;  // quick: CASE A only
       const ImpactCase& ic = impact_case(prep == "loose" ? "A" : "G");
       opt.engine = engine;
-      if (o.log) o.log(fmt::format("impacts: CASE {} on {} ({} impacts)", ic.name, engine, runs));
-      const ImpactEnsemble e = run_impact_ensemble(beds.at(prep), ic, kSeed, runs, opt, o.progress);
+      const ImpactEnsemble e =
+          kept_impacts(o, fmt::format("impacts-case-{}-{}", ic.name, engine),
+                       fmt::format("impacts: CASE {} on {} ({} impacts)", ic.name, engine, runs),
+                       beds.at(prep), ic, runs, opt);
       const ImpactSummary s = summarize_impacts(e.impacts, 0.85);
       const ImpactSummary& n = find(native, ic.name).s;
       for (const char* k : {"m_beff", "eps_iy", "eps_ix", "ejected", "ej_speed"})
@@ -349,9 +363,12 @@ void run_impacts_suite(Report& r, const SuiteOptions& o) {
   std::vector<CaseResult> results;
   ImpactOptions opt;
   for (const ImpactCase& c : impact_cases()) {
-    if (o.log)
-      o.log(fmt::format("impacts: CASE {} ({} impacts on {} {} bed(s))", c.name, runs, n_beds, c.bed));
-    CaseResult cr{c, run_impact_ensemble(beds[c.bed], c, kSeed, runs, opt, o.progress), {}};
+    CaseResult cr{c,
+                  kept_impacts(o, "impacts-case-" + c.name,
+                               fmt::format("impacts: CASE {} ({} impacts on {} {} bed(s))", c.name, runs,
+                                           n_beds, c.bed),
+                               beds[c.bed], c, runs, opt),
+                  {}};
     cr.s = summarize_impacts(cr.e.impacts, eps);
     results.push_back(std::move(cr));
     if (!o.out_dir.empty() && parallel::rank() == 0) {
@@ -364,8 +381,11 @@ void run_impacts_suite(Report& r, const SuiteOptions& o) {
   // (its loose bed was as smooth), so friction's effect on m_beff is compared there as well.
   {
     const ImpactCase dd{"D-dense", 3000, 15, 0.0, "dense", 1.0};
-    if (o.log) o.log(fmt::format("impacts: CASE D on the dense beds ({} impacts)", runs));
-    CaseResult cr{dd, run_impact_ensemble(beds["dense"], dd, kSeed, runs, opt, o.progress), {}};
+    CaseResult cr{dd,
+                  kept_impacts(o, "impacts-case-D-dense",
+                               fmt::format("impacts: CASE D on the dense beds ({} impacts)", runs),
+                               beds["dense"], dd, runs, opt),
+                  {}};
     cr.s = summarize_impacts(cr.e.impacts, eps);
     results.push_back(std::move(cr));
   }

@@ -16,6 +16,14 @@ struct SuiteOptions {
   std::string out_dir;  // the report folder: suites may write example run files there (rank 0)
   // impacts-3d (full): the sand gun's checkpoint file (empty: none), so its hours are spent once
   std::string sand_gun_checkpoint;
+  // A folder where suites keep their long ensembles as they go (ensemble_checkpoint.hpp; empty: none).
+  // `validate` gives OUT/.parts/ensembles-..., named by the quick flag and the binary, so that a suite
+  // stopped part-way and continued with --resume takes the runs it had finished.
+  std::string ensembles_dir;
+  // That folder's file for the ensemble `name` (empty without a folder).
+  std::string ensemble_checkpoint(const std::string& name) const {
+    return ensembles_dir.empty() ? std::string() : ensembles_dir + "/" + name + ".ck.h5";
+  }
 };
 
 struct Suite {
