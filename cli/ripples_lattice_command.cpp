@@ -137,8 +137,10 @@ int lattice_command(const RipplesCommands& a) {
   if (a.lattice_ejections < 0 || a.lattice_ejections > 1e6)
     throw InputError({"--ejections", 0}, fmt::format("{}", a.lattice_ejections), "must lie in (0, 1e6]");
   if (a.lattice_ejections > 0) run.ejections_per_grain = a.lattice_ejections;
-  const LatticeOutcome first = run_lattice(run);
+  // The first seed's run (its h(x, t) for --out, its speed) is rank 0's alone: the other ranks take the
+  // other seeds of the ensemble instead of running it too.
   const bool root = parallel::rank() == 0;
+  const LatticeOutcome first = root ? run_lattice(run) : LatticeOutcome{};
   if (!a.out.empty() && root)
     write_sample_tables(a.out, {first.h, first.history},
                         {{"grainlab_version", GRAINLAB_VERSION},
