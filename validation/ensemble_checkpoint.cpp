@@ -108,7 +108,7 @@ std::vector<std::vector<double>> run_checkpointed_ensemble(
       if (row.size() != width) throw std::logic_error("ensemble run returned the wrong number of values");
       std::copy(row.begin(), row.end(), table.begin() + static_cast<std::ptrdiff_t>(k * width));
       // This rank's share of the round, scaled, beside the runs already done.
-      if (progress) progress(std::min(runs, runs - todo.size() + start + (k - rank + 1) * ranks), runs);
+      if (progress) progress(std::min(runs, runs - todo.size() + start + k - rank + ranks), runs);
     }
     parallel::sum_all(table);
     for (std::size_t k = 0; k < n; ++k)
