@@ -308,8 +308,8 @@ void ValidateCommand::add(CLI::App& app) {
   cmd->add_flag(
       "--resume", resume,
       "continue an interrupted validation into the same --out: the suites it finished (same options, "
-      "same binary) are taken from OUT/.parts, the rest are run (the impacts suite from the impacts it "
-      "had finished)");
+      "same binary) are taken from OUT/.parts, the rest are run (the impacts, loaded-die and "
+      "tumbling-polygon suites from the runs they had finished)");
   cmd->add_option("--jobs,-j", jobs,
                   "suites run at once, each in its own process (0: one per core; under mpirun always 1)")
       ->default_val(0)

@@ -22,9 +22,11 @@ constexpr const char* kKind = "grainlab-ensemble-checkpoint/1";
 // kept there (the rest of the row is zeros).
 const std::vector<std::string> kRunColumns = {"run", "first", "count"};
 const std::vector<std::string> kValueColumns = {"value"};
-// Runs each rank takes in a round: enough that the ranks wait little on each other at a round's end,
-// few enough that a stop loses little.
-constexpr std::size_t kRunsPerRank = 4;
+// Runs each rank takes in the first round: few, since a run may take minutes (a 3-D impact). Rounds
+// that end within kShortRound seconds double it, up to kMostPerRank, so that ensembles of runs of
+// milliseconds (die throws) meet at a round's end about once in that time, not after every few runs.
+constexpr std::size_t kFirstPerRank = 4, kMostPerRank = 1 << 16;
+constexpr double kShortRound = 2.0;
 
 // A whole number in [0, limit), or nothing.
 bool whole_below(double v, double limit) {
@@ -96,12 +98,13 @@ std::vector<std::vector<double>> run_checkpointed_ensemble(
   for (std::size_t i = 0; i < runs; ++i)
     if (!kept.count(i)) todo.push_back(i);
   const std::size_t ranks = parallel::size(), rank = parallel::rank();
-  const std::size_t round = ranks * kRunsPerRank;
+  std::size_t per_rank = kFirstPerRank;
   using Clock = std::chrono::steady_clock;
   auto written = Clock::now();
   if (progress && runs > 0) progress(runs - todo.size(), runs);
-  for (std::size_t start = 0; start < todo.size(); start += round) {
-    const std::size_t n = std::min(round, todo.size() - start);
+  for (std::size_t start = 0, n = 0; start < todo.size(); start += n) {
+    n = std::min(ranks * per_rank, todo.size() - start);
+    const auto began = Clock::now();
     std::vector<double> table(n * width, 0.0);  // zeros from the other ranks: the sum is exact
     for (std::size_t k = rank; k < n; k += ranks) {
       const std::vector<double> row = run(todo[start + k]);
@@ -110,6 +113,9 @@ std::vector<std::vector<double>> run_checkpointed_ensemble(
       // This rank's share of the round, scaled, beside the runs already done.
       if (progress) progress(std::min(runs, runs - todo.size() + start + k - rank + ranks), runs);
     }
+    // (The slowest rank's time, so that every rank sizes the next round alike.)
+    const double took = parallel::max_all(std::chrono::duration<double>(Clock::now() - began).count());
+    if (took < kShortRound) per_rank = std::min(2 * per_rank, kMostPerRank);
     parallel::sum_all(table);
     for (std::size_t k = 0; k < n; ++k)
       kept[todo[start + k]].assign(table.begin() + static_cast<std::ptrdiff_t>(k * width),

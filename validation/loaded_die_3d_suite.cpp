@@ -25,13 +25,10 @@ struct Faces {
 Faces throw_many(Report& report, const std::string& name, const std::string& engine, const Die3d& die,
                  std::size_t n, const SuiteOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  auto rows = run_ensemble(
-      n, 2,
-      [&](std::size_t i) {
-        const DieThrow3d t = throw_die_3d(engine, die, 2026, i);
-        return std::vector<double>{double(t.value_up), t.time};
-      },
-      o.progress);
+  auto rows = suite_ensemble(o, fmt::format("loaded-die-3d-{}-{}", name, engine), n, 2, [&](std::size_t i) {
+    const DieThrow3d t = throw_die_3d(engine, die, 2026, i);
+    return std::vector<double>{double(t.value_up), t.time};
+  });
   Faces f;
   for (const auto& r : rows) ++f.count[static_cast<std::size_t>(r[0])];
   report.samples.push_back({"loaded_die_3d/" + name + "/" + engine,

@@ -31,13 +31,11 @@ Cell run_cell(Report& report, const std::string& engine, double f, double eps, s
               const SuiteOptions& o) {
   Cell c{engine, f, eps, {}, 0, 0, 0};
   const auto start = std::chrono::steady_clock::now();
-  const auto rows = run_ensemble(
-      throws, 2,
-      [&](std::size_t i) {
-        const DieThrow t = throw_die_2d(engine, Die2d{f, eps, 0.8}, 1987, i);
-        return std::vector<double>{double(t.face_down), t.time};
-      },
-      o.progress);
+  const auto rows = suite_ensemble(o, fmt::format("loaded-die-2d-{}-eps-{}-f-{}", engine, eps, f), throws, 2,
+                                   [&](std::size_t i) {
+                                     const DieThrow t = throw_die_2d(engine, Die2d{f, eps, 0.8}, 1987, i);
+                                     return std::vector<double>{double(t.face_down), t.time};
+                                   });
   std::size_t high_up = 0, captured = 0;
   for (const auto& row : rows) {
     if (row[0] < 0) {

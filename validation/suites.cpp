@@ -1,6 +1,18 @@
 #include "suites.hpp"
 
+#include "ensemble_checkpoint.hpp"
+
 namespace grainlab::validation {
+
+std::vector<std::vector<double>> suite_ensemble(const SuiteOptions& o, const std::string& name,
+                                                std::size_t runs, std::size_t width,
+                                                const std::function<std::vector<double>(std::size_t)>& run) {
+  EnsembleCheckpoint kept;
+  if (!o.ensembles_dir.empty())
+    kept = {o.ensemble_checkpoint(name), "suite's ensemble checkpoint", "ensemble " + name,
+            "was written for another ensemble: run validate without --resume"};
+  return run_checkpointed_ensemble(runs, width, run, kept, o.progress);
+}
 
 const std::vector<Suite>& suites() {
   static const std::vector<Suite> all = {

@@ -35,6 +35,14 @@ struct Suite {
   double quick_minutes = 0.5;
 };
 
+// run_ensemble for a suite: with an ensembles folder, its runs are kept there under `name` as they end, so
+// that a suite continued by `validate --resume` takes up the runs it had finished. `name` must tell the
+// ensemble from every other of the same mode (the folder is the binary's and the mode's): engine, case,
+// parameters; not the number of runs, which decides nothing about run i.
+std::vector<std::vector<double>> suite_ensemble(const SuiteOptions& o, const std::string& name,
+                                                std::size_t runs, std::size_t width,
+                                                const std::function<std::vector<double>(std::size_t)>& run);
+
 const std::vector<Suite>& suites();
 const Suite* find_suite(const std::string& name);
 

@@ -40,14 +40,13 @@ Cell run_cell(Report& r, const std::string& engine, std::size_t shape_index, dou
   const TumblingShape& shape = tumbling_shapes()[shape_index];
   Cell c{engine, shape.name, angle, mu, {}, 0, 0, 0, {}, 0};
   const auto start = std::chrono::steady_clock::now();
-  auto rows = run_ensemble(
-      runs, 5,
-      [&](std::size_t i) {
-        const TumbleRun t = tumble(engine, shape, {angle, mu, kRestitution}, kSeed, i);
-        return std::vector<double>{double(static_cast<int>(t.motion)), t.downslope_speed, t.acceleration,
-                                   t.turned, t.airborne};
-      },
-      o.progress);
+  auto rows =
+      suite_ensemble(o, fmt::format("tumbling-polygon-{}-{}-incline-{}-mu-{}", engine, shape.name, angle, mu),
+                     runs, 5, [&](std::size_t i) {
+                       const TumbleRun t = tumble(engine, shape, {angle, mu, kRestitution}, kSeed, i);
+                       return std::vector<double>{double(static_cast<int>(t.motion)), t.downslope_speed,
+                                                  t.acceleration, t.turned, t.airborne};
+                     });
   for (const auto& row : rows) {
     const auto m = static_cast<std::size_t>(row[0]);
     ++c.count[m], ++c.runs;
