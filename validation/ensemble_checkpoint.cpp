@@ -105,21 +105,18 @@ std::vector<std::vector<double>> run_checkpointed_ensemble(
   for (std::size_t start = 0, n = 0; start < todo.size(); start += n) {
     n = std::min(ranks * per_rank, todo.size() - start);
     const auto began = Clock::now();
-    std::vector<double> table(n * width, 0.0);  // zeros from the other ranks: the sum is exact
-    for (std::size_t k = rank; k < n; k += ranks) {
-      const std::vector<double> row = run(todo[start + k]);
-      if (row.size() != width) throw std::logic_error("ensemble run returned the wrong number of values");
-      std::copy(row.begin(), row.end(), table.begin() + static_cast<std::ptrdiff_t>(k * width));
-      // This rank's share of the round, scaled, beside the runs already done.
-      if (progress) progress(std::min(runs, runs - todo.size() + start + k - rank + ranks), runs);
-    }
+    const std::size_t before = runs - todo.size() + start;
+    // run_ensemble deals the round out over the ranks and gathers it (its first word, 0 done, is told
+    // above or by the round before).
+    const auto round = run_ensemble(
+        n, width, [&](std::size_t k) { return run(todo[start + k]); },
+        [&](std::size_t done, std::size_t) {
+          if (progress && done > 0) progress(std::min(runs, before + done), runs);
+        });
     // (The slowest rank's time, so that every rank sizes the next round alike.)
     const double took = parallel::max_all(std::chrono::duration<double>(Clock::now() - began).count());
     if (took < kShortRound) per_rank = std::min(2 * per_rank, kMostPerRank);
-    parallel::sum_all(table);
-    for (std::size_t k = 0; k < n; ++k)
-      kept[todo[start + k]].assign(table.begin() + static_cast<std::ptrdiff_t>(k * width),
-                                   table.begin() + static_cast<std::ptrdiff_t>((k + 1) * width));
+    for (std::size_t k = 0; k < n; ++k) kept[todo[start + k]] = round[k];
     const bool last = start + n == todo.size();
     const double since = std::chrono::duration<double>(Clock::now() - written).count();
     if (rank == 0 && (last || since >= c.seconds_between_writes)) {
