@@ -7,6 +7,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "frame_tables.hpp"
 #include "h5_input.hpp"
 #include "h5_output.hpp"
 #include "hybrid_config.hpp"
@@ -163,55 +164,15 @@ namespace {
 
 using ripples::hybrid::BedFrame;
 
-const std::vector<std::string> kHistoryColumns = {
-    "t_star",         "amplitude",      "wavelength",   "ripple_index",      "mean_height",
-    "shift",          "mass_flux_star", "airborne",     "u_star_bed",        "loosening",
-    "size_crest",     "size_trough",    "z0",           "stoss_deg",         "lee_deg",
-    "collision_rate", "crest_spacing",  "crest_height", "crest_ripple_index"};
-// Checkpoints written before frames carried the log layer's roughness (2026-11-28) lack its column, the
-// flank slopes' (2026-12-03), the collision rate's and the crest measures' (2026-12-04); those written
-// between, the later ones. Their frames read NaN there.
-constexpr std::size_t kHistoryColumnsBeforeZ0 = 12, kHistoryColumnsBeforeSlopes = 13,
-                      kHistoryColumnsBeforeCollisions = 15, kHistoryColumnsBeforeCrests = 16;
+// (The frames' statistics, one row each, as ripples/hybrid/frame_tables.hpp writes them.)
+const std::vector<std::string>& kHistoryColumns = ripples::hybrid::frame_history_columns();
 
 std::vector<double> history_row(const BedFrame& f) {
-  return {f.t_star,
-          f.stats.amplitude,
-          f.stats.wavelength,
-          f.stats.ripple_index,
-          f.stats.mean,
-          f.shift,
-          f.mass_flux_star,
-          f.airborne,
-          f.u_star_bed,
-          f.loosening,
-          f.size_crest,
-          f.size_trough,
-          f.z0,
-          f.stats.stoss_deg,
-          f.stats.lee_deg,
-          f.collision_rate,
-          f.stats.crest_spacing,
-          f.stats.crest_height,
-          f.stats.crest_ripple_index};
+  return ripples::hybrid::frame_history_row(f);
 }
 
 nlohmann::json number_or_null(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
-}
-
-BedFrame frame_of_row(const std::vector<double>& r) {
-  BedFrame f;
-  f.t_star = r[0], f.stats = {r[1], r[2], r[3], r[4]}, f.shift = r[5], f.mass_flux_star = r[6];
-  f.airborne = r[7], f.u_star_bed = r[8], f.loosening = r[9], f.size_crest = r[10], f.size_trough = r[11];
-  if (r.size() > kHistoryColumnsBeforeZ0) f.z0 = r[12];
-  f.stats.stoss_deg = f.stats.lee_deg = std::nan("");
-  if (r.size() > kHistoryColumnsBeforeSlopes) f.stats.stoss_deg = r[13], f.stats.lee_deg = r[14];
-  if (r.size() > kHistoryColumnsBeforeCollisions) f.collision_rate = r[15];
-  f.stats.crest_spacing = f.stats.crest_height = f.stats.crest_ripple_index = std::nan("");
-  if (r.size() > kHistoryColumnsBeforeCrests)
-    f.stats.crest_spacing = r[16], f.stats.crest_height = r[17], f.stats.crest_ripple_index = r[18];
-  return f;
 }
 
 // A bed of several sizes: each frame's mean surface grain size by column (d), as rows t*, x0, x1, ...
@@ -260,25 +221,13 @@ void write_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hyb
                              const std::vector<std::vector<double>>& written) {
   std::vector<SampleTable> tables = run.save("run/");  // collective: every rank's grains
   if (parallel::rank() != 0) return;
-  SampleTable history{"cli/history", "frames so far", kHistoryColumns, {}};
-  std::vector<double> profile_values, height_values;
-  for (const BedFrame& f : frames) {
-    history.rows.push_back(history_row(f));
-    profile_values.insert(profile_values.end(), f.profile.begin(), f.profile.end());
-  }
-  for (const auto& h : written) height_values.insert(height_values.end(), h.begin(), h.end());
   const std::size_t nx = run.bed().nx();
-  const SampleTable profiles =
-      ripples::hybrid::grid_table("cli/profiles", "each frame's profile (d)", profile_values, nx);
-  const SampleTable heights = ripples::hybrid::grid_table(
-      "cli/frames", "every written frame's heights (d), frame after frame", height_values, nx);
-  tables.insert(tables.end(), {history, profiles, heights});
-  if (!c.options.sizes.empty()) {
-    std::vector<double> sizes;
-    for (const BedFrame& f : frames) sizes.insert(sizes.end(), f.size_profile.begin(), f.size_profile.end());
-    tables.push_back(
-        ripples::hybrid::grid_table("cli/size_profiles", "each frame's mean surface size (d)", sizes, nx));
-  }
+  for (SampleTable& t : ripples::hybrid::frame_tables(frames, nx, !c.options.sizes.empty(), "cli/"))
+    tables.push_back(std::move(t));
+  std::vector<double> height_values;
+  for (const auto& h : written) height_values.insert(height_values.end(), h.begin(), h.end());
+  tables.push_back(ripples::hybrid::grid_table(
+      "cli/frames", "every written frame's heights (d), frame after frame", height_values, nx));
   write_sample_tables(
       path, tables,
       {{"kind", kCheckpointKind}, {"grainlab_version", GRAINLAB_VERSION}, {"options", fingerprint(c)}});
@@ -287,35 +236,25 @@ void write_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hyb
 void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::HybridConfig& c,
                             ripples::hybrid::RippleRun& run, std::vector<BedFrame>& frames,
                             std::vector<std::vector<double>>& written, std::size_t cells) {
-  std::map<std::string, std::vector<std::string>> wanted{
-      {"cli/history", {}}, {"cli/profiles", {}}, {"cli/frames", {}}};        // (the history's columns: below)
+  const bool sizes = !c.options.sizes.empty();
+  std::map<std::string, std::vector<std::string>> wanted = ripples::hybrid::frame_table_names(sizes, "cli/");
+  wanted["cli/frames"] = {};
   for (const SampleTable& t : run.save("run/")) wanted[t.name] = t.columns;  // the tables a run writes
-  if (!c.options.sizes.empty()) wanted["cli/size_profiles"] = {};
   const TableFile file = read_sample_tables(path, wanted);
   require_checkpoint(file, path, kCheckpointKind, "hybrid ripple checkpoint", continued_fingerprint(file, c),
                      "was written for another config: pass the one it was started with, and the same --set "
                      "overrides");
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
-  const std::vector<std::string>& columns = file.tables.at("cli/history").columns;
-  // This build's columns, or the first columns of them that an older build wrote.
-  bool known = columns == kHistoryColumns;
-  for (std::size_t n : {kHistoryColumnsBeforeZ0, kHistoryColumnsBeforeSlopes, kHistoryColumnsBeforeCollisions,
-                        kHistoryColumnsBeforeCrests})
-    known = known || columns == std::vector<std::string>(kHistoryColumns.begin(),
-                                                         kHistoryColumns.begin() + static_cast<long>(n));
-  if (!known) refuse("has a frame history with other columns than a hybrid ripple run writes");
   try {
     run.restore(file.tables, "run/");
-    const auto& history = file.tables.at("cli/history").rows;
-    const auto& profiles =
-        ripples::hybrid::checkpoint_table(file.tables, "cli/profiles", run.bed().nx()).rows;
-    if (history.empty() || profiles.size() != history.size()) refuse("has no frames, or profiles missing");
+    frames = ripples::hybrid::frames_of_tables(file.tables, run.bed().nx(),
+                                               run.bed().cell() / c.options.diameter, sizes, "cli/");
     // Frames are taken at frame_times (each within a step after its time). A run whose duration is not a
     // whole number of intervals took its last frame at its end, off the grid another duration continues on.
     // A frame is taken within a step (at most dt_max, 0.02 t* by default) after its time: 1 t* is ample,
     // and far less than a frame interval. (It was a tenth of the interval: a run that ended at t* = 600,
     // continued to 640 with frames every 1000, passed as having taken its frame at 640 and ran no step.)
-    const double every = c.options.frame_every, last = history.back().at(0);
+    const double every = c.options.frame_every, last = frames.back().t_star;
     const double slack = std::min(0.1 * every, 1.0);
     if (last > c.options.duration + slack)
       refuse(
@@ -323,21 +262,11 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
                       "least that",
                       last, c.options.duration));
     const std::vector<double> times = ripples::hybrid::frame_times(c.options.duration, every);
-    if (history.size() > times.size() || std::abs(last - times[history.size() - 1]) > slack)
+    if (frames.size() > times.size() || std::abs(last - times[frames.size() - 1]) > slack)
       refuse(
           fmt::format("has its last frame at t* = {:.0f}, off this run's frames (one every {:g} t*, and "
                       "one at the end): a run that ended between two frames cannot be continued",
                       last, every));
-    for (std::size_t k = 0; k < history.size(); ++k) {
-      frames.push_back(frame_of_row(history[k]));
-      frames.back().profile = profiles[k], frames.back().dx = run.bed().cell() / c.options.diameter;
-    }
-    if (!c.options.sizes.empty()) {
-      const auto& sizes =
-          ripples::hybrid::checkpoint_table(file.tables, "cli/size_profiles", run.bed().nx()).rows;
-      if (sizes.size() != history.size()) refuse("has surface sizes for another number of frames");
-      for (std::size_t k = 0; k < sizes.size(); ++k) frames[k].size_profile = sizes[k];
-    }
     const std::vector<double> h = ripples::hybrid::grid_values(
         ripples::hybrid::checkpoint_table(file.tables, "cli/frames", run.bed().nx()));
     if (h.size() % cells != 0) refuse("has a bed history of the wrong size");

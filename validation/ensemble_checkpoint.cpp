@@ -22,10 +22,11 @@ constexpr const char* kKind = "grainlab-ensemble-checkpoint/1";
 // kept there (the rest of the row is zeros).
 const std::vector<std::string> kRunColumns = {"run", "first", "count"};
 const std::vector<std::string> kValueColumns = {"value"};
-// Runs each rank takes in the first round: few, since a run may take minutes (a 3-D impact). Rounds
-// that end within kShortRound seconds double it, up to kMostPerRank, so that ensembles of runs of
-// milliseconds (die throws) meet at a round's end about once in that time, not after every few runs.
-constexpr std::size_t kFirstPerRank = 4, kMostPerRank = 1 << 16;
+// Runs each rank takes in the first round: one, since a run may take minutes (a 3-D impact, a hybrid
+// ripple run) and a stop loses the round under way. Rounds that end within kShortRound seconds double
+// it, up to kMostPerRank, so that ensembles of runs of milliseconds (die throws) meet at a round's end
+// about once in that time, not after every run.
+constexpr std::size_t kFirstPerRank = 1, kMostPerRank = 1 << 16;
 constexpr double kShortRound = 2.0;
 
 // A whole number in [0, limit), or nothing.

@@ -12,13 +12,16 @@
 #include <cmath>
 #include <map>
 
+#include "binary_fingerprint.hpp"
 #include "collision.hpp"
 #include "ensemble.hpp"
 #include "fluid.hpp"
 #include "flux_model.hpp"
 #include "focal_point.hpp"
 #include "hybrid_config.hpp"
+#include "kept_ripple_run.hpp"
 #include "lammel_splash.hpp"
+#include "parallel.hpp"
 #include "ripple_config.hpp"
 #include "ripple_run.hpp"
 #include "rng.hpp"
@@ -289,17 +292,6 @@ double steepest_step(const HeightField& bed) {
   return worst;
 }
 
-// Every frame of a run from its start to o.duration.
-std::vector<BedFrame> run_frames(RippleRun& run, const RippleOptions& o) {
-  std::vector<BedFrame> frames{run.frame()};
-  const std::vector<double> times = frame_times(o.duration, o.frame_every);
-  for (std::size_t k = 1; k < times.size(); ++k) {
-    run.advance_to(times[k]);
-    frames.push_back(run.frame());
-  }
-  return frames;
-}
-
 // A bed started as a 50 d sine of 1 d, with the wind column on the mean bed level and on the bed beneath
 // each grain: the growth rate of the band holding the wave. On the mean level a crest stands in faster
 // wind than a trough, exports its grains and every band decays; on the bed the wave is not damped.
@@ -342,9 +334,12 @@ void ripple_checks(Report& rep, bool quick, const SuiteOptions& so, std::string&
   RippleOptions o;  // the paper's grains and fluid (s = 2098, Ga = 38)
   o.u_star = 40, o.length = quick ? 300 : 1000, o.width = quick ? 12 : 40, o.triggers = quick ? 12 : 40;
   o.duration = quick ? 3000 : 60000, o.frame_every = quick ? 250 : 1000;
+  // Under mpirun the ranks share the run's domain, as `ripples hybrid` does (the same bits on any count).
+  o.distributed = parallel::size() > 1 && static_cast<long>(parallel::size()) <= max_ranks(o);
   if (so.log) so.log(fmt::format("hybrid ripple run: {} d x {} d, {} t*", o.length, o.width, o.duration));
   RippleRun run(o);
-  const std::vector<BedFrame> frames = run_frames(run, o);
+  const std::vector<BedFrame> frames =
+      kept_ripple_frames(run, o, so, fmt::format("hybrid-ripple-run-{}x{}", o.length, o.width));
   const HeightField& bed = run.bed();
   const auto airborne = static_cast<double>(run.transport().airborne());
   rep.expect_near("hybrid/ripples/grain-count", "hybrid", airborne,
@@ -435,25 +430,30 @@ void initial_wavelength_checks(Report& rep, double u_d, const SuiteOptions& so, 
   // The paper's case as shipped (scenes/ripples/huo2021_ripples.toml) on a narrow bed: the same runs as
   // `grainlab ripples hybrid --config` of that file with these keys changed.
   const std::string preset = std::string(GRAINLAB_SOURCE_DIR) + "/scenes/ripples/huo2021_ripples.toml";
-  const RippleOptions paper = parse_hybrid_config(ripples::read_config_text(preset), preset).options;
+  const std::string text = ripples::read_config_text(preset);
+  const RippleOptions paper = parse_hybrid_config(text, preset).options;
   if (so.log)
     so.log(fmt::format("hybrid initial wavelength: {} u* x {} seeds, 400 d x 16 d, 20,000 t*", ustars.size(),
                        seeds));
-  const auto rows = run_ensemble(ustars.size() * seeds, 3, [&](std::size_t i) -> std::vector<double> {
-    const double u = ustars[i / seeds];
-    RippleOptions o = paper;
-    o.u_star = u, o.length = 400, o.width = 16, o.triggers = 20, o.duration = 20000, o.frame_every = 500;
-    o.seed = i % seeds + 1;
-    RippleRun run(o);
-    double sum = 0, n = 0;
-    BedFrame last;
-    for (const BedFrame& f : run_frames(run, o)) {
-      if (f.t_star >= 10000 - 1e-6 && std::isfinite(f.stats.wavelength) && f.stats.wavelength > 0)
-        sum += f.stats.wavelength, ++n;
-      last = f;
-    }
-    return {n > 0 ? sum / n : NAN, last.stats.amplitude, last.stats.ripple_index};
-  });
+  // Kept as they end (50 min of CPU), under a name that holds the preset's text: the runs read it at run
+  // time, so an edited preset must not take up the old runs.
+  const std::string kept = fmt::format("hybrid-initial-wavelength-{:016x}", fnv1a(text.data(), text.size()));
+  const auto rows =
+      suite_ensemble(so, kept, ustars.size() * seeds, 3, [&](std::size_t i) -> std::vector<double> {
+        const double u = ustars[i / seeds];
+        RippleOptions o = paper;
+        o.u_star = u, o.length = 400, o.width = 16, o.triggers = 20, o.duration = 20000, o.frame_every = 500;
+        o.seed = i % seeds + 1;
+        RippleRun run(o);
+        double sum = 0, n = 0;
+        BedFrame last;
+        for (const BedFrame& f : run_frames(run, o)) {
+          if (f.t_star >= 10000 - 1e-6 && std::isfinite(f.stats.wavelength) && f.stats.wavelength > 0)
+            sum += f.stats.wavelength, ++n;
+          last = f;
+        }
+        return {n > 0 ? sum / n : NAN, last.stats.amplitude, last.stats.ripple_index};
+      });
   std::vector<double> x, y;
   md += fmt::format(
       "## Initial wavelength against u* (400 d x 16 d, {} seeds, mean over t* = 10,000-20,000; u_d* = {:.1f} "
