@@ -164,13 +164,6 @@ namespace {
 
 using ripples::hybrid::BedFrame;
 
-// (The frames' statistics, one row each, as ripples/hybrid/frame_tables.hpp writes them.)
-const std::vector<std::string>& kHistoryColumns = ripples::hybrid::frame_history_columns();
-
-std::vector<double> history_row(const BedFrame& f) {
-  return ripples::hybrid::frame_history_row(f);
-}
-
 nlohmann::json number_or_null(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
 }
@@ -374,9 +367,9 @@ int hybrid_ripples_command(const RipplesCommands& a) {
         "of the log layer (d); the stoss and lee angles (deg); mid-air collisions per t* per 1,000 d^2 "
         "of bed since the previous frame; the crests' mean spacing and height (d) and their ratio, slice "
         "by slice",
-        kHistoryColumns,
+        ripples::hybrid::frame_history_columns(),
         {}};
-    for (const BedFrame& f : frames) history.rows.push_back(history_row(f));
+    for (const BedFrame& f : frames) history.rows.push_back(ripples::hybrid::frame_history_row(f));
     SampleTable flux{
         "flux", "flux samples: t*, Q*, grains airborne", {"t_star", "mass_flux_star", "airborne"}, {}};
     for (const auto& s : run.series()) flux.rows.push_back({s[0], s[1], s[2]});
@@ -420,7 +413,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
     nlohmann::json rows = nlohmann::json::array();
     for (const BedFrame& f : frames) {
       nlohmann::json row = nlohmann::json::array();
-      for (double v : history_row(f)) row.push_back(number_or_null(v));
+      for (double v : ripples::hybrid::frame_history_row(f)) row.push_back(number_or_null(v));
       rows.push_back(row);
     }
     nlohmann::json response = nlohmann::json::array();
@@ -480,7 +473,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
                            {"grain_steps_per_second", rate},  // all ranks together
                            {"ranks", parallel::size()},
                            {"wall_seconds", wall},
-                           {"history_columns", kHistoryColumns},
+                           {"history_columns", ripples::hybrid::frame_history_columns()},
                            {"history", rows}};
     fmt::print("{}\n", j.dump());
     return 0;
