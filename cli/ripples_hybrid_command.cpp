@@ -267,8 +267,6 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
       written.emplace_back(h.begin() + static_cast<long>(k), h.begin() + static_cast<long>(k + cells));
   } catch (const std::invalid_argument& e) {
     refuse(e.what());
-  } catch (const std::out_of_range&) {
-    refuse("has no frame history");
   }
 }
 

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 
 #include "frame_tables.hpp"
@@ -37,15 +39,24 @@ std::vector<BedFrame> read_kept(const std::string& path, const std::string& fing
   }
 }
 
+// The frames after those in `frames` (the first, at the start, if there are none) to o.duration; `after`
+// is called after each frame the run advances to.
+void take_frames(ripples::hybrid::RippleRun& run, const ripples::hybrid::RippleOptions& o,
+                 std::vector<BedFrame>& frames, const std::function<void()>& after) {
+  if (frames.empty()) frames.push_back(run.frame());
+  const std::vector<double> times = ripples::hybrid::frame_times(o.duration, o.frame_every);
+  for (std::size_t k = frames.size(); k < times.size(); ++k) {
+    run.advance_to(times[k]);
+    frames.push_back(run.frame());
+    after();
+  }
+}
+
 }  // namespace
 
 std::vector<BedFrame> run_frames(ripples::hybrid::RippleRun& run, const ripples::hybrid::RippleOptions& o) {
-  std::vector<BedFrame> frames{run.frame()};
-  const std::vector<double> times = ripples::hybrid::frame_times(o.duration, o.frame_every);
-  for (std::size_t k = 1; k < times.size(); ++k) {
-    run.advance_to(times[k]);
-    frames.push_back(run.frame());
-  }
+  std::vector<BedFrame> frames;
+  take_frames(run, o, frames, [] {});
   return frames;
 }
 
@@ -61,26 +72,23 @@ std::vector<BedFrame> kept_ripple_frames(ripples::hybrid::RippleRun& run,
   if (std::filesystem::exists(path)) {
     frames = read_kept(path, fingerprint, run, o);
     if (so.log) so.log(fmt::format("continuing the ripple run from t* = {:.0f}", frames.back().t_star));
-  } else {
-    frames.push_back(run.frame());
   }
-  const std::vector<double> times = ripples::hybrid::frame_times(o.duration, o.frame_every);
-  if (frames.size() > times.size())
+  const std::size_t total = ripples::hybrid::frame_times(o.duration, o.frame_every).size();
+  if (frames.size() > total)
     throw InputError({path, 0}, "--resume",
                      "holds more frames than the run takes: run validate without --resume");
-  if (so.progress) so.progress(frames.size(), times.size());
-  for (std::size_t k = frames.size(); k < times.size(); ++k) {
-    run.advance_to(times[k]);
-    frames.push_back(run.frame());
-    // (Every frame: a frame of the full run takes 10-20 s, the file a few milliseconds.)
+  if (so.progress) so.progress(std::max<std::size_t>(frames.size(), 1), total);
+  // Written after every frame (one of the full run takes 15-20 s of one core): keeping them left the quick
+  // suite's time unchanged within the machine's noise (docs/validation.md).
+  take_frames(run, o, frames, [&] {
     std::vector<SampleTable> tables = run.save("run/");  // collective on a distributed run
     for (SampleTable& t : ripples::hybrid::frame_tables(frames, run.bed().nx(), !o.sizes.empty(), "frames/"))
       tables.push_back(std::move(t));
     if (parallel::rank() == 0)
       write_sample_tables(
           path, tables, {{"kind", kKind}, {"grainlab_version", GRAINLAB_VERSION}, {"options", fingerprint}});
-    if (so.progress) so.progress(frames.size(), times.size());
-  }
+    if (so.progress) so.progress(frames.size(), total);
+  });
   return frames;
 }
 

@@ -1,7 +1,5 @@
 #include "frame_tables.hpp"
 
-#include <fmt/format.h>
-
 #include <cmath>
 #include <stdexcept>
 
@@ -36,12 +34,6 @@ BedFrame frame_of_row(const std::vector<double>& r) {
   if (r.size() > kColumnsBeforeCrests)
     f.stats.crest_spacing = r[16], f.stats.crest_height = r[17], f.stats.crest_ripple_index = r[18];
   return f;
-}
-
-const SampleTable& table(const std::map<std::string, SampleTable>& tables, const std::string& name) {
-  const auto it = tables.find(name);
-  if (it == tables.end()) throw std::invalid_argument(fmt::format("has no table {}", name));
-  return it->second;
 }
 
 }  // namespace
@@ -102,7 +94,10 @@ std::map<std::string, std::vector<std::string>> frame_table_names(bool sizes, co
 
 std::vector<BedFrame> frames_of_tables(const std::map<std::string, SampleTable>& tables, std::size_t nx,
                                        double dx, bool sizes, const std::string& prefix) {
-  const SampleTable& history = table(tables, prefix + "history");
+  // (Any width the file gives: known_columns decides. checkpoint_table refuses a missing table.)
+  const auto found = tables.find(prefix + "history");
+  const SampleTable& history =
+      checkpoint_table(tables, prefix + "history", found == tables.end() ? 0 : found->second.columns.size());
   if (!known_columns(history.columns))
     throw std::invalid_argument("has a frame history with other columns than a hybrid ripple run writes");
   const auto& profiles = checkpoint_table(tables, prefix + "profiles", nx).rows;
@@ -110,8 +105,6 @@ std::vector<BedFrame> frames_of_tables(const std::map<std::string, SampleTable>&
     throw std::invalid_argument("has no frames, or profiles missing");
   std::vector<BedFrame> frames;
   for (std::size_t k = 0; k < history.rows.size(); ++k) {
-    if (history.rows[k].size() != history.columns.size())
-      throw std::invalid_argument("has a frame history row of the wrong length");
     frames.push_back(frame_of_row(history.rows[k]));
     frames.back().profile = profiles[k], frames.back().dx = dx;
   }
