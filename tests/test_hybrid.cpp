@@ -148,6 +148,40 @@ TEST(LammelSplash, EjectaCountsAndEnergiesMatchTheLaw) {
   EXPECT_EQ(ejecta_law(p, e_bar, 1.0, 1).mean_count, 0);
 }
 
+namespace {
+// The quantile as it was before the Newton estimate: plain halving of [-40, 40] on erfc.
+double plain_halving_quantile(double q) {
+  double lo = -40, hi = 40;
+  for (int k = 0; k < 100; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    double& end = 0.5 * std::erfc(mid / std::sqrt(2.0)) > q ? lo : hi;
+    if (end == mid) break;
+    end = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+}  // namespace
+
+// The Newton estimate only skips erfc calls whose outcome is certain, so seeded runs keep their bits:
+// the quantile equals the plain halving's exactly, over the q the ejecta draw (escape probability times
+// a uniform number), down to the smallest such q and up to just below 1/2, where the estimate is near 0.
+TEST(LammelSplash, TailQuantileIsThePlainHalvingsToTheBit) {
+  Rng rng(2026);
+  std::vector<double> qs = {0.5, 0.4999999999999999, 0.49999999, 0.3, 1e-300, 5e-324, 1.0, 0.7};
+  for (int k = 0; k < 200000; ++k) qs.push_back(0.5 * (1 - rng.uniform()));
+  for (int k = 0; k < 200000; ++k) qs.push_back(std::pow(10.0, -17 * rng.uniform()) * 0.5);
+  for (int k = 0; k < 20000; ++k) qs.push_back(0.5 - std::pow(10.0, -16 * rng.uniform()));
+  int differ = 0;
+  for (double q : qs)
+    if (normal_tail_quantile(q) != plain_halving_quantile(q) && ++differ < 5)
+      ADD_FAILURE() << std::hexfloat << "q " << q << ": " << normal_tail_quantile(q) << " against "
+                    << plain_halving_quantile(q);
+  EXPECT_EQ(differ, 0) << "of " << qs.size();
+  // And it is the quantile: P(Z > x) = q to round-off in the tail.
+  for (double q : {0.25, 1e-3, 1e-9, 1e-15})
+    EXPECT_NEAR(0.5 * std::erfc(normal_tail_quantile(q) / std::sqrt(2.0)) / q, 1.0, 1e-12) << q;
+}
+
 }  // namespace grainlab::ripples::hybrid
 
 namespace grainlab::ripples::hybrid {

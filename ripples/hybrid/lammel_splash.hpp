@@ -55,6 +55,8 @@ struct EjectaLaw {
 EjectaLaw ejecta_law(const LammelParameters& p, double e_bar, double e1, double e_d2);
 // A draw: the number of ejecta (stochastic rounding of mean_count) and an energy above e_d2 for one.
 int sample_ejecta_count(const EjectaLaw& law, Rng& rng);
+// x with P(Z > x) = q for the standard normal Z, to round-off (the ejecta energies' inverse CDF).
+double normal_tail_quantile(double q);
 double sample_ejectum_energy(const EjectaLaw& law, Rng& rng);
 
 }  // namespace grainlab::ripples::hybrid

@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <numeric>
 #include <stdexcept>
 
@@ -251,7 +250,19 @@ namespace {
 Grains by_id(const Grains& g) {
   std::vector<std::size_t> order(g.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return g.id[a] < g.id[b]; });
+  auto earlier = [&](std::size_t a, std::size_t b) { return g.id[a] < g.id[b]; };
+  // Each rank packs its grains in id order, so what was gathered is a run per rank: merged as they come,
+  // unless there are many runs (ids are distinct, so either way gives the one order).
+  constexpr int kMostRuns = 16;
+  std::size_t merged = 0;  // order[0, merged) is in id order
+  int runs = 0;
+  for (std::size_t i = 1; i <= g.size() && runs <= kMostRuns; ++i)
+    if (i == g.size() || g.id[i] < g.id[i - 1]) {
+      std::inplace_merge(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(merged),
+                         order.begin() + static_cast<std::ptrdiff_t>(i), earlier);
+      merged = i, ++runs;
+    }
+  if (merged < g.size()) std::sort(order.begin(), order.end(), earlier);
   Grains out;
   for (std::size_t i : order)
     out.add(g.x[i], g.y[i], g.z[i], g.vx[i], g.vy[i], g.vz[i], g.kind[i], g.id[i], g.splash[i]);
@@ -698,18 +709,6 @@ void Transport::rebound(const Hit& h, double x, double y, double z, double vx, d
   grains_.splash[i] = splash_now_;
   grains_.x[i] = x, grains_.y[i] = y, grains_.z[i] = z;
   grains_.vx[i] = vx, grains_.vy[i] = vy, grains_.vz[i] = vz;
-}
-
-double time_since_crossing(const std::array<double, 3>& p, const std::array<double, 3>& v, double r,
-                           double span, const std::function<double(double, double)>& height) {
-  auto above = [&](double back) {  // the bottom's height over the surface, `back` seconds ago
-    return p[2] - v[2] * back - r - height(p[0] - v[0] * back, p[1] - v[1] * back);
-  };
-  if (!(v[2] < 0) || above(span) <= 0) return 0;
-  double lo = 0, hi = span;  // below at lo, above at hi
-  for (int k = 0; k < 50 && hi - lo > 1e-12 * span; ++k)
-    (above(0.5 * (lo + hi)) > 0 ? hi : lo) = 0.5 * (lo + hi);
-  return hi;
 }
 
 // Where a grain that ends the step with its bottom (radius r) below the bed crossed the bed's surface.
