@@ -48,9 +48,9 @@ double normal_tail_quantile(double q) {
   for (int k = 0; k < 100; ++k) {
     const double mid = 0.5 * (lo + hi);
     const bool below = known && std::abs(mid - guess) > kSettled ? mid < guess : normal_tail(mid) > q;
-    double& end = below ? lo : hi;
-    if (end == mid) break;
-    end = mid;
+    if ((below ? lo : hi) == mid) break;
+    lo = below ? mid : lo;  // (selected, not branched to: which way a step goes is a coin toss)
+    hi = below ? hi : mid;
   }
   return 0.5 * (lo + hi);
 }

@@ -615,21 +615,23 @@ void Transport::collide_fast() {
         partners[std::min(i, j)].push_back(std::max(i, j));  // (fast grains: index order is id order)
       }
   }
-  // Fast with the others, by column.
-  std::vector<std::pair<std::size_t, std::uint32_t>> by_column;
-  for (std::size_t k = nf; k < t.size(); ++k)
-    by_column.emplace_back(column[k], static_cast<std::uint32_t>(k));
-  std::sort(by_column.begin(), by_column.end());
+  // Fast with the others, by column: each column's grains chained from its head (the heads are left clear;
+  // the order within a column does not matter, as each list is put in id order below).
+  constexpr std::uint32_t kNoGrain = ~std::uint32_t{0};
+  near_head_.resize(static_cast<std::size_t>(nx * ny), kNoGrain);
+  std::vector<std::uint32_t> near_next(t.size(), kNoGrain);
+  for (auto k = static_cast<std::uint32_t>(nf); k < t.size(); ++k)
+    near_next[k] = near_head_[column[k]], near_head_[column[k]] = k;
   for (std::uint32_t i = 0; i < nf; ++i) {
     const Region& r = regions[i];
     for (long cx = r.x0; cx <= r.x1; ++cx)
       for (long cy = r.y0; cy <= r.y1; ++cy) {
         const auto c = static_cast<std::size_t>(wrap(cx, nx) * ny + wrap(cy, ny));
-        auto at = std::lower_bound(by_column.begin(), by_column.end(), std::make_pair(c, std::uint32_t{0}));
-        for (; at != by_column.end() && at->first == c; ++at)
-          if (!near(i, at->second)) partners[i].push_back(at->second);
+        for (std::uint32_t j = near_head_[c]; j != kNoGrain; j = near_next[j])
+          if (!near(i, j)) partners[i].push_back(j);
       }
   }
+  for (std::size_t k = nf; k < t.size(); ++k) near_head_[column[k]] = kNoGrain;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   for (std::uint32_t i = 0; i < nf; ++i) {
     auto& p = partners[i];  // in ascending id
