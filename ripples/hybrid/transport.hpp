@@ -255,11 +255,10 @@ class Transport {
   static constexpr int kReliefEvery = 10;  // wind updates
   // fast_substeps: the velocities (cm/s, x then y) whose pairs the collision columns hold at dt_max.
   std::array<double, 4> box_{-1e300, 1e300, -1e300, 1e300};
-  std::vector<std::uint8_t> marked_;  // per column: one a fast grain may have met a grain in (kept clear)
-  std::vector<std::uint32_t>
-      near_head_;  // per column: the first of the fast pass's partners in it (kept clear)
-  double r_max_;   // the largest grain's radius, cm: no grain whose centre is higher above the top touches
-  double rise2_;   // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
+  std::vector<std::uint8_t> marked_;      // per column: one a fast grain may have met a grain in (kept clear)
+  std::vector<std::uint32_t> near_head_;  // per column: a fast-pass partner in it, chained (kept clear)
+  double r_max_;  // the largest grain's radius, cm: no grain whose centre is higher above the top touches
+  double rise2_;  // squared launch speed that lifts a centre dead_rise diameters: below it, a grain settles
   WindColumn wind_;
   std::vector<double> drag_mean_, volume_mean_;
   // The drag and volume since the last wind update, in fixed point (units of 1 / drag_scale_ and
