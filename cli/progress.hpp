@@ -33,15 +33,16 @@ class ProgressBar {
                        const std::string& extra = "") {
     if (!enabled_) return;
     if (work < last_done_) start_ = clock::now();
-    if (!counting_ || work < last_done_) counting_ = true, first_done_ = work, first_ = clock::now();
+    if (!counting_ || work < last_done_) counting_ = true, first_ = clock::now(), pace_.restart();
     last_done_ = work;
+    pace_.add(seconds_since(first_), work);
     const double elapsed = seconds_since(start_);
     const double every = terminal_ ? 0.1 : 60.0, first = terminal_ ? 1.0 : 60.0;
     if (elapsed < first || seconds_since(last_) < every) return;
     last_ = clock::now();
     const double f = work_total > 0 ? std::min(1.0, work / work_total) : 1.0;
     const int width = 30, filled = static_cast<int>(f * width);
-    const double left = time_left(seconds_since(first_), first_done_, work, work_total);
+    const double left = pace_.left(seconds_since(first_), work, work_total);
     const std::string where = unit_.empty()
                                   ? fmt_number("t = %.4g s", done)
                                   : fmt_number("%.0f", done) + fmt_number(" of %.0f ", total) + unit_;
@@ -84,7 +85,9 @@ class ProgressBar {
   }
   bool enabled_, terminal_;
   std::string unit_;
-  double last_done_ = 0, first_done_ = 0;  // in work; first_done_: at the first update of this task
+  double last_done_ = 0;  // in work
+  RecentPace pace_;       // of this task, from its first update (so a run continued part-way counts
+                          // only what this clock saw done)
   bool drawn_ = false, counting_ = false;
   clock::time_point start_ = clock::now(), last_ = clock::now() - std::chrono::seconds(1), first_ = start_;
 };

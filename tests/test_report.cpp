@@ -96,4 +96,25 @@ TEST(ProgressBar, TimeLeftCountsOnlyTheWorkThisClockSaw) {
   EXPECT_EQ(grainlab::time_left(60, 0, 120, 100), 0);           // past the end
 }
 
+// On a shared machine a long run's pace changes: the estimate follows the last ten minutes. A run at
+// 1 % a minute for 30 minutes, then at 0.1 % a minute for 20 (something else took the cores), has 68 %
+// left: 680 minutes at its present pace, where its pace since the start (32 % in 50 min) would say 106.
+TEST(ProgressBar, TimeLeftFollowsTheRecentPace) {
+  grainlab::RecentPace pace;  // ten minutes, a sample at most every ten seconds
+  double done = 0;
+  for (int s = 0; s <= 3000; ++s) {
+    pace.add(s, done);
+    done += s < 1800 ? 1.0 / 60 : 0.1 / 60;
+  }
+  done -= 0.1 / 60;  // (the sample at 3000 s was the last)
+  EXPECT_NEAR(pace.left(3000, done, 100), (100 - done) * 600, 1.0);
+  EXPECT_NEAR(grainlab::time_left(3000, 0, done, 100), 6375, 1.0);  // the pace since the start
+  // Younger than the window: the pace since the first sample, as before (a run continued at 12 %).
+  grainlab::RecentPace resumed;
+  resumed.add(0, 12), resumed.add(30, 12.5), resumed.add(60, 13);
+  EXPECT_NEAR(resumed.left(60, 13, 100), 87 * 60, 1e-9);
+  resumed.restart();
+  EXPECT_EQ(resumed.left(60, 13, 100), 0);  // nothing since the restart: no estimate
+}
+
 }  // namespace grainlab::cli
