@@ -35,14 +35,15 @@ class ProgressBar {
     if (work < last_done_) start_ = clock::now();
     if (!counting_ || work < last_done_) counting_ = true, first_ = clock::now(), pace_.restart();
     last_done_ = work;
-    pace_.add(seconds_since(first_), work);
+    const double counted = seconds_since(first_);
+    pace_.add(counted, work);
     const double elapsed = seconds_since(start_);
     const double every = terminal_ ? 0.1 : 60.0, first = terminal_ ? 1.0 : 60.0;
     if (elapsed < first || seconds_since(last_) < every) return;
     last_ = clock::now();
     const double f = work_total > 0 ? std::min(1.0, work / work_total) : 1.0;
     const int width = 30, filled = static_cast<int>(f * width);
-    const double left = pace_.left(seconds_since(first_), work, work_total);
+    const double left = pace_.left(counted, work, work_total);
     const std::string where = unit_.empty()
                                   ? fmt_number("t = %.4g s", done)
                                   : fmt_number("%.0f", done) + fmt_number(" of %.0f ", total) + unit_;

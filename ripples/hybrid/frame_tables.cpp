@@ -94,10 +94,7 @@ std::map<std::string, std::vector<std::string>> frame_table_names(bool sizes, co
 
 std::vector<BedFrame> frames_of_tables(const std::map<std::string, SampleTable>& tables, std::size_t nx,
                                        double dx, bool sizes, const std::string& prefix) {
-  // (Any width the file gives: known_columns decides. checkpoint_table refuses a missing table.)
-  const auto found = tables.find(prefix + "history");
-  const SampleTable& history =
-      checkpoint_table(tables, prefix + "history", found == tables.end() ? 0 : found->second.columns.size());
+  const SampleTable& history = checkpoint_table(tables, prefix + "history");  // (known_columns judges it)
   if (!known_columns(history.columns))
     throw std::invalid_argument("has a frame history with other columns than a hybrid ripple run writes");
   const auto& profiles = checkpoint_table(tables, prefix + "profiles", nx).rows;

@@ -953,6 +953,12 @@ const SampleTable& checkpoint_table(const std::map<std::string, SampleTable>& ta
   return it->second;
 }
 
+const SampleTable& checkpoint_table(const std::map<std::string, SampleTable>& tables,
+                                    const std::string& name) {
+  const auto it = tables.find(name);
+  return checkpoint_table(tables, name, it == tables.end() ? 0 : it->second.columns.size());
+}
+
 SampleTable grid_table(std::string name, std::string description, const std::vector<double>& values,
                        std::size_t nx) {
   SampleTable t{std::move(name), std::move(description), {}, {}};

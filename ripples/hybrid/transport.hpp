@@ -103,6 +103,9 @@ struct TransportOptions {
 // A checkpoint's table by name with rows `columns` wide; throws std::invalid_argument otherwise.
 const SampleTable& checkpoint_table(const std::map<std::string, SampleTable>& tables, const std::string& name,
                                     std::size_t columns);
+// The same for a table whose columns the caller judges by name: its rows as wide as its own columns.
+const SampleTable& checkpoint_table(const std::map<std::string, SampleTable>& tables,
+                                    const std::string& name);
 
 // Values on a grid nx wide (x fastest) as a table with one row per line of nx (columns x0, x1, ...), and
 // back: a checkpoint holds beds and profiles without a row per value.
