@@ -100,15 +100,17 @@ const std::vector<FluxLaw>& classic_flux_laws() {
          return u <= ut ? 0.0 : 5 * rho / g * ut * (u * u - ut * ut);
        }},
       {"Pahtz & Duran 2020",
-       "rho_p d sqrt(s g d) 2 sqrt(Th_t)/(kappa mu_b) (Th - Th_t)(1 + c_M (Th - Th_t)/mu_b), kappa 0.4, mu_b "
-       "0.63, c_M 1.7",
+       "rho_p d sqrt((s - 1) g d) 2 sqrt(Th_t)/(kappa mu_b) (Th - Th_t)(1 + c_M (Th - Th_t)/mu_b), kappa "
+       "0.4, "
+       "mu_b 0.63, c_M 1.7",
        [](double u, double ut, double rho, double rhop, double g, double d) {
          if (u <= ut) return 0.0;
          const double s = rhop / rho, shields = rho * u * u / ((rhop - rho) * g * d),
                       shields_t = rho * ut * ut / ((rhop - rho) * g * d), excess = shields - shields_t;
          const double q = 2 * std::sqrt(shields_t) / (0.4 * 0.63) * excess * (1 + 1.7 * excess / 0.63);
-         // Q* = Q / (rho_p d sqrt(s~ g~ d)) with s~ = s + 1/2 (added mass) and g~ = (1 - 1/s) g.
-         return q * rhop * d * std::sqrt((s + 0.5) * (1 - 1 / s) * g * d);
+         // Q* = Q / (rho_p d sqrt(s g^ d)) with g^ = (1 - 1/s) g, as Huo et al. (2021) state the law (their
+         // eq. 31, quoting these coefficients) and as pydune implements it (docs/saltation.md).
+         return q * rhop * d * std::sqrt((s - 1) * g * d);
        }},
   };
   return laws;

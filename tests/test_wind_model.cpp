@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "clean_wind_heights.hpp"
 #include "convergence.hpp"
+#include "flux_model.hpp"
 #include "study.hpp"
 #include "transient.hpp"
 #include "wind_model.hpp"
@@ -319,6 +322,31 @@ TEST(FluxGrowth, TellsTheSquareLawFromTheCubeLawAtTheThesisWindSpeeds) {
   const auto owen = law([](double x) { return 1e-6 * x * (x * x - 30.0 * 30.0); });
   EXPECT_GT(owen.square_slope_ratio, cube.square_slope_ratio);
   EXPECT_THROW(flux_growth({35, 75}, {1, 2}), std::invalid_argument);
+}
+
+// The classic laws of `saltation study`, each at one point worked by hand from its published form (Earth air,
+// sand of 0.025 cm = Bagnold's reference grain, u* = 60 and u*_t = 30 cm/s; cgs). Pahtz & Duran's law is
+// also held to the hybrid model's eq. 31, which states the same law in Huo et al.'s units (Q* = Q / (rho_p
+// d sqrt(s g^ d)), g^ = (1 - 1/s) g): two implementations of one formula, with Pahtz & Duran's constants.
+TEST(ClassicFluxLaws, EachIsItsPublishedFormula) {
+  const double u = 60, ut = 30, rho = 0.00123, rhop = 2.6, g = 981, d = 0.025;
+  std::map<std::string, double> q;
+  for (const auto& law : grainlab::saltation::classic_flux_laws())
+    q[law.name] = law.q(u, ut, rho, rhop, g, d);
+  const double rho_g = rho / g;
+  EXPECT_NEAR(q.at("Bagnold 1941"), 1.8 * rho_g * 216000, 1e-12);              // C u*^3
+  EXPECT_NEAR(q.at("Kawamura 1951"), 2.78 * rho_g * 30 * 8100, 1e-12);         // (u* - u*t)(u* + u*t)^2
+  EXPECT_NEAR(q.at("Lettau & Lettau 1978"), 6.7 * rho_g * 3600 * 30, 1e-12);   // u*^2 (u* - u*t)
+  EXPECT_NEAR(q.at("Duran / Kok et al. 2012"), 5 * rho_g * 30 * 2700, 1e-12);  // u*t (u*^2 - u*t^2)
+  const double s = rhop / rho, shields = rho * u * u / ((rhop - rho) * g * d);
+  const double shields_t = shields / 4;  // (u*t / u*)^2
+  const double q_star = grainlab::ripples::hybrid::flux_law(shields, shields_t, 0.4, 0.63, 1.7);
+  EXPECT_NEAR(q.at("Pahtz & Duran 2020") / (rhop * d * std::sqrt((s - 1) * g * d)), q_star, 1e-12 * q_star);
+  // Every law but Bagnold's (which has no threshold) moves nothing at the threshold.
+  for (const auto& law : grainlab::saltation::classic_flux_laws()) {
+    if (law.name == "Bagnold 1941") continue;
+    EXPECT_EQ(law.q(ut, ut, rho, rhop, g, d), 0.0) << law.name;
+  }
 }
 
 // Spreading the drag over heights (the thesis's unstated averaging) moves where the air loses momentum,

@@ -12,6 +12,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 
 
 def main():
@@ -38,6 +39,10 @@ def main():
                       label=f"{law} (d = {middle:g})")
         ax.set(title=planet, xlabel="u* (cm/s)", ylabel="Q (g/(cm s))")
         ax.grid(alpha=0.3, which="both")
+        # Plain numbers on the u* axis: its decade-less span gets crowded minor labels like "3x10^1" otherwise.
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_xticks([t for t in (20, 30, 50, 100, 200, 300) if ax.get_xlim()[0] <= t <= ax.get_xlim()[1]])
     axes[0][-1].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.02, 0.5))
     fig.tight_layout()
     fig.savefig(out, dpi=90, bbox_inches="tight")
