@@ -481,10 +481,13 @@ int hybrid_ripples_command(const RipplesCommands& a) {
       "Q* = {:.4g} ({:.0f} grains airborne)\n",
       last.t_star, last.stats.amplitude, last.stats.wavelength, last.stats.ripple_index, last.stats.stoss_deg,
       last.stats.lee_deg, last.mass_flux_star, last.airborne);
-  fmt::print(
-      "  growth rate of A {:.3g} per t* (first half), chi = {:.3g} (second half), migration {:.3g} d per "
-      "t*\n",
-      trend.growth_rate, trend.chi, trend.migration_speed);
+  // A fit the frames do not allow (a run too short for ripples) is NaN: said in words, not printed as "nan".
+  auto fitted = [](double v) { return std::isfinite(v) ? fmt::format("{:.3g}", v) : std::string("n/a"); };
+  const bool unfitted =
+      !std::isfinite(trend.growth_rate) || !std::isfinite(trend.chi) || !std::isfinite(trend.migration_speed);
+  fmt::print("  growth rate of A {} per t* (first half), chi = {} (second half), migration {} d per t*{}\n",
+             fitted(trend.growth_rate), fitted(trend.chi), fitted(trend.migration_speed),
+             unfitted ? " (n/a: too few frames with ripples to fit)" : "");
   fmt::print("  crests: {:.3g} d apart, {:.3g} d high, RI {:.3g} (slice by slice)\n",
              last.stats.crest_spacing, last.stats.crest_height, last.stats.crest_ripple_index);
   if (trend.window_frames > 0)

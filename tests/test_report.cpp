@@ -118,3 +118,16 @@ TEST(ProgressBar, TimeLeftFollowsTheRecentPace) {
 }
 
 }  // namespace grainlab::cli
+
+#include "plot_script.hpp"
+
+// A plot that fails says why: the script's own last line of error, not only its exit status (a run too
+// short for ripples once failed its plot with nothing but "exited with status 1").
+TEST(PlotScript, AFailedPlotSaysWhy) {
+  using grainlab::validation::missing_for_plots;
+  using grainlab::validation::run_plot_script;
+  if (!missing_for_plots("plot_hybrid.py").empty()) GTEST_SKIP() << "no python3 here";
+  const std::string why = run_plot_script("plot_hybrid.py", {"/nonexistent/run.h5"});
+  EXPECT_NE(why.find("exited with status"), std::string::npos) << why;
+  EXPECT_NE(why.find("/nonexistent/run.h5"), std::string::npos) << why;
+}

@@ -94,9 +94,11 @@ def main():
             keep = (crest > 0) & (t > 0)
             ax.plot(t[keep], crest[keep], "--", color="tab:green", lw=1, label="crests")
             ax.legend(fontsize="x-small", loc="upper left")
-        if log:
+        if log and keep.any():  # (a run too short for ripples has nothing above zero to put on log axes)
             ax.set_xscale("log"), ax.set_yscale("log")
-        if key == "ripple_index":  # the paper's band over its window (Fig. 9 inset), beside the run
+        elif not keep.any():
+            ax.text(0.5, 0.5, "no ripples yet", transform=ax.transAxes, ha="center", color="gray")
+        if key == "ripple_index" and keep.any():  # the paper's band over its window (Fig. 9 inset), beside the run
             ax.fill_between([5e4, 3e5], 12, 25, color="tab:orange", alpha=0.2, lw=0,
                             label="paper")
             ax.legend(fontsize="x-small", loc="lower left")
