@@ -29,15 +29,15 @@ int run_command(const RipplesCommands& a) {
   text << in.rdbuf();
   RippleModelRun run = create_ripple_model(text.str(), a.config, splash_hops);
   RippleModel& m = *run.model;
-  const std::vector<std::string> keys = {"rms",          "wavelength", "height",
-                                         "ripple_index", "stoss_deg",  "lee_deg"};
+  const std::vector<std::string> keys = {
+      "rms", "wavelength", "autocorrelation_wavelength", "height", "ripple_index", "stoss_deg", "lee_deg"};
   SampleTable h{
       "h", "surface height (grain diameters) per point (columns, dx apart) at each frame (rows)", {}, {}};
   for (std::size_t i = 0; i < m.surface().size(); ++i) h.columns.push_back(fmt::format("x{}", i));
   SampleTable history{"history",
                       "per frame: model time (" + m.time_unit() +
-                          "), rms height, crest spacing, crest height (grain diameters), ripple index, stoss "
-                          "and lee slopes (deg)",
+                          "), rms height, crest spacing, autocorrelation wavelength, crest height (grain "
+                          "diameters), ripple index, stoss and lee slopes (deg)",
                       {"time"},
                       {}};
   for (const std::string& k : keys) history.columns.push_back(k);
@@ -70,10 +70,10 @@ int run_command(const RipplesCommands& a) {
     return 0;
   }
   fmt::print(
-      "{} model, {} {}: wavelength {:.1f} d, height {:.1f} d, ripple index {:.1f}, stoss {:.1f} / lee "
-      "{:.1f} deg\n",
-      run.name, m.time(), m.time_unit(), d.at("wavelength"), d.at("height"), d.at("ripple_index"),
-      d.at("stoss_deg"), d.at("lee_deg"));
+      "{} model, {} {}: wavelength {:.1f} d by autocorrelation, {:.1f} d between crests (every bump half the "
+      "rms proud); crest height {:.1f} d, ripple index {:.1f} (crests), stoss {:.1f} / lee {:.1f} deg\n",
+      run.name, m.time(), m.time_unit(), d.at("autocorrelation_wavelength"), d.at("wavelength"),
+      d.at("height"), d.at("ripple_index"), d.at("stoss_deg"), d.at("lee_deg"));
   if (!a.out.empty()) fmt::print("wrote {} (h(x, t): {} frames)\n", a.out, h.rows.size());
   return 0;
 }

@@ -1,5 +1,7 @@
 #include "ripple_model.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "input_error.hpp"
@@ -18,8 +20,11 @@ std::map<std::string, double> shape_diagnostics(const std::vector<double>& h, do
   for (double v : h) var += (v - mean) * (v - mean);
   const double rms = std::sqrt(var / static_cast<double>(h.size()));
   const SurfaceShape s = surface_shape(h, dx, std::max(0.5 * rms, 1e-9));
+  // Two wavelengths: the crests' mean spacing counts every bump half the rms proud, grain-scale roughness
+  // too; the autocorrelation's (the measure the lattice runs are compared with the thesis by) the pattern's.
   return {{"rms", rms},
           {"wavelength", s.wavelength},
+          {"autocorrelation_wavelength", autocorrelation_wavelength(h) * dx},
           {"height", s.height},
           {"ripple_index", s.ripple_index},
           {"stoss_deg", s.stoss_deg},
@@ -95,6 +100,14 @@ RippleModelRun create_ripple_model(const std::string& text, const std::string& p
     names += (names.empty() ? "[" : ", [") + m.name + "]";
     if (root.contains(m.name)) return m.create(text, path, hops);
   }
+  // The configs of the models with commands of their own (scenes/ripples/ holds one of each).
+  for (const char* own : {"triangles", "worms", "hybrid"})
+    if (root.contains(own))
+      throw InputError(
+          {path, 0}, "",
+          fmt::format("is a [{0}] config: run it with `grainlab ripples {0} --config {1}`; `ripples "
+                      "run` takes one table of {2}",
+                      own, path, names));
   throw InputError({path, 0}, "", "names no ripple model; give one table of " + names);
 }
 

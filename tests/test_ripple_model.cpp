@@ -24,7 +24,8 @@ TEST(RippleModel, EveryModelIsCreatedByItsTableAndRunsThroughTheInterface) {
     for (double v : r.model->surface()) mass1 += v;
     EXPECT_NEAR(mass1, mass0, 1e-9 * mass0) << e.name;  // grains are moved, never made or lost
     EXPECT_NE(r.model->surface(), before) << e.name;
-    for (const char* k : {"rms", "wavelength", "height", "ripple_index", "stoss_deg", "lee_deg"})
+    for (const char* k : {"rms", "wavelength", "autocorrelation_wavelength", "height", "ripple_index",
+                          "stoss_deg", "lee_deg"})
       EXPECT_EQ(r.model->diagnostics().count(k), 1u) << e.name << " " << k;
     EXPECT_GT(r.model->dx(), 0);
   }
