@@ -1,6 +1,7 @@
 // `grainlab ripples analyze FILE`: the Ch. V analysis of any surface. FILE is a CSV of x, h (a header line
 // allowed; x uniform and increasing, taken as periodic) or a ripple run file (`ripples bins|lattice --out`,
-// its last frame or --frame N). Prints wavelength three ways, height, ripple index and slopes.
+// or `ripples run --out`; its last frame or --frame N). Prints wavelength three ways, height, ripple index
+// and slopes.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -70,7 +71,18 @@ Profile read_run_profile(const std::string& path, int frame) {
   const std::vector<double>& row = h.rows[static_cast<std::size_t>(k)];
   Profile p;
   const auto model = f.metadata.count("model") ? f.metadata.at("model") : std::string();
-  if (model.find("lattice") != std::string::npos) {
+  if (f.metadata.count("dx")) {
+    // `ripples run`'s layout: the surface as the model gives it, in grain diameters, dx apart (a lattice's
+    // already one point per lattice spacing).
+    p.h = row;
+    try {
+      p.dx = std::stod(f.metadata.at("dx"));
+    } catch (const std::exception&) {
+      p.dx = 0;
+    }
+    if (!(p.dx > 0) || !std::isfinite(p.dx)) throw InputError({path, 0}, "dx", "must be a positive number");
+    p.units = "grain diameters";
+  } else if (model.find("lattice") != std::string::npos) {
     // One point per lattice spacing (the mean of its two columns), in grain diameters.
     p.h = lattice_profile(row);
     p.dx = std::sqrt(3.0);
