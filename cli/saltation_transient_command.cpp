@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -161,9 +162,18 @@ int transient_command(const SaltationCommands& a) {
     fmt::print("none ({})\n", steady.failure);
   if (r.settling_time >= 0)
     fmt::print("  the flux settles within 5 % {:.2f} s after the last change\n", r.settling_time);
-  else
+  else {
     fmt::print("  the flux has not settled within 5 % by the end: the grains in the air {} at {:.3g} per s\n",
                r.final_growth_rate >= 0 ? "grow" : "decay", std::abs(r.final_growth_rate));
+    // Still growing toward a steady state it has not reached: how much longer at this rate (near threshold
+    // the growth is slow, and the default duration is too short).
+    if (steady.failure.empty() && r.final_growth_rate > 0 && r.final_mass_flux > 0 &&
+        r.final_mass_flux < steady.mass_flux) {
+      const double more = std::log(steady.mass_flux / r.final_mass_flux) / r.final_growth_rate;
+      fmt::print("  at that rate it reaches the steady flux about {:.1f} s later: try --duration {:.0f}\n",
+                 more, std::ceil(o.duration + 2 * more));
+    }
+  }
   if (!a.transient_out.empty()) fmt::print("wrote {}/transient.csv and its plots\n", a.transient_out);
   return 0;
 }
