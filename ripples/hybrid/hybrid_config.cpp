@@ -79,9 +79,18 @@ void read_sizes(const TomlReader& r, RippleOptions& o) {
 void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
   o.splash = r.string_or("splash", o.splash);
   // A Lammel parameter set, or a grainlab-splash/1 file of recorded impacts (the command reads it).
-  if (!LammelParameters::is_named(o.splash) && !std::filesystem::is_regular_file(o.splash))
+  if (!LammelParameters::is_named(o.splash) && !std::filesystem::is_regular_file(o.splash)) {
+    // A relative path is read from the working directory (the presets' from the repository's top): say
+    // where it was looked for, since a preset run from elsewhere fails here.
+    std::error_code ec;
+    const std::string where = std::filesystem::path(o.splash).is_relative()
+                                  ? " (relative paths are read from the working directory, " +
+                                        std::filesystem::current_path(ec).string() +
+                                        "; the presets' from the repository's top)"
+                                  : "";
     r.fail("splash", "must be a Lammel set (" + LammelParameters::names_quoted() +
-                         ") or a grainlab-splash/1 file that exists");
+                         ") or a grainlab-splash/1 file that exists; no file " + o.splash + where);
+  }
   o.wind_loosened = r.boolean_or("wind_loosened", o.wind_loosened);
   const std::string launch = r.string_or("ejecta_launch", "normal");
   if (launch != "normal" && launch != "vertical")
