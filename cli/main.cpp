@@ -24,6 +24,7 @@
 #include "impact_benchmark.hpp"
 #include "impact_commands.hpp"
 #include "input_error.hpp"
+#include "inspect_command.hpp"
 #include "lattice_benchmark.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
@@ -199,18 +200,6 @@ int cost_command(validation::CostOptions o, const std::string& out, bool quiet, 
   return 0;
 }
 
-int inspect_command(const std::string& path) {
-  const RunFileSummary s = read_run_file(path);
-  fmt::print("{}: grainlab {} run of \"{}\" on {}\n", path,
-             s.text.count("grainlab_version") ? s.text.at("grainlab_version") : "?",
-             s.text.count("scene_name") ? s.text.at("scene_name") : "?",
-             s.text.count("engine") ? s.text.at("engine") : "?");
-  fmt::print("  {} frames from t = {} to {} ({}), {} bodies; every dataset read and consistent\n", s.frames,
-             s.first_time, s.last_time, s.text.count("units") ? s.text.at("units") : "?", s.bodies);
-  for (const auto& [k, v] : s.diagnostics) fmt::print("  {} = {}\n", k, v);
-  return 0;
-}
-
 int engines_command(bool json) {
   if (json) {
     nlohmann::json j = nlohmann::json::array();
@@ -297,9 +286,11 @@ int main(int argc, char** argv) {
       "same binary) are taken from OUT/.cost-checkpoint.json, the rest measured");
 
   std::string inspect_path;
-  CLI::App* inspect_cmd = app.add_subcommand(
-      "inspect", "read a run file back and check every part (exit 2 if truncated or damaged)");
-  inspect_cmd->add_option("file", inspect_path, "the .h5 file grainlab run wrote")->required();
+  CLI::App* inspect_cmd = app.add_subcommand("inspect",
+                                             "read a file grainlab wrote back (a run, a splash file, a file "
+                                             "of tables) and check every part (exit 2 if "
+                                             "truncated or damaged)");
+  inspect_cmd->add_option("file", inspect_path, "the .h5 file")->required();
 
   bool engines_json = false;
   CLI::App* engines_cmd = app.add_subcommand("engines", "list the engines and what each can simulate");
@@ -459,7 +450,7 @@ int main(int argc, char** argv) {
     if (const int status = validate.dispatch(); status >= 0) return status;
     if (*engines_cmd) return engines_command(engines_json);
     if (*cost_cmd) return cost_command(cost, cost_dir, cost_quiet, cost_resume);
-    if (*inspect_cmd) return inspect_command(inspect_path);
+    if (*inspect_cmd) return cli::inspect_command(inspect_path);
     if (*die_cmd) return cli::die_model_command(die);
     if (*bed_cmd) return bench::run_bed_command(bed);
     if (*impact_bench_cmd) return bench::run_impact_bench(impact_bench);

@@ -201,6 +201,26 @@ TableFile read_sample_tables(const std::string& path,
   return out;
 }
 
+std::map<std::string, H5Object> root_objects(const std::string& path) {
+  Handle f = open_checked(path);
+  std::map<std::string, H5Object> out;
+  // (HDF5 1.10's calls, as Debian 12 ships it.)
+  auto visit = [](hid_t group, const char* name, const H5L_info_t*, void* data) -> herr_t {
+    H5O_info_t info;
+    if (H5Oget_info_by_name2(group, name, &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0) return -1;
+    const bool dataset = info.type == H5O_TYPE_DATASET;
+    if (!dataset && info.type != H5O_TYPE_GROUP) return 0;
+    H5Object o{dataset, dataset && H5Aexists_by_name(group, name, "columns", H5P_DEFAULT) > 0, 0};
+    if (H5G_info_t g; !dataset && H5Gget_info_by_name(group, name, &g, H5P_DEFAULT) >= 0)
+      o.members = g.nlinks;
+    (*static_cast<std::map<std::string, H5Object>*>(data))[name] = o;
+    return 0;
+  };
+  if (H5Literate(f.id, H5_INDEX_NAME, H5_ITER_INC, nullptr, visit, &out) < 0)
+    corrupt(path, "its top-level objects cannot be listed");
+  return out;
+}
+
 void require_checkpoint(const TableFile& file, const std::string& path, const std::string& kind,
                         const std::string& what, const std::string& options, const std::string& mismatch) {
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };

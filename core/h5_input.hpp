@@ -38,6 +38,16 @@ struct TableFile {
 TableFile read_sample_tables(const std::string& path,
                              const std::map<std::string, std::vector<std::string>>& wanted);
 
+// An object at the top of a file: a dataset or a group; a table is a dataset with the "columns" attribute
+// write_sample_tables gives it.
+struct H5Object {
+  bool dataset = false, table = false;
+  std::size_t members = 0;  // a group's
+};
+// The objects at the top of a file, by name. Throws InputError (key "file") if it is not a readable HDF5
+// file. (`grainlab inspect` reads a file of tables whose names it does not know beforehand.)
+std::map<std::string, H5Object> root_objects(const std::string& path);
+
 // Stops with InputError (key "--restart") unless the file's metadata says it is a checkpoint of `kind`
 // (`what` names it in the message), written by this grainlab version with these options (`mismatch` says
 // what to pass instead).

@@ -1,0 +1,88 @@
+#include "inspect_command.hpp"
+
+#include <fmt/format.h>
+
+#include <map>
+
+#include "h5_input.hpp"
+#include "input_error.hpp"
+#include "splash_file.hpp"
+
+namespace grainlab::cli {
+
+namespace {
+
+std::string text_or(const std::map<std::string, std::string>& text, const std::string& key,
+                    const std::string& fallback = "?") {
+  const auto it = text.find(key);
+  return it == text.end() ? fallback : it->second;
+}
+
+int inspect_run(const std::string& path) {
+  const RunFileSummary s = read_run_file(path);
+  fmt::print("{}: grainlab {} run of \"{}\" on {}\n", path, text_or(s.text, "grainlab_version"),
+             text_or(s.text, "scene_name"), text_or(s.text, "engine"));
+  fmt::print("  {} frames from t = {} to {} ({}), {} bodies; every dataset read and consistent\n", s.frames,
+             s.first_time, s.last_time, text_or(s.text, "units"), s.bodies);
+  for (const auto& [k, v] : s.diagnostics) fmt::print("  {} = {}\n", k, v);
+  return 0;
+}
+
+int inspect_splash(const std::string& path) {
+  // An unfinished measurement's checkpoint is a splash file too: read, and said to be unfinished.
+  const saltation::SplashFile f = saltation::read_splash_file(path, true);
+  std::size_t impacts = 0, rebounds = 0, ejecta = 0;
+  for (const saltation::SplashCell& c : f.cells)
+    impacts += c.impacts, rebounds += c.rebound.size(), ejecta += c.ejecta.size();
+  fmt::print("{}: {} splash file ({}, {}-D{}), grain d = {} cm, velocities in sqrt(g d) = {:.4g} cm/s\n",
+             path, text_or(f.text, "schema"), text_or(f.text, "kind"), f.dimension,
+             text_or(f.text, "engine", "").empty() ? "" : ", engine " + f.text.at("engine"),
+             f.grain_diameter_cm, f.velocity_scale());
+  fmt::print("  grid: speeds {:.4g} sqrt(g d) x angles {:.4g} deg: {} of {} cells{}\n",
+             fmt::join(f.speeds, ", "), fmt::join(f.angles_deg, ", "), f.cells.size(),
+             f.speeds.size() * f.angles_deg.size(),
+             f.cells.size() < f.speeds.size() * f.angles_deg.size() ? " (an unfinished measurement)" : "");
+  fmt::print("  {} impacts, {} rebound rows, {} ejecta; every dataset read and checked\n", impacts, rebounds,
+             ejecta);
+  if (const std::string source = text_or(f.text, "source", ""); !source.empty())
+    fmt::print("  source: {}\n", source);
+  return 0;
+}
+
+int inspect_tables(const std::string& path, const std::map<std::string, H5Object>& objects) {
+  const TableFile meta = read_sample_tables(path, {});
+  const std::string model = text_or(meta.metadata, "model", text_or(meta.metadata, "kind", "tables"));
+  fmt::print("{}: grainlab {} file: {}\n", path, text_or(meta.metadata, "grainlab_version"), model);
+  std::size_t tables = 0;
+  for (const auto& [name, o] : objects) {
+    if (!o.dataset) {
+      fmt::print("  {}/: a group of {} (not read)\n", name, o.members);
+    } else if (!o.table) {
+      fmt::print("  {}: a dataset (not read)\n", name);
+    } else {
+      const SampleTable t = read_sample_tables(path, {{name, {}}}).tables.at(name);
+      fmt::print("  {}: {} rows x {} columns{}{}\n", name, t.rows.size(), t.columns.size(),
+                 t.description.empty() ? "" : ": ", t.description);
+      ++tables;
+    }
+  }
+  fmt::print("  {} top-level table{} read and checked against {} columns\n", tables, tables == 1 ? "" : "s",
+             tables == 1 ? "its" : "their");
+  return 0;
+}
+
+}  // namespace
+
+int inspect_command(const std::string& path) {
+  const std::map<std::string, H5Object> objects = root_objects(path);  // (InputError if not HDF5)
+  const TableFile meta = read_sample_tables(path, {});
+  if (text_or(meta.metadata, "schema", "") == saltation::kSplashSchema) return inspect_splash(path);
+  // `grainlab run`'s layout: frames and an energy table, the scene named at the root.
+  if (objects.count("frames") && meta.metadata.count("scene_name")) return inspect_run(path);
+  if (!meta.metadata.count("grainlab_version"))
+    throw InputError({path, 0}, "file",
+                     "is HDF5 but not a file grainlab wrote (no grainlab_version attribute, no splash schema)");
+  return inspect_tables(path, objects);
+}
+
+}  // namespace grainlab::cli
