@@ -482,19 +482,19 @@ int hybrid_ripples_command(const RipplesCommands& a) {
       last.t_star, last.stats.amplitude, last.stats.wavelength, last.stats.ripple_index, last.stats.stoss_deg,
       last.stats.lee_deg, last.mass_flux_star, last.airborne);
   // A fit the frames do not allow (a run too short for ripples) is NaN: said in words, not printed as "nan".
-  auto fitted = [](double v) { return std::isfinite(v) ? fmt::format("{:.3g}", v) : std::string("n/a"); };
+  using ripples::hybrid::shown_fit;
   const bool unfitted =
       !std::isfinite(trend.growth_rate) || !std::isfinite(trend.chi) || !std::isfinite(trend.migration_speed);
   fmt::print("  growth rate of A {} per t* (first half), chi = {} (second half), migration {} d per t*{}\n",
-             fitted(trend.growth_rate), fitted(trend.chi), fitted(trend.migration_speed),
+             shown_fit(trend.growth_rate), shown_fit(trend.chi), shown_fit(trend.migration_speed),
              unfitted ? " (n/a: too few frames with ripples to fit)" : "");
   fmt::print("  crests: {:.3g} d apart, {:.3g} d high, RI {:.3g} (slice by slice)\n",
              last.stats.crest_spacing, last.stats.crest_height, last.stats.crest_ripple_index);
   if (trend.window_frames > 0)
     fmt::print(
         "  mean RI over t* = 5e4-3e5 (the paper's Fig. 9 inset): {:.3g} ({} frames); the crests' RI: "
-        "{:.3g}\n",
-        trend.window_ripple_index, trend.window_frames, trend.window_crest_ripple_index);
+        "{}\n",
+        trend.window_ripple_index, trend.window_frames, shown_fit(trend.window_crest_ripple_index));
   fmt::print(
       "  key points {} d apart: a settling grain rolls on past steps steeper than {:.1f} deg (repose {} deg "
       "less its own rise over a cell)\n",

@@ -375,14 +375,14 @@ void ripple_checks(Report& rep, bool quick, const SuiteOptions& so, std::string&
   md += fmt::format(
       "## Ripple run ({} d x {} d, u* = {} cm/s, S = {:.4f}, {} t*)\n\n"
       "At the end: A = {:.3g} d, lambda = {:.3g} d, RI = {:.3g}, flanks {:.3g} deg stoss and {:.3g} deg lee, "
-      "Q* = {:.4g} (fixed flat bed {:.4g}); growth rate of A {:.3g} per t*, chi = {:.3g}, migration {:.3g} d "
+      "Q* = {:.4g} (fixed flat bed {:.4g}); growth rate of A {} per t*, chi = {}, migration {} d "
       "per t*. Grains settled {}, taken {}, rolled by the repose rule {}. Mean RI over t* = 5e4-3e5: "
-      "{:.3g} ({} frames); the crests' own (spacing / height, slice by slice): {:.3g}.\n\n",
+      "{} ({} frames); the crests' own (spacing / height, slice by slice): {}.\n\n",
       o.length, o.width, o.u_star, run.transport().shields(), o.duration, last.stats.amplitude,
       last.stats.wavelength, last.stats.ripple_index, last.stats.stoss_deg, last.stats.lee_deg,
-      last.mass_flux_star, flat.mass_flux_star, trend.growth_rate, trend.chi, trend.migration_speed,
-      bed.deposited, bed.eroded, bed.rolled, trend.window_ripple_index, trend.window_frames,
-      trend.window_crest_ripple_index);
+      last.mass_flux_star, flat.mass_flux_star, shown_fit(trend.growth_rate), shown_fit(trend.chi),
+      shown_fit(trend.migration_speed), bed.deposited, bed.eroded, bed.rolled,
+      shown_fit(trend.window_ripple_index), trend.window_frames, shown_fit(trend.window_crest_ripple_index));
   // The linear response by band: ripples emerge where a band grows; noise the bed forgets decays.
   md += "| wavelengths (d) | growth rate per t* | +- | phase speed (d per t*) |\n|---|---|---|---|\n";
   double clearest_growth = -HUGE_VAL;  // the largest growth rate less two standard errors

@@ -276,6 +276,10 @@ std::array<double, 2> frame_log_band(double column_height) {
   return {std::min(300.0, 0.25 * column_height), std::min(1000.0, 0.85 * column_height)};
 }
 
+std::string shown_fit(double value) {
+  return std::isfinite(value) ? fmt::format("{:.3g}", value) : std::string("n/a");
+}
+
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames) {
   RippleTrends r;
   const std::size_t half = frames.size() / 2;

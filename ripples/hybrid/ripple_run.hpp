@@ -140,5 +140,8 @@ struct RippleTrends {
   double window_crest_ripple_index = std::nan("");
 };
 RippleTrends ripple_trends(const std::vector<BedFrame>& frames);
+// A trend's number for people: three significant digits, or "n/a" where the frames did not allow the fit
+// (NaN: a run too short for ripples, a window with no frames).
+std::string shown_fit(double value);
 
 }  // namespace grainlab::ripples::hybrid
