@@ -78,14 +78,16 @@ namespace {
 int ring_command(const RipplesCommands& a) {
   refuse_existing_out(a.out, a.force);
   WormRingRun run;
-  if (!a.config.empty()) {
-    run = parse_worm_ring_config(read_config_text(a.config), a.config);
-  } else {
-    check_A(a.A);
-    if (a.worms < 2 || a.length < 1)
-      throw InputError({"--worms", 0}, std::to_string(a.worms), "needs at least 2 worms of at least 1 link");
-    run.worms = a.worms, run.length = a.length, run.A = a.A, run.steps = a.ring_steps, run.seed = a.seed;
-  }
+  if (!a.config.empty()) run = parse_worm_ring_config(read_config_text(a.config), a.config);
+  // The options set the run without a config and replace its values where given with one.
+  auto given = [&](const char* name) { return a.config.empty() || a.ring->count(name) > 0; };
+  if (given("--worms")) run.worms = a.worms;
+  if (given("--length")) run.length = a.length;
+  if (given("--A")) check_A(a.A), run.A = a.A;
+  if (given("--steps")) run.steps = a.ring_steps;
+  if (given("--seed")) run.seed = a.seed;
+  if (run.worms < 2 || run.length < 1)
+    throw InputError({"--worms", 0}, std::to_string(run.worms), "needs at least 2 worms of at least 1 link");
   const WormRingResult r = worm_ring(run.worms, run.length, run.A, run.steps, run.seed, run.records);
   std::vector<int> sorted = r.lengths;
   std::sort(sorted.begin(), sorted.end());
@@ -121,13 +123,17 @@ int ring_command(const RipplesCommands& a) {
 int triangles_command(const RipplesCommands& a) {
   refuse_existing_out(a.out, a.force);
   TriangleRun run;
-  if (!a.config.empty()) {
-    run = parse_triangle_config(read_config_text(a.config), a.config);
-  } else {
+  if (!a.config.empty()) run = parse_triangle_config(read_config_text(a.config), a.config);
+  // The options set the run without a config and replace its values where given with one.
+  auto given = [&](const char* name) { return a.config.empty() || a.triangles->count(name) > 0; };
+  if (given("--ratio")) {
     if (!(a.ratio > 0 && a.ratio < 1))
       throw InputError({"--ratio", 0}, fmt::format("{}", a.ratio), "must lie in (0, 1)");
-    run.ratio = a.ratio, run.params.law = a.law, run.params.beta_deg = a.beta, run.params.alpha_deg = a.alpha;
+    run.ratio = a.ratio;
   }
+  if (given("--law")) run.params.law = a.law;
+  if (given("--beta")) run.params.beta_deg = a.beta;
+  if (given("--alpha")) run.params.alpha_deg = a.alpha;
   const TriangleParams& p = run.params;
   if (!(p.beta_deg > 0 && p.alpha_deg > 0 && p.beta_deg + p.alpha_deg < 90))
     throw InputError({"--beta", 0}, fmt::format("{}, {}", p.beta_deg, p.alpha_deg),
@@ -174,13 +180,19 @@ int triangles_command(const RipplesCommands& a) {
 int bins_command(const RipplesCommands& a) {
   refuse_existing_out(a.out, a.force);
   BinModelRun run;
-  if (!a.config.empty()) {
-    run = read_bin_model_config(a.config);
-  } else {
+  if (!a.config.empty()) run = read_bin_model_config(a.config);
+  // Without a config the options set the run; with one, those given on the command line replace the
+  // config's (as `ripples lattice --ejections` does), so `--shots 1000` shortens a preset.
+  auto given = [&](const char* name) { return a.config.empty() || a.bin_cmd->count(name) > 0; };
+  if (given("--bins")) {
     if (a.bins < 16) throw InputError({"--bins", 0}, std::to_string(a.bins), "needs at least 16 bins");
-    if (a.shots < 0) throw InputError({"--shots", 0}, std::to_string(a.shots), "must be >= 0");
-    run.params.bins = a.bins, run.params.seed = a.seed, run.shots = a.shots;
+    run.params.bins = a.bins;
   }
+  if (given("--shots")) {
+    if (a.shots < 0) throw InputError({"--shots", 0}, std::to_string(a.shots), "must be >= 0");
+    run.shots = a.shots;
+  }
+  if (given("--seed")) run.params.seed = a.seed;
   const BinModelParams& p = run.params;
   BinModel m(p);
   SampleTable h{
@@ -258,7 +270,8 @@ void RipplesCommands::add(CLI::App& app) {
   chain->add_option("--seed", seed, "Monte Carlo seed")->default_val(1);
   chain->add_flag("--json", json, "print {\"absorbed\": P, ...}");
   ring = group->add_subcommand("worms", "Haff's worm model: many worms on a ring merging (Fig. 5.16)");
-  ring->add_option("--config", config, "a TOML config with a [worms] table (replaces the options below)")
+  ring->add_option("--config", config,
+                   "a TOML config with a [worms] table (the options below, where given, replace its values)")
       ->check(CLI::ExistingFile);
   ring->add_option("--out,-o", out, "write the mean-length history and the final lengths to this HDF5 file")
       ->check(cli::output_file());
@@ -271,7 +284,9 @@ void RipplesCommands::add(CLI::App& app) {
   ring->add_flag("--json", json, "print the lengths and the mean-length history");
   triangles = group->add_subcommand("triangles", "two triangular ripples colliding (Figs 5.17-5.20)");
   triangles
-      ->add_option("--config", config, "a TOML config with a [triangles] table (replaces the options below)")
+      ->add_option(
+          "--config", config,
+          "a TOML config with a [triangles] table (the options below, where given, replace its values)")
       ->check(CLI::ExistingFile);
   triangles->add_option("--out,-o", out, "write the collision's history to this HDF5 file")
       ->check(cli::output_file());
@@ -286,7 +301,9 @@ void RipplesCommands::add(CLI::App& app) {
   bin_cmd->add_option("--bins", bins, "bins (periodic)")->default_val(600);
   bin_cmd->add_option("--shots", shots, "grains fired")->default_val(2000000);
   bin_cmd->add_option("--seed", seed, "seed")->default_val(1);
-  bin_cmd->add_option("--config", config, "a TOML config with a [bins] table (replaces the options above)")
+  bin_cmd
+      ->add_option("--config", config,
+                   "a TOML config with a [bins] table (the options above, where given, replace its values)")
       ->check(CLI::ExistingFile);
   bin_cmd->add_option("--out,-o", out, "write h(x, t) and the history to this HDF5 file")
       ->check(cli::output_file());
