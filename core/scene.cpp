@@ -896,8 +896,13 @@ class SceneReader {
   std::set<int> used_materials_;
 };
 
-// Applies one "dotted.key=value" override to the parsed document; the value is read as TOML.
-void apply_override(toml::table& root, const std::string& assignment) {
+// Applies one "dotted.key=value" override to the parsed document; the value is read as TOML. A table
+// on the key's path that the document lacks is made; returns the first one made ("" if none) and the
+// keys its parent already had, so that a misspelt name (--set materials.rok.mu=0.2) is told as such.
+struct Made {
+  std::string table, siblings;
+};
+Made apply_override(toml::table& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
   const SourceLocation where{"--set " + assignment, 0};
   if (eq == std::string::npos || eq == 0) throw InputError(where, "", "expected key=value");
@@ -923,9 +928,15 @@ void apply_override(toml::table& root, const std::string& assignment) {
   std::stringstream ss(key);
   for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
   toml::node* node = &root;
+  Made made;
   for (size_t i = 0; i + 1 < parts.size(); ++i) {
     const std::string& p = parts[i];
     if (toml::table* t = node->as_table()) {
+      if (!t->contains(p) && made.table.empty()) {
+        for (const auto& [k, v] : *t)
+          made.siblings += (made.siblings.empty() ? "" : ", ") + std::string(k.str());
+        for (size_t j = 0; j <= i; ++j) made.table += (j ? "." : "") + parts[j];
+      }
       if (!t->contains(p)) t->insert(p, toml::table{});
       node = t->get(p);
     } else if (toml::array* a = node->as_array()) {
@@ -941,6 +952,7 @@ void apply_override(toml::table& root, const std::string& assignment) {
   toml::table* parent = node->as_table();
   if (!parent) throw InputError(where, key, "the key's parent is not a table");
   parent->insert_or_assign(parts.back(), *parsed.get("v"));
+  return made;
 }
 
 // "bodies.1.radius" (as typed after --set) -> "bodies[1].radius" (as the reader names keys).
@@ -971,7 +983,8 @@ Scene parse_scene(const std::string& text, const std::string& path,
   } catch (const toml::parse_error& e) {
     throw InputError({path, static_cast<int>(e.source().begin.line)}, "", std::string(e.description()));
   }
-  for (const std::string& o : overrides) apply_override(root, o);
+  std::vector<Made> made;
+  for (const std::string& o : overrides) made.push_back(apply_override(root, o));
   Scene s;
   s.path = path;
   s.text = text;
@@ -980,9 +993,19 @@ Scene parse_scene(const std::string& text, const std::string& path,
     SceneReader(root, s).read();
   } catch (const InputError& e) {
     // A value that came from --set is reported against the --set, not the file.
-    for (const std::string& o : overrides)
+    for (std::size_t k = 0; k < overrides.size(); ++k) {
+      const std::string& o = overrides[k];
       if (reader_key(o.substr(0, o.find('='))) == e.key())
         throw InputError({"--set " + o, 0}, e.key(), e.message());
+      // A table the --set made is incomplete: the error is most likely a misspelt name.
+      const std::string table = reader_key(made[k].table);
+      if (!table.empty() && e.key().rfind(table, 0) == 0)
+        throw InputError({"--set " + o, 0}, made[k].table,
+                         fmt::format("the scene has no {} (beside it: {}), so --set made one, and it is "
+                                     "incomplete: {}: {}",
+                                     made[k].table, made[k].siblings.empty() ? "nothing" : made[k].siblings,
+                                     e.key(), e.message()));
+    }
     throw;
   }
   return s;

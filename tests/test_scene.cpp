@@ -112,6 +112,11 @@ TEST(Scene, SetOverridesValuesAndReportsItsOwnMistakes) {
   EXPECT_NE(e.where().file.find("--set scene.duration=-1"), std::string::npos);
   EXPECT_EQ(error_of(kGood, {"bodies.7.radius=1"}).key(), "bodies.7.radius");
   EXPECT_EQ(error_of(kGood, {"scene.durration=1"}).key(), "scene.durration");
+  // A misspelt material makes a new, incomplete table: the error names the --set and what the scene has.
+  const InputError typo = error_of(kGood, {"materials.grian.mu=0.2"});
+  EXPECT_EQ(typo.key(), "materials.grian");
+  EXPECT_NE(typo.where().file.find("--set materials.grian.mu=0.2"), std::string::npos);
+  EXPECT_NE(std::string(typo.what()).find("beside it: grain"), std::string::npos) << typo.what();
 }
 
 TEST(Scene, TomlSyntaxErrorHasALine) {
