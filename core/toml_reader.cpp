@@ -218,7 +218,7 @@ void TomlReader::finish() const {
     const std::string key(k.str());
     if (!seen_.count(key))
       throw InputError(where(key), dotted(key),
-                       "unknown key (see docs/scenes.md for the keys this section takes)");
+                       "unknown key (see " + docs_ + " for the keys this section takes)");
   }
 }
 

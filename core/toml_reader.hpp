@@ -27,8 +27,10 @@ struct Range {
 
 class TomlReader {
  public:
-  TomlReader(const toml::table& table, std::string prefix, std::string file)
-      : table_(table), prefix_(std::move(prefix)), file_(std::move(file)) {}
+  // `docs`: the page that lists the keys this table takes, named when a key is unknown.
+  TomlReader(const toml::table& table, std::string prefix, std::string file,
+             std::string docs = "docs/scenes.md")
+      : table_(table), prefix_(std::move(prefix)), file_(std::move(file)), docs_(std::move(docs)) {}
 
   bool has(const std::string& key) const { return table_.contains(key); }
   double number(const std::string& key, Range range = {}) const;
@@ -69,6 +71,7 @@ class TomlReader {
   const toml::table& table_;
   std::string prefix_;
   std::string file_;
+  std::string docs_;
   mutable std::set<std::string> seen_;
 };
 

@@ -78,16 +78,17 @@ std::string read_text(const std::string& path) {
 }  // namespace
 
 const toml::table& model_table(const toml::table& root, const std::string& name, const std::string& path) {
-  TomlReader top(root, "", path);
+  const std::string docs = name == "hybrid" ? "docs/hybrid.md" : "docs/ripples.md";
+  TomlReader top(root, "", path, docs);
   const toml::table* t = top.subtable(name);
-  if (!t) throw InputError({path, 0}, name, "the config needs a [" + name + "] table (docs/ripples.md)");
+  if (!t) throw InputError({path, 0}, name, "the config needs a [" + name + "] table (" + docs + ")");
   top.finish();
   return *t;
 }
 
 BinModelRun parse_bin_model_config(const std::string& text, const std::string& path) {
   const toml::table root = config_root(text, path);
-  TomlReader r(model_table(root, "bins", path), "bins", path);
+  TomlReader r(model_table(root, "bins", path), "bins", path, "docs/ripples.md");
   BinModelRun run;
   BinModelParams& p = run.params;
   p.bins = static_cast<int>(r.integer_or("bins", p.bins, 16, 10000000));
@@ -112,7 +113,7 @@ BinModelRun read_bin_model_config(const std::string& path) {
 
 LatticeRun parse_lattice_config(const std::string& text, const std::string& path) {
   const toml::table root = config_root(text, path);
-  TomlReader r(model_table(root, "lattice", path), "lattice", path);
+  TomlReader r(model_table(root, "lattice", path), "lattice", path, "docs/ripples.md");
   LatticeRun run;
   LatticeParams& p = run.params;
   p.columns = static_cast<int>(r.integer_or("columns", p.columns, 16, 100000000));
@@ -158,7 +159,7 @@ LatticeRun read_lattice_config(const std::string& path) {
 
 WormRingRun parse_worm_ring_config(const std::string& text, const std::string& path) {
   const toml::table root = config_root(text, path);
-  TomlReader r(model_table(root, "worms", path), "worms", path);
+  TomlReader r(model_table(root, "worms", path), "worms", path, "docs/ripples.md");
   WormRingRun run;
   run.worms = static_cast<int>(r.integer_or("worms", run.worms, 2, 10000000));
   run.length = static_cast<int>(r.integer_or("length", run.length, 1, 1000000));
@@ -173,7 +174,7 @@ WormRingRun parse_worm_ring_config(const std::string& text, const std::string& p
 
 TriangleRun parse_triangle_config(const std::string& text, const std::string& path) {
   const toml::table root = config_root(text, path);
-  TomlReader r(model_table(root, "triangles", path), "triangles", path);
+  TomlReader r(model_table(root, "triangles", path), "triangles", path, "docs/ripples.md");
   TriangleRun run;
   run.ratio = r.number_or("ratio", run.ratio, Range{0, 1, true});
   run.params.beta_deg = r.number_or("stoss_angle", run.params.beta_deg, Range{0, 45, true});

@@ -129,7 +129,7 @@ HybridConfig parse_hybrid_config(const std::string& text, const std::string& pat
                                  const std::vector<std::string>& overrides) {
   toml::table root = config_root(text, path);
   apply_overrides(root, "hybrid", overrides);
-  TomlReader r(model_table(root, "hybrid", path), "hybrid", path);
+  TomlReader r(model_table(root, "hybrid", path), "hybrid", path, "docs/hybrid.md");
   HybridConfig c;
   RippleOptions& o = c.options;
   read_grains_and_wind(r, o);
