@@ -172,7 +172,7 @@ int dem_command(const SaltationCommands& a) {
     fmt::print("{}\n", j.dump(2));
     return 0;
   }
-  fmt::print("DEM saltation: {} grains, bed {:.2f} cm wide, u* = {} cm/s, {} steps in {:.0f} s ({} ranks)\n",
+  fmt::print("DEM saltation: {} grains, bed {:.2f} cm wide, u* = {} cm/s, {} steps in {:.3g} s ({} ranks)\n",
              r.grains, r.bed_width, o.u_star, r.steps, r.wall_seconds, parallel::size());
   fmt::print("  mass flux {:.4g} g/(cm s) [{:.4g}, {:.4g}] (halves {:.4g} / {:.4g}); u*_eff {:.2f} cm/s\n",
              r.mass_flux.mean, r.mass_flux.lo, r.mass_flux.hi, r.first_half_flux, r.second_half_flux,
@@ -188,10 +188,13 @@ int dem_command(const SaltationCommands& a) {
       r.wind_momentum_loss, r.grain_momentum_gain, r.coupling_lag, r.stress_partition);
   fmt::print("  grains above 1 d move downwind at {:.1f} cm/s on average (their flux / their mass)\n",
              r.transport_velocity);
-  fmt::print(
-      "  saltation hops (> 5 d) {}: height {:.3f} cm, length {:.2f} cm, impact {:.1f} cm/s at {:.1f} deg\n",
-      r.salton_hop_height.n, r.salton_hop_height.mean, r.salton_hop_length.mean, r.salton_impact_speed.mean,
-      r.salton_impact_angle.mean);
+  if (r.salton_hop_height.n == 0)
+    fmt::print("  saltation hops (> 5 d): none in the averaging window\n");
+  else
+    fmt::print(
+        "  saltation hops (> 5 d) {}: height {:.3f} cm, length {:.2f} cm, impact {:.1f} cm/s at {:.1f} deg\n",
+        r.salton_hop_height.n, r.salton_hop_height.mean, r.salton_hop_length.mean, r.salton_impact_speed.mean,
+        r.salton_impact_angle.mean);
   if (r.model.ran)
     fmt::print("  Ch. IV model with this splash: {} Q {:.4g} g/(cm s), u*_eff {:.2f} cm/s, hop {:.3f} cm\n",
                r.model.converged ? "converged," : "NOT converged (" + r.model.failure + "),",
