@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <map>
+#include <string>
+#include <vector>
 
 #include "h5_input.hpp"
 #include "input_error.hpp"
@@ -49,25 +51,28 @@ int inspect_splash(const std::string& path) {
   return 0;
 }
 
-int inspect_tables(const std::string& path, const std::map<std::string, H5Object>& objects) {
-  const TableFile meta = read_sample_tables(path, {});
-  const std::string model = text_or(meta.metadata, "model", text_or(meta.metadata, "kind", "tables"));
-  fmt::print("{}: grainlab {} file: {}\n", path, text_or(meta.metadata, "grainlab_version"), model);
-  std::size_t tables = 0;
+int inspect_tables(const std::string& path, const TableFile& meta,
+                   const std::map<std::string, H5Object>& objects) {
+  fmt::print("{}: grainlab {} file: {}\n", path, text_or(meta.metadata, "grainlab_version"),
+             text_or(meta.metadata, "model", text_or(meta.metadata, "kind", "tables")));
+  // Every top-level table at once, each checked against its own columns.
+  std::map<std::string, std::vector<std::string>> wanted;
+  for (const auto& [name, o] : objects)
+    if (o.table) wanted[name] = {};
+  const TableFile file = read_sample_tables(path, wanted);
   for (const auto& [name, o] : objects) {
     if (!o.dataset) {
       fmt::print("  {}/: a group of {} (not read)\n", name, o.members);
     } else if (!o.table) {
       fmt::print("  {}: a dataset (not read)\n", name);
     } else {
-      const SampleTable t = read_sample_tables(path, {{name, {}}}).tables.at(name);
+      const SampleTable& t = file.tables.at(name);
       fmt::print("  {}: {} rows x {} columns{}{}\n", name, t.rows.size(), t.columns.size(),
                  t.description.empty() ? "" : ": ", t.description);
-      ++tables;
     }
   }
-  fmt::print("  {} top-level table{} read and checked against {} columns\n", tables, tables == 1 ? "" : "s",
-             tables == 1 ? "its" : "their");
+  fmt::print("  {} top-level table{} read and checked against {} columns\n", wanted.size(),
+             wanted.size() == 1 ? "" : "s", wanted.size() == 1 ? "its" : "their");
   return 0;
 }
 
@@ -80,9 +85,10 @@ int inspect_command(const std::string& path) {
   // `grainlab run`'s layout: frames and an energy table, the scene named at the root.
   if (objects.count("frames") && meta.metadata.count("scene_name")) return inspect_run(path);
   if (!meta.metadata.count("grainlab_version"))
-    throw InputError({path, 0}, "file",
-                     "is HDF5 but not a file grainlab wrote (no grainlab_version attribute, no splash schema)");
-  return inspect_tables(path, objects);
+    throw InputError(
+        {path, 0}, "file",
+        "is HDF5 but not a file grainlab wrote (no grainlab_version attribute, no splash schema)");
+  return inspect_tables(path, meta, objects);
 }
 
 }  // namespace grainlab::cli

@@ -24,6 +24,12 @@ namespace {
 
 using namespace grainlab::ripples;
 
+// Whether a model's option sets the run: always without a config; with one, where it was given on the
+// command line (it then replaces the config's value).
+bool sets_run(const RipplesCommands& a, const CLI::App* command, const char* name) {
+  return a.config.empty() || command->count(name) > 0;
+}
+
 void check_A(double A) {
   if (!(A > 0 && A <= 1)) throw InputError({"--A", 0}, fmt::format("{}", A), "must lie in (0, 1]");
 }
@@ -79,8 +85,7 @@ int ring_command(const RipplesCommands& a) {
   refuse_existing_out(a.out, a.force);
   WormRingRun run;
   if (!a.config.empty()) run = parse_worm_ring_config(read_config_text(a.config), a.config);
-  // The options set the run without a config and replace its values where given with one.
-  auto given = [&](const char* name) { return a.config.empty() || a.ring->count(name) > 0; };
+  auto given = [&](const char* name) { return sets_run(a, a.ring, name); };
   if (given("--worms")) run.worms = a.worms;
   if (given("--length")) run.length = a.length;
   if (given("--A")) check_A(a.A), run.A = a.A;
@@ -124,8 +129,7 @@ int triangles_command(const RipplesCommands& a) {
   refuse_existing_out(a.out, a.force);
   TriangleRun run;
   if (!a.config.empty()) run = parse_triangle_config(read_config_text(a.config), a.config);
-  // The options set the run without a config and replace its values where given with one.
-  auto given = [&](const char* name) { return a.config.empty() || a.triangles->count(name) > 0; };
+  auto given = [&](const char* name) { return sets_run(a, a.triangles, name); };
   if (given("--ratio")) {
     if (!(a.ratio > 0 && a.ratio < 1))
       throw InputError({"--ratio", 0}, fmt::format("{}", a.ratio), "must lie in (0, 1)");
@@ -181,9 +185,8 @@ int bins_command(const RipplesCommands& a) {
   refuse_existing_out(a.out, a.force);
   BinModelRun run;
   if (!a.config.empty()) run = read_bin_model_config(a.config);
-  // Without a config the options set the run; with one, those given on the command line replace the
-  // config's (as `ripples lattice --ejections` does), so `--shots 1000` shortens a preset.
-  auto given = [&](const char* name) { return a.config.empty() || a.bin_cmd->count(name) > 0; };
+  // (As `ripples lattice --ejections` does: `--shots 1000` shortens a preset.)
+  auto given = [&](const char* name) { return sets_run(a, a.bin_cmd, name); };
   if (given("--bins")) {
     if (a.bins < 16) throw InputError({"--bins", 0}, std::to_string(a.bins), "needs at least 16 bins");
     run.params.bins = a.bins;

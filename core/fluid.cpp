@@ -137,4 +137,14 @@ std::vector<double> advance_wind_column(const WindProfileInput& in, double dz, c
   return next;
 }
 
+double transport_law_mass(double shields, double shields_threshold, double mu_b) {
+  return std::max(0.0, shields - shields_threshold) / mu_b;
+}
+
+double transport_law_velocity(double shields, double shields_threshold, double kappa, double mu_b,
+                              double c_m) {
+  if (shields <= shields_threshold) return 0;
+  return 2 * std::sqrt(shields_threshold) / kappa * (1 + c_m / mu_b * (shields - shields_threshold));
+}
+
 }  // namespace grainlab::fluid

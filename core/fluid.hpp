@@ -55,4 +55,13 @@ double face_conductance(const WindProfileInput& in, double dz, const std::vector
 double face_stress(const WindProfileInput& in, double dz, const std::vector<double>& z,
                    const std::vector<double>& u, std::size_t k);
 
+// Pahtz & Duran's (2020) transport law, as Huo et al. (2021) state it (their eq. 31): Q* = M* v* with the
+// airborne mass per bed area M* = (S - S_d) / mu_b (over rho_p d) and the transport velocity v* = (2
+// sqrt(S_d) / kappa)(1 + (c_M / mu_b)(S - S_d)) (over sqrt(s g^ d), g^ = (1 - 1/s) g); S the Shields
+// number, S_d its threshold. Both are zero below S_d. Pahtz & Duran give kappa 0.4, mu_b 0.63, c_M 1.7;
+// Huo et al. fit 0.61 and 2.3 with kappa 0.42.
+double transport_law_mass(double shields, double shields_threshold, double mu_b);
+double transport_law_velocity(double shields, double shields_threshold, double kappa, double mu_b,
+                              double c_m);
+
 }  // namespace grainlab::fluid

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "fluid.hpp"
+
 namespace grainlab::saltation {
 
 Planet planet_preset(const std::string& name) {
@@ -100,14 +102,13 @@ const std::vector<FluxLaw>& classic_flux_laws() {
          return u <= ut ? 0.0 : 5 * rho / g * ut * (u * u - ut * ut);
        }},
       {"Pahtz & Duran 2020",
-       "rho_p d sqrt((s - 1) g d) 2 sqrt(Th_t)/(kappa mu_b) (Th - Th_t)(1 + c_M (Th - Th_t)/mu_b), kappa "
-       "0.4, "
-       "mu_b 0.63, c_M 1.7",
+       "rho_p d sqrt((s - 1) g d) 2 sqrt(Th_t)/(kappa mu_b) (Th - Th_t)(1 + c_M (Th - Th_t)/mu_b), "
+       "kappa 0.4, mu_b 0.63, c_M 1.7",
        [](double u, double ut, double rho, double rhop, double g, double d) {
-         if (u <= ut) return 0.0;
          const double s = rhop / rho, shields = rho * u * u / ((rhop - rho) * g * d),
-                      shields_t = rho * ut * ut / ((rhop - rho) * g * d), excess = shields - shields_t;
-         const double q = 2 * std::sqrt(shields_t) / (0.4 * 0.63) * excess * (1 + 1.7 * excess / 0.63);
+                      shields_t = rho * ut * ut / ((rhop - rho) * g * d);
+         const double q = fluid::transport_law_mass(shields, shields_t, 0.63) *
+                          fluid::transport_law_velocity(shields, shields_t, 0.4, 0.63, 1.7);
          // Q* = Q / (rho_p d sqrt(s g^ d)) with g^ = (1 - 1/s) g, as Huo et al. (2021) state the law (their
          // eq. 31, quoting these coefficients) and as pydune implements it (docs/saltation.md).
          return q * rhop * d * std::sqrt((s - 1) * g * d);

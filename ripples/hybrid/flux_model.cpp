@@ -7,6 +7,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "fluid.hpp"
 #include "transport.hpp"
 
 namespace grainlab::ripples::hybrid {
@@ -18,12 +19,11 @@ CleanWind clean_wind(const FluxOptions& o) {
 }
 
 double flux_law_mass(double shields, double shields_threshold, double mu_b) {
-  return std::max(0.0, shields - shields_threshold) / mu_b;
+  return fluid::transport_law_mass(shields, shields_threshold, mu_b);
 }
 
 double flux_law_velocity(double shields, double shields_threshold, double kappa, double mu_b, double c_m) {
-  if (shields <= shields_threshold) return 0;
-  return 2 * std::sqrt(shields_threshold) / kappa * (1 + c_m / mu_b * (shields - shields_threshold));
+  return fluid::transport_law_velocity(shields, shields_threshold, kappa, mu_b, c_m);
 }
 
 double flux_law(double shields, double shields_threshold, double kappa, double mu_b, double c_m) {
