@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "active_zone_option.hpp"
+#include "engine_option.hpp"
 #include "impact_bed.hpp"
 #include "impacts.hpp"
 #include "impacts3d.hpp"
@@ -479,7 +480,7 @@ void ImpactCommands::add(CLI::App& app) {
   impact_cmd =
       app.add_subcommand("impact", "impacts of one case of Table 3.1 on a bed; thesis Tables 3.2-3.9");
   impact_cmd->add_option("--case", case_name, "A..I")->required();
-  impact_cmd->add_option("--engine", engine, "engine")->default_val("native");
+  add_engine_option(impact_cmd, engine, "engine");
   impact_cmd->add_option("--runs", runs, "impacts (spread over MPI ranks)")
       ->default_val(10)
       ->check(CLI::Range(1, 100000));
@@ -543,7 +544,7 @@ void ImpactCommands::add(CLI::App& app) {
   splash_cmd->add_option("--beds", splash_beds, "independent loose beds (default 3; quick 1)")
       ->check(CLI::Range(1, 100));
   splash_cmd->add_option("--seed", splash_seed, "seed of the impact points")->default_val(1);
-  splash_cmd->add_option("--engine", splash_engine, "engine")->default_val("native");
+  add_engine_option(splash_cmd, splash_engine, "engine");
   splash_cmd->add_option("--speeds", splash_speeds,
                          "incident speeds, cm/s (default 300 1000 2000 4000 8100)");
   splash_cmd->add_option("--angles", splash_angles,

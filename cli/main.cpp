@@ -17,6 +17,7 @@
 #include "die_model_command.hpp"
 #include "domain.hpp"
 #include "engine.hpp"
+#include "engine_option.hpp"
 #include "finite_numbers.hpp"
 #include "h5_input.hpp"
 #include "h5_output.hpp"
@@ -246,7 +247,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--out,-o", run.out, "output .h5 (default: [output] file, or SCENE.h5)")
       ->check(cli::output_file());
   run_cmd->add_option("--set", run.sets, "override a scene value: --set accuracy.dt=1e-6 (repeatable)");
-  run_cmd->add_option("--engine", run.engine, "engine to run on")->default_val("native");
+  cli::add_engine_option(run_cmd, run.engine, "engine to run on");
   run_cmd->add_flag("--force", run.force, "overwrite an existing output file");
   run_cmd->add_flag("--quiet,-q", run.quiet, "no progress bar or summary");
   run_cmd

@@ -105,6 +105,26 @@ int distribution_case(const SaltationCommands& a) {
   return 0;
 }
 
+// CASE 7 of Table 4.5 is the sand gun's measured splash (Tables 3.11-3.12), its sand 0.078 cm across.
+constexpr int kSandGunCase = 7;
+
+std::string splash_label(const SaltationCommands& a) {
+  if (!a.splash_file.empty()) return a.splash_file;
+  if (a.wind_case == kSandGunCase) return "CASE 7 (the sand gun, Tables 3.11-3.12)";
+  return fmt::format("CASE {} of Table 4.3", a.wind_case);
+}
+
+double wind_grain_diameter(const SaltationCommands& a) {
+  const bool given = a.wind_diameter_option && a.wind_diameter_option->count() > 0;
+  return a.wind_case == kSandGunCase && !given ? sand_gun_splash().grain_diameter_cm : a.grain_diameter;
+}
+
+SplashKernel wind_splash(const SaltationCommands& a, const WindModelOptions& o, double splash_scale) {
+  if (!a.splash_file.empty()) return kernel_of(read_splash_file(a.splash_file), o);
+  if (a.wind_case == kSandGunCase) return kernel_of(sand_gun_splash(), o);
+  return kernel_of(scaled(table_4_3(a.wind_case), splash_scale));
+}
+
 // Every profile and distribution of a run, as named tables (docs/saltation.md lists them).
 void write_wind_run(const std::string& path, const SaltationCommands& a, const WindModelOptions& o,
                     const WindModelResult& r) {
@@ -131,22 +151,21 @@ void write_wind_run(const std::string& path, const SaltationCommands& a, const W
   SampleTable conv{
       "convergence", "largest relative change of F or u per iteration", {"iteration", "residual"}, {}};
   for (std::size_t n = 0; n < r.residuals.size(); ++n) conv.rows.push_back({double(n + 1), r.residuals[n]});
-  std::map<std::string, std::string> meta = {
-      {"grainlab_version", GRAINLAB_VERSION},
-      {"model", "thesis Ch. IV steady-state saltation (Fig. 4.10)"},
-      {"splash", a.splash_file.empty() ? fmt::format("Table 4.3 CASE {}", a.wind_case) : a.splash_file},
-      {"units", "cgs: cm, g, s"},
-      {"u_star", fmt::format("{}", o.u_star)},
-      {"u_star_eff", fmt::format("{:.17g}", r.u_star_eff)},
-      {"mass_flux", fmt::format("{:.17g}", r.mass_flux)},
-      {"grain_diameter", fmt::format("{}", 2 * o.grain.radius)},
-      {"reynolds_factor", fmt::format("{}", o.reynolds_factor)},
-      {"drag_smoothing_cm", fmt::format("{}", o.drag_smoothing)},
-      {"launch_min", fmt::format("{}", o.launch_min)},
-      {"launch_dv", fmt::format("{}", o.dv)},
-      {"ejecta_below_range", a.ejecta_below},
-      {"converged", r.converged ? "true" : "false"},
-      {"iterations", std::to_string(r.iterations)}};
+  std::map<std::string, std::string> meta = {{"grainlab_version", GRAINLAB_VERSION},
+                                             {"model", "thesis Ch. IV steady-state saltation (Fig. 4.10)"},
+                                             {"splash", splash_label(a)},
+                                             {"units", "cgs: cm, g, s"},
+                                             {"u_star", fmt::format("{}", o.u_star)},
+                                             {"u_star_eff", fmt::format("{:.17g}", r.u_star_eff)},
+                                             {"mass_flux", fmt::format("{:.17g}", r.mass_flux)},
+                                             {"grain_diameter", fmt::format("{}", 2 * o.grain.radius)},
+                                             {"reynolds_factor", fmt::format("{}", o.reynolds_factor)},
+                                             {"drag_smoothing_cm", fmt::format("{}", o.drag_smoothing)},
+                                             {"launch_min", fmt::format("{}", o.launch_min)},
+                                             {"launch_dv", fmt::format("{}", o.dv)},
+                                             {"ejecta_below_range", a.ejecta_below},
+                                             {"converged", r.converged ? "true" : "false"},
+                                             {"iterations", std::to_string(r.iterations)}};
   write_sample_tables(path, {wind, launch, conv}, meta);
 }
 
@@ -156,13 +175,14 @@ int wind_command(const SaltationCommands& a) {
   if (!(a.u_star > 0 && a.u_star < 1000))
     throw InputError({"--ustar", 0}, fmt::format("{}", a.u_star), "must lie in (0, 1000) cm/s");
   if ((a.wind_case == 0) == a.splash_file.empty())
-    throw InputError({"--case", 0}, std::to_string(a.wind_case), "give either --case 1..6 or --splash FILE");
-  if (!(a.grain_diameter > 0 && a.grain_diameter < 1))
-    throw InputError({"--grain-diameter", 0}, fmt::format("{}", a.grain_diameter), "must lie in (0, 1) cm");
+    throw InputError({"--case", 0}, std::to_string(a.wind_case), "give either --case 1..7 or --splash FILE");
+  const double diameter = wind_grain_diameter(a);
+  if (!(diameter > 0 && diameter < 1))
+    throw InputError({"--grain-diameter", 0}, fmt::format("{}", diameter), "must lie in (0, 1) cm");
   WindModelOptions o;
   o.u_star = a.u_star, o.tolerance = a.tolerance;
   o.trajectory_tolerance = a.trajectory_tolerance, o.sample_interval = a.sample_interval;
-  o.grain.radius = a.grain_diameter / 2;
+  o.grain.radius = diameter / 2;
   if (!(a.reynolds_factor > 0 && a.reynolds_factor <= 10))
     throw InputError({"--re-factor", 0}, fmt::format("{}", a.reynolds_factor), "must lie in (0, 10]");
   o.reynolds_factor = a.reynolds_factor;
@@ -193,14 +213,13 @@ int wind_command(const SaltationCommands& a) {
       throw InputError({"--air-density", 0}, fmt::format("{}", p.air_density),
                        "must be below the grain density");
     o.g = p.g, o.fluid.density = p.air_density, o.fluid.viscosity = p.viscosity, o.buoyancy = true;
-    splash_scale = std::sqrt(p.g * a.grain_diameter / (981 * 0.025));
+    splash_scale = std::sqrt(p.g * diameter / (981 * 0.025));
     o.dv *= splash_scale;
   }
   o.grain.density = a.grain_density_wind;
   o.bins = a.launch_bins;
   o.vx_bins = a.vx_bins, o.vx_min = a.vx_min;
-  const SplashKernel splash = a.splash_file.empty() ? kernel_of(scaled(table_4_3(a.wind_case), splash_scale))
-                                                    : kernel_of(read_splash_file(a.splash_file), o);
+  const SplashKernel splash = wind_splash(a, o, splash_scale);
   const WindModelResult r = solve_wind_model(o, splash);
   if (!r.failure.empty()) {
     fmt::print(stderr, "grainlab saltation wind: no steady state after {} iterations: {}\n", r.iterations,
@@ -225,7 +244,7 @@ int wind_command(const SaltationCommands& a) {
             {"case", a.wind_case},
             {"splash", a.splash_file},
             {"ejecta_below_range", a.ejecta_below},
-            {"grain_diameter", a.grain_diameter},
+            {"grain_diameter", diameter},
             {"u_star", a.u_star},
             {"u_star_eff", r.u_star_eff},
             {"mass_flux", r.mass_flux},
@@ -256,8 +275,7 @@ int wind_command(const SaltationCommands& a) {
     return 0;
   }
   fmt::print("steady-state saltation (thesis Ch. IV, Fig. 4.10), splash {}, grains d = {} cm, u* = {} cm/s\n",
-             a.splash_file.empty() ? fmt::format("CASE {} of Table 4.3", a.wind_case) : a.splash_file,
-             a.grain_diameter, a.u_star);
+             splash_label(a), diameter, a.u_star);
   fmt::print("  {} after {} iterations ({} wind-trajectory passes, {:.2f} s)\n",
              r.converged ? "converged" : "NOT converged", r.iterations, r.trajectory_passes, r.wall_seconds);
   fmt::print("  u*_eff {:.2f} cm/s; grain-borne stress {:.4g} dyn/cm^2 (rho (u*^2 - u*_eff^2) = {:.4g})\n",
@@ -303,14 +321,20 @@ void SaltationCommands::add(CLI::App& app) {
       ->default_val(10000)
       ->check(CLI::Range(1, 10000000));
   conveyor->add_flag("--json", json, "print the final state as JSON");
-  wind = group->add_subcommand("wind",
-                               "steady-state saltation in a wind with grain feedback (Table 4.3 CASES 1-6)");
-  wind->add_option("--case", wind_case, "splash function: CASE 1-6 of Table 4.3")->check(CLI::Range(1, 6));
+  wind = group->add_subcommand(
+      "wind",
+      "steady-state saltation in a wind with grain feedback (Table 4.3 CASES 1-6, the sand gun's CASE 7)");
+  wind->add_option("--case", wind_case,
+                   "splash function: CASE 1-6 of Table 4.3, or 7: the sand gun's (Tables 3.11-3.12, "
+                   "grains 0.078 cm unless --grain-diameter says otherwise)")
+      ->check(CLI::Range(1, kSandGunCase));
   wind->add_option("--splash", splash_file,
                    "or a grainlab-splash/1 file (grainlab splash), scaled by sqrt(g d)")
       ->check(CLI::ExistingFile);
-  wind->add_option("--grain-diameter", grain_diameter, "saltating grain diameter, cm (Ch. IV: 0.025)")
-      ->default_val(0.025);
+  wind_diameter_option =
+      wind->add_option("--grain-diameter", grain_diameter,
+                       "saltating grain diameter, cm (Ch. IV: 0.025; CASE 7: the sand gun's 0.078)")
+          ->default_val(0.025);
   wind->add_option("--planet", planet,
                    "earth, mars or venus: g, gas density and viscosity (docs/saltation.md)")
       ->check(CLI::IsMember({"earth", "mars", "venus"}));

@@ -52,6 +52,7 @@ struct SaltationCommands {
   validation::DemSaltationOptions dem;
   std::string dem_out;
   bool dem_json = false;
+  CLI::Option* wind_diameter_option = nullptr;  // given or not: CASE 7's grains default to the sand gun's
   CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr, *dem_app = nullptr,
            *heights = nullptr, *transient = nullptr;
   void add(CLI::App& app);

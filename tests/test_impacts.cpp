@@ -234,4 +234,13 @@ TEST(ImpactCommands, BadInputExitsTwoAndNamesIt) {
   o = cli_test::grainlab("bed --preparation fluffy --out x.h5", d.path);
   EXPECT_EQ(o.status, 2);
   EXPECT_FALSE(fs::exists(d.path / "x.h5"));
+  // A misspelt engine is named before a bed is poured (that took seconds, then failed).
+  for (const char* cmd :
+       {"impact --case A --runs 1 --engine Bullet", "splash --quick --engine box --out s.h5"}) {
+    o = cli_test::grainlab(cmd, d.path);
+    EXPECT_EQ(o.status, 2) << cmd;
+    EXPECT_NE(o.err.find("available: native, box2d, ode, bullet"), std::string::npos) << o.err;
+    EXPECT_EQ(o.err.find("pouring"), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(d.path / "s.h5"));
+  }
 }
