@@ -1,5 +1,7 @@
 #include "wind_model.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <boost/numeric/odeint.hpp>
 #include <chrono>
@@ -251,6 +253,7 @@ namespace {
 struct BinnedCell {
   std::vector<double> rebound, ejecta;
   double mean_vx = 0;
+  double above = 0;  // grains per impact launched above the grid's top bin (lost to the model)
 };
 
 BinnedCell bin_cell(const SplashCell& c, double scale, const WindModelOptions& o) {
@@ -261,6 +264,7 @@ BinnedCell bin_cell(const SplashCell& c, double scale, const WindModelOptions& o
   double n = 0, sx = 0;
   auto add = [&](std::vector<double>& into, double vx, double vy) {
     const long k = static_cast<long>(std::floor(vy * scale / o.dv));
+    if (k >= o.bins) b.above += per * o.dv;
     if (k < 0 || k >= o.bins) return;
     into[static_cast<std::size_t>(k)] += per;
     n += 1, sx += vx * scale;
@@ -397,8 +401,55 @@ SplashKernel kernel_of(const SplashFile& f, const WindModelOptions& o) {
             double vx = 0;
             for (const auto& [c, w] : around(v_ix, v_iy)) vx += w * (*cells)[c].mean_vx;
             return f * vx;
+          },
+          [cells, around](double v_ix, double v_iy) {
+            double n = 0;
+            for (const auto& [c, w] : around(v_ix, v_iy)) n += w * (*cells)[c].above;
+            return n;
           }};
 }
+
+namespace {
+
+// Grains per impact that the splash launches above the grid's top (v_oy >= top).
+double launched_above(const SplashKernel& splash, double top, double dv, const Trajectory& t) {
+  if (splash.above_grid) return splash.above_grid(t.v_ix, t.v_iy);
+  // A launch faster than twice the impact is beyond any splash here; the integral stops there.
+  const double end = std::max(2 * top, 2 * std::hypot(t.v_ix, t.v_iy));
+  double n = 0;
+  for (double v = top + dv / 2; v < end; v += dv) n += splash.density(v, t.v_ix, t.v_iy) * dv;
+  return n;
+}
+
+// Why the flux died: the wind was below the impact threshold, or the grid lost the fast launches that
+// would have kept it going. The share of the last iteration's launches above the grid tells which.
+std::string why_the_flux_died(const SplashKernel& splash, const std::vector<Trajectory>& flights,
+                              const std::vector<double>& F, const std::vector<double>& v_launch,
+                              const WindModelOptions& o) {
+  const double top = v_launch.back() + o.dv / 2;
+  double inside = 0, above = 0;
+  for (std::size_t j = 0; j < F.size(); ++j) {
+    if (!(F[j] > 0)) continue;
+    above += F[j] * launched_above(splash, top, o.dv, flights[j]);
+    for (double v : v_launch) inside += F[j] * splash.density(v, flights[j].v_ix, flights[j].v_iy) * o.dv;
+  }
+  const double share = above + inside > 0 ? above / (above + inside) : 0;
+  if (share > 0.01)
+    return fmt::format(
+        "the flux died out: {:.0f} % of the grains were launched above the top of the launch grid ({:.4g} "
+        "cm/s) and lost; give more --bins (now {}) or a wider --dv",
+        100 * share, top, v_launch.size());
+  const std::string lost =
+      share < 1e-6
+          ? "no launch left the top of the launch grid"
+          : fmt::format("only {:.2g} % of the launches left the top of the launch grid", 100 * share);
+  return fmt::format(
+      "the flux died out: u* is below the impact threshold for this splash ({}; `grainlab saltation study` "
+      "finds the threshold of the thesis's splash functions)",
+      lost);
+}
+
+}  // namespace
 
 WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& splash) {
   const auto start = std::chrono::steady_clock::now();
@@ -513,9 +564,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
       break;
     }
     if (flux.dying(total)) {
-      r.failure =
-          "the flux died out: u* is below the impact threshold, or the rebounds leave the top of the launch "
-          "grid (more bins)";
+      r.failure = why_the_flux_died(splash, flights, Fs, r.v_launch, o);
       r.iterations = n + 1;
       break;
     }

@@ -176,6 +176,9 @@ Trajectory fly(const WindModelOptions& o, const std::vector<double>& y, const st
 struct SplashKernel {
   std::function<double(double v_oy, double v_ix, double v_iy)> density;
   std::function<double(double v_ix, double v_iy)> launch_vx;
+  // Grains per impact launched above the top of the model's launch grid, which the model loses. Set by
+  // kernels that bin their launches on that grid; otherwise the density is integrated above the top.
+  std::function<double(double v_ix, double v_iy)> above_grid = nullptr;
 };
 SplashKernel kernel_of(const AnalyticSplash& s);
 // A grainlab-splash/1 file scaled to grains of the model's diameter (velocities x sqrt(g d)). Simulated

@@ -21,6 +21,21 @@ void expect_stress_identity(const WindModelOptions& o, const WindModelResult& r)
   EXPECT_NEAR(r.u_star_eff * r.u_star_eff, o.u_star * o.u_star - r.grain_stress / o.fluid.density,
               1e-6 * o.u_star * o.u_star);
 }
+// A simulated splash file of one cell (2 impacts at 50 sqrt(g d), 15 deg) with the given launches.
+SplashFile one_cell_file(double diameter, double density, std::vector<ReboundRow> rebound,
+                         std::vector<EjectumRow> ejecta) {
+  SplashFile f;
+  f.text = {{"kind", "simulated"}};
+  f.grain_diameter_cm = diameter, f.grain_density = density;
+  f.speeds = {50}, f.angles_deg = {15};
+  SplashCell c;
+  c.speed = 50, c.angle_deg = 15, c.impacts = 2;
+  const double per_impact = static_cast<double>(ejecta.size()) / 2;
+  c.rebound = std::move(rebound), c.ejecta = std::move(ejecta);
+  c.moments["ejecta_per_impact"] = {per_impact, 0, per_impact, per_impact};
+  f.cells = {c};
+  return f;
+}
 }  // namespace
 
 TEST(WindModel, CleanWindIsTheLogLaw) {
@@ -162,16 +177,9 @@ TEST(WindModel, EffectiveShearFallsAndFluxRisesWithUStar) {
 TEST(WindModel, TabulatedSplashKernelCountsEveryLaunchedGrain) {
   // A one-cell file: 2 impacts, one rebound at v_y 10 sqrt(g d), three ejecta at 3 sqrt(g d). Scaled to the
   // model's grains, the kernel's density integrates to 2 grains per impact, wherever the impact is.
-  SplashFile f;
-  f.text = {{"kind", "simulated"}};
-  f.grain_diameter_cm = 2, f.grain_density = 2;
-  f.speeds = {50}, f.angles_deg = {15};
-  SplashCell c;
-  c.speed = 50, c.angle_deg = 15, c.impacts = 2;
-  c.rebound = {{0, 1, 20, 10, 0}, {1, 0, 0, 0, 0}};
-  c.ejecta = {{0, 0, 3, 0, 3, 0, 0, 0}, {0, 0, 3, 0, 3, 0, 0, 0}, {1, 0, 3, 0, 3, 0, 0, 0}};
-  c.moments["ejecta_per_impact"] = {1.5, 0, 1.5, 1.5};
-  f.cells = {c};
+  const SplashFile f =
+      one_cell_file(2, 2, {{0, 1, 20, 10, 0}, {1, 0, 0, 0, 0}},
+                    {{0, 0, 3, 0, 3, 0, 0, 0}, {0, 0, 3, 0, 3, 0, 0, 0}, {1, 0, 3, 0, 3, 0, 0, 0}});
   WindModelOptions o;
   const SplashKernel k = kernel_of(f, o);
   // At or above the slowest cell (50 sqrt(g d) = 248 cm/s): 0.5 rebounds + 1.5 ejecta per impact.
@@ -241,6 +249,33 @@ TEST(WindModel, ASplashThatAlwaysMultipliesHasNoSteadyState) {
   const WindModelResult r = solve_wind_model(o, k);
   EXPECT_FALSE(r.converged);
   EXPECT_NE(r.failure.find("no steady state"), std::string::npos);
+}
+
+TEST(WindModel, ADyingFluxSaysWhetherTheWindOrTheGridEndedIt) {
+  // Below CASE 1's threshold on Earth the wind ends it. On Mars at u* = 150 cm/s the thesis's 80 bins
+  // (scaled with sqrt(g d), up to 246 cm/s) lose most rebounds above their top, and 160 bins carry it.
+  WindModelOptions earth;
+  earth.u_star = 20;
+  const WindModelResult calm = solve_wind_model(earth, table_4_3(1));
+  EXPECT_NE(calm.failure.find("below the impact threshold"), std::string::npos) << calm.failure;
+  const Planet mars = planet_preset("mars");
+  WindModelOptions o;
+  o.u_star = 150, o.g = mars.g, o.fluid.density = mars.air_density, o.fluid.viscosity = mars.viscosity;
+  o.buoyancy = true;
+  const double scale = std::sqrt(mars.g / 981);
+  o.dv *= scale;
+  const WindModelResult lost = solve_wind_model(o, scaled(table_4_3(1), scale));
+  EXPECT_NE(lost.failure.find("above the top of the launch grid"), std::string::npos) << lost.failure;
+  o.bins = 160;
+  EXPECT_TRUE(solve_wind_model(o, scaled(table_4_3(1), scale)).converged);
+}
+
+TEST(WindModel, ABinnedSplashCountsTheLaunchesAboveTheGrid) {
+  // One rebound in two impacts leaves at 100 sqrt(g d), 495 cm/s, above the grid's 400 cm/s.
+  const SplashFile f = one_cell_file(0.025, 2.6, {{0, 1, 20, 100, 0}, {1, 1, 20, 10, 0}}, {});
+  const SplashKernel k = kernel_of(f, WindModelOptions{});
+  ASSERT_TRUE(k.above_grid);
+  EXPECT_NEAR(k.above_grid(300, -80), 0.5, 1e-12);
 }
 
 TEST(WindModel, TwoDimensionalGridReducesToTheThesisGridWhenEveryGrainLeavesVertically) {
