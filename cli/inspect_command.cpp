@@ -51,6 +51,26 @@ int inspect_splash(const std::string& path) {
   return 0;
 }
 
+// A height field's frames (`ripples hybrid --out`), each read and checked: one shape, finite heights.
+void inspect_grid_frames(const std::string& path, std::size_t count) {
+  GridFrame first, last;
+  for (std::size_t k = 0; k < count; ++k) {
+    last = read_grid_frame(path, k);
+    if (k == 0) first = last;
+    if (last.nx != first.nx || last.ny != first.ny)
+      throw InputError(
+          {path, 0}, "file",
+          fmt::format("frame {} is {} x {}, frame 0 {} x {}", k, last.ny, last.nx, first.ny, first.nx));
+  }
+  if (count == 0) {
+    fmt::print("  frames/: no frames\n");
+    return;
+  }
+  fmt::print(
+      "  frames/: {} height fields of {} x {} (across x along), t = {:.6g} to {:.6g}, every one read\n",
+      count, first.ny, first.nx, first.time, last.time);
+}
+
 int inspect_tables(const std::string& path, const TableFile& meta,
                    const std::map<std::string, H5Object>& objects) {
   fmt::print("{}: grainlab {} file: {}\n", path, text_or(meta.metadata, "grainlab_version"),
@@ -61,7 +81,9 @@ int inspect_tables(const std::string& path, const TableFile& meta,
     if (o.table) wanted[name] = {};
   const TableFile file = read_sample_tables(path, wanted);
   for (const auto& [name, o] : objects) {
-    if (!o.dataset) {
+    if (!o.dataset && name == "frames") {
+      inspect_grid_frames(path, o.members);
+    } else if (!o.dataset) {
       fmt::print("  {}/: a group of {} (not read)\n", name, o.members);
     } else if (!o.table) {
       fmt::print("  {}: a dataset (not read)\n", name);

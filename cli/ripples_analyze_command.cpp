@@ -1,15 +1,17 @@
 // `grainlab ripples analyze FILE`: the Ch. V analysis of any surface. FILE is a CSV of x, h (a header line
 // allowed; x uniform and increasing, taken as periodic) or a ripple run file (`ripples bins|lattice --out`,
-// or `ripples run --out`; its last frame or --frame N). Prints wavelength three ways, height, ripple index
-// and slopes.
+// `ripples run --out`, or `ripples hybrid --out` averaged across the wind; its last frame or --frame N).
+// Prints wavelength three ways, height, ripple index and slopes.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
+#include "bed_statistics.hpp"
 #include "h5_input.hpp"
 #include "input_error.hpp"
 #include "lattice_model.hpp"
@@ -27,6 +29,7 @@ struct Profile {
   std::vector<double> h;
   double dx = 1;
   std::string units, source;
+  std::optional<hybrid::BedStatistics> bed;  // a 3-D bed's own measures (Huo et al.'s slices)
 };
 
 Profile read_csv_profile(const std::string& path) {
@@ -36,6 +39,7 @@ Profile read_csv_profile(const std::string& path) {
   std::vector<double> x;
   std::string line;
   int n = 0;
+  bool header_seen = false;
   while (std::getline(in, line)) {
     ++n;
     if (line.empty() || line[0] == '#') continue;
@@ -43,8 +47,11 @@ Profile read_csv_profile(const std::string& path) {
     std::istringstream ss(line);
     double a = 0, b = 0;
     if (!(ss >> a >> b)) {
-      if (x.empty() && p.h.empty()) continue;  // a header line
-      throw InputError({path, n}, "", "expected two numbers, x and h");
+      if (!header_seen && x.empty()) {  // one header line
+        header_seen = true;
+        continue;
+      }
+      throw InputError({path, n}, "", "expected two numbers, x and h, separated by a comma or spaces");
     }
     if (!std::isfinite(a) || !std::isfinite(b)) throw InputError({path, n}, "", "x and h must be finite");
     x.push_back(a), p.h.push_back(b);
@@ -60,15 +67,54 @@ Profile read_csv_profile(const std::string& path) {
   return p;
 }
 
+// The frame asked for (the last if --frame is not given) of `count`.
+std::size_t chosen_frame(int frame, std::size_t count) {
+  const long k = frame < 0 ? static_cast<long>(count) - 1 : frame;
+  if (k < 0 || k >= static_cast<long>(count))
+    throw InputError({"--frame", 0}, std::to_string(frame),
+                     fmt::format("the file has frames 0..{}", count - 1));
+  return static_cast<std::size_t>(k);
+}
+
+// A 3-D bed's height field (`ripples hybrid --out`): the profile averaged across the wind, as the paper
+// averages its slices, key points dx apart.
+Profile read_grid_profile(const std::string& path, int frame, std::size_t count) {
+  if (count == 0) throw InputError({path, 0}, "frames", "has no frames");
+  const std::size_t k = chosen_frame(frame, count);
+  const GridFrame g = read_grid_frame(path, k);
+  const TableFile meta = read_sample_tables(path, {});
+  Profile p;
+  p.h.assign(g.nx, 0.0);
+  for (std::size_t row = 0; row < g.ny; ++row)
+    for (std::size_t i = 0; i < g.nx; ++i) p.h[i] += g.values[row * g.nx + i] / static_cast<double>(g.ny);
+  const auto dx = meta.metadata.find("dx");
+  try {
+    p.dx = dx == meta.metadata.end() ? 0 : std::stod(dx->second);
+  } catch (const std::exception&) {
+    p.dx = 0;
+  }
+  if (!(p.dx > 0) || !std::isfinite(p.dx)) throw InputError({path, 0}, "dx", "must be a positive number");
+  p.units = "grain diameters";
+  p.bed = hybrid::bed_statistics(g.values, g.nx, g.ny, p.dx);
+  const auto model = meta.metadata.find("model");
+  p.source = fmt::format("{}, frame {} (t = {:.6g}), averaged across its {} rows",
+                         model == meta.metadata.end() ? "height field" : model->second, k, g.time, g.ny);
+  return p;
+}
+
 Profile read_run_profile(const std::string& path, int frame) {
+  const std::map<std::string, H5Object> objects = root_objects(path);
+  if (!objects.count("h") && objects.count("frames") && !objects.at("frames").dataset)
+    return read_grid_profile(path, frame, objects.at("frames").members);
+  if (!objects.count("h"))
+    throw InputError(
+        {path, 0}, "file",
+        "holds no surface: ripples analyze reads the runs of ripples bins, lattice, run and hybrid "
+        "(--out) and CSV files of x, h");
   const TableFile f = read_sample_tables(path, {{"h", {}}});
   const SampleTable& h = f.tables.at("h");
   if (h.rows.empty()) throw InputError({path, 0}, "h", "has no frames");
-  const long k = frame < 0 ? static_cast<long>(h.rows.size()) - 1 : frame;
-  if (k < 0 || k >= static_cast<long>(h.rows.size()))
-    throw InputError({"--frame", 0}, std::to_string(frame),
-                     fmt::format("the file has frames 0..{}", h.rows.size() - 1));
-  const std::vector<double>& row = h.rows[static_cast<std::size_t>(k)];
+  const std::vector<double>& row = h.rows[chosen_frame(frame, h.rows.size())];
   Profile p;
   const auto model = f.metadata.count("model") ? f.metadata.at("model") : std::string();
   if (f.metadata.count("dx")) {
@@ -122,20 +168,28 @@ int analyze_command(const RipplesCommands& a) {
   const double spectral =
       spectrum.empty() ? 0 : static_cast<double>(smooth.size()) / static_cast<double>(top + 1) * p.dx;
   const double auto_wl = autocorrelation_wavelength(smooth) * p.dx;
-  const nlohmann::json j{{"source", p.source},
-                         {"units", p.units},
-                         {"points", smooth.size()},
-                         {"dx", p.dx},
-                         {"wavelength_crests", shape.wavelength},
-                         {"wavelength_autocorrelation", auto_wl},
-                         {"wavelength_spectrum", spectral},
-                         {"f_lambda_peak", peak * p.dx},
-                         {"height", shape.height},
-                         {"ripple_index", shape.ripple_index},
-                         {"stoss_deg", shape.stoss_deg},
-                         {"lee_deg", shape.lee_deg},
-                         {"crests", shape.crests},
-                         {"rms", shape.rms}};
+  nlohmann::json j{{"source", p.source},
+                   {"units", p.units},
+                   {"points", smooth.size()},
+                   {"dx", p.dx},
+                   {"wavelength_crests", shape.wavelength},
+                   {"wavelength_autocorrelation", auto_wl},
+                   {"wavelength_spectrum", spectral},
+                   {"f_lambda_peak", peak * p.dx},
+                   {"height", shape.height},
+                   {"ripple_index", shape.ripple_index},
+                   {"stoss_deg", shape.stoss_deg},
+                   {"lee_deg", shape.lee_deg},
+                   {"crests", shape.crests},
+                   {"rms", shape.rms}};
+  if (p.bed)
+    j["slices"] = {{"amplitude", p.bed->amplitude},
+                   {"wavelength", p.bed->wavelength},
+                   {"ripple_index", p.bed->ripple_index},
+                   {"crest_spacing", p.bed->crest_spacing},
+                   {"crest_height", p.bed->crest_height},
+                   {"stoss_deg", p.bed->stoss_deg},
+                   {"lee_deg", p.bed->lee_deg}};
   if (a.json) {
     fmt::print("{}\n", j.dump(2));
     return 0;
@@ -148,6 +202,13 @@ int analyze_command(const RipplesCommands& a) {
   fmt::print(
       "  height {:.3g}, ripple index {:.3g}, stoss {:.1f} deg, lee {:.1f} deg, {} crests, rms {:.3g}\n",
       shape.height, shape.ripple_index, shape.stoss_deg, shape.lee_deg, shape.crests, shape.rms);
+  if (p.bed)
+    fmt::print(
+        "  slice by slice (Huo et al. 2021, as `ripples hybrid` reports them): amplitude {:.3g}, wavelength "
+        "{:.3g} (the autocorrelation's first peak), ripple index {:.3g}; crests {:.3g} apart, {:.3g} high; "
+        "stoss {:.1f} deg, lee {:.1f} deg\n",
+        p.bed->amplitude, p.bed->wavelength, p.bed->ripple_index, p.bed->crest_spacing, p.bed->crest_height,
+        p.bed->stoss_deg, p.bed->lee_deg);
   return 0;
 }
 

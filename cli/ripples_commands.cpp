@@ -343,7 +343,10 @@ void RipplesCommands::add(CLI::App& app) {
   run->add_flag("--list", list_models, "list the models");
   analyze = group->add_subcommand("analyze",
                                   "wavelength, height, ripple index and slopes of any surface (Ch. V tools)");
-  analyze->add_option("file", analyze_file, "a CSV of x, h (evenly spaced, periodic) or a ripple run file")
+  analyze
+      ->add_option("file", analyze_file,
+                   "a CSV of x, h (evenly spaced, periodic) or a ripple run file (bins, lattice, run; "
+                   "hybrid: the bed averaged across the wind)")
       ->required()
       ->check(CLI::ExistingFile);
   analyze->add_option("--frame", analyze_frame, "run files: the frame (default: the last)");

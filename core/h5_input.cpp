@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <hdf5.h>
 
+#include <cmath>
 #include <filesystem>
 #include <vector>
 
@@ -219,6 +220,21 @@ std::map<std::string, H5Object> root_objects(const std::string& path) {
   if (H5Literate(f.id, H5_INDEX_NAME, H5_ITER_INC, nullptr, visit, &out) < 0)
     corrupt(path, "its top-level objects cannot be listed");
   return out;
+}
+
+GridFrame read_grid_frame(const std::string& path, std::size_t k) {
+  Handle f = open_checked(path);
+  const std::string name = fmt::format("/frames/{:06d}", k);
+  const Dataset d = read_all(f.id, name, path);
+  if (d.dims.size() != 2) corrupt(path, name + " is not a 2-D field");
+  GridFrame g;
+  g.ny = d.dims[0], g.nx = d.dims[1];
+  for (double v : d.data)
+    if (!std::isfinite(v)) corrupt(path, name + " holds a value that is not a finite number");
+  g.values = d.data;
+  Handle ds{H5Dopen2(f.id, name.c_str(), H5P_DEFAULT), H5Dclose};
+  g.time = double_attribute(ds.id, "time", path, name);
+  return g;
 }
 
 void require_checkpoint(const TableFile& file, const std::string& path, const std::string& kind,

@@ -48,6 +48,17 @@ struct H5Object {
 // file. (`grainlab inspect` reads a file of tables whose names it does not know beforehand.)
 std::map<std::string, H5Object> root_objects(const std::string& path);
 
+// One frame of a height field over time, as GridSeriesWriter writes it (`/frames/NNNNNN`, ny rows of nx
+// values, x along a row; `grainlab ripples hybrid --out`).
+struct GridFrame {
+  double time = 0;
+  std::size_t nx = 0, ny = 0;
+  std::vector<double> values;  // row after row
+};
+// Reads frame k (root_objects gives the number of frames: the members of "frames"). Throws InputError
+// (key "file") naming what is missing, damaged, not 2-D or not finite.
+GridFrame read_grid_frame(const std::string& path, std::size_t k);
+
 // Stops with InputError (key "--restart") unless the file's metadata says it is a checkpoint of `kind`
 // (`what` names it in the message), written by this grainlab version with these options (`mismatch` says
 // what to pass instead).

@@ -10,7 +10,7 @@ function(grainlab_label_tests)
     saltation "^(Conveyor|WindModel|FluxGrowth|ClassicFluxLaws|CleanWindHeights|Transient|WindScene|Fluid|WindEngine)\\.|Saltation|Conveyor"
     impacts "^(ReboundModel|TwoBodyInversion|BedSurface|ImpactBed|Layering|Assemblies3d)\\.|Impact|Splash|SandGun|ActiveZone"
     validation "^(Validate|Cost|DieModel|Ensemble|LoadedDie3d|Table21|SpinningCircle|Conservation|Sorting|TumblingPolygon|PairImpact|AccuracyCost|ReportPart)\\.|Validate"
-    io "^(Fuzz|Checkpoint|RunWriter|OutputPath|ProgressBar|PlotScript|Docs|Data)\\.|^Command\\.(Stopped|EveryNumeric|BadInput|ExistingOutput|StopAfterFrame|Inspect)"
+    io "^(Fuzz|GridFrameFuzz|Checkpoint|RunWriter|OutputPath|ProgressBar|PlotScript|Docs|Data)\\.|^Command\\.(Stopped|EveryNumeric|BadInput|ExistingOutput|StopAfterFrame|Inspect)"
     engine ".")
   foreach(test IN LISTS ARGN)
     set(labels "")
