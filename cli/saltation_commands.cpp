@@ -105,26 +105,6 @@ int distribution_case(const SaltationCommands& a) {
   return 0;
 }
 
-// CASE 7 of Table 4.5 is the sand gun's measured splash (Tables 3.11-3.12), its sand 0.078 cm across.
-constexpr int kSandGunCase = 7;
-
-std::string splash_label(const SaltationCommands& a) {
-  if (!a.splash_file.empty()) return a.splash_file;
-  if (a.wind_case == kSandGunCase) return "CASE 7 (the sand gun, Tables 3.11-3.12)";
-  return fmt::format("CASE {} of Table 4.3", a.wind_case);
-}
-
-double wind_grain_diameter(const SaltationCommands& a) {
-  const bool given = a.wind_diameter_option && a.wind_diameter_option->count() > 0;
-  return a.wind_case == kSandGunCase && !given ? sand_gun_splash().grain_diameter_cm : a.grain_diameter;
-}
-
-SplashKernel wind_splash(const SaltationCommands& a, const WindModelOptions& o, double splash_scale) {
-  if (!a.splash_file.empty()) return kernel_of(read_splash_file(a.splash_file), o);
-  if (a.wind_case == kSandGunCase) return kernel_of(sand_gun_splash(), o);
-  return kernel_of(scaled(table_4_3(a.wind_case), splash_scale));
-}
-
 // Every profile and distribution of a run, as named tables (docs/saltation.md lists them).
 void write_wind_run(const std::string& path, const SaltationCommands& a, const WindModelOptions& o,
                     const WindModelResult& r) {
@@ -153,7 +133,7 @@ void write_wind_run(const std::string& path, const SaltationCommands& a, const W
   for (std::size_t n = 0; n < r.residuals.size(); ++n) conv.rows.push_back({double(n + 1), r.residuals[n]});
   std::map<std::string, std::string> meta = {{"grainlab_version", GRAINLAB_VERSION},
                                              {"model", "thesis Ch. IV steady-state saltation (Fig. 4.10)"},
-                                             {"splash", splash_label(a)},
+                                             {"splash", case_label(a.wind_case, a.splash_file)},
                                              {"units", "cgs: cm, g, s"},
                                              {"u_star", fmt::format("{}", o.u_star)},
                                              {"u_star_eff", fmt::format("{:.17g}", r.u_star_eff)},
@@ -176,7 +156,7 @@ int wind_command(const SaltationCommands& a) {
     throw InputError({"--ustar", 0}, fmt::format("{}", a.u_star), "must lie in (0, 1000) cm/s");
   if ((a.wind_case == 0) == a.splash_file.empty())
     throw InputError({"--case", 0}, std::to_string(a.wind_case), "give either --case 1..7 or --splash FILE");
-  const double diameter = wind_grain_diameter(a);
+  const double diameter = case_grain_diameter(a.wind_case, a.wind_diameter_option, a.grain_diameter);
   if (!(diameter > 0 && diameter < 1))
     throw InputError({"--grain-diameter", 0}, fmt::format("{}", diameter), "must lie in (0, 1) cm");
   WindModelOptions o;
@@ -219,7 +199,7 @@ int wind_command(const SaltationCommands& a) {
   o.grain.density = a.grain_density_wind;
   o.bins = a.launch_bins;
   o.vx_bins = a.vx_bins, o.vx_min = a.vx_min;
-  const SplashKernel splash = wind_splash(a, o, splash_scale);
+  const SplashKernel splash = case_splash(a.wind_case, a.splash_file, o, splash_scale);
   const WindModelResult r = solve_wind_model(o, splash);
   if (!r.failure.empty()) {
     fmt::print(stderr, "grainlab saltation wind: no steady state after {} iterations: {}\n", r.iterations,
@@ -275,7 +255,7 @@ int wind_command(const SaltationCommands& a) {
     return 0;
   }
   fmt::print("steady-state saltation (thesis Ch. IV, Fig. 4.10), splash {}, grains d = {} cm, u* = {} cm/s\n",
-             splash_label(a), diameter, a.u_star);
+             case_label(a.wind_case, a.splash_file), diameter, a.u_star);
   fmt::print("  {} after {} iterations ({} wind-trajectory passes, {:.2f} s)\n",
              r.converged ? "converged" : "NOT converged", r.iterations, r.trajectory_passes, r.wall_seconds);
   fmt::print("  u*_eff {:.2f} cm/s; grain-borne stress {:.4g} dyn/cm^2 (rho (u*^2 - u*_eff^2) = {:.4g})\n",
@@ -509,9 +489,12 @@ void SaltationCommands::add(CLI::App& app) {
   transient = group->add_subcommand(
       "transient",
       "eq. 4.35: saltation in time from a seed of launches, through saturation and changes of u*");
-  transient->add_option("--case", transient_case, "analytic splash: CASE 1-6 of Table 4.3")
+  transient
+      ->add_option("--case", transient_case,
+                   "splash: CASE 1-6 of Table 4.3, or 7: the sand gun's (grains 0.078 cm unless "
+                   "--grain-diameter says otherwise)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 6));
+      ->check(CLI::Range(1, kSandGunCase));
   transient->add_option("--splash", transient_splash, "a grainlab-splash/1 file instead of a CASE")
       ->check(CLI::ExistingFile);
   transient->add_option("--ustar", transient_ustar, "wind-shear velocity at the start, cm/s")
@@ -531,9 +514,9 @@ void SaltationCommands::add(CLI::App& app) {
   transient->add_option("--record", transient_record, "s between recorded samples")
       ->capture_default_str()
       ->check(CLI::Range(1e-5, 100.0));
-  transient->add_option("--grain-diameter", grain_diameter, "cm")
-      ->capture_default_str()
-      ->check(CLI::Range(1e-4, 1.0));
+  transient_diameter_option = transient->add_option("--grain-diameter", grain_diameter, "cm (CASE 7: 0.078)")
+                                  ->capture_default_str()
+                                  ->check(CLI::Range(1e-4, 1.0));
   transient->add_option("--out,-o", transient_out, "output folder: transient.csv, transient.json, plots")
       ->check(cli::output_folder());
   transient->add_flag("--force", force, "replace files in --out");
@@ -563,6 +546,25 @@ int SaltationCommands::dispatch() const {
   if (transient && *transient) return transient_command(*this);
   if (!conveyor || !*conveyor) return -1;
   return case_name == "D" || case_name == "E" ? map_case(*this) : distribution_case(*this);
+}
+
+std::string case_label(int splash_case, const std::string& file) {
+  if (!file.empty()) return file;
+  if (splash_case == kSandGunCase) return "CASE 7 (the sand gun, Tables 3.11-3.12)";
+  return fmt::format("CASE {} of Table 4.3", splash_case);
+}
+
+double case_grain_diameter(int splash_case, const CLI::Option* diameter_option, double diameter) {
+  const bool given = diameter_option && diameter_option->count() > 0;
+  return splash_case == kSandGunCase && !given ? saltation::sand_gun_splash().grain_diameter_cm : diameter;
+}
+
+saltation::SplashKernel case_splash(int splash_case, const std::string& file,
+                                    const saltation::WindModelOptions& o, double scale) {
+  using namespace saltation;
+  if (!file.empty()) return kernel_of(read_splash_file(file), o);
+  if (splash_case == kSandGunCase) return kernel_of(sand_gun_splash(), o);
+  return kernel_of(scaled(table_4_3(splash_case), scale));
 }
 
 }  // namespace grainlab::cli

@@ -6,8 +6,19 @@
 
 #include "clean_wind_heights.hpp"
 #include "dem_saltation.hpp"
+#include "wind_model.hpp"
 
 namespace grainlab::cli {
+
+// CASE 7 of Table 4.5 is the sand gun's measured splash (Tables 3.11-3.12), on its sand 0.078 cm across.
+constexpr int kSandGunCase = 7;
+// What drives a run: the splash file, or the CASE.
+std::string case_label(int splash_case, const std::string& file);
+// The grains' diameter: CASE 7's sand unless --grain-diameter was given.
+double case_grain_diameter(int splash_case, const CLI::Option* diameter_option, double diameter);
+// A splash file if one is given, else the sand gun (CASE 7) or Table 4.3's CASE scaled by `scale`.
+saltation::SplashKernel case_splash(int splash_case, const std::string& file,
+                                    const saltation::WindModelOptions& o, double scale);
 
 struct SaltationCommands {
   std::string case_name, order = "simultaneous";
@@ -52,7 +63,8 @@ struct SaltationCommands {
   validation::DemSaltationOptions dem;
   std::string dem_out;
   bool dem_json = false;
-  CLI::Option* wind_diameter_option = nullptr;  // given or not: CASE 7's grains default to the sand gun's
+  // given or not: CASE 7's grains default to the sand gun's
+  CLI::Option *wind_diameter_option = nullptr, *transient_diameter_option = nullptr;
   CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr, *dem_app = nullptr,
            *heights = nullptr, *transient = nullptr;
   void add(CLI::App& app);

@@ -69,7 +69,9 @@ int transient_command(const SaltationCommands& a) {
     throw InputError({"--change", 0}, "", "give pairs of a time (s) and a new u* (cm/s)");
   TransientOptions o;
   o.model.u_star = a.transient_ustar;
-  o.model.grain.radius = a.grain_diameter / 2;
+  const double diameter =
+      case_grain_diameter(a.transient_case, a.transient_diameter_option, a.grain_diameter);
+  o.model.grain.radius = diameter / 2;
   o.dt = a.transient_dt, o.duration = a.transient_duration;
   o.record_every = std::max(1, static_cast<int>(std::lround(a.transient_record / a.transient_dt)));
   double last = 0;
@@ -82,15 +84,13 @@ int transient_command(const SaltationCommands& a) {
       throw InputError({"--change", 0}, fmt::format("{}", u), "u* must lie in (0, 1000) cm/s");
     o.ustar_changes.push_back({t, u}), last = t;
   }
-  const SplashKernel splash = a.transient_splash.empty()
-                                  ? kernel_of(table_4_3(a.transient_case))
-                                  : kernel_of(read_splash_file(a.transient_splash), o.model);
+  const SplashKernel splash = case_splash(a.transient_case, a.transient_splash, o.model, 1.0);
   // Everything that fixes what the run computes: a checkpoint from other options would continue another run.
   const std::string fingerprint = fmt::format(
       "case {}\nsplash {}\nu_star {:.17g}\nchanges {}\ndt {:.17g}\nduration {:.17g}\nrecord_every {}\n"
       "grain_diameter {:.17g}\n",
       a.transient_case, a.transient_splash, a.transient_ustar, nlohmann::json(a.transient_changes).dump(),
-      o.dt, o.duration, o.record_every, a.grain_diameter);
+      o.dt, o.duration, o.record_every, diameter);
   const auto wall0 = std::chrono::steady_clock::now();
   TransientState state = a.transient_restart.empty()
                              ? start_transient(o)
@@ -149,10 +149,9 @@ int transient_command(const SaltationCommands& a) {
     fmt::print("{}\n", out.dump(2));
     return 0;
   }
-  fmt::print(
-      "time-dependent saltation (eq. 4.35), {}, u* = {} cm/s, dt {} s, {} s ({:.1f} s of wall time)\n",
-      a.transient_splash.empty() ? fmt::format("CASE {} of Table 4.3", a.transient_case) : a.transient_splash,
-      a.transient_ustar, o.dt, o.duration, r.wall_seconds);
+  fmt::print("time-dependent saltation (eq. 4.35), {}, u* = {} cm/s, dt {} s, {} s ({:.1f} s of wall time)\n",
+             case_label(a.transient_case, a.transient_splash), a.transient_ustar, o.dt, o.duration,
+             r.wall_seconds);
   if (r.died || !r.failure.empty()) fmt::print("  {}\n", r.failure);
   fmt::print("  over the last fifth: Q {:.4g} g/(cm s), u*_eff {:.2f} cm/s; steady state: ",
              r.final_mass_flux, r.final_u_star_eff);
