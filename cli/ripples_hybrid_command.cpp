@@ -187,24 +187,25 @@ SampleTable size_profiles(const std::vector<BedFrame>& frames, std::size_t nx) {
 
 constexpr const char* kCheckpointKind = "grainlab-hybrid-ripples-checkpoint/1";
 
-// What a continued run must match: the config as read. The duration it runs to is kept beside it, but a
-// run may be continued to another one (`--duration`), since where a run stops changes nothing before.
+// What a continued run must match: the config's values as the run reads them (not its comments or
+// layout). The duration it runs to is kept beside them, but a run may be continued to another one
+// (`--duration`, or the config's own), since where a run stops changes nothing before.
 constexpr const char* kDurationMark = "\n# duration ";
 std::string fingerprint(const ripples::hybrid::HybridConfig& c) {
-  return fmt::format("{}{}{:.17g}", c.text, kDurationMark, c.options.duration);
+  return fmt::format("{}{}{:.17g}", c.values, kDurationMark, c.options.duration);
 }
 
 // The checkpoint's fingerprint if it is this config's with another duration (any duration passes; the
 // frames it holds are checked against the new one after reading), else this run's own, which it then
-// fails to match.
+// fails to match. Checkpoints written before 2026-12-05 hold the config's whole text instead of its
+// values, and continue under that text alone.
 std::string continued_fingerprint(const TableFile& file, const ripples::hybrid::HybridConfig& c) {
   const auto it = file.metadata.find("options");
   if (it == file.metadata.end()) return fingerprint(c);
   const std::string& theirs = it->second;
   const auto at = theirs.rfind(kDurationMark);
-  return at != std::string::npos && theirs.compare(0, at, c.text) == 0 && at == c.text.size()
-             ? theirs
-             : fingerprint(c);
+  auto same = [&](const std::string& ours) { return at == ours.size() && theirs.compare(0, at, ours) == 0; };
+  return at != std::string::npos && (same(c.values) || same(c.text)) ? theirs : fingerprint(c);
 }
 
 // The run's state, the frames taken so far (their statistics and profiles) and, when the bed history is
@@ -233,10 +234,18 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
   std::map<std::string, std::vector<std::string>> wanted = ripples::hybrid::frame_table_names(sizes, "cli/");
   wanted["cli/frames"] = {};
   for (const SampleTable& t : run.save("run/")) wanted[t.name] = t.columns;  // the tables a run writes
-  const TableFile file = read_sample_tables(path, wanted);
-  require_checkpoint(file, path, kCheckpointKind, "hybrid ripple checkpoint", continued_fingerprint(file, c),
+  // The config first (a bed of other sizes has other tables), then the tables.
+  const TableFile meta = read_sample_tables(path, {});
+  const std::string expected = continued_fingerprint(meta, c);
+  std::string differences;
+  if (const auto it = meta.metadata.find("options"); it != meta.metadata.end() && it->second != expected)
+    differences =
+        ripples::hybrid::config_differences(it->second.substr(0, it->second.rfind(kDurationMark)), c);
+  require_checkpoint(meta, path, kCheckpointKind, "hybrid ripple checkpoint", expected,
                      "was written for another config: pass the one it was started with, and the same --set "
-                     "overrides");
+                     "overrides (comments and layout may differ, values not" +
+                         (differences.empty() ? std::string(")") : "; " + differences + ")"));
+  const TableFile file = read_sample_tables(path, wanted);
   auto refuse = [&](const std::string& why) { throw InputError({path, 0}, "--restart", why); };
   try {
     run.restore(file.tables, "run/");

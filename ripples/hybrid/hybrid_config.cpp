@@ -4,6 +4,7 @@
 #include <climits>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 #include "lammel_splash.hpp"
 #include "ripple_config.hpp"
@@ -125,6 +126,45 @@ void read_splash_and_run(const TomlReader& r, RippleOptions& o) {
 
 }  // namespace
 
+namespace {
+
+// Every number as a double: `u_star = 40` and `u_star = 40.0` are read alike (and an integer key given as
+// 40.0 is refused before this matters).
+void numbers_as_doubles(toml::table& t);
+void numbers_as_doubles(toml::array& a) {
+  for (auto it = a.begin(); it != a.end(); ++it)
+    if (it->is_integer())
+      it = a.replace(it, static_cast<double>(it->as_integer()->get()));
+    else if (toml::table* sub = it->as_table())
+      numbers_as_doubles(*sub);
+    else if (toml::array* inner = it->as_array())
+      numbers_as_doubles(*inner);
+}
+void numbers_as_doubles(toml::table& t) {
+  std::vector<std::string> integers;
+  for (auto&& [key, value] : t)
+    if (value.is_integer())
+      integers.emplace_back(key.str());
+    else if (toml::table* sub = value.as_table())
+      numbers_as_doubles(*sub);
+    else if (toml::array* a = value.as_array())
+      numbers_as_doubles(*a);
+  for (const std::string& key : integers)
+    t.insert_or_assign(key, static_cast<double>(t[key].as_integer()->get()));
+}
+
+// The values a run reads, in one printed form: no comments or layout, no duration, numbers as doubles.
+std::string printed_values(const toml::table& root) {
+  toml::table values = root;
+  if (toml::table* h = values["hybrid"].as_table()) h->erase("duration");
+  numbers_as_doubles(values);
+  std::ostringstream printed;
+  printed << values;
+  return printed.str();
+}
+
+}  // namespace
+
 HybridConfig parse_hybrid_config(const std::string& text, const std::string& path,
                                  const std::vector<std::string>& overrides) {
   toml::table root = config_root(text, path);
@@ -149,7 +189,37 @@ HybridConfig parse_hybrid_config(const std::string& text, const std::string& pat
   if (o.frame_every > o.duration) r.fail("frame_every", "must not be longer than the duration");
   if (o.sample_every > o.frame_every) r.fail("sample_every", "must not be longer than frame_every");
   c.text = text_with_overrides(text, overrides);
+  c.values = printed_values(root);
   return c;
+}
+
+std::string config_differences(const std::string& other, const HybridConfig& c) {
+  toml::table theirs, ours;
+  try {
+    theirs = toml::parse(other), ours = toml::parse(c.values);
+  } catch (const toml::parse_error&) {
+    return {};
+  }
+  theirs = toml::parse(printed_values(theirs));  // the same form as ours
+  std::vector<std::string> keys;
+  for (const toml::table* t : {&theirs, &ours})
+    if (const toml::table* h = (*t)["hybrid"].as_table())
+      for (auto&& [key, value] : *h) keys.emplace_back(key.str());
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  auto shown = [](const toml::table& t, const std::string& key) {
+    const toml::node* n = t["hybrid"][key].node();
+    if (!n) return std::string("not given");
+    std::ostringstream s;
+    n->visit([&s](const auto& v) { s << v; });
+    return s.str();
+  };
+  std::string out;
+  for (const std::string& key : keys) {
+    const std::string a = shown(theirs, key), b = shown(ours, key);
+    if (a != b) out += (out.empty() ? "" : "; ") + key + ": " + a + " there, " + b + " here";
+  }
+  return out;
 }
 
 }  // namespace grainlab::ripples::hybrid
