@@ -36,9 +36,10 @@ void check_A(double A) {
 
 int chain_command(const RipplesCommands& a) {
   check_A(a.A);
-  if (a.links < 2 || a.start < 0 || a.start > a.links)
+  if (a.links < 2) throw InputError({"--links", 0}, std::to_string(a.links), "must be at least 2");
+  if (a.start < 0 || a.start > a.links)
     throw InputError({"--start", 0}, std::to_string(a.start),
-                     fmt::format("must lie in 0..{} (and --links at least 2)", a.links));
+                     fmt::format("must lie in 0..{} (--links)", a.links));
   const WormChainResult r = worm_chain(a.links, a.start, a.A, a.steps);
   const std::size_t merged = worm_pair_merges(a.links, a.start, a.A, a.steps, a.runs, a.seed);
   const validation::Proportion w = validation::wilson_interval(merged, a.runs);
