@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
@@ -71,29 +72,45 @@ void inspect_grid_frames(const std::string& path, std::size_t count) {
       count, first.ny, first.nx, first.time, last.time);
 }
 
+// Every object under `prefix` ("" for the top), by its full name ("run/transport/grains"), groups opened in
+// turn (a checkpoint keeps its tables in groups).
+void collect_objects(const std::string& path, const std::string& prefix,
+                     const std::map<std::string, H5Object>& here, std::map<std::string, H5Object>& all) {
+  for (const auto& [name, o] : here) {
+    const std::string full = prefix + name;
+    all[full] = o;
+    if (!o.dataset && full != "frames") collect_objects(path, full + "/", group_objects(path, full), all);
+  }
+}
+
 int inspect_tables(const std::string& path, const TableFile& meta,
                    const std::map<std::string, H5Object>& objects) {
   fmt::print("{}: grainlab {} file: {}\n", path, text_or(meta.metadata, "grainlab_version"),
              text_or(meta.metadata, "model", text_or(meta.metadata, "kind", "tables")));
-  // Every top-level table at once, each checked against its own columns.
+  std::map<std::string, H5Object> all;
+  collect_objects(path, "", objects, all);
+  // Every table at once, each checked against its own columns.
   std::map<std::string, std::vector<std::string>> wanted;
-  for (const auto& [name, o] : objects)
+  for (const auto& [name, o] : all)
     if (o.table) wanted[name] = {};
   const TableFile file = read_sample_tables(path, wanted);
-  for (const auto& [name, o] : objects) {
+  for (const auto& [name, o] : all) {
+    const std::string indent(2 + 2 * static_cast<std::size_t>(std::count(name.begin(), name.end(), '/')),
+                             ' ');
     if (!o.dataset && name == "frames") {
       inspect_grid_frames(path, o.members);
     } else if (!o.dataset) {
-      fmt::print("  {}/: a group of {} (not read)\n", name, o.members);
+      fmt::print("{}{}/: a group of {}\n", indent, name, o.members);
     } else if (!o.table) {
-      fmt::print("  {}: a dataset (not read)\n", name);
+      fmt::print("{}{}: a dataset (not read)\n", indent, name);
     } else {
       const SampleTable& t = file.tables.at(name);
-      fmt::print("  {}: {} rows x {} columns{}{}\n", name, t.rows.size(), t.columns.size(),
+      fmt::print("{}{}: {} row{} x {} column{}{}{}\n", indent, name, t.rows.size(),
+                 t.rows.size() == 1 ? "" : "s", t.columns.size(), t.columns.size() == 1 ? "" : "s",
                  t.description.empty() ? "" : ": ", t.description);
     }
   }
-  fmt::print("  {} top-level table{} read and checked against {} columns\n", wanted.size(),
+  fmt::print("  {} table{} read and checked against {} columns\n", wanted.size(),
              wanted.size() == 1 ? "" : "s", wanted.size() == 1 ? "its" : "their");
   return 0;
 }

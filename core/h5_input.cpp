@@ -203,7 +203,13 @@ TableFile read_sample_tables(const std::string& path,
 }
 
 std::map<std::string, H5Object> root_objects(const std::string& path) {
+  return group_objects(path, "/");
+}
+
+std::map<std::string, H5Object> group_objects(const std::string& path, const std::string& group) {
   Handle f = open_checked(path);
+  Handle g{H5Gopen2(f.id, group.c_str(), H5P_DEFAULT), H5Gclose};
+  if (g.id < 0) corrupt(path, group + " is missing or not a group");
   std::map<std::string, H5Object> out;
   // (HDF5 1.10's calls, as Debian 12 ships it.)
   auto visit = [](hid_t group, const char* name, const H5L_info_t*, void* data) -> herr_t {
@@ -217,8 +223,9 @@ std::map<std::string, H5Object> root_objects(const std::string& path) {
     (*static_cast<std::map<std::string, H5Object>*>(data))[name] = o;
     return 0;
   };
-  if (H5Literate(f.id, H5_INDEX_NAME, H5_ITER_INC, nullptr, visit, &out) < 0)
-    corrupt(path, "its top-level objects cannot be listed");
+  if (H5Literate(g.id, H5_INDEX_NAME, H5_ITER_INC, nullptr, visit, &out) < 0)
+    corrupt(path, group == "/" ? "its top-level objects cannot be listed"
+                               : "the objects of " + group + " cannot be listed");
   return out;
 }
 

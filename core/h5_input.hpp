@@ -47,6 +47,8 @@ struct H5Object {
 // The objects at the top of a file, by name. Throws InputError (key "file") if it is not a readable HDF5
 // file. (`grainlab inspect` reads a file of tables whose names it does not know beforehand.)
 std::map<std::string, H5Object> root_objects(const std::string& path);
+// The same for the objects in `group` ("run/transport"), by name within it.
+std::map<std::string, H5Object> group_objects(const std::string& path, const std::string& group);
 
 // One frame of a height field over time, as GridSeriesWriter writes it (`/frames/NNNNNN`, ny rows of nx
 // values, x along a row; `grainlab ripples hybrid --out`).
