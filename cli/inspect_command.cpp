@@ -72,6 +72,28 @@ void inspect_grid_frames(const std::string& path, std::size_t count) {
       count, first.ny, first.nx, first.time, last.time);
 }
 
+// A group of frames, read as frames rather than listed: a hybrid run's height fields ("frames") or a run
+// checkpoint's frames ("run/frames").
+bool is_frames(const std::string& name) {
+  return name == "frames" || (name.size() > 7 && name.compare(name.size() - 7, 7, "/frames") == 0);
+}
+
+// A run's frames kept in a checkpoint, each read with its datasets checked against each other.
+void inspect_run_frames(const std::string& path, const std::string& group, std::size_t count) {
+  std::size_t bodies = 0;
+  double first = 0, last = 0;
+  read_frames(path, "/" + group, count, [&](const Frame& f) {
+    if (bodies == 0) first = f.time;
+    last = f.time, bodies = f.id.size();
+  });
+  const std::string indent(2 + 2 * static_cast<std::size_t>(std::count(group.begin(), group.end(), '/')),
+                           ' ');
+  fmt::print(
+      "{}{}/: {} frames from t = {:.6g} to {:.6g}, {} bodies in the last; every dataset read and "
+      "consistent\n",
+      indent, group, count, first, last, bodies);
+}
+
 // Every object under `prefix` ("" for the top), by its full name ("run/transport/grains"), groups opened in
 // turn (a checkpoint keeps its tables in groups).
 void collect_objects(const std::string& path, const std::string& prefix,
@@ -79,7 +101,7 @@ void collect_objects(const std::string& path, const std::string& prefix,
   for (const auto& [name, o] : here) {
     const std::string full = prefix + name;
     all[full] = o;
-    if (!o.dataset && full != "frames") collect_objects(path, full + "/", group_objects(path, full), all);
+    if (!o.dataset && !is_frames(full)) collect_objects(path, full + "/", group_objects(path, full), all);
   }
 }
 
@@ -99,6 +121,8 @@ int inspect_tables(const std::string& path, const TableFile& meta,
                              ' ');
     if (!o.dataset && name == "frames") {
       inspect_grid_frames(path, o.members);
+    } else if (!o.dataset && is_frames(name)) {
+      inspect_run_frames(path, name, o.members);
     } else if (!o.dataset) {
       fmt::print("{}{}/: a group of {}\n", indent, name, o.members);
     } else if (!o.table) {

@@ -17,21 +17,25 @@ namespace cli_test {
 
 struct Outcome {
   int status = -1;  // exit status; -1 if killed by a signal
-  std::string err;
+  std::string err, out;
 };
 
-// Runs grainlab with `args` (at most 20 s), stderr captured.
+inline std::string file_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Runs grainlab with `args` (at most 20 s), stderr and stdout captured.
 inline Outcome grainlab(const std::string& args, const fs::path& dir) {
-  const fs::path err = dir / "stderr.txt";
-  const std::string cmd =
-      "timeout 20 " + std::string(GRAINLAB_BINARY) + " " + args + " > /dev/null 2> " + err.string();
+  const fs::path err = dir / "stderr.txt", out = dir / "stdout.txt";
+  const std::string cmd = "timeout 20 " + std::string(GRAINLAB_BINARY) + " " + args + " > " + out.string() +
+                          " 2> " + err.string();
   const int raw = std::system(cmd.c_str());
   Outcome o;
   o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::ifstream in(err);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  o.err = ss.str();
+  o.err = file_text(err), o.out = file_text(out);
   return o;
 }
 

@@ -34,6 +34,11 @@ TEST(Checkpoint, StopAndRestartWritesTheSameFile) {
   ASSERT_EQ(stop.status, 0) << stop.err;
   EXPECT_FALSE(fs::exists(resumed)) << "a stopped run must not write its run file";
   ASSERT_TRUE(fs::exists(ckpt));
+  // `inspect` reads the checkpoint whole: its frames as frames, its state as tables.
+  const Outcome look = grainlab("inspect " + ckpt.string(), d.path);
+  EXPECT_EQ(look.status, 0) << look.err;
+  EXPECT_NE(look.out.find("run/frames/: 4 frames from t = 0"), std::string::npos) << look.out;
+  EXPECT_NE(look.out.find("state/particles: "), std::string::npos) << look.out;
   const Outcome go =
       grainlab("run " + kSmallBed + " --out " + resumed.string() + " --restart " + ckpt.string(), d.path);
   ASSERT_EQ(go.status, 0) << go.err;
