@@ -72,6 +72,11 @@ void inspect_grid_frames(const std::string& path, std::size_t count) {
       count, first.ny, first.nx, first.time, last.time);
 }
 
+// Two spaces per level of a name within the file ("run/transport/grains": three levels).
+std::string indent_of(const std::string& name) {
+  return std::string(2 + 2 * static_cast<std::size_t>(std::count(name.begin(), name.end(), '/')), ' ');
+}
+
 // A group of frames, read as frames rather than listed: a hybrid run's height fields ("frames") or a run
 // checkpoint's frames ("run/frames").
 bool is_frames(const std::string& name) {
@@ -86,12 +91,10 @@ void inspect_run_frames(const std::string& path, const std::string& group, std::
     if (bodies == 0) first = f.time;
     last = f.time, bodies = f.id.size();
   });
-  const std::string indent(2 + 2 * static_cast<std::size_t>(std::count(group.begin(), group.end(), '/')),
-                           ' ');
   fmt::print(
       "{}{}/: {} frames from t = {:.6g} to {:.6g}, {} bodies in the last; every dataset read and "
       "consistent\n",
-      indent, group, count, first, last, bodies);
+      indent_of(group), group, count, first, last, bodies);
 }
 
 // Every object under `prefix` ("" for the top), by its full name ("run/transport/grains"), groups opened in
@@ -117,8 +120,7 @@ int inspect_tables(const std::string& path, const TableFile& meta,
     if (o.table) wanted[name] = {};
   const TableFile file = read_sample_tables(path, wanted);
   for (const auto& [name, o] : all) {
-    const std::string indent(2 + 2 * static_cast<std::size_t>(std::count(name.begin(), name.end(), '/')),
-                             ' ');
+    const std::string indent = indent_of(name);
     if (!o.dataset && name == "frames") {
       inspect_grid_frames(path, o.members);
     } else if (!o.dataset && is_frames(name)) {
