@@ -67,6 +67,18 @@ Profile read_csv_profile(const std::string& path) {
   return p;
 }
 
+// A run file's point spacing, its "dx" attribute (InputError unless a positive number).
+double spacing_of(const TableFile& f, const std::string& path) {
+  double dx = 0;
+  if (const auto it = f.metadata.find("dx"); it != f.metadata.end()) try {
+      dx = std::stod(it->second);
+    } catch (const std::exception&) {
+      dx = 0;
+    }
+  if (!(dx > 0) || !std::isfinite(dx)) throw InputError({path, 0}, "dx", "must be a positive number");
+  return dx;
+}
+
 // The frame asked for (the last if --frame is not given) of `count`.
 std::size_t chosen_frame(int frame, std::size_t count) {
   const long k = frame < 0 ? static_cast<long>(count) - 1 : frame;
@@ -87,13 +99,7 @@ Profile read_grid_profile(const std::string& path, int frame, std::size_t count)
   p.h.assign(g.nx, 0.0);
   for (std::size_t row = 0; row < g.ny; ++row)
     for (std::size_t i = 0; i < g.nx; ++i) p.h[i] += g.values[row * g.nx + i] / static_cast<double>(g.ny);
-  const auto dx = meta.metadata.find("dx");
-  try {
-    p.dx = dx == meta.metadata.end() ? 0 : std::stod(dx->second);
-  } catch (const std::exception&) {
-    p.dx = 0;
-  }
-  if (!(p.dx > 0) || !std::isfinite(p.dx)) throw InputError({path, 0}, "dx", "must be a positive number");
+  p.dx = spacing_of(meta, path);
   p.units = "grain diameters";
   p.bed = hybrid::bed_statistics(g.values, g.nx, g.ny, p.dx);
   const auto model = meta.metadata.find("model");
@@ -121,12 +127,7 @@ Profile read_run_profile(const std::string& path, int frame) {
     // `ripples run`'s layout: the surface as the model gives it, in grain diameters, dx apart (a lattice's
     // already one point per lattice spacing).
     p.h = row;
-    try {
-      p.dx = std::stod(f.metadata.at("dx"));
-    } catch (const std::exception&) {
-      p.dx = 0;
-    }
-    if (!(p.dx > 0) || !std::isfinite(p.dx)) throw InputError({path, 0}, "dx", "must be a positive number");
+    p.dx = spacing_of(f, path);
     p.units = "grain diameters";
   } else if (model.find("lattice") != std::string::npos) {
     // One point per lattice spacing (the mean of its two columns), in grain diameters.
