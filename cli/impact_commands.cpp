@@ -320,11 +320,16 @@ int rebound_command(const ImpactCommands& a) {
   if (!(a.alpha > 0 && a.alpha < 90))
     throw InputError({"--alpha", 0}, fmt::format("{}", a.alpha), "must lie in (0, 90) degrees");
   ReboundParams p = rebound_case(a.model_case, a.alpha);
-  if (a.mass_ratio > 0) p.mass_ratio = a.mass_ratio;
-  if (a.sigma >= -1) p.sigma = a.sigma;
-  if (a.sigma < -1 && a.sigma != -2)
-    throw InputError({"--sigma", 0}, fmt::format("{}", a.sigma), "must lie in [-1, 1]");
-  if (a.sigma > 1) throw InputError({"--sigma", 0}, fmt::format("{}", a.sigma), "must lie in [-1, 1]");
+  if (a.mass_ratio) {
+    if (!(*a.mass_ratio > 0))
+      throw InputError({"--mass-ratio", 0}, fmt::format("{}", *a.mass_ratio), "must be > 0");
+    p.mass_ratio = *a.mass_ratio;
+  }
+  if (a.sigma) {
+    if (!(*a.sigma >= -1 && *a.sigma <= 1))
+      throw InputError({"--sigma", 0}, fmt::format("{}", *a.sigma), "must lie in [-1, 1]");
+    p.sigma = *a.sigma;
+  }
   if (a.gap < 0) throw InputError({"--gap", 0}, fmt::format("{}", a.gap), "must be >= 0");
   if (!(a.radius_ratio > 0))
     throw InputError({"--radius-ratio", 0}, fmt::format("{}", a.radius_ratio), "must be > 0");

@@ -4,6 +4,7 @@
 // grainlab-splash/1 file).
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,8 @@ struct ImpactCommands {
   double active_zone = 0;             // --dimension 3: bed-grain diameters about the impact that move
   // grainlab rebound-model
   int model_case = 2;
-  double alpha = 15, mass_ratio = -1, sigma = -2, spin = 0, gap = 0, radius_ratio = 1;
+  double alpha = 15, spin = 0, gap = 0, radius_ratio = 1;
+  std::optional<double> mass_ratio, sigma;  // not given: the case's (Table 3.10)
   bool model_json = false;
 
   // grainlab splash

@@ -350,7 +350,10 @@ void RipplesCommands::add(CLI::App& app) {
                    "hybrid: the bed averaged across the wind)")
       ->required()
       ->check(CLI::ExistingFile);
-  analyze->add_option("--frame", analyze_frame, "run files: the frame (default: the last)");
+  analyze->add_option("--frame", analyze_frame, "run files: the frame, from 0 (default: the last)")
+      ->check(CLI::Validator(
+          [](std::string& s) { return s.starts_with('-') ? s + ": frames count from 0" : std::string(); }, "",
+          "frame index"));
   analyze->add_option("--smooth", analyze_smooth, "eq. 5.1 smoothing half-width in points (0: none)")
       ->default_val(0);
   analyze->add_option("--sigma", analyze_sigma, "eq. 5.1 / 5.2 height scale sigma (the surface's units)")

@@ -231,6 +231,16 @@ TEST(ImpactCommands, BadInputExitsTwoAndNamesIt) {
   o = cli_test::grainlab("rebound-model --alpha 95", d.path);
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("--alpha"), std::string::npos) << o.err;
+  // The values that once meant "not given" are refused like any other out of range (they ran the
+  // case's own 0.5 and 0 silently).
+  const std::pair<const char*, const char*> sentinels[] = {{"--mass-ratio 0", "--mass-ratio: 0:"},
+                                                           {"--mass-ratio -1", "--mass-ratio: -1:"},
+                                                           {"--sigma -2", "--sigma: -2:"}};
+  for (const auto& [option, named] : sentinels) {
+    o = cli_test::grainlab(std::string("rebound-model ") + option, d.path);
+    EXPECT_EQ(o.status, 2) << option;
+    EXPECT_NE(o.err.find(named), std::string::npos) << o.err;
+  }
   o = cli_test::grainlab("bed --preparation fluffy --out x.h5", d.path);
   EXPECT_EQ(o.status, 2);
   EXPECT_FALSE(fs::exists(d.path / "x.h5"));
