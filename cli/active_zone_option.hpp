@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "number_ranges.hpp"
+
 namespace grainlab::cli {
 
 // `scope` says where the option applies ("--dimension 3, native: "), empty where it always does.
@@ -17,7 +19,7 @@ inline CLI::Option* add_active_zone_option(CLI::App* cmd, double& zone, const st
                        "(docs/impacts.md \"An impact's active zone\" measures what it changes); 0: the whole "
                        "bed")
       ->default_val(0.0)
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(cli::in_range(0.0, 1000.0));
 }
 
 }  // namespace grainlab::cli

@@ -13,6 +13,7 @@
 #include "impacts.hpp"
 #include "impacts3d.hpp"
 #include "input_error.hpp"
+#include "number_ranges.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
 #include "plot_beside.hpp"
@@ -472,10 +473,8 @@ void ImpactCommands::add(CLI::App& app) {
   bed_cmd->add_option("--seed", bed_seed, "seed of the pour")->default_val(1);
   bed_cmd->add_flag("--periodic", periodic, "periodic in x (a floor, no side walls)");
   bed_cmd->add_flag("--unlevelled", unlevelled, "keep the poured surface (no scraping)");
-  bed_cmd->add_option("--width", width, "box width or period, cm")
-      ->default_val(67.3)
-      ->check(CLI::PositiveNumber);
-  bed_cmd->add_option("--count", count, "discs")->default_val(384)->check(CLI::Range(1, 1000000));
+  bed_cmd->add_option("--width", width, "box width or period, cm")->default_val(67.3)->check(cli::positive());
+  bed_cmd->add_option("--count", count, "discs")->default_val(384)->check(cli::in_range(1, 1000000));
   bed_cmd->add_option("--out,-o", bed_out, "the bed's run file (.h5 + .xmf)")
       ->check(cli::output_file())
       ->required();
@@ -488,18 +487,18 @@ void ImpactCommands::add(CLI::App& app) {
   add_engine_option(impact_cmd, engine, "engine");
   impact_cmd->add_option("--runs", runs, "impacts (spread over MPI ranks)")
       ->default_val(10)
-      ->check(CLI::Range(1, 100000));
+      ->check(cli::in_range(1, 100000));
   impact_cmd->add_option("--seed", seed, "seed: impact i draws its point from (seed, i)")->default_val(1);
   impact_cmd
       ->add_option("--bed", bed_files, "bed file from `grainlab bed` (repeatable; impact i uses bed i mod N)")
       ->check(CLI::ExistingFile);
   impact_cmd->add_option("--beds", beds, "without --bed: build this many beds of the case's preparation")
       ->default_val(1)
-      ->check(CLI::Range(1, 100));
+      ->check(cli::in_range(1, 100));
   impact_cmd
       ->add_option("--steps-per-contact", steps_per_contact, "native: Verlet steps per shortest contact time")
       ->default_val(30)
-      ->check(CLI::Range(5.0, 1000.0));
+      ->check(cli::in_range(5.0, 1000.0));
   impact_cmd->add_option("--record", record, "also write impact 0 as a run file (ParaView)")
       ->check(cli::output_file());
   impact_cmd->add_flag("--force", force, "overwrite the --record file");
@@ -516,7 +515,7 @@ void ImpactCommands::add(CLI::App& app) {
       ->check(cli::output_file());
   impact_cmd->add_option("--spheres", spheres, "--dimension 3: spheres poured into the 67.3 x 20 cm box")
       ->default_val(2000)
-      ->check(CLI::Range(100, 1000000));
+      ->check(cli::in_range(100, 1000000));
   impact_cmd->add_option("--bed-seed", bed_seed, "--dimension 3: seed of the pour")->default_val(1);
   impact_cmd
       ->add_option("--grains", grains,
@@ -526,7 +525,7 @@ void ImpactCommands::add(CLI::App& app) {
       ->check(CLI::IsMember({"sphere", "polyhedron"}));
   impact_cmd->add_option("--box", box, "--dimension 3: the box's x and y in cm (default 67.3 20)")
       ->expected(2)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   impact_cmd->add_flag(
       "--hold", hold,
       "--dimension 3: first run the bed alone for 0.07 s and report (and check) how far it moves "
@@ -545,9 +544,9 @@ void ImpactCommands::add(CLI::App& app) {
       ->required();
   splash_cmd->add_flag("--quick", splash_quick, "2 impacts per cell on one bed (for CI)");
   splash_cmd->add_option("--runs", splash_runs, "impacts per cell (default 100; quick 2)")
-      ->check(CLI::Range(1, 100000));
+      ->check(cli::in_range(1, 100000));
   splash_cmd->add_option("--beds", splash_beds, "independent loose beds (default 3; quick 1)")
-      ->check(CLI::Range(1, 100));
+      ->check(cli::in_range(1, 100));
   splash_cmd->add_option("--seed", splash_seed, "seed of the impact points")->default_val(1);
   add_engine_option(splash_cmd, splash_engine, "engine");
   splash_cmd->add_option("--speeds", splash_speeds,
@@ -561,7 +560,7 @@ void ImpactCommands::add(CLI::App& app) {
   splash_cmd->add_option("--restart", splash_restart, "continue from a checkpoint")->check(CLI::ExistingFile);
   splash_cmd
       ->add_option("--stop-after-cells", splash_stop_after, "stop unfinished after N cells (then --restart)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::non_negative());
   splash_cmd
       ->add_option("--dimension", splash_dimension, "2 (discs, the thesis's beds) or 3 (poured spheres)")
       ->default_val(2)
@@ -570,13 +569,13 @@ void ImpactCommands::add(CLI::App& app) {
       ->add_option("--spheres", splash_spheres,
                    "--dimension 3: spheres per bed (2,000 fill the 67.3 x 20 cm box; others scale its area)")
       ->default_val(2000)
-      ->check(CLI::Range(100, 1000000));
+      ->check(cli::in_range(100, 1000000));
   splash_cmd
       ->add_option("--box", splash_box,
                    "--dimension 3: the box's x and y in cm, filled with --spheres (default: 67.3 x 20 "
                    "scaled to --spheres)")
       ->expected(2)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   add_active_zone_option(splash_cmd, splash_active_zone, "--dimension 3, native: ");
   splash_cmd
       ->add_option("--bed-checkpoint", splash_bed_checkpoint,

@@ -27,6 +27,7 @@
 #include "input_error.hpp"
 #include "inspect_command.hpp"
 #include "lattice_benchmark.hpp"
+#include "number_ranges.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
@@ -129,7 +130,7 @@ void add_decomposition_options(CLI::App* cmd, std::uint64_t& balance_every, int&
   cmd->add_option("--ranks-y", ranks_y,
                   "under mpirun: rows of the grid of ranks (1: slabs along x; must divide the ranks)")
       ->default_val(1)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
 }
 
 // The finished scenes' rows of a cost study, kept in OUT/.cost-checkpoint.json until the report is
@@ -253,7 +254,7 @@ int main(int argc, char** argv) {
   run_cmd
       ->add_option("--checkpoint-every", run.checkpoint_every,
                    "write a checkpoint after every N-th frame (native engine: 2-D discs, 3-D under Verlet)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::non_negative());
   run_cmd->add_option("--checkpoint", run.checkpoint, "checkpoint file (default: OUT with .checkpoint.h5)")
       ->check(cli::output_file());
   run_cmd->add_option("--restart", run.restart, "continue from this checkpoint file")
@@ -261,7 +262,7 @@ int main(int argc, char** argv) {
   run_cmd
       ->add_option("--stop-after-frame", run.stop_after_frame,
                    "stop after frame N with a checkpoint, writing no run file (continue with --restart)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::non_negative());
   add_decomposition_options(run_cmd, run.balance_every, run.ranks_y);
 
   cli::ValidateCommand validate;
@@ -278,7 +279,7 @@ int main(int argc, char** argv) {
       ->check(cli::output_folder());
   cost_cmd->add_option("--repeats", cost.repeats, "timed repetitions per setting (median reported)")
       ->default_val(3)
-      ->check(CLI::Range(1, 100));
+      ->check(cli::in_range(1, 100));
   cost_cmd->add_option("--scene", cost.scenes, "scene to study (repeatable; default: all)");
   cost_cmd->add_flag("--quiet,-q", cost_quiet, "no progress lines");
   cost_cmd->add_flag(
@@ -312,23 +313,21 @@ int main(int argc, char** argv) {
   bench_cmd->require_subcommand(1);
   CLI::App* bed_cmd =
       bench_cmd->add_subcommand("bed", "settled disc bed, same work as bench/bed.in for LAMMPS");
-  bed_cmd->add_option("--nx", bed.nx, "discs per row")->default_val(100)->check(CLI::Range(1, 100000));
-  bed_cmd->add_option("--ny", bed.ny, "rows")->default_val(50)->check(CLI::Range(1, 100000));
+  bed_cmd->add_option("--nx", bed.nx, "discs per row")->default_val(100)->check(cli::in_range(1, 100000));
+  bed_cmd->add_option("--ny", bed.ny, "rows")->default_val(50)->check(cli::in_range(1, 100000));
   bed_cmd->add_option("--settle", bed.settle_steps, "settling steps (untimed)")
       ->default_val(2000)
-      ->check(CLI::NonNegativeNumber);
-  bed_cmd->add_option("--steps", bed.timed_steps, "timed steps")
-      ->default_val(10000)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::non_negative());
+  bed_cmd->add_option("--steps", bed.timed_steps, "timed steps")->default_val(10000)->check(cli::positive());
   bed_cmd->add_option("--repeats", bed.repeats, "timed repetitions (median reported)")
       ->default_val(3)
-      ->check(CLI::Range(1, 100));
+      ->check(cli::in_range(1, 100));
   bed_cmd->add_option("--spacing", bed.spacing, "lattice spacing, cm (2.0 with --first-row 1.0: dense bed)")
       ->default_val(2.02)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   bed_cmd->add_option("--first-row", bed.first_row, "height of the first row of centres, cm")
       ->default_val(2.5)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   bed_cmd->add_flag("--frictionless", bed.frictionless, "drop the friction effect (no shear history)");
   bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file")
       ->check(cli::output_file());
@@ -339,7 +338,7 @@ int main(int argc, char** argv) {
   impact_bench_cmd->add_option("--case", impact_bench.case_name, "A..I")->default_val("A");
   impact_bench_cmd->add_option("--repeats", impact_bench.repeats, "timed repetitions (median reported)")
       ->default_val(5)
-      ->check(CLI::Range(1, 100));
+      ->check(cli::in_range(1, 100));
   impact_bench_cmd->add_option("--peers", impact_bench.peers, "engines timed on the same impact")
       ->default_str("ode bullet");
   impact_bench_cmd->add_option("--json", impact_bench.json, "also write the result as JSON to this file")
@@ -348,18 +347,18 @@ int main(int argc, char** argv) {
   bench::Bed3dOptions bed3d;
   CLI::App* bed3d_cmd = bench_cmd->add_subcommand(
       "bed3d", "issue #15's sphere lattice in a box of planes, same work as bench/bed3d.in for LAMMPS");
-  bed3d_cmd->add_option("--nx", bed3d.nx, "spheres along x")->default_val(20)->check(CLI::Range(1, 10000));
-  bed3d_cmd->add_option("--ny", bed3d.ny, "spheres along y")->default_val(20)->check(CLI::Range(1, 10000));
-  bed3d_cmd->add_option("--nz", bed3d.nz, "layers")->default_val(6)->check(CLI::Range(1, 10000));
+  bed3d_cmd->add_option("--nx", bed3d.nx, "spheres along x")->default_val(20)->check(cli::in_range(1, 10000));
+  bed3d_cmd->add_option("--ny", bed3d.ny, "spheres along y")->default_val(20)->check(cli::in_range(1, 10000));
+  bed3d_cmd->add_option("--nz", bed3d.nz, "layers")->default_val(6)->check(cli::in_range(1, 10000));
   bed3d_cmd->add_option("--settle", bed3d.settle_steps, "settling steps (untimed)")
       ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::non_negative());
   bed3d_cmd->add_option("--steps", bed3d.timed_steps, "timed steps")
       ->default_val(2000)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   bed3d_cmd->add_option("--repeats", bed3d.repeats, "timed repetitions (median reported)")
       ->default_val(3)
-      ->check(CLI::Range(1, 100));
+      ->check(cli::in_range(1, 100));
   bed3d_cmd->add_option("--json", bed3d.json, "also write the result as JSON to this file")
       ->check(cli::output_file());
   CLI::Option* bed3d_scene_flag =
@@ -377,7 +376,7 @@ int main(int argc, char** argv) {
   bed3d_cmd
       ->add_option("--pour-seconds", bed3d.pour_seconds, "--pour-to: simulated settling time of the pour")
       ->default_val(0.3)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   bed3d_cmd
       ->add_option(
           "--bed-scene", bed3d.bed_scene,
@@ -391,17 +390,17 @@ int main(int argc, char** argv) {
       "lattice", "impacts per second of the lattice-bed ripple model (Fig. 5.21) on one core");
   lattice_bench_cmd->add_option("--columns", lattice_bench.columns, "lattice columns (even)")
       ->default_val(10000)
-      ->check(CLI::Range(16, 100000000));
+      ->check(cli::in_range(16, 100000000));
   lattice_bench_cmd
       ->add_option("--warmup", lattice_bench.warmup, "ejections per surface grain before timing ripples")
       ->default_val(100)
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(cli::in_range(0.0, 1e6));
   lattice_bench_cmd->add_option("--timed", lattice_bench.timed, "ejections per surface grain timed")
       ->default_val(20)
-      ->check(CLI::Range(0.01, 1e6));
+      ->check(cli::in_range(0.01, 1e6));
   lattice_bench_cmd->add_option("--repeats", lattice_bench.repeats, "timed repetitions (median reported)")
       ->default_val(5)
-      ->check(CLI::Range(1, 100));
+      ->check(cli::in_range(1, 100));
   lattice_bench_cmd->add_option("--json", lattice_bench.json, "also write the result as JSON to this file")
       ->check(cli::output_file());
   bench::HybridBenchOptions hybrid_bench;
@@ -409,19 +408,19 @@ int main(int argc, char** argv) {
       "hybrid", "airborne grain-steps per second of the 3-D hybrid ripple model's flux run on one core");
   hybrid_bench_cmd->add_option("--length", hybrid_bench.length, "domain length, grain diameters")
       ->default_val(400)
-      ->check(CLI::Range(3.0, 1e6));
+      ->check(cli::in_range(3.0, 1e6));
   hybrid_bench_cmd->add_option("--width", hybrid_bench.width, "domain width, grain diameters")
       ->default_val(10)
-      ->check(CLI::Range(3.0, 1e6));
+      ->check(cli::in_range(3.0, 1e6));
   hybrid_bench_cmd->add_option("--ustar", hybrid_bench.u_star, "cm/s")
       ->default_val(40)
-      ->check(CLI::Range(20.0, 500.0));
+      ->check(cli::in_range(20.0, 500.0));
   hybrid_bench_cmd->add_option("--duration", hybrid_bench.duration, "t* per run")
       ->default_val(1000)
-      ->check(CLI::Range(10.0, 1e7));
+      ->check(cli::in_range(10.0, 1e7));
   hybrid_bench_cmd->add_option("--repeats", hybrid_bench.repeats, "timed repetitions (median reported)")
       ->default_val(3)
-      ->check(CLI::Range(1, 100));
+      ->check(cli::in_range(1, 100));
   hybrid_bench_cmd->add_option("--json", hybrid_bench.json, "also write the result as JSON to this file")
       ->check(cli::output_file());
 

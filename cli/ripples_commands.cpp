@@ -12,6 +12,7 @@
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "lammel_splash.hpp"
+#include "number_ranges.hpp"
 #include "output_path.hpp"
 #include "plot_beside.hpp"
 #include "ripple_config.hpp"
@@ -269,8 +270,10 @@ void RipplesCommands::add(CLI::App& app) {
   chain->add_option("--start", start, "one worm's starting length")->default_val(5);
   chain->add_option("--A", A, "advance probability scale: a worm of l links moves with probability A / l")
       ->default_val(0.6);
-  chain->add_option("--steps", steps, "steps")->default_val(416)->check(CLI::Range(0, 100000000));
-  chain->add_option("--runs", runs, "Monte Carlo pairs")->default_val(20000)->check(CLI::Range(1, 100000000));
+  chain->add_option("--steps", steps, "steps")->default_val(416)->check(cli::in_range(0, 100000000));
+  chain->add_option("--runs", runs, "Monte Carlo pairs")
+      ->default_val(20000)
+      ->check(cli::in_range(1, 100000000));
   chain->add_option("--seed", seed, "Monte Carlo seed")->default_val(1);
   chain->add_flag("--json", json, "print {\"absorbed\": P, ...}");
   ring = group->add_subcommand("worms", "Haff's worm model: many worms on a ring merging (Fig. 5.16)");
@@ -283,7 +286,7 @@ void RipplesCommands::add(CLI::App& app) {
   ring->add_option("--worms", worms, "worms at the start")->default_val(200);
   ring->add_option("--length", length, "links per worm at the start")->default_val(2);
   ring->add_option("--A", A, "advance probability scale")->default_val(0.6);
-  ring->add_option("--steps", ring_steps, "steps")->default_val(200000)->check(CLI::Range(0, 100000000));
+  ring->add_option("--steps", ring_steps, "steps")->default_val(200000)->check(cli::in_range(0, 100000000));
   ring->add_option("--seed", seed, "seed")->default_val(1);
   ring->add_flag("--json", json, "print the lengths and the mean-length history");
   triangles = group->add_subcommand("triangles", "two triangular ripples colliding (Figs 5.17-5.20)");
@@ -371,28 +374,26 @@ void RipplesCommands::add(CLI::App& app) {
   auto add_flux_model_options = [this](CLI::App* c) {
     c->add_option("--diameter", flux.diameter, "grain diameter, cm")
         ->default_val(0.025)
-        ->check(CLI::Range(1e-5, 10.0));
-    c->add_option("--grain-density", flux.grain_density, "g/cm^3")
-        ->default_val(2.65)
-        ->check(CLI::PositiveNumber);
+        ->check(cli::in_range(1e-5, 10.0));
+    c->add_option("--grain-density", flux.grain_density, "g/cm^3")->default_val(2.65)->check(cli::positive());
     c->add_option("--fluid-density", flux.fluid_density, "g/cm^3")
         ->default_val(0.00123)
-        ->check(CLI::PositiveNumber);
+        ->check(cli::positive());
     c->add_option("--viscosity", flux.viscosity, "kinematic, cm^2/s")
         ->default_val(0.146)
-        ->check(CLI::PositiveNumber);
+        ->check(cli::positive());
     c->add_option("--length", flux.length, "domain length, grain diameters")
         ->default_val(400)
-        ->check(CLI::Range(3.0, 1e6));
+        ->check(cli::in_range(3.0, 1e6));
     c->add_option("--width", flux.width, "domain width, grain diameters")
         ->default_val(10)
-        ->check(CLI::Range(3.0, 1e6));
+        ->check(cli::in_range(3.0, 1e6));
     c->add_option("--duration", flux.duration, "t* = t / sqrt(d / g^)")
         ->default_val(4000)
-        ->check(CLI::Range(1.0, 1e8));
+        ->check(cli::in_range(1.0, 1e8));
     c->add_option("--average-from", flux.average_from, "start of the averaging window, t*")
         ->default_val(2000)
-        ->check(CLI::Range(0.0, 1e8));
+        ->check(cli::in_range(0.0, 1e8));
     c->add_option("--splash", flux.splash,
                   "Lammel parameter set (paper2021, paper2021-effective, lammel2017) or a grainlab-splash/1 "
                   "file of recorded impacts (grainlab splash)")
@@ -408,7 +409,7 @@ void RipplesCommands::add(CLI::App& app) {
     c->add_option("--dead-rise", flux.dead_rise,
                   "a rebound or ejectum whose centre cannot rise this many diameters settles")
         ->default_val(1.0)
-        ->check(CLI::Range(0.0, 10.0));
+        ->check(cli::in_range(0.0, 10.0));
     c->add_flag("--swept", flux.swept,
                 "find mid-air collisions along the grains' paths over a step and trace impacts back "
                 "to the bed's surface, so that --travel may exceed 0.5");
@@ -416,19 +417,19 @@ void RipplesCommands::add(CLI::App& app) {
                 "with --swept: steps of dt_max, grains faster than travel / dt_max in substeps");
     c->add_option("--travel", flux.travel, "the most a grain moves in a step, d (0.2; 1.5 with --swept)")
         ->default_val(0.2)
-        ->check(CLI::Range(0.01, 4.0));
+        ->check(cli::in_range(0.01, 4.0));
     c->add_option("--dt-max", flux.dt_max,
                   "the longest step, sqrt(d / g) (with --fast-substeps every step's length: raise --travel "
                   "with it, 1.5 d per 0.02)")
         ->default_val(0.02)
-        ->check(CLI::Range(1e-4, 1.0));
+        ->check(cli::in_range(1e-4, 1.0));
     c->add_option("--seed", flux.seed, "seed")->default_val(2021);
   };
   hybrid_flux = group->add_subcommand(
       "hybrid-flux", "the 3-D hybrid model's saturated flux over a flat bed (Huo et al. 2021, eq. 31)");
   hybrid_flux->add_option("--ustar", flux.u_star, "wind-shear velocity, cm/s")
       ->default_val(40)
-      ->check(CLI::Range(0.1, 1e4));
+      ->check(cli::in_range(0.1, 1e4));
   add_flux_model_options(hybrid_flux);
   hybrid_flux
       ->add_option("--checkpoint", hybrid_checkpoint,
@@ -436,9 +437,9 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(cli::output_file());
   hybrid_flux->add_option("--checkpoint-every", flux.checkpoint_every, "t* between checkpoints")
       ->default_val(1000)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   hybrid_flux->add_option("--stop-at", stop_at, "stop at this t* (needs --checkpoint)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   hybrid_flux->add_option("--restart", hybrid_restart,
                           "continue a run from its checkpoint (the same options; --duration may be longer)");
   hybrid_flux->add_flag("--json", json, "print the result as JSON");
@@ -449,7 +450,7 @@ void RipplesCommands::add(CLI::App& app) {
                                        "(Huo et al. 2021, Fig. 14 and eq. 32)");
   hybrid_focal->add_option("--ustar", focal_ustars, "wind-shear velocities, cm/s (two or more)")
       ->capture_default_str()
-      ->check(CLI::Range(0.1, 1e4));
+      ->check(cli::in_range(0.1, 1e4));
   add_flux_model_options(hybrid_focal);
   hybrid_focal
       ->add_option("--log-band", focal_band,
@@ -459,7 +460,7 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_focal
       ->add_option("--focus-above", focal_above, "profiles crossing below this height (d) are ignored")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(cli::in_range(0.0, 1e6));
   hybrid_focal->add_option("--out,-o", out, "a folder for the plots and the profiles (CSV)")
       ->check(cli::output_folder());
   hybrid_focal
@@ -469,7 +470,7 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(cli::output_folder());
   hybrid_focal->add_option("--checkpoint-every", flux.checkpoint_every, "t* between checkpoints")
       ->default_val(1000)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   hybrid_focal->add_flag("--json", json, "print the result as JSON");
   hybrid_focal->add_flag("--quiet", quiet, "no progress lines");
   hybrid_ripples = group->add_subcommand(
@@ -479,7 +480,7 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_ripples->add_option("--out", out, "bed history: HDF5 frames + XDMF sidecar, history and flux tables")
       ->check(cli::output_file());
   hybrid_ripples->add_option("--duration", duration_override, "t*, in place of the config's")
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(cli::in_range(0.0, 1e9));
   hybrid_ripples
       ->add_option("--set", overrides,
                    "KEY=VALUE: a [hybrid] key in place of the config's, VALUE in TOML "
@@ -492,9 +493,9 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(cli::output_file());
   hybrid_ripples->add_option("--checkpoint-every", checkpoint_every, "t* between checkpoints")
       ->default_val(10000)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   hybrid_ripples->add_option("--stop-at", stop_at, "stop after the frame at this t* (needs --checkpoint)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::positive());
   hybrid_ripples->add_option(
       "--restart", hybrid_restart,
       "continue a run from its checkpoint (same config; --duration may differ, to go on past the end)");
@@ -502,7 +503,7 @@ void RipplesCommands::add(CLI::App& app) {
       ->add_option("--impacts-from", impacts_from,
                    "log every impact from this t* on into --out's table /impacts (tools/impact_slopes.py "
                    "reads it with the frames; 96 bytes per impact in the file)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::non_negative());
   hybrid_ripples->add_flag("--force", force, "overwrite --out");
   hybrid_ripples->add_flag("--json", json, "print the result as JSON");
   hybrid_ripples->add_flag("--quiet", quiet, "no progress bar");

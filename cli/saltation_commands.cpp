@@ -8,6 +8,7 @@
 #include "conveyor.hpp"
 #include "h5_output.hpp"
 #include "input_error.hpp"
+#include "number_ranges.hpp"
 #include "output_path.hpp"
 #include "plot_beside.hpp"
 #include "saltation_heights.hpp"
@@ -20,12 +21,21 @@ namespace {
 
 using namespace grainlab::saltation;
 
+// An option given to the conveyor's other kind of case would change nothing: say so rather than ignore it.
+void refuse_given(const std::vector<CLI::Option*>& options, const std::string& why) {
+  for (const CLI::Option* o : options)
+    if (o->count() > 0) throw InputError({o->get_name(), 0}, o->as<std::string>(), why);
+}
+
 int map_case(const SaltationCommands& a) {
   ConveyorMapParams p = table_4_2(a.case_name);
   p.order = a.order;
-  if (!(a.F0 > 0 && a.v_oy0 > 0))
-    throw InputError({"--F0", 0}, fmt::format("{}, {}", a.F0, a.v_oy0),
-                     "the start (F0, v_oy0) must be positive");
+  refuse_given(a.distribution_options, "is for CASES A, B and C (the distribution splash)");
+  if (!(a.F0 > 0))
+    throw InputError({"--F0", 0}, fmt::format("{}", a.F0), "the starting flux must be positive");
+  if (!(a.v_oy0 > 0))
+    throw InputError({"--v-oy0", 0}, fmt::format("{}", a.v_oy0),
+                     "the starting launch velocity must be positive");
   const ConveyorMapResult r = conveyor_map(p, a.F0, a.v_oy0, a.max_iterations);
   const MapState& s = r.history.back();
   const DeltaSteadyState closed = conveyor_delta_steady(p.f_at(p.v_g), p.eps, p.v_g, p.P_T, p.zeta);
@@ -68,6 +78,7 @@ int map_case(const SaltationCommands& a) {
 }
 
 int distribution_case(const SaltationCommands& a) {
+  refuse_given(a.map_options, "is for CASES D and E (the time map of eq. 4.23)");
   const DistributionSplashParams p = table_4_1(a.case_name);
   // The default start is flat over the grid; --start-below puts the same number of grains in the bins
   // below it only (the spec's narrow start, which kills the flux in CASES A and B).
@@ -288,18 +299,19 @@ void SaltationCommands::add(CLI::App& app) {
   conveyor->add_option("--case", case_name, "A, B, C (distribution splash) or D, E (delta splash, time map)")
       ->required()
       ->check(CLI::IsMember({"A", "B", "C", "D", "E"}));
-  conveyor->add_option("--order", order, "D, E: update order of eq. 4.23")
-      ->default_val("simultaneous")
-      ->check(CLI::IsMember({"simultaneous", "velocity-first"}));
-  conveyor->add_option("--F0", F0, "D, E: starting flux")->default_val(50);
-  conveyor->add_option("--v-oy0", v_oy0, "D, E: starting launch velocity")->default_val(3);
-  conveyor
-      ->add_option("--start-below", start_below,
-                   "A, B, C: start with every grain launched below this mu (default: flat over the grid)")
-      ->check(CLI::Range(0.0, 1e6));
+  map_options = {conveyor->add_option("--order", order, "D, E: update order of eq. 4.23")
+                     ->default_val("simultaneous")
+                     ->check(CLI::IsMember({"simultaneous", "velocity-first"})),
+                 conveyor->add_option("--F0", F0, "D, E: starting flux")->default_val(50),
+                 conveyor->add_option("--v-oy0", v_oy0, "D, E: starting launch velocity")->default_val(3)};
+  distribution_options.push_back(
+      conveyor
+          ->add_option("--start-below", start_below,
+                       "A, B, C: start with every grain launched below this mu (default: flat over the grid)")
+          ->check(cli::positive()));
   conveyor->add_option("--max-iterations", max_iterations, "iteration limit")
       ->default_val(10000)
-      ->check(CLI::Range(1, 10000000));
+      ->check(cli::in_range(1, 10000000));
   conveyor->add_flag("--json", json, "print the final state as JSON");
   wind = group->add_subcommand(
       "wind",
@@ -307,7 +319,7 @@ void SaltationCommands::add(CLI::App& app) {
   wind->add_option("--case", wind_case,
                    "splash function: CASE 1-6 of Table 4.3, or 7: the sand gun's (Tables 3.11-3.12, "
                    "grains 0.078 cm unless --grain-diameter says otherwise)")
-      ->check(CLI::Range(1, kSandGunCase));
+      ->check(cli::in_range(1, kSandGunCase));
   wind->add_option("--splash", splash_file,
                    "or a grainlab-splash/1 file (grainlab splash), scaled by sqrt(g d)")
       ->check(CLI::ExistingFile);
@@ -318,14 +330,14 @@ void SaltationCommands::add(CLI::App& app) {
   wind->add_option("--planet", planet,
                    "earth, mars or venus: g, gas density and viscosity (docs/saltation.md)")
       ->check(CLI::IsMember({"earth", "mars", "venus"}));
-  wind->add_option("--g", gravity, "gravity, cm/s^2 (replaces the planet's)")->check(CLI::Range(1.0, 1e5));
+  wind->add_option("--g", gravity, "gravity, cm/s^2 (replaces the planet's)")->check(cli::in_range(1.0, 1e5));
   wind->add_option("--air-density", air_density, "gas density, g/cm^3 (replaces the planet's)")
-      ->check(CLI::Range(1e-9, 10.0));
+      ->check(cli::in_range(1e-9, 10.0));
   wind->add_option("--viscosity", viscosity, "kinematic viscosity, cm^2/s (replaces the planet's)")
-      ->check(CLI::Range(1e-9, 1e6));
+      ->check(cli::in_range(1e-9, 1e6));
   wind->add_option("--grain-density", grain_density_wind, "grain density, g/cm^3")
       ->default_val(2.6)
-      ->check(CLI::Range(0.1, 30.0));
+      ->check(cli::in_range(0.1, 30.0));
   wind->add_option(
           "--dv", launch_dv,
           "launch-velocity bin width, cm/s (the thesis does not give its own; scaled with the planet)")
@@ -335,14 +347,14 @@ void SaltationCommands::add(CLI::App& app) {
           "flights per launch bin, spread across it, for the height profiles (1: one at the bin's "
           "centre, as the thesis computed them; the wind and the steady state use one per bin either way)")
       ->default_val(16)
-      ->check(CLI::Range(1, 256));
+      ->check(cli::in_range(1, 256));
   wind->add_option("--bins", launch_bins, "launch-velocity bins (with --dv 5: up to 400 cm/s)")
       ->default_val(80)
-      ->check(CLI::Range(8, 2000));
+      ->check(cli::in_range(8, 2000));
   wind->add_option("--vx-bins", vx_bins,
                    "a 2-D launch grid with this many v_ox values (0: the thesis's 1-D grid)")
       ->default_val(0)
-      ->check(CLI::Range(0, 2000));
+      ->check(cli::in_range(0, 2000));
   wind->add_option("--vx-min", vx_min, "2-D grid: the lowest v_ox, cm/s (steps of the v_oy bin)")
       ->default_val(-100);
   wind->add_option("--out,-o", out, "write the profiles and distributions to this HDF5 file")
@@ -373,21 +385,21 @@ void SaltationCommands::add(CLI::App& app) {
   wind->add_option("--tolerance", tolerance,
                    "largest relative change of F and u(y) at convergence (thesis: 0.01)")
       ->default_val(1e-3)
-      ->check(CLI::Range(1e-8, 0.5));
+      ->check(cli::in_range(1e-8, 0.5));
   wind->add_option("--trajectory-tolerance", trajectory_tolerance,
                    "error per integrator step of each flight (relative; absolute in d and sqrt(g d))")
       ->default_val(1e-8)
-      ->check(CLI::Range(1e-14, 1e-2));
+      ->check(cli::in_range(1e-14, 1e-2));
   wind->add_option("--sample-interval", sample_interval,
                    "s between the points of a flight that feed the height profiles")
       ->default_val(5e-4)
-      ->check(CLI::Range(1e-6, 0.1));
+      ->check(cli::in_range(1e-6, 0.1));
   study = group->add_subcommand(
       "study",
       "the wind-driven model over planets, grain sizes and u*: threshold, flux beside the classic laws");
   study->add_option("--case", study_case, "analytic splash: CASE 1-6 of Table 4.3, scaled by sqrt(g d)")
       ->default_val(1)
-      ->check(CLI::Range(1, 6));
+      ->check(cli::in_range(1, 6));
   study->add_option("--planet", planets, "earth, mars, venus (several allowed)")->delimiter(',');
   study->add_option("--diameters", diameters, "grain diameters, cm")->delimiter(',');
   study->add_option("--ustar-factors", ustar_factors, "u* as multiples of the impact threshold u*_t")
@@ -402,48 +414,50 @@ void SaltationCommands::add(CLI::App& app) {
   study->add_option("--restart", study_restart, "resume from OUT.checkpoint.json (written after every run)")
       ->check(CLI::ExistingFile);
   study->add_option("--stop-after", study_stop_after, "stop after this many new runs, leaving the checkpoint")
-      ->check(CLI::Range(1, 1000000));
+      ->check(cli::in_range(1, 1000000));
   dem_app = group->add_subcommand(
       "dem", "saltation from first principles: a periodic DEM bed under a wind the grains slow down");
   dem_app->add_option("--ustar", dem.u_star, "wind-shear velocity, cm/s")
       ->default_val(40)
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(cli::in_range(0.0, 1000.0));
   dem_app->add_option("--diameter", dem.diameter, "mean grain diameter, cm")
       ->default_val(0.025)
-      ->check(CLI::Range(1e-4, 1.0));
+      ->check(cli::in_range(1e-4, 1.0));
   dem_app->add_option("--polydispersity", dem.polydispersity, "radii uniform in mean x (1 +- this)")
       ->default_val(0.15)
-      ->check(CLI::Range(0.0, 0.5));
+      ->check(cli::in_range(0.0, 0.5));
   dem_app->add_option("--columns", dem.columns, "grains per layer (bed width = columns x 1.38 d)")
       ->default_val(400)
-      ->check(CLI::Range(8, 1000000));
+      ->check(cli::in_range(8, 1000000));
   dem_app->add_option("--layers", dem.layers, "layers of the bed")
       ->default_val(12)
-      ->check(CLI::Range(2, 10000));
+      ->check(cli::in_range(2, 10000));
   dem_app->add_option("--k-n", dem.k_n, "contact stiffness, dyn/cm (reduced; k_s = k_n / 2)")
       ->default_val(2e5)
-      ->check(CLI::Range(1e2, 1e12));
+      ->check(cli::in_range(1e2, 1e12));
   dem_app->add_option("--restitution", dem.restitution, "normal restitution")
       ->default_val(0.9)
-      ->check(CLI::Range(0.0, 1.0));
-  dem_app->add_option("--mu", dem.mu, "friction coefficient")->default_val(0.5)->check(CLI::Range(0.0, 10.0));
+      ->check(cli::in_range(0.0, 1.0));
+  dem_app->add_option("--mu", dem.mu, "friction coefficient")
+      ->default_val(0.5)
+      ->check(cli::in_range(0.0, 10.0));
   dem_app->add_option("--duration", dem.duration, "physical time, s")
       ->default_val(2.0)
-      ->check(CLI::Range(1e-3, 1e4));
+      ->check(cli::in_range(1e-3, 1e4));
   dem_app->add_option("--average-from", dem.average_from, "start of the steady-state window, s")
       ->default_val(1.0)
-      ->check(CLI::Range(0.0, 1e4));
+      ->check(cli::in_range(0.0, 1e4));
   dem_app
       ->add_option("--kick-speed", dem.kick_speed,
                    "speed of the grains thrown to start saltation, cm/s (0: none)")
       ->default_val(100)
-      ->check(CLI::Range(0.0, 1e4));
+      ->check(cli::in_range(0.0, 1e4));
   dem_app->add_option("--sample-interval", dem.sample_interval, "s between samples of every grain")
       ->default_val(1e-4)
-      ->check(CLI::Range(1e-7, 1.0));
+      ->check(cli::in_range(1e-7, 1.0));
   dem_app->add_option("--skin", dem.skin, "neighbour-list skin, cm (0: a quarter of the smallest radius)")
       ->default_val(0.0125)
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(cli::in_range(0.0, 1.0));
   dem_app->add_option("--seed", dem.seed, "seed of the bed's radii")->default_val(18);
   dem_app->add_option("--out,-o", dem_out, "output folder: JSON, profiles, time series, splash.h5, plots")
       ->check(cli::output_folder());
@@ -454,34 +468,34 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(cli::output_file());
   dem_app->add_option("--checkpoint-every", dem.checkpoint_every, "s of physical time between checkpoints")
       ->default_val(0.1)
-      ->check(CLI::Range(1e-6, 1e6));
+      ->check(cli::in_range(1e-6, 1e6));
   dem_app->add_option("--restart", dem.restart, "continue from a --checkpoint file (same options)")
       ->check(CLI::ExistingFile);
   dem_app->add_option("--stop-at", dem.stop_at, "stop at this time after writing the checkpoint, s")
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(cli::in_range(0.0, 1e6));
   heights = group->add_subcommand(
       "heights", "Fig. 4.22: how high grains of each size rise when launched into a sediment-free wind");
   heights_spec = validation::fig4_22_spec();
   heights->add_option("--ustar", heights_spec.u_star, "wind-shear velocity, cm/s")
       ->capture_default_str()
-      ->check(CLI::Range(1e-3, 1e4));
+      ->check(cli::in_range(1e-3, 1e4));
   heights->add_option("--roughness", heights_spec.roughness, "roughness length of the surface, cm")
       ->capture_default_str()
-      ->check(CLI::Range(1e-6, 100.0));
+      ->check(cli::in_range(1e-6, 100.0));
   heights->add_option("--diameters", heights_spec.diameters, "grain diameters, cm")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::Range(1e-5, 10.0));
+      ->check(cli::in_range(1e-5, 10.0));
   heights->add_option("--angles", heights_spec.angles, "launch directions from the vertical, downwind, deg")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 89.9));
+      ->check(cli::in_range(0.0, 89.9));
   heights->add_option("--speeds", heights_spec.speeds, "vertical launch speeds, cm/s")
       ->delimiter(',')
-      ->check(CLI::Range(1e-3, 1e5));
+      ->check(cli::in_range(1e-3, 1e5));
   heights->add_option("--grain-density", heights_spec.grain_density, "g/cm^3")
       ->capture_default_str()
-      ->check(CLI::Range(0.1, 20.0));
+      ->check(cli::in_range(0.1, 20.0));
   heights->add_option("--out,-o", heights_out, "output folder: heights.csv and fig4_22.png")
       ->check(cli::output_folder());
   heights->add_flag("--force", force, "replace files in --out");
@@ -494,12 +508,12 @@ void SaltationCommands::add(CLI::App& app) {
                    "splash: CASE 1-6 of Table 4.3, or 7: the sand gun's (grains 0.078 cm unless "
                    "--grain-diameter says otherwise)")
       ->capture_default_str()
-      ->check(CLI::Range(1, kSandGunCase));
+      ->check(cli::in_range(1, kSandGunCase));
   transient->add_option("--splash", transient_splash, "a grainlab-splash/1 file instead of a CASE")
       ->check(CLI::ExistingFile);
   transient->add_option("--ustar", transient_ustar, "wind-shear velocity at the start, cm/s")
       ->capture_default_str()
-      ->check(CLI::Range(0.1, 999.0));
+      ->check(cli::in_range(0.1, 999.0));
   transient
       ->add_option("--change", transient_changes,
                    "a time (s) and the u* (cm/s) from then on; repeat for more changes (a gust: two)")
@@ -507,16 +521,16 @@ void SaltationCommands::add(CLI::App& app) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   transient->add_option("--duration", transient_duration, "s")
       ->capture_default_str()
-      ->check(CLI::Range(0.01, 1000.0));
+      ->check(cli::in_range(0.01, 1000.0));
   transient->add_option("--dt", transient_dt, "time step, s (flight times are rounded to it)")
       ->capture_default_str()
-      ->check(CLI::Range(1e-5, 0.1));
+      ->check(cli::in_range(1e-5, 0.1));
   transient->add_option("--record", transient_record, "s between recorded samples")
       ->capture_default_str()
-      ->check(CLI::Range(1e-5, 100.0));
+      ->check(cli::in_range(1e-5, 100.0));
   transient_diameter_option = transient->add_option("--grain-diameter", grain_diameter, "cm (CASE 7: 0.078)")
                                   ->capture_default_str()
-                                  ->check(CLI::Range(1e-4, 1.0));
+                                  ->check(cli::in_range(1e-4, 1.0));
   transient->add_option("--out,-o", transient_out, "output folder: transient.csv, transient.json, plots")
       ->check(cli::output_folder());
   transient->add_flag("--force", force, "replace files in --out");
@@ -527,13 +541,13 @@ void SaltationCommands::add(CLI::App& app) {
   transient
       ->add_option("--checkpoint-every", transient_checkpoint_every, "s of wall time between checkpoints")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(cli::in_range(0.0, 1e6));
   transient
       ->add_option("--restart", transient_restart, "continue from a --checkpoint file (the same options)")
       ->check(CLI::ExistingFile);
   transient
       ->add_option("--stop-at", transient_stop_at, "stop at this simulated time (s) after saving the state")
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(cli::in_range(0.0, 1e6));
   wind->add_flag("--json", wind_json,
                  "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }

@@ -33,7 +33,7 @@ struct SaltationCommands {
   std::string ejecta_below = "line";  // a moments-only splash file's ejecta below its slowest impacts
   double u_star = 35, tolerance = 0.01;
   double trajectory_tolerance = 1e-8, sample_interval = 5e-4;
-  double start_below = 0;  // conveyor A-C: a narrow start (0: flat)
+  double start_below = 0;  // conveyor A-C: a narrow start (not given: flat)
   std::string planet;
   double gravity = 0, air_density = 0, viscosity = 0, grain_density_wind = 2.6;  // 0: the preset's
   int launch_bins = 80, vx_bins = 0, profile_flights = 16;
@@ -65,6 +65,8 @@ struct SaltationCommands {
   bool dem_json = false;
   // given or not: CASE 7's grains default to the sand gun's
   CLI::Option *wind_diameter_option = nullptr, *transient_diameter_option = nullptr;
+  // conveyor: the options of the map (D, E) and of the distribution splash (A-C), refused for the other
+  std::vector<CLI::Option*> map_options, distribution_options;
   CLI::App *group = nullptr, *conveyor = nullptr, *wind = nullptr, *study = nullptr, *dem_app = nullptr,
            *heights = nullptr, *transient = nullptr;
   void add(CLI::App& app);

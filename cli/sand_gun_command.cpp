@@ -8,6 +8,7 @@
 
 #include "active_zone_option.hpp"
 #include "input_error.hpp"
+#include "number_ranges.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
@@ -80,16 +81,17 @@ void SandGunCommand::add(CLI::App& app) {
   cmd->add_option("--spheres", spheres,
                   "spheres in the sand bed (20,000: 5.0 x 2.5 cm, about 10 grains deep)")
       ->default_val(20000)
-      ->check(CLI::Range(500, 1000000));
-  cmd->add_option("--rows", rows, "the tables' rows to shoot, 1-9 (default: all)")->check(CLI::Range(1, 9));
+      ->check(cli::in_range(500, 1000000));
+  cmd->add_option("--rows", rows, "the tables' rows to shoot, 1-9 (default: all)")
+      ->check(cli::in_range(1, 9));
   cmd->add_option("--runs", runs, "impacts per row (spread over MPI ranks); 0: build the bed only")
       ->default_val(20)
-      ->check(CLI::Range(0, 100000));
+      ->check(cli::in_range(0, 100000));
   cmd->add_option("--seed", seed, "seed: impact i draws its point from (seed, i)")->default_val(1);
   cmd->add_option("--bed-seed", bed_seed, "seed of the pour")->default_val(1);
   cmd->add_option("--stiffness", stiffness, "k_n as a multiple of the default 2e7 dyn/cm")
       ->default_val(1)
-      ->check(CLI::Range(0.01, 100.0));
+      ->check(cli::in_range(0.01, 100.0));
   cmd->add_option(
          "--grains", grains,
          "sphere, or polyhedron: irregular convex grains of the spheres' volumes (the general 3-D "
@@ -108,7 +110,7 @@ void SandGunCommand::add(CLI::App& app) {
                   "the bed (1: the thesis's rule; the photographs' apparent surface stood a few diameters "
                   "above the true one)")
       ->default_val(1.0)
-      ->check(CLI::Range(1.0, 50.0));
+      ->check(cli::in_range(1.0, 50.0));
   cmd->add_option("--plots", plots,
                   "draw the tables' ejecta, ejection speed, reptation and rebound angle against v_i, beside "
                   "the experiment, into this folder (PNG, with Debian's matplotlib)")

@@ -20,6 +20,7 @@
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "interrupt.hpp"
+#include "number_ranges.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
@@ -313,7 +314,7 @@ void ValidateCommand::add(CLI::App& app) {
   cmd->add_option("--jobs,-j", jobs,
                   "suites run at once, each in its own process (0: one per core; under mpirun always 1)")
       ->default_val(0)
-      ->check(CLI::Range(0, 256));
+      ->check(cli::in_range(0, 256));
   cmd->add_option("--sand-gun-checkpoint", sand_gun_checkpoint,
                   "impacts-3d (full): keep the 20,000-sphere sand-gun bed and its impacts in this HDF5 file, "
                   "as `grainlab sand-gun --runs 10 --checkpoint FILE` does; a file that command filled is "

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "cli_helpers.hpp"
 #include "conveyor.hpp"
 
 using namespace grainlab::saltation;
@@ -116,4 +117,20 @@ TEST(ConveyorDistribution, ANarrowStartThatKillsTheFluxIsReportedNotConverged) {
   EXPECT_NEAR(c.v_c, c_flat.v_c, 1e-6 * c_flat.v_c);
   EXPECT_THROW(conveyor_distribution(table_4_1("C"), 10, 1e-10, std::vector<double>(7, 1.0)),
                std::invalid_argument);
+}
+
+// The command refuses an option of the other kind of case by name (`--case A --F0 10` ran CASE A and ignored
+// it), and names the start value that is wrong (`--v-oy0 0` was reported as --F0).
+TEST(ConveyorCommand, AnOptionOfTheOtherKindOfCaseIsRefusedByName) {
+  cli_test::Dir d;
+  const std::pair<const char*, const char*> refused[] = {
+      {"--case A --F0 10", "--F0: 10: is for CASES D and E"},
+      {"--case C --order velocity-first", "--order: velocity-first: is for CASES D and E"},
+      {"--case E --start-below 0.3", "--start-below: 0.3: is for CASES A, B and C"},
+      {"--case D --v-oy0 0", "--v-oy0: 0: the starting launch velocity must be positive"}};
+  for (const auto& [args, message] : refused) {
+    const cli_test::Outcome o = cli_test::grainlab(std::string("saltation conveyor ") + args, d.path);
+    EXPECT_EQ(o.status, 2) << args;
+    EXPECT_NE(o.err.find(message), std::string::npos) << o.err;
+  }
 }

@@ -1,10 +1,14 @@
-"""No command takes NaN or an infinity for a number: each is refused at once, with the option's name.
+"""No command takes NaN, an infinity or a number outside an option's stated range: each is refused at once,
+with the option's name (and, for a range, its bounds as the help gives them).
 
-Usage: cli_non_finite_test.py GRAINLAB SOURCE_DIR. Walks every subcommand listed by `--help` (and theirs), and for each
+Usage: cli_numbers_test.py GRAINLAB SOURCE_DIR. Walks every subcommand listed by `--help` (and theirs), and for each
 numeric option (CLI11 type FLOAT) passes nan, inf and -inf in turn. Each call must exit with status 2 and
 name the option on stderr, within 20 s: CLI11's range checks compare, every comparison with NaN is false,
 and before grainlab checked for it `ripples hybrid-flux --ustar nan` reached the model and `sand-gun
---stiffness nan` poured a bed before failing on a derived time step.
+--stiffness nan` poured a bed before failing on a derived time step. Then for each option whose help states
+a range ("FLOAT in [lo, hi]", POSITIVE, NONNEGATIVE) a value just outside it: CLI11's own checks printed
+their bounds with std::to_string ("Value 0 not in range 0.000000 to 1000000.000000", a positive number's
+upper bound in 300 digits).
 """
 import re
 import subprocess
@@ -54,3 +58,27 @@ for path, text in commands([]):
             tried += 1
 assert tried > 100, f"only {tried} numeric options found: has the help's format changed?"
 print(f"{tried} non-finite values refused by name")
+
+
+def outside(kind, lo, hi):
+    """Values just outside [lo, hi] for an option read as `kind`, with the message each must give."""
+    yield (str(int(lo) - 1) if kind != "FLOAT" else repr(float(lo) - 1)), f"must lie in [{lo}, {hi}]"
+    yield (str(int(hi) + 1) if kind != "FLOAT" else repr(float(hi) * 2 + 1)), f"must lie in [{lo}, {hi}]"
+
+
+ranged = 0
+for path, text in commands([]):
+    options = text.split("Subcommands:", 1)[0]
+    pattern = r"^\s+(?:-\w,)?(--[\w-]+)\s+(FLOAT|INT|UINT):(?:(?:FLOAT|INT|UINT) in \[([^],\s]+), ([^]\s]+)\]|(POSITIVE|NONNEGATIVE))"
+    for m in re.finditer(pattern, options, re.M):
+        option, kind, lo, hi, sign = m.groups()
+        cases = list(outside(kind, lo, hi)) if lo else [("0", "must be > 0")] if sign == "POSITIVE" else [("-1", "must be >= 0")]
+        for value, message in cases:
+            run = subprocess.run([grainlab] + path + required.get(" ".join(path), []) + [f"{option}={value}"],
+                                 capture_output=True, text=True, timeout=20)
+            where = " ".join(path + [f"{option}={value}"])
+            assert run.returncode == 2, f"{where}: exit status {run.returncode}\n{run.stderr}"
+            assert f"{option}: {value}: {message}" in run.stderr, f"{where}: not '{message}', naming the option:\n{run.stderr}"
+            ranged += 1
+assert ranged > 100, f"only {ranged} values outside ranges tried: has the help's format changed?"
+print(f"{ranged} values outside an option's range refused by name, with its bounds")
