@@ -1,6 +1,7 @@
 #include "impact_commands.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <filesystem>
@@ -253,12 +254,24 @@ void check_active_zone(double zone, int dimension, const std::string& engine) {
         fmt::format("holds grains in place, which only the native engine does (not {})", engine));
 }
 
+// The options whose help begins "--dimension 3" change nothing in a 2-D run: name them rather than run
+// discs as if `--grains polyhedron` or `--spheres 5000` had been heard.
+void refuse_3d_options(const CLI::App* cmd, int dimension) {
+  if (dimension == 3) return;
+  for (const CLI::Option* o : cmd->get_options())
+    if (o->count() > 0 && o->get_description().starts_with("--dimension 3"))
+      throw InputError({o->get_name(), 0},
+                       o->get_expected_max() == 0 ? "given" : fmt::format("{}", fmt::join(o->results(), " ")),
+                       fmt::format("is for --dimension 3 (this run is --dimension {})", dimension));
+}
+
 int impact_command(const ImpactCommands& a) {
   const ImpactCase& c = impact_case(a.case_name);
   if (a.runs < 1) throw InputError({"--runs", 0}, "0", "must be at least 1");
   if (!a.record.empty() && !a.force && fs::exists(a.record))
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
   check_active_zone(a.active_zone, a.dimension, a.engine);
+  refuse_3d_options(a.impact_cmd, a.dimension);
   if (a.dimension == 3) return impact3d_command(a, c);
   const bool speak = !a.quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   const std::vector<Bed> beds = beds_for(a, c, speak);
@@ -372,6 +385,7 @@ int splash_command(const ImpactCommands& a) {
   if (!a.splash_box.empty() && a.splash_dimension != 3)
     throw InputError({"--box", 0}, fmt::format("{:g} {:g}", a.splash_box[0], a.splash_box[1]),
                      "is for --dimension 3 (the 2-D beds are the thesis's)");
+  if (!a.sand_gun) refuse_3d_options(a.splash_cmd, a.splash_dimension);
   saltation::SplashFile f;
   if (a.sand_gun) {
     f = saltation::sand_gun_splash();

@@ -241,6 +241,17 @@ TEST(ImpactCommands, BadInputExitsTwoAndNamesIt) {
     EXPECT_EQ(o.status, 2) << option;
     EXPECT_NE(o.err.find(named), std::string::npos) << o.err;
   }
+  // A 2-D run refuses the options of 3-D beds by name (it ran discs as if they had not been given).
+  for (const auto& [args, named] :
+       {std::pair<const char*, const char*>{"impact --case A --runs 1 --grains polyhedron",
+                                            "--grains: polyhedron:"},
+        {"impact --case A --runs 1 --hold", "--hold: given:"},
+        {"splash --quick --out s.h5 --spheres 300", "--spheres: 300:"}}) {
+    o = cli_test::grainlab(args, d.path);
+    EXPECT_EQ(o.status, 2) << args;
+    EXPECT_NE(o.err.find(std::string(named) + " is for --dimension 3"), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(d.path / "s.h5"));
+  }
   o = cli_test::grainlab("bed --preparation fluffy --out x.h5", d.path);
   EXPECT_EQ(o.status, 2);
   EXPECT_FALSE(fs::exists(d.path / "x.h5"));
