@@ -1,7 +1,6 @@
 #include "impact_commands.hpp"
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include <cmath>
 #include <filesystem>
@@ -9,12 +8,14 @@
 #include <optional>
 
 #include "active_zone_option.hpp"
+#include "engine.hpp"
 #include "engine_option.hpp"
 #include "impact_bed.hpp"
 #include "impacts.hpp"
 #include "impacts3d.hpp"
 #include "input_error.hpp"
 #include "number_ranges.hpp"
+#include "option_scope.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
 #include "plot_beside.hpp"
@@ -259,10 +260,8 @@ void check_active_zone(double zone, int dimension, const std::string& engine) {
 void refuse_3d_options(const CLI::App* cmd, int dimension) {
   if (dimension == 3) return;
   for (const CLI::Option* o : cmd->get_options())
-    if (o->count() > 0 && o->get_description().starts_with("--dimension 3"))
-      throw InputError({o->get_name(), 0},
-                       o->get_expected_max() == 0 ? "given" : fmt::format("{}", fmt::join(o->results(), " ")),
-                       fmt::format("is for --dimension 3 (this run is --dimension {})", dimension));
+    if (o->get_description().starts_with("--dimension 3"))
+      refuse_if_given(o, fmt::format("is for --dimension 3 (this run is --dimension {})", dimension));
 }
 
 int impact_command(const ImpactCommands& a) {
@@ -272,6 +271,9 @@ int impact_command(const ImpactCommands& a) {
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
   check_active_zone(a.active_zone, a.dimension, a.engine);
   refuse_3d_options(a.impact_cmd, a.dimension);
+  if (!engine_capabilities(a.engine).soft_contacts)
+    refuse_if_given(a.impact_cmd->get_option("--steps-per-contact"),
+                    fmt::format("is for soft-contact engines (native); {} steps at its fixed dt", a.engine));
   if (a.dimension == 3) return impact3d_command(a, c);
   const bool speak = !a.quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   const std::vector<Bed> beds = beds_for(a, c, speak);

@@ -15,6 +15,7 @@
 #include "h5_input.hpp"
 #include "input_error.hpp"
 #include "lattice_model.hpp"
+#include "option_scope.hpp"
 #include "ripple_config.hpp"
 #include "ripples_commands.hpp"
 #include "surface_analysis.hpp"
@@ -150,6 +151,7 @@ Profile read_run_profile(const std::string& path, int frame) {
 
 int analyze_command(const RipplesCommands& a) {
   const bool csv = a.analyze_file.size() > 4 && a.analyze_file.substr(a.analyze_file.size() - 4) == ".csv";
+  if (csv) refuse_if_given(a.analyze->get_option("--frame"), "is for run files (a CSV holds one profile)");
   const Profile p =
       csv ? read_csv_profile(a.analyze_file) : read_run_profile(a.analyze_file, a.analyze_frame);
   if (!(a.analyze_sigma > 0))

@@ -9,6 +9,7 @@
 #include "h5_output.hpp"
 #include "input_error.hpp"
 #include "number_ranges.hpp"
+#include "option_scope.hpp"
 #include "output_path.hpp"
 #include "plot_beside.hpp"
 #include "saltation_heights.hpp"
@@ -21,10 +22,9 @@ namespace {
 
 using namespace grainlab::saltation;
 
-// An option given to the conveyor's other kind of case would change nothing: say so rather than ignore it.
+// An option given to the conveyor's other kind of case would change nothing.
 void refuse_given(const std::vector<CLI::Option*>& options, const std::string& why) {
-  for (const CLI::Option* o : options)
-    if (o->count() > 0) throw InputError({o->get_name(), 0}, o->as<std::string>(), why);
+  for (const CLI::Option* o : options) refuse_if_given(o, why);
 }
 
 int map_case(const SaltationCommands& a) {
@@ -209,6 +209,8 @@ int wind_command(const SaltationCommands& a) {
   }
   o.grain.density = a.grain_density_wind;
   o.bins = a.launch_bins;
+  if (a.vx_bins == 0)
+    refuse_if_given(a.wind->get_option("--vx-min"), "is for the 2-D launch grid of --vx-bins (not given)");
   o.vx_bins = a.vx_bins, o.vx_min = a.vx_min;
   const SplashKernel splash = case_splash(a.wind_case, a.splash_file, o, splash_scale);
   const WindModelResult r = solve_wind_model(o, splash);

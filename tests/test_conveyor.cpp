@@ -119,17 +119,20 @@ TEST(ConveyorDistribution, ANarrowStartThatKillsTheFluxIsReportedNotConverged) {
                std::invalid_argument);
 }
 
-// The command refuses an option of the other kind of case by name (`--case A --F0 10` ran CASE A and ignored
-// it), and names the start value that is wrong (`--v-oy0 0` was reported as --F0).
-TEST(ConveyorCommand, AnOptionOfTheOtherKindOfCaseIsRefusedByName) {
+// An option that would change nothing is refused by name: the conveyor's of the other kind of case
+// (`--case A --F0 10` ran CASE A and ignored it), the wind's 2-D grid option without the 2-D grid. The
+// start value that is wrong is the one named (`--v-oy0 0` was reported as --F0).
+TEST(SaltationCommands, AnOptionThatChangesNothingHereIsRefusedByName) {
   cli_test::Dir d;
   const std::pair<const char*, const char*> refused[] = {
       {"--case A --F0 10", "--F0: 10: is for CASES D and E"},
       {"--case C --order velocity-first", "--order: velocity-first: is for CASES D and E"},
       {"--case E --start-below 0.3", "--start-below: 0.3: is for CASES A, B and C"},
-      {"--case D --v-oy0 0", "--v-oy0: 0: the starting launch velocity must be positive"}};
+      {"--case D --v-oy0 0", "--v-oy0: 0: the starting launch velocity must be positive"},
+      {"wind --case 1 --vx-min -50", "--vx-min: -50: is for the 2-D launch grid of --vx-bins"}};
   for (const auto& [args, message] : refused) {
-    const cli_test::Outcome o = cli_test::grainlab(std::string("saltation conveyor ") + args, d.path);
+    const std::string command = std::string(args).starts_with("wind") ? "saltation " : "saltation conveyor ";
+    const cli_test::Outcome o = cli_test::grainlab(command + args, d.path);
     EXPECT_EQ(o.status, 2) << args;
     EXPECT_NE(o.err.find(message), std::string::npos) << o.err;
   }
