@@ -81,6 +81,10 @@ int run_command(const RunArgs& a) {
   if (a.stop_after_frame > scene.output.frames)
     throw InputError({"--stop-after-frame", 0}, std::to_string(a.stop_after_frame),
                      fmt::format("the scene has only {} frames", scene.output.frames));
+  // A checkpoint file alone writes nothing: say so rather than let a long run end without one.
+  if (!a.checkpoint.empty() && a.checkpoint_every == 0 && a.stop_after_frame == 0)
+    throw InputError({"--checkpoint", 0}, a.checkpoint,
+                     "names the file that --checkpoint-every or --stop-after-frame writes; give one of them");
   auto engine = engine_for_run(a, scene);
   if (!engine) return 0;
   const bool speak = !a.quiet && parallel::rank() == 0;
