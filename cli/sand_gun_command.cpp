@@ -9,6 +9,7 @@
 #include "active_zone_option.hpp"
 #include "input_error.hpp"
 #include "number_ranges.hpp"
+#include "option_scope.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
@@ -121,6 +122,9 @@ void SandGunCommand::add(CLI::App& app) {
 
 int SandGunCommand::dispatch() const {
   if (!cmd || !*cmd) return -1;
+  if (runs == 0)  // the bed only: refused before its build, which takes minutes to hours
+    for (const char* name : {"--rows", "--seed", "--active-zone", "--visible-above", "--plots"})
+      refuse_if_given(cmd->get_option(name), "is for impacts; --runs 0 builds the bed only");
   const bool speak = !quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   Bed3dSpec spec = sand_gun_bed_spec(spheres, stiffness);
   spec.seed = bed_seed;
