@@ -323,8 +323,10 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(CLI::ExistingFile);
   lattice->add_option("--out,-o", out, "write h(x, t) and the history (first seed) to this HDF5 file")
       ->check(cli::output_file());
-  lattice->add_option("--ejections", lattice_ejections,
-                      "run length in ejections per surface grain (replaces the config's)");
+  lattice
+      ->add_option("--ejections", lattice_ejections,
+                   "run length in ejections per surface grain (replaces the config's)")
+      ->check(cli::positive());  // (so 0 stays "not given")
   lattice->add_option("--seeds", lattice_seeds, "ensemble: the config's seed and the next N - 1")
       ->default_val(1);
   lattice->add_flag("--force", force, "overwrite --out");
@@ -480,7 +482,7 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_ripples->add_option("--out", out, "bed history: HDF5 frames + XDMF sidecar, history and flux tables")
       ->check(cli::output_file());
   hybrid_ripples->add_option("--duration", duration_override, "t*, in place of the config's")
-      ->check(cli::in_range(0.0, 1e9));
+      ->check(cli::in_range(1.0, 1e9));  // (so 0 stays "not given")
   hybrid_ripples
       ->add_option("--set", overrides,
                    "KEY=VALUE: a [hybrid] key in place of the config's, VALUE in TOML "

@@ -30,13 +30,13 @@ struct RipplesCommands {
   double analyze_sigma = 1, analyze_relief = 0;
   CLI::App *analyze = nullptr, *run = nullptr, *continuum = nullptr;
   double shape_speed = 0.1;
-  double lattice_ejections = 0;  // 0: the config's
+  double lattice_ejections = 0;  // not given: the config's (a given value is > 0)
   CLI::App *hybrid_flux = nullptr, *hybrid_ripples = nullptr, *hybrid_focal = nullptr;
   std::vector<double> focal_ustars{26, 30, 40, 50, 60};  // ripples hybrid-focal
   std::vector<double> focal_band{300, 1000};             // d: the log layer's heights
   double focal_above = 1;                                // d: crossings below are ignored
-  double duration_override = 0;                          // ripples hybrid --duration: 0 keeps the config's
-  std::vector<std::string> overrides;                    // ripples hybrid --set KEY=VALUE
+  double duration_override = 0;        // ripples hybrid --duration (>= 1 when given): 0 keeps the config's
+  std::vector<std::string> overrides;  // ripples hybrid --set KEY=VALUE
   std::string hybrid_checkpoint, hybrid_restart;
   double checkpoint_every = 10000, stop_at = 0;  // t*
   double impacts_from = -1;                      // ripples hybrid --impacts-from: t*; < 0 logs none
