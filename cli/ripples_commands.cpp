@@ -93,8 +93,9 @@ int ring_command(const RipplesCommands& a) {
   if (given("--A")) check_A(a.A), run.A = a.A;
   if (given("--steps")) run.steps = a.ring_steps;
   if (given("--seed")) run.seed = a.seed;
-  if (run.worms < 2 || run.length < 1)
-    throw InputError({"--worms", 0}, std::to_string(run.worms), "needs at least 2 worms of at least 1 link");
+  // (A config's values were checked where it was read.)
+  if (run.worms < 2) throw InputError({"--worms", 0}, std::to_string(run.worms), "needs at least 2 worms");
+  if (run.length < 1) throw InputError({"--length", 0}, std::to_string(run.length), "needs at least 1 link");
   const WormRingResult r = worm_ring(run.worms, run.length, run.A, run.steps, run.seed, run.records);
   std::vector<int> sorted = r.lengths;
   std::sort(sorted.begin(), sorted.end());
