@@ -78,12 +78,7 @@ void read_attributes(hid_t obj, RunFileSummary& s, bool numbers) {
 }
 
 Handle open_checked(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError({path, 0}, "file", "does not exist");
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  if (H5Fis_hdf5(path.c_str()) <= 0) corrupt(path, "is not an HDF5 file (or its header is damaged)");
-  Handle f{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
-  if (f.id < 0) corrupt(path, "cannot be opened as HDF5: it is truncated or damaged");
-  return f;
+  return open_hdf5_for_reading(path, "file");
 }
 
 std::string string_attribute(hid_t obj, const char* name) {
@@ -97,6 +92,17 @@ std::string string_attribute(hid_t obj, const char* name) {
 }
 
 }  // namespace
+
+H5Handle open_hdf5_for_reading(const std::string& path, const std::string& key) {
+  if (!std::filesystem::exists(path)) throw InputError({path, 0}, key, "does not exist");
+  if (std::filesystem::is_directory(path)) throw InputError({path, 0}, key, "is a folder, not a file");
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    throw InputError({path, 0}, key, "is not an HDF5 file (or its header is damaged)");
+  H5Handle f{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
+  if (f.id < 0) throw InputError({path, 0}, key, "cannot be opened as HDF5: it is truncated or damaged");
+  return f;
+}
 
 namespace {
 

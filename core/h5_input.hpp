@@ -6,9 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "h5_handle.hpp"
 #include "h5_output.hpp"
 
 namespace grainlab {
+
+// Opens `path` for reading, or throws InputError naming `key` if it is missing, a folder, not HDF5 or
+// too damaged to open (every reader of grainlab's files starts here).
+H5Handle open_hdf5_for_reading(const std::string& path, const std::string& key);
 
 struct RunFileSummary {
   std::map<std::string, std::string> text;  // root string attributes (version, engine, units, ...)

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "h5_handle.hpp"
+#include "h5_input.hpp"
 #include "input_error.hpp"
 #include "interrupt.hpp"
 
@@ -286,11 +287,7 @@ void write_splash_file(const std::string& path, const SplashFile& f, bool overwr
 }
 
 SplashFile read_splash_file(const std::string& path, bool allow_partial) {
-  if (!fs::exists(path)) throw InputError({path, 0}, "splash", "does not exist");
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  if (H5Fis_hdf5(path.c_str()) <= 0) bad(path, "is not an HDF5 file (or its header is damaged)");
-  Handle file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
-  if (file.id < 0) bad(path, "cannot be opened as HDF5: it is truncated or damaged");
+  Handle file = open_hdf5_for_reading(path, "splash");
   SplashFile f;
   const std::string schema = get_string(file.id, "schema");
   if (schema != kSplashSchema)

@@ -142,6 +142,7 @@ TEST(SplashFileFuzz, ForeignTruncatedAndDamagedFilesAreRefusedByName) {
   { std::ofstream(junk) << "not hdf5"; }
   expect_refused(junk, "not an HDF5 file");
   expect_refused(d.path / "missing.h5", "does not exist");
+  expect_refused(d.path, "is a folder, not a file");
   std::ifstream in(good, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), {});
   for (double f : {0.95, 0.7, 0.4, 0.1}) {
