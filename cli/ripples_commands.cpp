@@ -479,7 +479,8 @@ void RipplesCommands::add(CLI::App& app) {
   hybrid_ripples = group->add_subcommand(
       "hybrid", "the 3-D hybrid model's ripple run over an erodible bed (Huo et al. 2021): --config FILE");
   hybrid_ripples->add_option("--config", config, "a [hybrid] config (scenes/ripples/huo2021_ripples.toml)")
-      ->required();
+      ->required()
+      ->check(CLI::ExistingFile);
   hybrid_ripples->add_option("--out", out, "bed history: HDF5 frames + XDMF sidecar, history and flux tables")
       ->check(cli::output_file());
   hybrid_ripples->add_option("--duration", duration_override, "t*, in place of the config's")

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -68,6 +69,7 @@ std::string text_with_overrides(const std::string& text, const std::vector<std::
 namespace {
 
 std::string read_text(const std::string& path) {
+  if (std::filesystem::is_directory(path)) throw InputError({path, 0}, "", "is a folder, not a config file");
   std::ifstream in(path);
   if (!in) throw InputError({path, 0}, "", "cannot be read");
   std::stringstream ss;
