@@ -21,6 +21,7 @@
 #include "input_error.hpp"
 #include "interrupt.hpp"
 #include "number_ranges.hpp"
+#include "option_scope.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
@@ -340,6 +341,11 @@ int ValidateCommand::dispatch() const {
     return 0;
   }
   check_output_path("--out", out, true);  // the default, which the option's own check does not see
+  const bool sand_gun =
+      std::any_of(chosen.begin(), chosen.end(), [](const Suite* s) { return s->name == "impacts-3d"; });
+  if (!sand_gun)
+    refuse_if_given(cmd->get_option("--sand-gun-checkpoint"),
+                    "is for the impacts-3d suite, which --suite leaves out");
   if (parallel::rank() == 0) fs::create_directories(out);
   const bool speak = !quiet && parallel::rank() == 0;
   validation::SuiteOptions base;
