@@ -474,7 +474,7 @@ void SaltationCommands::add(CLI::App& app) {
   dem_app->add_option("--restart", dem.restart, "continue from a --checkpoint file (same options)")
       ->check(CLI::ExistingFile);
   dem_app->add_option("--stop-at", dem.stop_at, "stop at this time after writing the checkpoint, s")
-      ->check(cli::in_range(0.0, 1e6));
+      ->check(cli::positive());
   heights = group->add_subcommand(
       "heights", "Fig. 4.22: how high grains of each size rise when launched into a sediment-free wind");
   heights_spec = validation::fig4_22_spec();
@@ -549,7 +549,7 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::ExistingFile);
   transient
       ->add_option("--stop-at", transient_stop_at, "stop at this simulated time (s) after saving the state")
-      ->check(cli::in_range(0.0, 1e6));
+      ->check(cli::positive());
   wind->add_flag("--json", wind_json,
                  "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }

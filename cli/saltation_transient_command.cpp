@@ -10,6 +10,7 @@
 
 #include "h5_output.hpp"
 #include "input_error.hpp"
+#include "option_scope.hpp"
 #include "report.hpp"
 #include "saltation_commands.hpp"
 #include "transient.hpp"
@@ -65,6 +66,14 @@ int transient_command(const SaltationCommands& a) {
   if (!a.transient_out.empty() && fs::exists(a.transient_out) && !fs::is_empty(a.transient_out) && !a.force)
     throw InputError({"--out", 0}, a.transient_out,
                      "exists and is not empty; pass --force to replace its files");
+  if (!a.transient_splash.empty())
+    refuse_if_given(a.transient->get_option("--case"), "give either --case or --splash FILE, not both");
+  if (a.transient_stop_at > 0 && a.transient_checkpoint.empty())
+    throw InputError({"--stop-at", 0}, fmt::format("{}", a.transient_stop_at),
+                     "needs --checkpoint to stop into");
+  if (a.transient_stop_at > 0 && !(a.transient_stop_at < a.transient_duration))
+    throw InputError({"--stop-at", 0}, fmt::format("{}", a.transient_stop_at),
+                     fmt::format("must be before the end of the run (--duration {})", a.transient_duration));
   if (a.transient_changes.size() % 2 != 0)
     throw InputError({"--change", 0}, "", "give pairs of a time (s) and a new u* (cm/s)");
   TransientOptions o;
