@@ -32,6 +32,13 @@ void refuse_too_many_ranks(const ripples::hybrid::TransportOptions& o, const std
                                  "blocks of columns at least 2 d wide), not {}",
                                  o.length, most, parallel::size()));
 }
+// A --stop-at at or past the end would stop nothing: the run would end as if it had not been given.
+void refuse_stop_after_end(double stop_at, double duration) {
+  if (stop_at > 0 && !(stop_at < duration))
+    throw InputError({"--stop-at", 0}, fmt::format("{}", stop_at),
+                     fmt::format("must be before the end of the run (t* = {:g})", duration));
+}
+
 }  // namespace
 
 constexpr const char* kFluxCheckpointKind = "grainlab-hybrid-flux-checkpoint/1";
@@ -92,6 +99,7 @@ int hybrid_flux_command(const RipplesCommands& a) {
   if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
     throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
   check_flux_options(o);
+  refuse_stop_after_end(a.stop_at, o.duration);
   ripples::hybrid::FluxOptions run = o;
   validation::attach_recorded_splash(run);
   run.distributed = parallel::size() > 1;  // the ranks share the domain; the first one reports
@@ -293,6 +301,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   ripples::hybrid::RippleOptions& o = config.options;
   if (a.duration_override > 0)
     o.duration = a.duration_override, o.frame_every = std::min(o.frame_every, o.duration);
+  refuse_stop_after_end(a.stop_at, o.duration);
   validation::attach_recorded_splash(o);
   // Under mpirun the ranks share the domain (bit for bit the results of one process); the first one
   // writes and reports.
