@@ -1,6 +1,7 @@
 #pragma once
-// `--engine NAME`, shared by the commands that simulate on a chosen engine (run, impact, splash). The name
-// is checked when the command line is read, so a misspelt engine is reported before a bed is poured.
+// `--engine NAME` (and any option naming engines), shared by the commands that simulate on a chosen engine
+// (run, impact, splash). The name is checked when the command line is read, so a misspelt engine is reported
+// before a bed is poured.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -13,18 +14,22 @@
 
 namespace grainlab::cli {
 
-inline CLI::Option* add_engine_option(CLI::App* cmd, std::string& engine, const std::string& what) {
+// The check of an engine's name on the command line: one of engine_names().
+inline CLI::Validator known_engine() {
   const std::vector<std::string> names = engine_names();
   const std::string list = fmt::format("{}", fmt::join(names, ", "));
-  CLI::Validator known(
+  return CLI::Validator(
       [names, list](std::string& name) -> std::string {
         if (std::find(names.begin(), names.end(), name) != names.end()) return {};
         return fmt::format("unknown engine \"{}\"; available: {}", name, list);
       },
       "ENGINE");
-  return cmd->add_option("--engine", engine, fmt::format("{}: {}", what, list))
+}
+
+inline CLI::Option* add_engine_option(CLI::App* cmd, std::string& engine, const std::string& what) {
+  return cmd->add_option("--engine", engine, fmt::format("{}: {}", what, fmt::join(engine_names(), ", ")))
       ->default_val("native")
-      ->check(known);
+      ->check(known_engine());
 }
 
 }  // namespace grainlab::cli

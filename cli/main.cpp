@@ -343,8 +343,14 @@ int main(int argc, char** argv) {
   impact_bench_cmd->add_option("--repeats", impact_bench.repeats, "timed repetitions (median reported)")
       ->default_val(5)
       ->check(cli::in_range(1, 100));
-  impact_bench_cmd->add_option("--peers", impact_bench.peers, "engines timed on the same impact")
-      ->default_str("ode bullet");
+  impact_bench_cmd->add_option("--peers", impact_bench.peers, "impulse engines timed on the same impact")
+      ->default_str("ode bullet")
+      ->check(cli::known_engine())
+      ->check(CLI::Validator(
+          [](std::string& name) {
+            return name == "native" ? std::string("native: is the engine the peers are timed against") : "";
+          },
+          ""));
   impact_bench_cmd->add_option("--json", impact_bench.json, "also write the result as JSON to this file")
       ->check(cli::output_file());
 

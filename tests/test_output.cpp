@@ -87,6 +87,10 @@ TEST(Command, BadInputExitsTwoAndWritesNothing) {
   EXPECT_EQ(run_grainlab("run " + kScene + " --quiet --set accuracy.dt=0 --out " + out.string()), 2);
   EXPECT_EQ(run_grainlab("run " + (d.path / "missing.toml").string() + " --quiet"), 2);
   EXPECT_EQ(run_grainlab("bench bed --nx 0"), 2);
+  // Peers are checked as engines are (a misspelt one was reported as --engine), and native is not its own
+  // peer.
+  EXPECT_EQ(run_grainlab("bench impact --repeats 1 --peers foo"), 2);
+  EXPECT_EQ(run_grainlab("bench impact --repeats 1 --peers native"), 2);
   EXPECT_EQ(run_grainlab("validate --suite no-such-suite --out " + (d.path / "r").string()), 2);
   EXPECT_TRUE(fs::is_empty(d.path / "bad.toml") == false);
   EXPECT_FALSE(fs::exists(out));
