@@ -11,6 +11,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import tool_errors  # noqa: E402  (tools/: drawing a file it cannot read ends in one line, status 2)
 
 
 def main():
@@ -37,4 +38,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    tool_errors.run(main, "a `ripples continuum --out` file")

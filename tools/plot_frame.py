@@ -16,6 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import PatchCollection  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
+import tool_errors  # noqa: E402  (tools/: drawing a file it cannot read ends in one line, status 2)
 
 
 def main():
@@ -57,4 +58,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    tool_errors.run(main, "a `grainlab run` file (its /frames)")

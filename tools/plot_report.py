@@ -12,6 +12,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import tool_errors  # noqa: E402  (tools/: drawing a file it cannot read ends in one line, status 2)
 
 STYLES = {"line": dict(linestyle="-", marker=None), "dashed": dict(linestyle="--", marker=None),
           "points": dict(linestyle="none", marker="o"), "linepoints": dict(linestyle="-", marker="o")}
@@ -53,4 +54,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    tool_errors.run(main, "a `validate` or `cost` report folder (its plots.json)")

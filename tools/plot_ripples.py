@@ -12,6 +12,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import tool_errors  # noqa: E402  (tools/: drawing a file it cannot read ends in one line, status 2)
 
 
 def text_columns(dataset):
@@ -72,4 +73,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    tool_errors.run(main, "a ripple model's `--out` file (its h(x, t))")
