@@ -31,6 +31,7 @@
 #include "output_path.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
+#include "ranks.hpp"
 #include "ripples_commands.hpp"
 #include "saltation_commands.hpp"
 #include "sand_gun_command.hpp"
@@ -64,8 +65,8 @@ std::unique_ptr<Engine> engine_for_run(const RunArgs& a, const Scene& scene) {
   if (why.empty()) return make_distributed_native_engine(scene, a.balance_every, a.ranks_y);
   if (parallel::rank() != 0) return nullptr;
   if (!a.quiet)
-    fmt::print(stderr, "grainlab run: note: {}; rank 0 runs the whole scene, the other {} ranks stop\n", why,
-               parallel::size() - 1);
+    fmt::print(stderr, "grainlab run: note: {}; rank 0 runs the whole scene, {}\n", why,
+               cli::other_ranks_stop(parallel::size()));
   return make_engine(a.engine, scene);
 }
 
@@ -455,6 +456,12 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (const std::string command = cli::chosen_command(app);
+        parallel::size() > 1 && !cli::command_uses_ranks(command)) {
+      if (parallel::rank() != 0) return 0;
+      fmt::print(stderr, "grainlab {}: note: runs on one process; {}\n", command,
+                 cli::other_ranks_stop(parallel::size()));
+    }
     cli::refuse_non_finite_numbers(app);
     if (*run_cmd) return run_command(run);
     if (const int status = validate.dispatch(); status >= 0) return status;
