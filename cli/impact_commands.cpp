@@ -1,7 +1,9 @@
 #include "impact_commands.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -264,6 +266,21 @@ void refuse_3d_options(const CLI::App* cmd, int dimension) {
       refuse_if_given(o, fmt::format("is for --dimension 3 (this run is --dimension {})", dimension));
 }
 
+// An engine that does not simulate the asked dimension is named before a bed is poured (a 3-D pour takes a
+// minute; box2d was refused only after it).
+void check_engine_dimension(const std::string& engine, int dimension) {
+  const auto& dims = engine_capabilities(engine).dimensions;
+  if (std::find(dims.begin(), dims.end(), dimension) != dims.end()) return;
+  std::vector<std::string> able;
+  for (const std::string& e : engine_names()) {
+    const auto& d = engine_capabilities(e).dimensions;
+    if (std::find(d.begin(), d.end(), dimension) != d.end()) able.push_back(e);
+  }
+  throw InputError({"--engine", 0}, engine,
+                   fmt::format("does not simulate {}-D beds; --dimension {} runs on {}", dimension, dimension,
+                               fmt::join(able, ", ")));
+}
+
 int impact_command(const ImpactCommands& a) {
   const ImpactCase& c = impact_case(a.case_name);
   if (a.runs < 1) throw InputError({"--runs", 0}, "0", "must be at least 1");
@@ -271,6 +288,7 @@ int impact_command(const ImpactCommands& a) {
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
   check_active_zone(a.active_zone, a.dimension, a.engine);
   refuse_3d_options(a.impact_cmd, a.dimension);
+  check_engine_dimension(a.engine, a.dimension);
   if (!engine_capabilities(a.engine).soft_contacts)
     refuse_if_given(a.impact_cmd->get_option("--steps-per-contact"),
                     fmt::format("is for soft-contact engines (native); {} steps at its fixed dt", a.engine));
@@ -387,7 +405,10 @@ int splash_command(const ImpactCommands& a) {
   if (!a.splash_box.empty() && a.splash_dimension != 3)
     throw InputError({"--box", 0}, fmt::format("{:g} {:g}", a.splash_box[0], a.splash_box[1]),
                      "is for --dimension 3 (the 2-D beds are the thesis's)");
-  if (!a.sand_gun) refuse_3d_options(a.splash_cmd, a.splash_dimension);
+  if (!a.sand_gun) {
+    refuse_3d_options(a.splash_cmd, a.splash_dimension);
+    check_engine_dimension(a.splash_engine, a.splash_dimension);
+  }
   saltation::SplashFile f;
   if (a.sand_gun) {
     f = saltation::sand_gun_splash();

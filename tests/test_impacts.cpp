@@ -242,7 +242,8 @@ TEST(ImpactCommands, BadInputExitsTwoAndNamesIt) {
     EXPECT_NE(o.err.find(named), std::string::npos) << o.err;
   }
   // A 2-D run refuses the options of 3-D beds by name (it ran discs as if they had not been given), and
-  // an impulse engine the soft contacts' step, a sand-gun bed built without impacts the impacts' options.
+  // an impulse engine the soft contacts' step, a sand-gun bed built without impacts the impacts' options;
+  // a 2-D engine asked for a 3-D bed is named before the minute-long pour.
   for (const auto& [args, named] :
        {std::pair<const char*, const char*>{"impact --case A --runs 1 --grains polyhedron",
                                             "--grains: polyhedron:"},
@@ -250,7 +251,9 @@ TEST(ImpactCommands, BadInputExitsTwoAndNamesIt) {
         {"impact --case A --runs 1 --engine ode --steps-per-contact 10",
          "--steps-per-contact: 10: is for soft"},
         {"splash --quick --out s.h5 --spheres 300", "--spheres: 300:"},
-        {"sand-gun --runs 0 --plots figs", "--plots: figs: is for impacts"}}) {
+        {"sand-gun --runs 0 --plots figs", "--plots: figs: is for impacts"},
+        {"impact --case A --runs 1 --dimension 3 --engine box2d",
+         "--engine: box2d: does not simulate 3-D beds"}}) {
     o = cli_test::grainlab(args, d.path);
     EXPECT_EQ(o.status, 2) << args;
     EXPECT_NE(
