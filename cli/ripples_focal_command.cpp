@@ -37,6 +37,9 @@ void check_focal_options(const RipplesCommands& a) {
     throw InputError(
         {"--log-band", 0}, fmt::format("{} {}", a.focal_band[0], a.focal_band[1]),
         fmt::format("must be two heights in d with 0 < low < high <= the column's top ({})", top));
+  if (!(a.focal_above < top))
+    throw InputError({"--focus-above", 0}, fmt::format("{}", a.focal_above),
+                     fmt::format("must be below the column's top ({} d): no profile crosses above it", top));
   check_flux_options(o);
 }
 
@@ -106,14 +109,16 @@ nlohmann::json focal_json(const RipplesCommands& a, const std::vector<FluxResult
                     {"log_layer_nodes", f.log_layers[k].nodes}});
   for (const auto& c : f.crossings)
     crossings.push_back({{"u_stars", {c.u_star_a, c.u_star_b}}, {"z_d", c.z / d}, {"u", c.u}});
+  // No crossing, no focal point: null, not a point at z = 0.
+  const auto or_null = [&f](double v) { return f.crossings.empty() ? nlohmann::json() : nlohmann::json(v); };
   return {{"u_star", a.focal_ustars},
           {"runs", rows},
           {"z_focal_fit_d", f.fit_z / d},
           {"u_focal_fit", f.fit_u},
           {"fit_r2", f.fit_r2},
-          {"z_focal_d", f.crossing_z / d},
-          {"u_focal", f.crossing_u},
-          {"crossing_z_range_d", {f.crossing_z_min / d, f.crossing_z_max / d}},
+          {"z_focal_d", or_null(f.crossing_z / d)},
+          {"u_focal", or_null(f.crossing_u)},
+          {"crossing_z_range_d", {or_null(f.crossing_z_min / d), or_null(f.crossing_z_max / d)}},
           {"pairs", f.pairs},
           {"crossings", crossings},
           {"log_band_d", a.focal_band},
@@ -191,10 +196,14 @@ int hybrid_focal_command(const RipplesCommands& a) {
                f.log_layers[k].z0 / d, f.log_layers[k].spread);
   fmt::print("eq. 32 fit of ln z0 against 1/u*: z_F = {:.1f} d, u_F = {:.0f} cm/s (r^2 = {:.4f})\n",
              f.fit_z / d, f.fit_u, f.fit_r2);
-  fmt::print(
-      "profiles cross ({} of {} pairs) at z = {:.1f} d (range {:.1f}-{:.1f} d), u = {:.0f} cm/s (medians)\n",
-      f.crossings.size(), f.pairs, f.crossing_z / d, f.crossing_z_min / d, f.crossing_z_max / d,
-      f.crossing_u);
+  if (f.crossings.empty())
+    fmt::print("no pair of the {} profiles crosses above {:g} d (--focus-above)\n", f.pairs, a.focal_above);
+  else
+    fmt::print(
+        "profiles cross ({} of {} pairs) at z = {:.1f} d (range {:.1f}-{:.1f} d), u = {:.0f} cm/s "
+        "(medians)\n",
+        f.crossings.size(), f.pairs, f.crossing_z / d, f.crossing_z_min / d, f.crossing_z_max / d,
+        f.crossing_u);
   if (!a.out.empty()) fmt::print("plots and profiles in {}/\n", a.out);
   return 0;
 }

@@ -116,6 +116,14 @@ int hybrid_flux_command(const RipplesCommands& a) {
     return 0;
   }
   const double rate = r.wall_seconds > 0 ? static_cast<double>(r.grain_steps) / r.wall_seconds : 0;
+  // A window with no impact holds only the seeded grains' first flights: say so rather than let Q pass
+  // for saltation (on stderr, so --json stays one object).
+  if (r.impacts_per_area_time == 0)
+    fmt::print(
+        stderr,
+        "grainlab ripples hybrid-flux: note: no grain hit the bed between t* = {:g} and {:g}: Q is the "
+        "seeded grains' first flights, not a saturated flux; run longer (--duration, --average-from)\n",
+        o.average_from, o.duration);
   if (a.json) {
     nlohmann::json series = nlohmann::json::array();
     for (const auto& row : r.series) series.push_back(row);
