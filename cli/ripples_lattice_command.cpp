@@ -170,7 +170,11 @@ int lattice_command(const RipplesCommands& a) {
     std::vector<double> values;
     for (const auto& m : members) values.push_back(m[key].get<double>());
     const validation::MeanInterval mi = validation::mean_interval(values);
-    summary[key] = {{"mean", mi.mean}, {"sd", mi.sd}, {"half_width_95", mi.half_width()}};
+    // One seed has no spread: null, not an interval of zero width.
+    const bool spread = values.size() > 1;
+    summary[key] = {{"mean", mi.mean},
+                    {"sd", spread ? nlohmann::json(mi.sd) : nlohmann::json()},
+                    {"half_width_95", spread ? nlohmann::json(mi.half_width()) : nlohmann::json()}};
   }
   if (a.json) {
     fmt::print("{}\n", nlohmann::json{{"seeds", members.size()},
@@ -210,9 +214,14 @@ int lattice_command(const RipplesCommands& a) {
         r[0], r[2], r[3], r[4], r[5]);
   }
   for (const char* key :
-       {"wavelength", "height", "stoss_deg", "lee_deg", "f_peak", "autocorrelation_wavelength"})
-    fmt::print("  final {} over {} seeds: {:.2f} +- {:.2f}\n", key, members.size(),
-               summary[key]["mean"].get<double>(), summary[key]["half_width_95"].get<double>());
+       {"wavelength", "height", "stoss_deg", "lee_deg", "f_peak", "autocorrelation_wavelength"}) {
+    if (members.size() > 1)
+      fmt::print("  final {} over {} seeds: {:.2f} +- {:.2f} (95 %)\n", key, members.size(),
+                 summary[key]["mean"].get<double>(), summary[key]["half_width_95"].get<double>());
+    else
+      fmt::print("  final {}: {:.2f} (one seed: --seeds N gives an interval)\n", key,
+                 summary[key]["mean"].get<double>());
+  }
   fmt::print("  {:.3g} impacts per second (with the per-frame statistics)\n", first.impacts_per_second);
   if (!a.out.empty()) fmt::print("wrote {} (h(x, t): {} frames)\n", a.out, first.h.rows.size());
   return 0;
