@@ -34,9 +34,12 @@ namespace {
 using namespace grainlab::validation;
 namespace fs = std::filesystem;
 
+// A single value has no spread: its sd and interval are null (and "-" in the tables), not zero.
 nlohmann::json stat_json(const MeanInterval& m) {
   auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
-  return {{"mean", num(m.mean)}, {"sd", num(m.sd)}, {"lo", num(m.lo)}, {"hi", num(m.hi)}, {"n", m.n}};
+  auto spread = [&](double x) { return m.n > 1 ? num(x) : nlohmann::json(nullptr); };
+  return {
+      {"mean", num(m.mean)}, {"sd", spread(m.sd)}, {"lo", spread(m.lo)}, {"hi", spread(m.hi)}, {"n", m.n}};
 }
 
 nlohmann::json bed_json(const BedStats& s) {
@@ -117,8 +120,10 @@ void print_quantities(const std::map<std::string, MeanInterval>& q,
   for (const auto& [k, m] : q) {
     const std::string th =
         thesis.count(k) ? fmt::format("{:.3g} ({:.2g})", thesis.at(k).first, thesis.at(k).second) : "-";
-    fmt::print("{:<16} {:>10.4g} {:>20} {:>10.3g} {:>20}\n", k, m.mean,
-               fmt::format("[{:.4g}, {:.4g}]", m.lo, m.hi), m.sd, th);
+    const bool spread = m.n > 1;
+    fmt::print("{:<16} {:>10.4g} {:>20} {:>10} {:>20}\n", k, m.mean,
+               spread ? fmt::format("[{:.4g}, {:.4g}]", m.lo, m.hi) : "-",
+               spread ? fmt::format("{:.3g}", m.sd) : "-", th);
   }
 }
 

@@ -31,6 +31,8 @@ ROWS = [
 def cell(q):
     if not isinstance(q, dict) or q.get("mean") is None:
         return "-"
+    if q.get("lo") is None:  # one impact: no interval
+        return f"{q['mean']:.3g}"
     return f"{q['mean']:.3g} [{q['lo']:.3g}, {q['hi']:.3g}]"
 
 
