@@ -34,24 +34,22 @@ CLI::Validator in_range(T lo, T hi) {
       fmt::format("{} in [{}, {}]", CLI::detail::type_name<T>(), bound_text(lo), bound_text(hi)));
 }
 
-// Strictly positive, or at least zero (no upper bound).
-inline CLI::Validator positive() {
+// Strictly positive (`strict`), or at least zero; no upper bound.
+inline CLI::Validator sign_check(bool strict) {
   return CLI::Validator(
-      [](std::string& input) -> std::string {
+      [strict](std::string& input) -> std::string {
         double value = 0;
         if (!CLI::detail::lexical_cast(input, value)) return fmt::format("{}: not a number", input);
-        return value > 0 ? std::string() : fmt::format("{}: must be > 0", input);
+        if (strict ? value > 0 : value >= 0) return {};
+        return fmt::format("{}: must be {} 0", input, strict ? ">" : ">=");
       },
-      "POSITIVE");
+      strict ? "POSITIVE" : "NONNEGATIVE");
+}
+inline CLI::Validator positive() {
+  return sign_check(true);
 }
 inline CLI::Validator non_negative() {
-  return CLI::Validator(
-      [](std::string& input) -> std::string {
-        double value = 0;
-        if (!CLI::detail::lexical_cast(input, value)) return fmt::format("{}: not a number", input);
-        return value >= 0 ? std::string() : fmt::format("{}: must be >= 0", input);
-      },
-      "NONNEGATIVE");
+  return sign_check(false);
 }
 
 }  // namespace grainlab::cli
