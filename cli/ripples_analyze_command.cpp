@@ -156,6 +156,10 @@ int analyze_command(const RipplesCommands& a) {
       csv ? read_csv_profile(a.analyze_file) : read_run_profile(a.analyze_file, a.analyze_frame);
   if (!(a.analyze_sigma > 0))
     throw InputError({"--sigma", 0}, fmt::format("{}", a.analyze_sigma), "must be positive");
+  // (The profile is periodic: a half-width past half of it would take the same points again.)
+  if (2 * static_cast<std::size_t>(a.analyze_smooth) > p.h.size())
+    throw InputError({"--smooth", 0}, std::to_string(a.analyze_smooth),
+                     fmt::format("must be at most half the profile's {} points", p.h.size()));
   const std::vector<double> smooth =
       a.analyze_smooth > 0 ? tombrello_smooth(p.h, a.analyze_smooth, a.analyze_sigma) : p.h;
   // Crests and troughs must stand out by --relief, by default half the surface's rms height.

@@ -361,13 +361,15 @@ void RipplesCommands::add(CLI::App& app) {
           [](std::string& s) { return s.starts_with('-') ? s + ": frames count from 0" : std::string(); }, "",
           "frame index"));
   analyze->add_option("--smooth", analyze_smooth, "eq. 5.1 smoothing half-width in points (0: none)")
-      ->default_val(0);
+      ->default_val(0)
+      ->check(cli::non_negative());
   analyze->add_option("--sigma", analyze_sigma, "eq. 5.1 / 5.2 height scale sigma (the surface's units)")
       ->default_val(1);
   analyze
       ->add_option("--relief", analyze_relief,
                    "least height a crest or trough must stand out by (0: half the rms height)")
-      ->default_val(0);
+      ->default_val(0)
+      ->check(cli::non_negative());
   analyze->add_flag("--json", json, "print the results as JSON");
   wavelength =
       group->add_subcommand("wavelength", "Fig. 5.24: the largest ripple a merger can make, by size ratio");
