@@ -1,5 +1,6 @@
 #pragma once
-// `grainlab saltation ...`: the thesis's Ch. IV models (so far the conveyor-belt model).
+// `grainlab saltation ...`: the thesis's Ch. IV models (conveyor, wind, transient, heights), the study over
+// planets and grain sizes, and DEM saltation under a wind.
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
