@@ -1,5 +1,6 @@
 #pragma once
-// `grainlab ripples ...`: the thesis's ripple models (Ch. V); so far Haff's worm model.
+// `grainlab ripples ...`: the thesis's ripple models (Ch. V: worms, triangles, continuum, bins, lattice), the
+// analysis of any surface, and the 3-D hybrid model of Huo et al. 2021 (hybrid, hybrid-flux, hybrid-focal).
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
