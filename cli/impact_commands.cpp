@@ -274,13 +274,14 @@ void refuse_3d_options(const CLI::App* cmd, int dimension) {
 // An engine that does not simulate the asked dimension is named before a bed is poured (a 3-D pour takes a
 // minute; box2d was refused only after it).
 void check_engine_dimension(const std::string& engine, int dimension) {
-  const auto& dims = engine_capabilities(engine).dimensions;
-  if (std::find(dims.begin(), dims.end(), dimension) != dims.end()) return;
-  std::vector<std::string> able;
-  for (const std::string& e : engine_names()) {
+  const auto simulates = [dimension](const std::string& e) {
     const auto& d = engine_capabilities(e).dimensions;
-    if (std::find(d.begin(), d.end(), dimension) != d.end()) able.push_back(e);
-  }
+    return std::find(d.begin(), d.end(), dimension) != d.end();
+  };
+  if (simulates(engine)) return;
+  std::vector<std::string> able;
+  for (const std::string& e : engine_names())
+    if (simulates(e)) able.push_back(e);
   throw InputError({"--engine", 0}, engine,
                    fmt::format("does not simulate {}-D beds; --dimension {} runs on {}", dimension, dimension,
                                fmt::join(able, ", ")));
@@ -359,16 +360,8 @@ int rebound_command(const ImpactCommands& a) {
   if (!(a.alpha > 0 && a.alpha < 90))
     throw InputError({"--alpha", 0}, fmt::format("{}", a.alpha), "must lie in (0, 90) degrees");
   ReboundParams p = rebound_case(a.model_case, a.alpha);
-  if (a.mass_ratio) {
-    if (!(*a.mass_ratio > 0))
-      throw InputError({"--mass-ratio", 0}, fmt::format("{}", *a.mass_ratio), "must be > 0");
-    p.mass_ratio = *a.mass_ratio;
-  }
-  if (a.sigma) {
-    if (!(*a.sigma >= -1 && *a.sigma <= 1))
-      throw InputError({"--sigma", 0}, fmt::format("{}", *a.sigma), "must lie in [-1, 1]");
-    p.sigma = *a.sigma;
-  }
+  if (a.mass_ratio) p.mass_ratio = *a.mass_ratio;  // (ranges checked as the command line is read)
+  if (a.sigma) p.sigma = *a.sigma;
   if (a.gap < 0) throw InputError({"--gap", 0}, fmt::format("{}", a.gap), "must be >= 0");
   if (!(a.radius_ratio > 0))
     throw InputError({"--radius-ratio", 0}, fmt::format("{}", a.radius_ratio), "must be > 0");
@@ -634,8 +627,10 @@ void ImpactCommands::add(CLI::App& app) {
       app.add_subcommand("rebound-model", "the thesis's rebound model (Appendix III.1, Table 3.10)");
   rebound_cmd->add_option("--case", model_case, "1 or 2 (Table 3.10)")->default_val(2);
   rebound_cmd->add_option("--alpha", alpha, "incident angle from the horizontal, degrees")->default_val(15);
-  rebound_cmd->add_option("--mass-ratio", mass_ratio, "m_i / m_beff (default: the case's 0.5)");
-  rebound_cmd->add_option("--sigma", sigma, "friction restitution in [-1, 1] (default: the case's)");
+  rebound_cmd->add_option("--mass-ratio", mass_ratio, "m_i / m_beff (default: the case's 0.5)")
+      ->check(cli::positive());
+  rebound_cmd->add_option("--sigma", sigma, "friction restitution (default: the case's)")
+      ->check(cli::in_range(-1.0, 1.0));
   rebound_cmd->add_option("--spin", spin, "incident spin w_i r_i / v_i (counter-clockwise positive)")
       ->default_val(0);
   rebound_cmd->add_option("--gap", gap, "gap between bed discs, in r_b")->default_val(0);

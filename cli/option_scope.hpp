@@ -21,4 +21,16 @@ inline void refuse_if_given(const CLI::Option* o, const std::string& why) {
   if (o && o->count() > 0) throw InputError({o->get_name(), 0}, given_value(o), why);
 }
 
+// `--stop-at T` (T > 0 when given) needs a checkpoint to stop into and must come before the run's end
+// (`end`, as the message shows it: "--duration 2", "t* = 4000"), or it stops nothing.
+inline void check_stop_at(double stop_at, const std::string& checkpoint, double duration,
+                          const std::string& end) {
+  if (!(stop_at > 0)) return;
+  if (checkpoint.empty())
+    throw InputError({"--stop-at", 0}, fmt::format("{}", stop_at), "needs --checkpoint to stop into");
+  if (!(stop_at < duration))
+    throw InputError({"--stop-at", 0}, fmt::format("{}", stop_at),
+                     fmt::format("must be before the end of the run ({})", end));
+}
+
 }  // namespace grainlab::cli

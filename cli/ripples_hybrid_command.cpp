@@ -13,6 +13,7 @@
 #include "hybrid_config.hpp"
 #include "hybrid_splash_file.hpp"
 #include "input_error.hpp"
+#include "option_scope.hpp"
 #include "parallel.hpp"
 #include "plot_beside.hpp"
 #include "progress.hpp"
@@ -32,13 +33,6 @@ void refuse_too_many_ranks(const ripples::hybrid::TransportOptions& o, const std
                                  "blocks of columns at least 2 d wide), not {}",
                                  o.length, most, parallel::size()));
 }
-// A --stop-at at or past the end would stop nothing: the run would end as if it had not been given.
-void refuse_stop_after_end(double stop_at, double duration) {
-  if (stop_at > 0 && !(stop_at < duration))
-    throw InputError({"--stop-at", 0}, fmt::format("{}", stop_at),
-                     fmt::format("must be before the end of the run (t* = {:g})", duration));
-}
-
 }  // namespace
 
 constexpr const char* kFluxCheckpointKind = "grainlab-hybrid-flux-checkpoint/1";
@@ -96,10 +90,8 @@ ripples::hybrid::FluxResult run_flux_checkpointed(ripples::hybrid::FluxOptions r
 
 int hybrid_flux_command(const RipplesCommands& a) {
   const ripples::hybrid::FluxOptions& o = a.flux;
-  if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
-    throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
   check_flux_options(o);
-  refuse_stop_after_end(a.stop_at, o.duration);
+  check_stop_at(a.stop_at, a.hybrid_checkpoint, o.duration, fmt::format("t* = {:g}", o.duration));
   ripples::hybrid::FluxOptions run = o;
   validation::attach_recorded_splash(run);
   run.distributed = parallel::size() > 1;  // the ranks share the domain; the first one reports
@@ -300,8 +292,6 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
 int hybrid_ripples_command(const RipplesCommands& a) {
   if (a.config.empty()) throw InputError({"--config", 0}, "", "give a [hybrid] config (docs/hybrid.md)");
   refuse_existing_out(a.out, a.force);
-  if (a.stop_at > 0 && a.hybrid_checkpoint.empty())
-    throw InputError({"--stop-at", 0}, fmt::format("{}", a.stop_at), "needs --checkpoint to stop into");
   if (a.impacts_from >= 0 && a.out.empty())
     throw InputError({"--impacts-from", 0}, fmt::format("{}", a.impacts_from), "needs --out to log into");
   const std::string text = ripples::read_config_text(a.config);
@@ -309,7 +299,7 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   ripples::hybrid::RippleOptions& o = config.options;
   if (a.duration_override > 0)
     o.duration = a.duration_override, o.frame_every = std::min(o.frame_every, o.duration);
-  refuse_stop_after_end(a.stop_at, o.duration);
+  check_stop_at(a.stop_at, a.hybrid_checkpoint, o.duration, fmt::format("t* = {:g}", o.duration));
   validation::attach_recorded_splash(o);
   // Under mpirun the ranks share the domain (bit for bit the results of one process); the first one
   // writes and reports.

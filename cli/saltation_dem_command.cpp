@@ -8,6 +8,7 @@
 #include "dem_saltation.hpp"
 #include "h5_output.hpp"
 #include "input_error.hpp"
+#include "option_scope.hpp"
 #include "parallel.hpp"
 #include "progress.hpp"
 #include "report.hpp"
@@ -124,11 +125,7 @@ int dem_command(const SaltationCommands& a) {
   if (!(o.average_from < o.duration))
     throw InputError({"--average-from", 0}, fmt::format("{}", o.average_from),
                      fmt::format("must be before the end of the run (--duration {})", o.duration));
-  if (o.stop_at > 0 && o.checkpoint.empty())
-    throw InputError({"--stop-at", 0}, fmt::format("{}", o.stop_at), "needs --checkpoint to stop into");
-  if (o.stop_at > 0 && !(o.stop_at < o.duration))
-    throw InputError({"--stop-at", 0}, fmt::format("{}", o.stop_at),
-                     fmt::format("must be before the end of the run (--duration {})", o.duration));
+  check_stop_at(o.stop_at, o.checkpoint, o.duration, fmt::format("--duration {}", o.duration));
   if (!a.dem_out.empty() && fs::exists(a.dem_out) && !a.force)
     throw InputError({"--out", 0}, a.dem_out, "exists; pass --force to replace it");
   o.distributed = parallel::size() > 1;

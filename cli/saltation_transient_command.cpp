@@ -68,12 +68,8 @@ int transient_command(const SaltationCommands& a) {
                      "exists and is not empty; pass --force to replace its files");
   if (!a.transient_splash.empty())
     refuse_if_given(a.transient->get_option("--case"), "give either --case or --splash FILE, not both");
-  if (a.transient_stop_at > 0 && a.transient_checkpoint.empty())
-    throw InputError({"--stop-at", 0}, fmt::format("{}", a.transient_stop_at),
-                     "needs --checkpoint to stop into");
-  if (a.transient_stop_at > 0 && !(a.transient_stop_at < a.transient_duration))
-    throw InputError({"--stop-at", 0}, fmt::format("{}", a.transient_stop_at),
-                     fmt::format("must be before the end of the run (--duration {})", a.transient_duration));
+  check_stop_at(a.transient_stop_at, a.transient_checkpoint, a.transient_duration,
+                fmt::format("--duration {}", a.transient_duration));
   if (a.transient_changes.size() % 2 != 0)
     throw InputError({"--change", 0}, "", "give pairs of a time (s) and a new u* (cm/s)");
   TransientOptions o;
