@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -69,6 +70,27 @@ TEST(Ensemble, WilsonIntervalKnownValues) {
   EXPECT_DOUBLE_EQ(none.lo, 0.0);
   EXPECT_NEAR(none.hi, 0.27753, 1e-5);
   EXPECT_EQ(throws_for_half_width(0.5, 0.02), 2401);
+}
+
+// Student's t quantiles from a table (t_0.975): 12.706 (1 dof), 2.776 (4), 2.262 (9), 2.093 (19), 1.960
+// (infinity). The interval of 1..5 is 3 -+ 2.776 x 1.5811 / sqrt(5) = 3 -+ 1.963, where 1.96 would
+// give 1.386.
+TEST(Ensemble, MeanIntervalUsesStudentsT) {
+  EXPECT_NEAR(t_975(1), 12.706, 5e-4);
+  EXPECT_NEAR(t_975(4), 2.776, 5e-4);
+  EXPECT_NEAR(t_975(9), 2.262, 5e-4);
+  EXPECT_NEAR(t_975(19), 2.093, 5e-4);
+  EXPECT_NEAR(t_975(1000000), 1.960, 5e-4);
+  EXPECT_THROW(t_975(0), std::invalid_argument);
+  EXPECT_NEAR(family_t(4, 9), 3.1109, 5e-4);  // t_0.99375, 9 dof (Bonferroni over 4), by quadrature apart
+  EXPECT_NEAR(family_t(4, 1000000), family_z(4), 1e-4);
+  const MeanInterval m = mean_interval({1, 2, 3, 4, 5, std::nan("")});
+  EXPECT_EQ(m.n, 5u);
+  EXPECT_DOUBLE_EQ(m.mean, 3);
+  EXPECT_NEAR(m.half_width(), 1.963, 5e-4);
+  const MeanInterval one = mean_interval({7});
+  EXPECT_EQ(one.sd, 0);
+  EXPECT_EQ(one.lo, one.hi);
 }
 
 // An ensemble tells its progress before its first run as well as after each, so that a progress bar

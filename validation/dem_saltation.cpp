@@ -55,8 +55,8 @@ Crossing crossing(const GrainTrack& a, double t0, double xa, double y1, double v
 }
 
 // The mean of a time series with a 95 % interval from block means. The flux fluctuates on ~0.1 s (the
-// grains' drag response), so blocks are at least that long (3 to 10 of them) and the interval uses
-// Student's t for the few blocks there are: block means closer in time than that are not independent.
+// grains' drag response), so blocks are at least that long (3 to 10 of them; mean_interval's Student t
+// suits so few): block means closer in time than that are not independent.
 MeanInterval block_interval(const std::vector<double>& series, double sample_interval) {
   const double window = static_cast<double>(series.size()) * sample_interval;
   const std::size_t blocks = std::clamp<std::size_t>(static_cast<std::size_t>(window / 0.1), 3, 10);
@@ -68,11 +68,7 @@ MeanInterval block_interval(const std::vector<double>& series, double sample_int
     for (std::size_t k = b * per; k < (b + 1) * per; ++k) s += series[k];
     means.push_back(s / static_cast<double>(per));
   }
-  MeanInterval m = mean_interval(means);
-  static const double t975[] = {0, 12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262};
-  const double half = t975[blocks - 1] * m.sd / std::sqrt(static_cast<double>(blocks));
-  m.lo = m.mean - half, m.hi = m.mean + half;
-  return m;
+  return mean_interval(means);
 }
 
 double mean_of(const std::vector<double>& v, std::size_t from, std::size_t to) {

@@ -1,6 +1,7 @@
 #include "ensemble.hpp"
 
 #include <algorithm>
+#include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <stdexcept>
 
@@ -45,9 +46,13 @@ MeanInterval mean_interval(const std::vector<double>& values) {
   for (double v : values)
     if (std::isfinite(v)) ss += (v - m.mean) * (v - m.mean);
   m.sd = m.n > 1 ? std::sqrt(ss / (m.n - 1)) : 0;
-  const double half = 1.959963984540054 * m.sd / std::sqrt(static_cast<double>(m.n));
+  const double half = m.n > 1 ? t_975(m.n - 1) * m.sd / std::sqrt(static_cast<double>(m.n)) : 0.0;
   m.lo = m.mean - half, m.hi = m.mean + half;
   return m;
+}
+
+double t_975(std::size_t dof) {
+  return family_t(1, dof);
 }
 
 Proportion wilson_interval(std::size_t k, std::size_t n) {
@@ -70,6 +75,12 @@ double family_z(std::size_t m) {
     (std::erfc(mid / std::sqrt(2.0)) > alpha ? lo : hi) = mid;
   }
   return (lo + hi) / 2;
+}
+
+double family_t(std::size_t m, std::size_t dof) {
+  if (dof == 0) throw std::invalid_argument("Student's t needs one or more degrees of freedom");
+  const double alpha = 0.05 / static_cast<double>(std::max<std::size_t>(1, m));
+  return boost::math::quantile(boost::math::students_t(static_cast<double>(dof)), 1 - alpha / 2);
 }
 
 LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {

@@ -145,7 +145,7 @@ PowerLaw fit_power_law(const std::vector<double>& x, const std::vector<MeanInter
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (!(y[i].mean > 0) || y[i].n < 2) continue;
     // The standard error of log(mean) is se / mean; a row with no spread gets the smallest error seen.
-    const double se = y[i].half_width() / 1.959963984540054 / y[i].mean;
+    const double se = y[i].half_width() / t_975(y[i].n - 1) / y[i].mean;
     xs.push_back(x[i]), ys.push_back(y[i].mean), w.push_back(se > 0 ? 1 / (se * se) : 0);
   }
   double most = 0;

@@ -31,7 +31,7 @@ struct Cell {
   double speed_error() const {  // 95 % half-width of the mean
     if (runs < 2) return 0;
     const double mean = mean_speed(), var = (speed_sq - runs * mean * mean) / (runs - 1);
-    return 1.96 * std::sqrt(std::max(var, 0.0) / runs);
+    return t_975(runs - 1) * std::sqrt(std::max(var, 0.0) / runs);
   }
 };
 
