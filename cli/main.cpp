@@ -11,9 +11,9 @@
 #include <optional>
 
 #include "accuracy_cost.hpp"
-#include "bed3d_benchmark.hpp"
-#include "bed_benchmark.hpp"
+#include "bench_commands.hpp"
 #include "binary_fingerprint.hpp"
+#include "decomposition_options.hpp"
 #include "die_model_command.hpp"
 #include "domain.hpp"
 #include "engine.hpp"
@@ -21,12 +21,9 @@
 #include "finite_numbers.hpp"
 #include "h5_input.hpp"
 #include "h5_output.hpp"
-#include "hybrid_benchmark.hpp"
-#include "impact_benchmark.hpp"
 #include "impact_commands.hpp"
 #include "input_error.hpp"
 #include "inspect_command.hpp"
-#include "lattice_benchmark.hpp"
 #include "number_ranges.hpp"
 #include "output_path.hpp"
 #include "parallel.hpp"
@@ -128,16 +125,6 @@ int run_command(const RunArgs& a) {
 }
 
 // How `run` and `bench bed` spread a scene over MPI ranks.
-void add_decomposition_options(CLI::App* cmd, std::uint64_t& balance_every, int& ranks_y) {
-  cmd->add_option("--balance-every", balance_every,
-                  "under mpirun: re-split the ranks' regions by load every N steps (0: never)")
-      ->default_val(dem::kBalanceEveryDefault);
-  cmd->add_option("--ranks-y", ranks_y,
-                  "under mpirun: rows of the grid of ranks (1: slabs along x; must divide the ranks)")
-      ->default_val(1)
-      ->check(cli::positive());
-}
-
 // The finished scenes' rows of a cost study, kept in OUT/.cost-checkpoint.json until the report is
 // written, with a stamp of what made them (quick or full, repeats, this binary): `cost --resume` takes a
 // scene from it instead of measuring it again. Each scene's timings come from one sitting, so the ratios
@@ -268,7 +255,7 @@ int main(int argc, char** argv) {
       ->add_option("--stop-after-frame", run.stop_after_frame,
                    "stop after frame N with a checkpoint, writing no run file (continue with --restart)")
       ->check(cli::non_negative());
-  add_decomposition_options(run_cmd, run.balance_every, run.ranks_y);
+  cli::add_decomposition_options(run_cmd, run.balance_every, run.ranks_y);
 
   cli::ValidateCommand validate;
   validate.add(app);
@@ -313,127 +300,8 @@ int main(int argc, char** argv) {
   die_cmd->add_option("--plot", die.plot_dir,
                       "also write p_h(f) for several eps (Fig. 2.7) into this folder");
 
-  bench::BedOptions bed;
-  CLI::App* bench_cmd = app.add_subcommand("bench", "benchmarks");
-  bench_cmd->require_subcommand(1);
-  CLI::App* bed_cmd =
-      bench_cmd->add_subcommand("bed", "settled disc bed, same work as bench/bed.in for LAMMPS");
-  bed_cmd->add_option("--nx", bed.nx, "discs per row")->default_val(100)->check(cli::in_range(1, 100000));
-  bed_cmd->add_option("--ny", bed.ny, "rows")->default_val(50)->check(cli::in_range(1, 100000));
-  bed_cmd->add_option("--settle", bed.settle_steps, "settling steps (untimed)")
-      ->default_val(2000)
-      ->check(cli::non_negative());
-  bed_cmd->add_option("--steps", bed.timed_steps, "timed steps")->default_val(10000)->check(cli::positive());
-  bed_cmd->add_option("--repeats", bed.repeats, "timed repetitions (median reported)")
-      ->default_val(3)
-      ->check(cli::in_range(1, 100));
-  bed_cmd->add_option("--spacing", bed.spacing, "lattice spacing, cm (2.0 with --first-row 1.0: dense bed)")
-      ->default_val(2.02)
-      ->check(cli::positive());
-  bed_cmd->add_option("--first-row", bed.first_row, "height of the first row of centres, cm")
-      ->default_val(2.5)
-      ->check(cli::positive());
-  bed_cmd->add_flag("--frictionless", bed.frictionless, "drop the friction effect (no shear history)");
-  bed_cmd->add_option("--json", bed.json, "also write the result as JSON to this file")
-      ->check(cli::output_file());
-  add_decomposition_options(bed_cmd, bed.balance_every, bed.ranks_y);
-  bench::ImpactBenchOptions impact_bench;
-  CLI::App* impact_bench_cmd = bench_cmd->add_subcommand(
-      "impact", "one Ch. III impact (384 discs, 0.07 s) on one core, beside the impulse engines");
-  impact_bench_cmd->add_option("--case", impact_bench.case_name, "A..I")->default_val("A");
-  impact_bench_cmd->add_option("--repeats", impact_bench.repeats, "timed repetitions (median reported)")
-      ->default_val(5)
-      ->check(cli::in_range(1, 100));
-  impact_bench_cmd->add_option("--peers", impact_bench.peers, "impulse engines timed on the same impact")
-      ->default_str("ode bullet")
-      ->check(cli::known_engine())
-      ->check(CLI::Validator(
-          [](std::string& name) {
-            return name == "native" ? std::string("native: is the engine the peers are timed against") : "";
-          },
-          ""));
-  impact_bench_cmd->add_option("--json", impact_bench.json, "also write the result as JSON to this file")
-      ->check(cli::output_file());
-
-  bench::Bed3dOptions bed3d;
-  CLI::App* bed3d_cmd = bench_cmd->add_subcommand(
-      "bed3d", "issue #15's sphere lattice in a box of planes, same work as bench/bed3d.in for LAMMPS");
-  bed3d_cmd->add_option("--nx", bed3d.nx, "spheres along x")->default_val(20)->check(cli::in_range(1, 10000));
-  bed3d_cmd->add_option("--ny", bed3d.ny, "spheres along y")->default_val(20)->check(cli::in_range(1, 10000));
-  bed3d_cmd->add_option("--nz", bed3d.nz, "layers")->default_val(6)->check(cli::in_range(1, 10000));
-  bed3d_cmd->add_option("--settle", bed3d.settle_steps, "settling steps (untimed)")
-      ->default_val(0)
-      ->check(cli::non_negative());
-  bed3d_cmd->add_option("--steps", bed3d.timed_steps, "timed steps")
-      ->default_val(2000)
-      ->check(cli::positive());
-  bed3d_cmd->add_option("--repeats", bed3d.repeats, "timed repetitions (median reported)")
-      ->default_val(3)
-      ->check(cli::in_range(1, 100));
-  bed3d_cmd->add_option("--json", bed3d.json, "also write the result as JSON to this file")
-      ->check(cli::output_file());
-  CLI::Option* bed3d_scene_flag =
-      bed3d_cmd->add_flag("--scene", bed3d.scene_only,
-                          "print the bed as a scene (TOML) instead of timing it: grainlab run takes it");
-  CLI::Option* pour_to =
-      bed3d_cmd
-          ->add_option(
-              "--pour-to", bed3d.pour_to,
-              "pour the NX x NY x NZ spheres into the same box instead of the lattice (untimed) and write "
-              "the bed (stopped where the pour leaves it) as BASE.toml (for --bed-scene) and BASE.data "
-              "(LAMMPS read_data, "
-              "bench/bed3d_data.in); no timing")
-          ->check(cli::output_file());
-  bed3d_cmd
-      ->add_option("--pour-seconds", bed3d.pour_seconds, "--pour-to: simulated settling time of the pour")
-      ->default_val(0.3)
-      ->check(cli::positive());
-  bed3d_cmd
-      ->add_option(
-          "--bed-scene", bed3d.bed_scene,
-          "time this 3-D scene (e.g. a --pour-to bed) instead of the lattice; --nx/--ny/--nz are not "
-          "used")
-      ->check(CLI::ExistingFile)
-      ->excludes(pour_to)
-      ->excludes(bed3d_scene_flag);
-  bench::LatticeBenchOptions lattice_bench;
-  CLI::App* lattice_bench_cmd = bench_cmd->add_subcommand(
-      "lattice", "impacts per second of the lattice-bed ripple model (Fig. 5.21) on one core");
-  lattice_bench_cmd->add_option("--columns", lattice_bench.columns, "lattice columns (even)")
-      ->default_val(10000)
-      ->check(cli::in_range(16, 100000000));
-  lattice_bench_cmd
-      ->add_option("--warmup", lattice_bench.warmup, "ejections per surface grain before timing ripples")
-      ->default_val(100)
-      ->check(cli::in_range(0.0, 1e6));
-  lattice_bench_cmd->add_option("--timed", lattice_bench.timed, "ejections per surface grain timed")
-      ->default_val(20)
-      ->check(cli::in_range(0.01, 1e6));
-  lattice_bench_cmd->add_option("--repeats", lattice_bench.repeats, "timed repetitions (median reported)")
-      ->default_val(5)
-      ->check(cli::in_range(1, 100));
-  lattice_bench_cmd->add_option("--json", lattice_bench.json, "also write the result as JSON to this file")
-      ->check(cli::output_file());
-  bench::HybridBenchOptions hybrid_bench;
-  CLI::App* hybrid_bench_cmd = bench_cmd->add_subcommand(
-      "hybrid", "airborne grain-steps per second of the 3-D hybrid ripple model's flux run on one core");
-  hybrid_bench_cmd->add_option("--length", hybrid_bench.length, "domain length, grain diameters")
-      ->default_val(400)
-      ->check(cli::in_range(3.0, 1e6));
-  hybrid_bench_cmd->add_option("--width", hybrid_bench.width, "domain width, grain diameters")
-      ->default_val(10)
-      ->check(cli::in_range(3.0, 1e6));
-  hybrid_bench_cmd->add_option("--ustar", hybrid_bench.u_star, "cm/s")
-      ->default_val(40)
-      ->check(cli::in_range(20.0, 500.0));
-  hybrid_bench_cmd->add_option("--duration", hybrid_bench.duration, "t* per run")
-      ->default_val(1000)
-      ->check(cli::in_range(10.0, 1e7));
-  hybrid_bench_cmd->add_option("--repeats", hybrid_bench.repeats, "timed repetitions (median reported)")
-      ->default_val(3)
-      ->check(cli::in_range(1, 100));
-  hybrid_bench_cmd->add_option("--json", hybrid_bench.json, "also write the result as JSON to this file")
-      ->check(cli::output_file());
+  cli::BenchCommands bench;
+  bench.add(app);
 
   cli::ImpactCommands impacts;
   impacts.add(app);
@@ -469,15 +337,7 @@ int main(int argc, char** argv) {
     if (*cost_cmd) return cost_command(cost, cost_dir, cost_quiet, cost_resume);
     if (*inspect_cmd) return cli::inspect_command(inspect_path);
     if (*die_cmd) return cli::die_model_command(die);
-    if (*bed_cmd) return bench::run_bed_command(bed);
-    if (*impact_bench_cmd) return bench::run_impact_bench(impact_bench);
-    if (*lattice_bench_cmd) return bench::run_lattice_bench(lattice_bench);
-    if (*hybrid_bench_cmd) return bench::run_hybrid_bench(hybrid_bench);
-    if (*bed3d_cmd) {
-      cli::ProgressBar bar(parallel::rank() == 0);  // (the pour's: stderr, so stdout keeps the results)
-      bed3d.progress = [&bar](double done, double total) { bar.update(done, total); };
-      return bench::run_bed3d_bench(bed3d);
-    }
+    if (const int status = bench.dispatch(); status >= 0) return status;
     if (const int status = impacts.dispatch(); status >= 0) return status;
     if (const int status = sand_gun.dispatch(); status >= 0) return status;
     if (const int status = saltation.dispatch(); status >= 0) return status;
