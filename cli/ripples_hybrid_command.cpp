@@ -287,6 +287,176 @@ void read_hybrid_checkpoint(const std::string& path, const ripples::hybrid::Hybr
   }
 }
 
+// The run file's tables and metadata beside the frames already streamed into it, and its plot.
+void write_hybrid_output(GridSeriesWriter& out, const RipplesCommands& a,
+                         const ripples::hybrid::HybridConfig& config, const ripples::hybrid::RippleRun& run,
+                         const std::vector<BedFrame>& frames, const ripples::hybrid::RippleTrends& trend,
+                         const std::vector<ripples::hybrid::ImpactRecord>& impact_log, bool talk) {
+  const ripples::hybrid::RippleOptions& o = config.options;
+  const auto& bed = run.bed();
+  const double dx = bed.cell() / o.diameter;
+  SampleTable history{
+      "history",
+      "per frame: t* = t / sqrt(d / g^); amplitude 2 sqrt(2 C(0)), wavelength (first peak of the "
+      "slice-averaged autocorrelation), ripple index, mean height, downwind shift since the "
+      "previous frame (grain diameters); Q* and grains airborne averaged since the previous "
+      "frame; u* at the bed (cm/s); E_eff / E_d2; the surface grain size at crests and troughs (d); z0 "
+      "of the log layer (d); the stoss and lee angles (deg); mid-air collisions per t* per 1,000 d^2 "
+      "of bed since the previous frame; the crests' mean spacing and height (d) and their ratio, slice "
+      "by slice",
+      ripples::hybrid::frame_history_columns(),
+      {}};
+  for (const BedFrame& f : frames) history.rows.push_back(ripples::hybrid::frame_history_row(f));
+  SampleTable flux{
+      "flux", "flux samples: t*, Q*, grains airborne", {"t_star", "mass_flux_star", "airborne"}, {}};
+  for (const auto& s : run.series()) flux.rows.push_back({s[0], s[1], s[2]});
+  SampleTable response{"bed_response",
+                       "the bed's linear response by wavelength band over the frames: growth rate (per t*, "
+                       "with its standard error) and downwind phase speed (d per t*); wavelengths in d",
+                       {"lambda_min", "lambda_max", "growth_rate", "growth_error", "phase_speed"},
+                       {}};
+  for (const auto& b : trend.response)
+    response.rows.push_back({b.lambda_min, b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed});
+  std::vector<SampleTable> tables{history, flux, response};
+  if (!o.sizes.empty()) tables.push_back(size_profiles(frames, bed.nx()));
+  if (a.impacts_from >= 0)
+    tables.push_back(
+        ripples::hybrid::impact_table(impact_log, a.impacts_from, run.transport().time_unit(), o.diameter));
+  const std::string xmf = out.commit(
+      tables, {{"grainlab_version", GRAINLAB_VERSION},
+               {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},
+               {"config", config.text},
+               {"wind", !o.wind_follows_bed ? "column on the mean bed level"
+                        : o.wind_relief_fades
+                            ? "column on the bed's relief as it fades with height in potential flow "
+                              "(wind_relief_fades)"
+                            : "column on the bed beneath each grain (wind_follows_bed)"},
+               {"units",
+                "frames: bed height in grain diameters above the initial surface, x and y in "
+                "grain diameters (x downwind); time t* = t / sqrt(d / g^)"},
+               {"dx", fmt::format("{:.17g}", dx)},
+               {"sizes", fmt::format("{} (diameters), fractions {}", nlohmann::json(o.sizes).dump(),
+                                     nlohmann::json(o.fractions).dump())},
+               {"time_unit", "t*"}});
+  if (talk) fmt::print("wrote {} and {}\n", a.out, xmf);
+  draw_plot_beside(a.out, "_ripples", "plot_hybrid.py", {a.out}, a.force, a.json,
+                   "the bed, the space-time plot, A, lambda, RI, Q* and the flank slopes");
+}
+
+// `--json`: the last frame, the fits, the run's settings and its whole history.
+nlohmann::json hybrid_json(const ripples::hybrid::RippleOptions& o, const ripples::hybrid::RippleRun& run,
+                           const std::vector<BedFrame>& frames, const ripples::hybrid::RippleTrends& trend,
+                           double rate, double wall, std::uint64_t collisions) {
+  const BedFrame& last = frames.back();
+  const auto& tr = run.transport();
+  const auto& bed = run.bed();
+  nlohmann::json rows = nlohmann::json::array();
+  for (const BedFrame& f : frames) {
+    nlohmann::json row = nlohmann::json::array();
+    for (double v : ripples::hybrid::frame_history_row(f)) row.push_back(number_or_null(v));
+    rows.push_back(row);
+  }
+  nlohmann::json response = nlohmann::json::array();
+  for (const auto& b : trend.response)
+    response.push_back({{"lambda_min", b.lambda_min},
+                        {"lambda_max", b.lambda_max},
+                        {"growth_rate", b.growth_rate},
+                        {"phase_speed", b.phase_speed},
+                        {"growth_error", number_or_null(b.growth_error)}});
+  return nlohmann::json{{"t_star", last.t_star},
+                        {"u_star", o.u_star},
+                        {"seed", o.seed},
+                        {"length", o.length},
+                        {"width", o.width},
+                        {"amplitude", last.stats.amplitude},
+                        {"wavelength", last.stats.wavelength},
+                        {"ripple_index", last.stats.ripple_index},
+                        {"ripple_index_5e4_3e5", number_or_null(trend.window_ripple_index)},
+                        {"ripple_index_5e4_3e5_frames", trend.window_frames},
+                        {"crest_spacing", number_or_null(last.stats.crest_spacing)},
+                        {"crest_height", number_or_null(last.stats.crest_height)},
+                        {"crest_ripple_index", number_or_null(last.stats.crest_ripple_index)},
+                        {"crest_ripple_index_5e4_3e5", number_or_null(trend.window_crest_ripple_index)},
+                        {"stoss_deg", number_or_null(last.stats.stoss_deg)},
+                        {"lee_deg", number_or_null(last.stats.lee_deg)},
+                        {"mass_flux_star", last.mass_flux_star},
+                        {"growth_rate", number_or_null(trend.growth_rate)},
+                        {"chi", number_or_null(trend.chi)},
+                        {"migration_speed", number_or_null(trend.migration_speed)},
+                        {"bed_response", response},
+                        {"s", tr.density_ratio()},
+                        {"galileo", tr.galileo()},
+                        {"shields", tr.shields()},
+                        {"splash", o.splash},
+                        {"wind_follows_bed", o.wind_follows_bed},
+                        {"wind_relief_fades", o.wind_relief_fades},
+                        {"wind_loosened", o.wind_loosened},
+                        {"ejecta_launch", o.ejecta_vertical ? "vertical" : "normal"},
+                        {"splash_frame", o.splash_level ? "level" : "facet"},
+                        {"cell", o.cell},
+                        {"repose_deg", o.repose_deg},
+                        {"key_point_repose_deg", key_point_repose_deg(o)},
+                        {"swept", o.swept},
+                        {"fast_substeps", o.fast_substeps},
+                        {"fast_collisions", tr.fast_collisions},
+                        {"collisions", collisions},
+                        {"steps", tr.steps},
+                        {"travel", o.travel},
+                        {"dt_max", o.dt_max},
+                        {"sizes", o.sizes},
+                        {"fractions", o.fractions},
+                        {"size_crest", number_or_null(last.size_crest)},
+                        {"size_trough", number_or_null(last.size_trough)},
+                        {"deposited", bed.deposited},
+                        {"eroded", bed.eroded},
+                        {"grain_steps", tr.grain_steps},
+                        {"grain_steps_per_second", rate},  // all ranks together
+                        {"ranks", parallel::size()},
+                        {"wall_seconds", wall},
+                        {"history_columns", ripples::hybrid::frame_history_columns()},
+                        {"history", rows}};
+}
+
+// The summary for people: the last frame, the fits, the bed's response by band, the speed.
+void print_hybrid_summary(const ripples::hybrid::RippleOptions& o, const ripples::hybrid::RippleRun& run,
+                          const BedFrame& last, const ripples::hybrid::RippleTrends& trend, double rate,
+                          double wall) {
+  const auto& tr = run.transport();
+  fmt::print(
+      "t* = {:.0f}: A = {:.3g} d, lambda = {:.3g} d, RI = {:.3g}, flanks {:.3g} deg stoss / {:.3g} deg lee; "
+      "Q* = {:.4g} ({:.0f} grains airborne)\n",
+      last.t_star, last.stats.amplitude, last.stats.wavelength, last.stats.ripple_index, last.stats.stoss_deg,
+      last.stats.lee_deg, last.mass_flux_star, last.airborne);
+  // A fit the frames do not allow (a run too short for ripples) is NaN: said in words, not printed as "nan".
+  using ripples::hybrid::shown_fit;
+  const bool unfitted =
+      !std::isfinite(trend.growth_rate) || !std::isfinite(trend.chi) || !std::isfinite(trend.migration_speed);
+  fmt::print("  growth rate of A {} per t* (first half), chi = {} (second half), migration {} d per t*{}\n",
+             shown_fit(trend.growth_rate), shown_fit(trend.chi), shown_fit(trend.migration_speed),
+             unfitted ? " (n/a: too few frames with ripples to fit)" : "");
+  fmt::print("  crests: {:.3g} d apart, {:.3g} d high, RI {:.3g} (slice by slice)\n",
+             last.stats.crest_spacing, last.stats.crest_height, last.stats.crest_ripple_index);
+  if (trend.window_frames > 0)
+    fmt::print(
+        "  mean RI over t* = 5e4-3e5 (the paper's Fig. 9 inset): {:.3g} ({} frames); the crests' RI: "
+        "{}\n",
+        trend.window_ripple_index, trend.window_frames, shown_fit(trend.window_crest_ripple_index));
+  fmt::print(
+      "  key points {} d apart: a settling grain rolls on past steps steeper than {:.1f} deg (repose {} deg "
+      "less its own rise over a cell)\n",
+      o.cell, key_point_repose_deg(o), o.repose_deg);
+  if (!trend.response.empty()) {
+    fmt::print(
+        "  the bed's response by wavelength band (growth rate per t*, downwind phase speed d per t*):\n");
+    for (const auto& b : trend.response)
+      fmt::print("    {:7.1f}-{:7.1f} d: {:+.2e} +- {:.1e} per t*, {:+.2e} d per t*{}\n", b.lambda_min,
+                 b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed,
+                 b.growth_rate > 2 * b.growth_error ? "  (growing)" : "");
+  }
+  fmt::print("  {} grain-steps in {:.1f} s: {:.3g} grain-steps/s{}\n", tr.grain_steps, wall, rate,
+             parallel::size() > 1 ? fmt::format(" on {} MPI ranks", parallel::size()) : "");
+}
+
 }  // namespace
 
 int hybrid_ripples_command(const RipplesCommands& a) {
@@ -370,161 +540,16 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   bar.finish();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const ripples::hybrid::RippleTrends trend = ripples::hybrid::ripple_trends(frames);
-  const BedFrame& last = frames.back();
-  if (out) {
-    SampleTable history{
-        "history",
-        "per frame: t* = t / sqrt(d / g^); amplitude 2 sqrt(2 C(0)), wavelength (first peak of the "
-        "slice-averaged autocorrelation), ripple index, mean height, downwind shift since the "
-        "previous frame (grain diameters); Q* and grains airborne averaged since the previous "
-        "frame; u* at the bed (cm/s); E_eff / E_d2; the surface grain size at crests and troughs (d); z0 "
-        "of the log layer (d); the stoss and lee angles (deg); mid-air collisions per t* per 1,000 d^2 "
-        "of bed since the previous frame; the crests' mean spacing and height (d) and their ratio, slice "
-        "by slice",
-        ripples::hybrid::frame_history_columns(),
-        {}};
-    for (const BedFrame& f : frames) history.rows.push_back(ripples::hybrid::frame_history_row(f));
-    SampleTable flux{
-        "flux", "flux samples: t*, Q*, grains airborne", {"t_star", "mass_flux_star", "airborne"}, {}};
-    for (const auto& s : run.series()) flux.rows.push_back({s[0], s[1], s[2]});
-    SampleTable response{"bed_response",
-                         "the bed's linear response by wavelength band over the frames: growth rate (per t*, "
-                         "with its standard error) and downwind phase speed (d per t*); wavelengths in d",
-                         {"lambda_min", "lambda_max", "growth_rate", "growth_error", "phase_speed"},
-                         {}};
-    for (const auto& b : trend.response)
-      response.rows.push_back({b.lambda_min, b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed});
-    std::vector<SampleTable> tables{history, flux, response};
-    if (!o.sizes.empty()) tables.push_back(size_profiles(frames, bed.nx()));
-    if (a.impacts_from >= 0)
-      tables.push_back(
-          ripples::hybrid::impact_table(impact_log, a.impacts_from, run.transport().time_unit(), o.diameter));
-    const std::string xmf = out->commit(
-        tables, {{"grainlab_version", GRAINLAB_VERSION},
-                 {"model", "3-D hybrid ripple model, Huo et al. 2021 (grainlab ripples hybrid)"},
-                 {"config", config.text},
-                 {"wind", !o.wind_follows_bed ? "column on the mean bed level"
-                          : o.wind_relief_fades
-                              ? "column on the bed's relief as it fades with height in potential flow "
-                                "(wind_relief_fades)"
-                              : "column on the bed beneath each grain (wind_follows_bed)"},
-                 {"units",
-                  "frames: bed height in grain diameters above the initial surface, x and y in "
-                  "grain diameters (x downwind); time t* = t / sqrt(d / g^)"},
-                 {"dx", fmt::format("{:.17g}", dx)},
-                 {"sizes", fmt::format("{} (diameters), fractions {}", nlohmann::json(o.sizes).dump(),
-                                       nlohmann::json(o.fractions).dump())},
-                 {"time_unit", "t*"}});
-    if (talk) fmt::print("wrote {} and {}\n", a.out, xmf);
-    draw_plot_beside(a.out, "_ripples", "plot_hybrid.py", {a.out}, a.force, a.json,
-                     "the bed, the space-time plot, A, lambda, RI, Q* and the flank slopes");
-  }
+  if (out) write_hybrid_output(*out, a, config, run, frames, trend, impact_log, talk);
   const auto& tr = run.transport();
   const double rate = wall > 0 ? static_cast<double>(tr.grain_steps - steps_before) / wall : 0;
   const std::uint64_t collisions = tr.total_collisions();  // (a sum over the ranks: every rank takes part)
   if (!first) return 0;
   if (a.json) {
-    nlohmann::json rows = nlohmann::json::array();
-    for (const BedFrame& f : frames) {
-      nlohmann::json row = nlohmann::json::array();
-      for (double v : ripples::hybrid::frame_history_row(f)) row.push_back(number_or_null(v));
-      rows.push_back(row);
-    }
-    nlohmann::json response = nlohmann::json::array();
-    for (const auto& b : trend.response)
-      response.push_back({{"lambda_min", b.lambda_min},
-                          {"lambda_max", b.lambda_max},
-                          {"growth_rate", b.growth_rate},
-                          {"phase_speed", b.phase_speed},
-                          {"growth_error", number_or_null(b.growth_error)}});
-    const nlohmann::json j{{"t_star", last.t_star},
-                           {"u_star", o.u_star},
-                           {"seed", o.seed},
-                           {"length", o.length},
-                           {"width", o.width},
-                           {"amplitude", last.stats.amplitude},
-                           {"wavelength", last.stats.wavelength},
-                           {"ripple_index", last.stats.ripple_index},
-                           {"ripple_index_5e4_3e5", number_or_null(trend.window_ripple_index)},
-                           {"ripple_index_5e4_3e5_frames", trend.window_frames},
-                           {"crest_spacing", number_or_null(last.stats.crest_spacing)},
-                           {"crest_height", number_or_null(last.stats.crest_height)},
-                           {"crest_ripple_index", number_or_null(last.stats.crest_ripple_index)},
-                           {"crest_ripple_index_5e4_3e5", number_or_null(trend.window_crest_ripple_index)},
-                           {"stoss_deg", number_or_null(last.stats.stoss_deg)},
-                           {"lee_deg", number_or_null(last.stats.lee_deg)},
-                           {"mass_flux_star", last.mass_flux_star},
-                           {"growth_rate", number_or_null(trend.growth_rate)},
-                           {"chi", number_or_null(trend.chi)},
-                           {"migration_speed", number_or_null(trend.migration_speed)},
-                           {"bed_response", response},
-                           {"s", tr.density_ratio()},
-                           {"galileo", tr.galileo()},
-                           {"shields", tr.shields()},
-                           {"splash", o.splash},
-                           {"wind_follows_bed", o.wind_follows_bed},
-                           {"wind_relief_fades", o.wind_relief_fades},
-                           {"wind_loosened", o.wind_loosened},
-                           {"ejecta_launch", o.ejecta_vertical ? "vertical" : "normal"},
-                           {"splash_frame", o.splash_level ? "level" : "facet"},
-                           {"cell", o.cell},
-                           {"repose_deg", o.repose_deg},
-                           {"key_point_repose_deg", key_point_repose_deg(o)},
-                           {"swept", o.swept},
-                           {"fast_substeps", o.fast_substeps},
-                           {"fast_collisions", tr.fast_collisions},
-                           {"collisions", collisions},
-                           {"steps", tr.steps},
-                           {"travel", o.travel},
-                           {"dt_max", o.dt_max},
-                           {"sizes", o.sizes},
-                           {"fractions", o.fractions},
-                           {"size_crest", number_or_null(last.size_crest)},
-                           {"size_trough", number_or_null(last.size_trough)},
-                           {"deposited", bed.deposited},
-                           {"eroded", bed.eroded},
-                           {"grain_steps", tr.grain_steps},
-                           {"grain_steps_per_second", rate},  // all ranks together
-                           {"ranks", parallel::size()},
-                           {"wall_seconds", wall},
-                           {"history_columns", ripples::hybrid::frame_history_columns()},
-                           {"history", rows}};
-    fmt::print("{}\n", j.dump());
+    fmt::print("{}\n", hybrid_json(o, run, frames, trend, rate, wall, collisions).dump());
     return 0;
   }
-  fmt::print(
-      "t* = {:.0f}: A = {:.3g} d, lambda = {:.3g} d, RI = {:.3g}, flanks {:.3g} deg stoss / {:.3g} deg lee; "
-      "Q* = {:.4g} ({:.0f} grains airborne)\n",
-      last.t_star, last.stats.amplitude, last.stats.wavelength, last.stats.ripple_index, last.stats.stoss_deg,
-      last.stats.lee_deg, last.mass_flux_star, last.airborne);
-  // A fit the frames do not allow (a run too short for ripples) is NaN: said in words, not printed as "nan".
-  using ripples::hybrid::shown_fit;
-  const bool unfitted =
-      !std::isfinite(trend.growth_rate) || !std::isfinite(trend.chi) || !std::isfinite(trend.migration_speed);
-  fmt::print("  growth rate of A {} per t* (first half), chi = {} (second half), migration {} d per t*{}\n",
-             shown_fit(trend.growth_rate), shown_fit(trend.chi), shown_fit(trend.migration_speed),
-             unfitted ? " (n/a: too few frames with ripples to fit)" : "");
-  fmt::print("  crests: {:.3g} d apart, {:.3g} d high, RI {:.3g} (slice by slice)\n",
-             last.stats.crest_spacing, last.stats.crest_height, last.stats.crest_ripple_index);
-  if (trend.window_frames > 0)
-    fmt::print(
-        "  mean RI over t* = 5e4-3e5 (the paper's Fig. 9 inset): {:.3g} ({} frames); the crests' RI: "
-        "{}\n",
-        trend.window_ripple_index, trend.window_frames, shown_fit(trend.window_crest_ripple_index));
-  fmt::print(
-      "  key points {} d apart: a settling grain rolls on past steps steeper than {:.1f} deg (repose {} deg "
-      "less its own rise over a cell)\n",
-      o.cell, key_point_repose_deg(o), o.repose_deg);
-  if (!trend.response.empty()) {
-    fmt::print(
-        "  the bed's response by wavelength band (growth rate per t*, downwind phase speed d per t*):\n");
-    for (const auto& b : trend.response)
-      fmt::print("    {:7.1f}-{:7.1f} d: {:+.2e} +- {:.1e} per t*, {:+.2e} d per t*{}\n", b.lambda_min,
-                 b.lambda_max, b.growth_rate, b.growth_error, b.phase_speed,
-                 b.growth_rate > 2 * b.growth_error ? "  (growing)" : "");
-  }
-  fmt::print("  {} grain-steps in {:.1f} s: {:.3g} grain-steps/s{}\n", tr.grain_steps, wall, rate,
-             parallel::size() > 1 ? fmt::format(" on {} MPI ranks", parallel::size()) : "");
+  print_hybrid_summary(o, run, frames.back(), trend, rate, wall);
   return 0;
 }
 
