@@ -265,6 +265,20 @@ int wavelength_command(const RipplesCommands& a) {
 void RipplesCommands::add(CLI::App& app) {
   group = app.add_subcommand("ripples", "the thesis's ripple models (Ch. V)");
   group->require_subcommand(1);
+  add_worms();
+  add_triangles();
+  add_bins();
+  add_lattice();
+  add_continuum();
+  add_run();
+  add_analyze();
+  add_wavelength();
+  add_hybrid_flux();
+  add_hybrid_focal();
+  add_hybrid();
+}
+
+void RipplesCommands::add_worms() {
   chain = group->add_subcommand("worms-chain",
                                 "two worms as a Markov chain: exact merger probability and Monte Carlo");
   chain->add_option("--links", links, "links of both worms together (L)")->default_val(10);
@@ -290,6 +304,9 @@ void RipplesCommands::add(CLI::App& app) {
   ring->add_option("--steps", ring_steps, "steps")->default_val(200000)->check(cli::in_range(0, 100000000));
   ring->add_option("--seed", seed, "seed")->default_val(1);
   ring->add_flag("--json", json, "print the lengths and the mean-length history");
+}
+
+void RipplesCommands::add_triangles() {
   triangles = group->add_subcommand("triangles", "two triangular ripples colliding (Figs 5.17-5.20)");
   triangles
       ->add_option(
@@ -305,6 +322,9 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(CLI::IsMember({"target", "brink"}));
   triangles->add_option("--beta", beta, "stoss slope, deg")->default_val(5);
   triangles->add_option("--alpha", alpha, "lee slope (impact angle), deg")->default_val(10);
+}
+
+void RipplesCommands::add_bins() {
   bin_cmd = group->add_subcommand("bins", "Haff's bin model: shots at a fixed angle, shadowing, repose");
   bin_cmd->add_option("--bins", bins, "bins (periodic)")->default_val(600);
   bin_cmd->add_option("--shots", shots, "grains fired")->default_val(2000000);
@@ -317,6 +337,9 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(cli::output_file());
   bin_cmd->add_flag("--force", force, "overwrite --out");
   bin_cmd->add_flag("--json", json, "print the roughness and wavelength history and the final heights");
+}
+
+void RipplesCommands::add_lattice() {
   lattice = group->add_subcommand("lattice", "the lattice-bed model (Fig. 5.21): target and brink ejection");
   lattice
       ->add_option("--config", config, "a TOML config with a [lattice] table (scenes/ripples/lattice_*.toml)")
@@ -332,6 +355,9 @@ void RipplesCommands::add(CLI::App& app) {
       ->default_val(1);
   lattice->add_flag("--force", force, "overwrite --out");
   lattice->add_flag("--json", json, "print the final statistics of every seed and their mean, sd, interval");
+}
+
+void RipplesCommands::add_continuum() {
   continuum =
       group->add_subcommand("continuum", "the continuum model: growth rates and steady shapes (eqs 5.3-5.8)");
   continuum->add_option("--speed", shape_speed, "propagation speed of the steady shapes, cm/s")
@@ -340,6 +366,9 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(cli::output_file());
   continuum->add_flag("--force", force, "overwrite --out");
   continuum->add_flag("--json", json, "print the growth rates and the shapes' length scale as JSON");
+}
+
+void RipplesCommands::add_run() {
   run = group->add_subcommand("run", "any surface-evolving ripple model, named by its config's table");
   run->add_option("--config", config, "a TOML config with one model table ([bins], [lattice])")
       ->check(CLI::ExistingFile);
@@ -348,6 +377,9 @@ void RipplesCommands::add(CLI::App& app) {
   run->add_flag("--force", force, "overwrite --out");
   run->add_flag("--json", json, "print the final diagnostics as JSON");
   run->add_flag("--list", list_models, "list the models");
+}
+
+void RipplesCommands::add_analyze() {
   analyze = group->add_subcommand("analyze",
                                   "wavelength, height, ripple index and slopes of any surface (Ch. V tools)");
   analyze
@@ -371,65 +403,73 @@ void RipplesCommands::add(CLI::App& app) {
       ->default_val(0)
       ->check(cli::non_negative());
   analyze->add_flag("--json", json, "print the results as JSON");
+}
+
+void RipplesCommands::add_wavelength() {
   wavelength =
       group->add_subcommand("wavelength", "Fig. 5.24: the largest ripple a merger can make, by size ratio");
   wavelength->add_flag("--json", json, "print the table as JSON");
   triangles->add_flag("--json", json, "print the sizes after the collision and the minimum effective height");
   // The flux model's options, shared by hybrid-flux and hybrid-focal (one of them runs).
-  auto add_flux_model_options = [this](CLI::App* c) {
-    c->add_option("--diameter", flux.diameter, "grain diameter, cm")
-        ->default_val(0.025)
-        ->check(cli::in_range(1e-5, 10.0));
-    c->add_option("--grain-density", flux.grain_density, "g/cm^3")->default_val(2.65)->check(cli::positive());
-    c->add_option("--fluid-density", flux.fluid_density, "g/cm^3")
-        ->default_val(0.00123)
-        ->check(cli::positive());
-    c->add_option("--viscosity", flux.viscosity, "kinematic, cm^2/s")
-        ->default_val(0.146)
-        ->check(cli::positive());
-    c->add_option("--length", flux.length, "domain length, grain diameters")
-        ->default_val(400)
-        ->check(cli::in_range(3.0, 1e6));
-    c->add_option("--width", flux.width, "domain width, grain diameters")
-        ->default_val(10)
-        ->check(cli::in_range(3.0, 1e6));
-    c->add_option("--duration", flux.duration, "t* = t / sqrt(d / g^)")
-        ->default_val(4000)
-        ->check(cli::in_range(1.0, 1e8));
-    c->add_option("--average-from", flux.average_from, "start of the averaging window, t*")
-        ->default_val(2000)
-        ->check(cli::in_range(0.0, 1e8));
-    c->add_option("--splash", flux.splash,
-                  "Lammel parameter set (paper2021, paper2021-effective, lammel2017) or a grainlab-splash/1 "
-                  "file of recorded impacts (grainlab splash)")
-        ->default_val("paper2021")
-        ->check(CLI::IsMember(ripples::hybrid::LammelParameters::names()) | CLI::ExistingFile);
-    c->add_flag(
-        "--no-collisions", [this](std::int64_t) { flux.collisions = false; }, "no mid-air collisions");
-    c->add_flag("--collide-within-splash", flux.collide_within_splash,
-                "let the grains one splash sends up collide with each other (before 2026-12-03 they did; "
-                "docs/hybrid.md)");
-    c->add_flag("--wind-loosened", flux.wind_loosened,
-                "eq. 19: ejecta need E_eff = E_d2 (1 - tau_fw / tau_ft) (Shao & Lu's threshold)");
-    c->add_option("--dead-rise", flux.dead_rise,
-                  "a rebound or ejectum whose centre cannot rise this many diameters settles")
-        ->default_val(1.0)
-        ->check(cli::in_range(0.0, 10.0));
-    c->add_flag("--swept", flux.swept,
-                "find mid-air collisions along the grains' paths over a step and trace impacts back "
-                "to the bed's surface, so that --travel may exceed 0.5");
-    c->add_flag("--fast-substeps", flux.fast_substeps,
-                "with --swept: steps of dt_max, grains faster than travel / dt_max in substeps");
-    c->add_option("--travel", flux.travel, "the most a grain moves in a step, d (0.2; 1.5 with --swept)")
-        ->default_val(0.2)
-        ->check(cli::in_range(0.01, 4.0));
-    c->add_option("--dt-max", flux.dt_max,
-                  "the longest step, sqrt(d / g) (with --fast-substeps every step's length: raise --travel "
-                  "with it, 1.5 d per 0.02)")
-        ->default_val(0.02)
-        ->check(cli::in_range(1e-4, 1.0));
-    c->add_option("--seed", flux.seed, "seed")->default_val(2021);
-  };
+}
+
+// The flux model's options, which hybrid-flux and hybrid-focal share.
+void RipplesCommands::add_flux_model_options(CLI::App* c) {
+  c->add_option("--diameter", flux.diameter, "grain diameter, cm")
+      ->default_val(0.025)
+      ->check(cli::in_range(1e-5, 10.0));
+  c->add_option("--grain-density", flux.grain_density, "g/cm^3")->default_val(2.65)->check(cli::positive());
+  c->add_option("--fluid-density", flux.fluid_density, "g/cm^3")
+      ->default_val(0.00123)
+      ->check(cli::positive());
+  c->add_option("--viscosity", flux.viscosity, "kinematic, cm^2/s")
+      ->default_val(0.146)
+      ->check(cli::positive());
+  c->add_option("--length", flux.length, "domain length, grain diameters")
+      ->default_val(400)
+      ->check(cli::in_range(3.0, 1e6));
+  c->add_option("--width", flux.width, "domain width, grain diameters")
+      ->default_val(10)
+      ->check(cli::in_range(3.0, 1e6));
+  c->add_option("--duration", flux.duration, "t* = t / sqrt(d / g^)")
+      ->default_val(4000)
+      ->check(cli::in_range(1.0, 1e8));
+  c->add_option("--average-from", flux.average_from, "start of the averaging window, t*")
+      ->default_val(2000)
+      ->check(cli::in_range(0.0, 1e8));
+  c->add_option("--splash", flux.splash,
+                "Lammel parameter set (paper2021, paper2021-effective, lammel2017) or a grainlab-splash/1 "
+                "file of recorded impacts (grainlab splash)")
+      ->default_val("paper2021")
+      ->check(CLI::IsMember(ripples::hybrid::LammelParameters::names()) | CLI::ExistingFile);
+  c->add_flag(
+      "--no-collisions", [this](std::int64_t) { flux.collisions = false; }, "no mid-air collisions");
+  c->add_flag("--collide-within-splash", flux.collide_within_splash,
+              "let the grains one splash sends up collide with each other (before 2026-12-03 they did; "
+              "docs/hybrid.md)");
+  c->add_flag("--wind-loosened", flux.wind_loosened,
+              "eq. 19: ejecta need E_eff = E_d2 (1 - tau_fw / tau_ft) (Shao & Lu's threshold)");
+  c->add_option("--dead-rise", flux.dead_rise,
+                "a rebound or ejectum whose centre cannot rise this many diameters settles")
+      ->default_val(1.0)
+      ->check(cli::in_range(0.0, 10.0));
+  c->add_flag("--swept", flux.swept,
+              "find mid-air collisions along the grains' paths over a step and trace impacts back "
+              "to the bed's surface, so that --travel may exceed 0.5");
+  c->add_flag("--fast-substeps", flux.fast_substeps,
+              "with --swept: steps of dt_max, grains faster than travel / dt_max in substeps");
+  c->add_option("--travel", flux.travel, "the most a grain moves in a step, d (0.2; 1.5 with --swept)")
+      ->default_val(0.2)
+      ->check(cli::in_range(0.01, 4.0));
+  c->add_option("--dt-max", flux.dt_max,
+                "the longest step, sqrt(d / g) (with --fast-substeps every step's length: raise --travel "
+                "with it, 1.5 d per 0.02)")
+      ->default_val(0.02)
+      ->check(cli::in_range(1e-4, 1.0));
+  c->add_option("--seed", flux.seed, "seed")->default_val(2021);
+}
+
+void RipplesCommands::add_hybrid_flux() {
   hybrid_flux = group->add_subcommand(
       "hybrid-flux", "the 3-D hybrid model's saturated flux over a flat bed (Huo et al. 2021, eq. 31)");
   hybrid_flux->add_option("--ustar", flux.u_star, "wind-shear velocity, cm/s")
@@ -449,6 +489,9 @@ void RipplesCommands::add(CLI::App& app) {
                           "continue a run from its checkpoint (the same options; --duration may be longer)");
   hybrid_flux->add_flag("--json", json, "print the result as JSON");
   hybrid_flux->add_flag("--quiet", quiet, "no progress bar");
+}
+
+void RipplesCommands::add_hybrid_focal() {
   hybrid_focal = group->add_subcommand("hybrid-focal",
                                        "the wind over saltation at several u*: the roughness z0 of its log "
                                        "layer and the profiles' focal point "
@@ -478,6 +521,9 @@ void RipplesCommands::add(CLI::App& app) {
       ->check(cli::positive());
   hybrid_focal->add_flag("--json", json, "print the result as JSON");
   hybrid_focal->add_flag("--quiet", quiet, "no progress lines");
+}
+
+void RipplesCommands::add_hybrid() {
   hybrid_ripples = group->add_subcommand(
       "hybrid", "the 3-D hybrid model's ripple run over an erodible bed (Huo et al. 2021): --config FILE");
   hybrid_ripples->add_option("--config", config, "a [hybrid] config (scenes/ripples/huo2021_ripples.toml)")

@@ -45,6 +45,20 @@ struct RipplesCommands {
   bool quiet = false;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
+
+ private:
+  void add_worms();
+  void add_triangles();
+  void add_bins();
+  void add_lattice();
+  void add_continuum();
+  void add_run();
+  void add_analyze();
+  void add_wavelength();
+  void add_hybrid_flux();
+  void add_hybrid_focal();
+  void add_hybrid();
+  void add_flux_model_options(CLI::App* c);
 };
 
 // Stops with exit status 2 if `out` exists and --force was not given (nothing is overwritten by accident).

@@ -296,6 +296,15 @@ int wind_command(const SaltationCommands& a) {
 void SaltationCommands::add(CLI::App& app) {
   group = app.add_subcommand("saltation", "the thesis's saltation models (Ch. IV)");
   group->require_subcommand(1);
+  add_conveyor();
+  add_wind();
+  add_study();
+  add_dem();
+  add_heights();
+  add_transient();
+}
+
+void SaltationCommands::add_conveyor() {
   conveyor =
       group->add_subcommand("conveyor", "the conveyor-belt feedback model: Table 4.1 A-C and Table 4.2 D-E");
   conveyor->add_option("--case", case_name, "A, B, C (distribution splash) or D, E (delta splash, time map)")
@@ -315,6 +324,9 @@ void SaltationCommands::add(CLI::App& app) {
       ->default_val(10000)
       ->check(cli::in_range(1, 10000000));
   conveyor->add_flag("--json", json, "print the final state as JSON");
+}
+
+void SaltationCommands::add_wind() {
   wind = group->add_subcommand(
       "wind",
       "steady-state saltation in a wind with grain feedback (Table 4.3 CASES 1-6, the sand gun's CASE 7)");
@@ -396,6 +408,11 @@ void SaltationCommands::add(CLI::App& app) {
                    "s between the points of a flight that feed the height profiles")
       ->default_val(5e-4)
       ->check(cli::in_range(1e-6, 0.1));
+  wind->add_flag("--json", wind_json,
+                 "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
+}
+
+void SaltationCommands::add_study() {
   study = group->add_subcommand(
       "study",
       "the wind-driven model over planets, grain sizes and u*: threshold, flux beside the classic laws");
@@ -417,6 +434,9 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::ExistingFile);
   study->add_option("--stop-after", study_stop_after, "stop after this many new runs, leaving the checkpoint")
       ->check(cli::in_range(1, 1000000));
+}
+
+void SaltationCommands::add_dem() {
   dem_app = group->add_subcommand(
       "dem", "saltation from first principles: a periodic DEM bed under a wind the grains slow down");
   dem_app->add_option("--ustar", dem.u_star, "wind-shear velocity, cm/s")
@@ -475,6 +495,9 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(CLI::ExistingFile);
   dem_app->add_option("--stop-at", dem.stop_at, "stop at this time after writing the checkpoint, s")
       ->check(cli::positive());
+}
+
+void SaltationCommands::add_heights() {
   heights = group->add_subcommand(
       "heights", "Fig. 4.22: how high grains of each size rise when launched into a sediment-free wind");
   heights_spec = validation::fig4_22_spec();
@@ -502,6 +525,9 @@ void SaltationCommands::add(CLI::App& app) {
       ->check(cli::output_folder());
   heights->add_flag("--force", force, "replace files in --out");
   heights->add_flag("--json", heights_json, "print every launch as JSON");
+}
+
+void SaltationCommands::add_transient() {
   transient = group->add_subcommand(
       "transient",
       "eq. 4.35: saltation in time from a seed of launches, through saturation and changes of u*");
@@ -550,8 +576,6 @@ void SaltationCommands::add(CLI::App& app) {
   transient
       ->add_option("--stop-at", transient_stop_at, "stop at this simulated time (s) after saving the state")
       ->check(cli::positive());
-  wind->add_flag("--json", wind_json,
-                 "print u_star_eff, mass_flux, iterations, converged, hop and impact means");
 }
 
 int SaltationCommands::dispatch() const {

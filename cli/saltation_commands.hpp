@@ -72,6 +72,14 @@ struct SaltationCommands {
            *heights = nullptr, *transient = nullptr;
   void add(CLI::App& app);
   int dispatch() const;  // -1 if none of these ran
+
+ private:
+  void add_conveyor();
+  void add_wind();
+  void add_study();
+  void add_dem();
+  void add_heights();
+  void add_transient();
 };
 
 int study_command(const SaltationCommands& a);
