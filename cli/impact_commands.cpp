@@ -357,8 +357,6 @@ int impact_command(const ImpactCommands& a) {
 int rebound_command(const ImpactCommands& a) {
   if (a.model_case != 1 && a.model_case != 2)
     throw InputError({"--case", 0}, std::to_string(a.model_case), "must be 1 or 2 (Table 3.10)");
-  if (!(a.alpha > 0 && a.alpha < 90))
-    throw InputError({"--alpha", 0}, fmt::format("{}", a.alpha), "must lie in (0, 90) degrees");
   ReboundParams p = rebound_case(a.model_case, a.alpha);
   if (a.mass_ratio) p.mass_ratio = *a.mass_ratio;  // (ranges checked as the command line is read)
   if (a.sigma) p.sigma = *a.sigma;
@@ -421,11 +419,6 @@ int splash_command(const ImpactCommands& a) {
     o.bed_checkpoint = a.splash_bed_checkpoint;
     if (!a.splash_speeds.empty()) o.speeds_cm_s = a.splash_speeds;
     if (!a.splash_angles.empty()) o.angles_deg = a.splash_angles;
-    for (double v : o.speeds_cm_s)
-      if (!(v > 0)) throw InputError({"--speeds", 0}, fmt::format("{}", v), "speeds must be positive (cm/s)");
-    for (double v : o.angles_deg)
-      if (!(v > 0 && v < 90))
-        throw InputError({"--angles", 0}, fmt::format("{}", v), "angles must lie in (0, 90) degrees");
     saltation::SplashFile resume;
     if (!a.splash_restart.empty()) {
       resume = saltation::read_splash_file(a.splash_restart, true);
@@ -584,10 +577,12 @@ void ImpactCommands::add(CLI::App& app) {
       ->check(cli::in_range(1, 100));
   splash_cmd->add_option("--seed", splash_seed, "seed of the impact points")->default_val(1);
   add_engine_option(splash_cmd, splash_engine, "engine");
-  splash_cmd->add_option("--speeds", splash_speeds,
-                         "incident speeds, cm/s (default 300 1000 2000 4000 8100)");
-  splash_cmd->add_option("--angles", splash_angles,
-                         "incident angles from the horizontal, deg (default 5 15 25 45 70)");
+  splash_cmd->add_option("--speeds", splash_speeds, "incident speeds, cm/s (default 300 1000 2000 4000 8100)")
+      ->check(cli::positive());
+  splash_cmd
+      ->add_option("--angles", splash_angles,
+                   "incident angles from the horizontal, deg (default 5 15 25 45 70)")
+      ->check(cli::in_range(0.0, 90.0, Ends::open));
   splash_cmd
       ->add_option("--checkpoint", splash_checkpoint,
                    "checkpoint after every cell (default OUT.checkpoint.h5)")
@@ -626,7 +621,9 @@ void ImpactCommands::add(CLI::App& app) {
   rebound_cmd =
       app.add_subcommand("rebound-model", "the thesis's rebound model (Appendix III.1, Table 3.10)");
   rebound_cmd->add_option("--case", model_case, "1 or 2 (Table 3.10)")->default_val(2);
-  rebound_cmd->add_option("--alpha", alpha, "incident angle from the horizontal, degrees")->default_val(15);
+  rebound_cmd->add_option("--alpha", alpha, "incident angle from the horizontal, degrees")
+      ->default_val(15)
+      ->check(cli::in_range(0.0, 90.0, Ends::open));
   rebound_cmd->add_option("--mass-ratio", mass_ratio, "m_i / m_beff (default: the case's 0.5)")
       ->check(cli::positive());
   rebound_cmd->add_option("--sigma", sigma, "friction restitution (default: the case's)")

@@ -293,9 +293,12 @@ int main(int argc, char** argv) {
   cli::DieModelArgs die;
   CLI::App* die_cmd = app.add_subcommand(
       "die-model", "the thesis's loaded 2-D die model (Appendix II.1): probability p_h of a high face up");
-  die_cmd->add_option("--f", die.f, "loading: fraction of the way from centre to corner, in [0, 1)")
-      ->default_val(0.2);
-  die_cmd->add_option("--eps", die.eps, "die-plane coefficient of restitution, in [0, 1)")->default_val(0.7);
+  die_cmd->add_option("--f", die.f, "loading: fraction of the way from centre to corner")
+      ->default_val(0.2)
+      ->check(cli::in_range(0.0, 1.0, cli::Ends::open_high));
+  die_cmd->add_option("--eps", die.eps, "die-plane coefficient of restitution")
+      ->default_val(0.7)
+      ->check(cli::in_range(0.0, 1.0, cli::Ends::open_high));
   die_cmd->add_flag("--json", die.json, "machine-readable");
   die_cmd->add_option("--plot", die.plot_dir,
                       "also write p_h(f) for several eps (Fig. 2.7) into this folder");

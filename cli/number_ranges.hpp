@@ -20,18 +20,27 @@ std::string bound_text(T bound) {
     return fmt::format("{:g}", bound);
 }
 
-// Inclusive [lo, hi]; T (deduced from the bounds) is the type the value is read as.
+// Which ends of a range belong to it: [lo, hi], (lo, hi], [lo, hi) or (lo, hi).
+enum class Ends { closed, open_low, open_high, open };
+
+// lo to hi, inclusive unless `ends` says otherwise; T (deduced from the bounds) is the type the value is
+// read as. The help and the message show the range as written: "FLOAT in (0, 1000)".
 template <typename T>
-CLI::Validator in_range(T lo, T hi) {
+CLI::Validator in_range(T lo, T hi, Ends ends = Ends::closed) {
+  const bool open_low = ends == Ends::open_low || ends == Ends::open;
+  const bool open_high = ends == Ends::open_high || ends == Ends::open;
+  const std::string range =
+      fmt::format("{}{}, {}{}", open_low ? "(" : "[", bound_text(lo), bound_text(hi), open_high ? ")" : "]");
   return CLI::Validator(
-      [lo, hi](std::string& input) -> std::string {
+      [lo, hi, open_low, open_high, range](std::string& input) -> std::string {
         T value{};
         if (!CLI::detail::lexical_cast(input, value)) return fmt::format("{}: not a number", input);
-        if (value < lo || value > hi)
-          return fmt::format("{}: must lie in [{}, {}]", input, bound_text(lo), bound_text(hi));
+        const bool below = open_low ? !(value > lo) : !(value >= lo);
+        const bool above = open_high ? !(value < hi) : !(value <= hi);
+        if (below || above) return fmt::format("{}: must lie in {}", input, range);
         return {};
       },
-      fmt::format("{} in [{}, {}]", CLI::detail::type_name<T>(), bound_text(lo), bound_text(hi)));
+      fmt::format("{} in {}", CLI::detail::type_name<T>(), range));
 }
 
 // Strictly positive (`strict`), or at least zero; no upper bound.

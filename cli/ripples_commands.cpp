@@ -31,12 +31,7 @@ bool sets_run(const RipplesCommands& a, const CLI::App* command, const char* nam
   return a.config.empty() || command->count(name) > 0;
 }
 
-void check_A(double A) {
-  if (!(A > 0 && A <= 1)) throw InputError({"--A", 0}, fmt::format("{}", A), "must lie in (0, 1]");
-}
-
 int chain_command(const RipplesCommands& a) {
-  check_A(a.A);
   if (a.links < 2) throw InputError({"--links", 0}, std::to_string(a.links), "must be at least 2");
   if (a.start < 0 || a.start > a.links)
     throw InputError({"--start", 0}, std::to_string(a.start),
@@ -90,7 +85,7 @@ int ring_command(const RipplesCommands& a) {
   auto given = [&](const char* name) { return sets_run(a, a.ring, name); };
   if (given("--worms")) run.worms = a.worms;
   if (given("--length")) run.length = a.length;
-  if (given("--A")) check_A(a.A), run.A = a.A;
+  if (given("--A")) run.A = a.A;
   if (given("--steps")) run.steps = a.ring_steps;
   if (given("--seed")) run.seed = a.seed;
   // (A config's values were checked where it was read.)
@@ -134,8 +129,6 @@ int triangles_command(const RipplesCommands& a) {
   if (!a.config.empty()) run = parse_triangle_config(read_config_text(a.config), a.config);
   auto given = [&](const char* name) { return sets_run(a, a.triangles, name); };
   if (given("--ratio")) {
-    if (!(a.ratio > 0 && a.ratio < 1))
-      throw InputError({"--ratio", 0}, fmt::format("{}", a.ratio), "must lie in (0, 1)");
     run.ratio = a.ratio;
   }
   if (given("--law")) run.params.law = a.law;
@@ -284,7 +277,8 @@ void RipplesCommands::add_worms() {
   chain->add_option("--links", links, "links of both worms together (L)")->default_val(10);
   chain->add_option("--start", start, "one worm's starting length")->default_val(5);
   chain->add_option("--A", A, "advance probability scale: a worm of l links moves with probability A / l")
-      ->default_val(0.6);
+      ->default_val(0.6)
+      ->check(cli::in_range(0.0, 1.0, Ends::open_low));
   chain->add_option("--steps", steps, "steps")->default_val(416)->check(cli::in_range(0, 100000000));
   chain->add_option("--runs", runs, "Monte Carlo pairs")
       ->default_val(20000)
@@ -300,7 +294,9 @@ void RipplesCommands::add_worms() {
   ring->add_flag("--force", force, "overwrite --out");
   ring->add_option("--worms", worms, "worms at the start")->default_val(200);
   ring->add_option("--length", length, "links per worm at the start")->default_val(2);
-  ring->add_option("--A", A, "advance probability scale")->default_val(0.6);
+  ring->add_option("--A", A, "advance probability scale")
+      ->default_val(0.6)
+      ->check(cli::in_range(0.0, 1.0, Ends::open_low));
   ring->add_option("--steps", ring_steps, "steps")->default_val(200000)->check(cli::in_range(0, 100000000));
   ring->add_option("--seed", seed, "seed")->default_val(1);
   ring->add_flag("--json", json, "print the lengths and the mean-length history");
@@ -316,7 +312,9 @@ void RipplesCommands::add_triangles() {
   triangles->add_option("--out,-o", out, "write the collision's history to this HDF5 file")
       ->check(cli::output_file());
   triangles->add_flag("--force", force, "overwrite --out");
-  triangles->add_option("--ratio", ratio, "upstream / downstream height, in (0, 1)")->default_val(0.6);
+  triangles->add_option("--ratio", ratio, "upstream / downstream height")
+      ->default_val(0.6)
+      ->check(cli::in_range(0.0, 1.0, Ends::open));
   triangles->add_option("--law", law, "target or brink transport")
       ->default_val("target")
       ->check(CLI::IsMember({"target", "brink"}));
@@ -350,9 +348,10 @@ void RipplesCommands::add_lattice() {
   lattice
       ->add_option("--ejections", lattice_ejections,
                    "run length in ejections per surface grain (replaces the config's)")
-      ->check(cli::positive());  // (so 0 stays "not given")
+      ->check(cli::in_range(0.0, 1e6, Ends::open_low));  // (so 0 stays "not given")
   lattice->add_option("--seeds", lattice_seeds, "ensemble: the config's seed and the next N - 1")
-      ->default_val(1);
+      ->default_val(1)
+      ->check(cli::in_range(1, 100000));
   lattice->add_flag("--force", force, "overwrite --out");
   lattice->add_flag("--json", json, "print the final statistics of every seed and their mean, sd, interval");
 }

@@ -163,36 +163,22 @@ void write_wind_run(const std::string& path, const SaltationCommands& a, const W
 int wind_command(const SaltationCommands& a) {
   if (!a.out.empty() && !a.force && std::filesystem::exists(a.out))
     throw InputError({"--out", 0}, a.out, "exists; pass --force to overwrite it");
-  if (!(a.u_star > 0 && a.u_star < 1000))
-    throw InputError({"--ustar", 0}, fmt::format("{}", a.u_star), "must lie in (0, 1000) cm/s");
   if ((a.wind_case == 0) == a.splash_file.empty())
     throw InputError({"--case", 0}, std::to_string(a.wind_case), "give either --case 1..7 or --splash FILE");
   const double diameter = case_grain_diameter(a.wind_case, a.wind_diameter_option, a.grain_diameter);
-  if (!(diameter > 0 && diameter < 1))
-    throw InputError({"--grain-diameter", 0}, fmt::format("{}", diameter), "must lie in (0, 1) cm");
   WindModelOptions o;
   o.u_star = a.u_star, o.tolerance = a.tolerance;
   o.trajectory_tolerance = a.trajectory_tolerance, o.sample_interval = a.sample_interval;
   o.grain.radius = diameter / 2;
-  if (!(a.reynolds_factor > 0 && a.reynolds_factor <= 10))
-    throw InputError({"--re-factor", 0}, fmt::format("{}", a.reynolds_factor), "must lie in (0, 10]");
   o.reynolds_factor = a.reynolds_factor;
-  if (!(a.flux_damping > 0 && a.flux_damping <= 1))
-    throw InputError({"--flux-damping", 0}, fmt::format("{}", a.flux_damping), "must lie in (0, 1]");
   o.flux_damping = a.flux_damping;
-  if (!(a.drag_smoothing >= 0 && a.drag_smoothing <= 100))
-    throw InputError({"--drag-smoothing", 0}, fmt::format("{}", a.drag_smoothing), "must lie in [0, 100] cm");
   o.drag_smoothing = a.drag_smoothing;
-  if (!(a.launch_min >= 0 && a.launch_min < 1000))
-    throw InputError({"--launch-min", 0}, fmt::format("{}", a.launch_min), "must lie in [0, 1000) cm/s");
   o.launch_min = a.launch_min;
   o.ejecta_below_range = a.ejecta_below == "proportional" ? WindModelOptions::EjectaBelowRange::proportional
                                                           : WindModelOptions::EjectaBelowRange::line;
   // Another planet or gas: a preset, then any of g, air density and viscosity; buoyancy on. The analytic
   // splash is scaled by sqrt(g d) as in `saltation study` (a splash file is scaled by its own units).
   double splash_scale = 1;
-  if (!(a.launch_dv > 0 && a.launch_dv <= 200))
-    throw InputError({"--dv", 0}, fmt::format("{}", a.launch_dv), "must lie in (0, 200] cm/s");
   o.dv = a.launch_dv;
   o.profile_subdivisions = a.profile_flights;
   if (!a.planet.empty() || a.gravity > 0 || a.air_density > 0 || a.viscosity > 0) {
@@ -340,7 +326,8 @@ void SaltationCommands::add_wind() {
   wind_diameter_option =
       wind->add_option("--grain-diameter", grain_diameter,
                        "saltating grain diameter, cm (Ch. IV: 0.025; CASE 7: the sand gun's 0.078)")
-          ->default_val(0.025);
+          ->default_val(0.025)
+          ->check(cli::in_range(0.0, 1.0, Ends::open));
   wind->add_option("--planet", planet,
                    "earth, mars or venus: g, gas density and viscosity (docs/saltation.md)")
       ->check(CLI::IsMember({"earth", "mars", "venus"}));
@@ -355,7 +342,8 @@ void SaltationCommands::add_wind() {
   wind->add_option(
           "--dv", launch_dv,
           "launch-velocity bin width, cm/s (the thesis does not give its own; scaled with the planet)")
-      ->default_val(5);
+      ->default_val(5)
+      ->check(cli::in_range(0.0, 200.0, Ends::open_low));
   wind->add_option(
           "--profile-flights", profile_flights,
           "flights per launch bin, spread across it, for the height profiles (1: one at the bin's "
@@ -376,16 +364,19 @@ void SaltationCommands::add_wind() {
   wind->add_flag("--force", force, "overwrite --out");
   wind->add_option("--re-factor", reynolds_factor,
                    "multiplies Re in eq. 4.31 (2: the diameter in place of r)")
-      ->default_val(1);
+      ->default_val(1)
+      ->check(cli::in_range(0.0, 10.0, Ends::open_low));
   wind->add_option("--drag-smoothing", drag_smoothing,
                    "spread each height's grain drag over this many cm before the wind sees it (the thesis "
                    "averaged it over the spacing of trajectory heights; 0: as taken)")
-      ->default_val(0);
+      ->default_val(0)
+      ->check(cli::in_range(0.0, 100.0));
   wind->add_option(
           "--launch-min", launch_min,
           "launches slower than this (cm/s, vertical) stay in the bed (0: every bin of eq. 4.34 fills; "
           "a reading test, docs/saltation.md \"Slow launches\")")
-      ->default_val(0);
+      ->default_val(0)
+      ->check(cli::in_range(0.0, 1000.0, Ends::open_high));
   wind->add_option("--ejecta-below", ejecta_below,
                    "a splash file with moments only (the sand gun): ejecta per impact below its slowest "
                    "impacts, `line` (its least-squares line, zero below the root) or `proportional` (in "
@@ -394,8 +385,11 @@ void SaltationCommands::add_wind() {
       ->check(CLI::IsMember({"line", "proportional"}));
   wind->add_option("--flux-damping", flux_damping,
                    "b in F(n+1) = (1 - b) F(n) + b [T] F(n); 1 is the thesis's undamped eq. 4.33")
-      ->default_val(0.5);
-  wind->add_option("--ustar", u_star, "wind-shear velocity above the saltation layer, cm/s")->default_val(35);
+      ->default_val(0.5)
+      ->check(cli::in_range(0.0, 1.0, Ends::open_low));
+  wind->add_option("--ustar", u_star, "wind-shear velocity above the saltation layer, cm/s")
+      ->default_val(35)
+      ->check(cli::in_range(0.0, 1000.0, Ends::open));
   wind->add_option("--tolerance", tolerance,
                    "largest relative change of F and u(y) at convergence (thesis: 0.01)")
       ->default_val(1e-3)
@@ -420,10 +414,15 @@ void SaltationCommands::add_study() {
       ->default_val(1)
       ->check(cli::in_range(1, 6));
   study->add_option("--planet", planets, "earth, mars, venus (several allowed)")->delimiter(',');
-  study->add_option("--diameters", diameters, "grain diameters, cm")->delimiter(',');
+  study->add_option("--diameters", diameters, "grain diameters, cm")
+      ->delimiter(',')
+      ->check(cli::in_range(0.0, 1.0, Ends::open));
   study->add_option("--ustar-factors", ustar_factors, "u* as multiples of the impact threshold u*_t")
-      ->delimiter(',');
-  study->add_option("--grain-density", grain_density, "g/cm^3")->default_val(2.6);
+      ->delimiter(',')
+      ->check(cli::in_range(1.0, 20.0, Ends::open));
+  study->add_option("--grain-density", grain_density, "g/cm^3")
+      ->default_val(2.6)
+      ->check(cli::in_range(0.1, 20.0, Ends::open));
   study->add_option("--out,-o", study_out, "output folder: study.csv, study.json, plots")
       ->check(cli::output_folder())
       ->required();

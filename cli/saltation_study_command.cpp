@@ -46,15 +46,6 @@ void check_study_input(const SaltationCommands& a) {
     } catch (const std::invalid_argument& e) {
       throw InputError({"--planet", 0}, p, "unknown planet; known: earth, mars, venus");
     }
-  for (double d : a.diameters)
-    if (!(d > 0 && d < 1))
-      throw InputError({"--diameters", 0}, fmt::format("{}", d), "must lie in (0, 1) cm");
-  for (double f : a.ustar_factors)
-    if (!(f > 1 && f < 20))
-      throw InputError({"--ustar-factors", 0}, fmt::format("{}", f), "multiples of u*_t must lie in (1, 20)");
-  if (!(a.grain_density > 0.1 && a.grain_density < 20))
-    throw InputError({"--grain-density", 0}, fmt::format("{}", a.grain_density),
-                     "must lie in (0.1, 20) g/cm^3");
 }
 
 std::vector<validation::PlotSpec> study_plots(const std::vector<StudyRow>& rows, const SaltationCommands& a) {

@@ -6,7 +6,7 @@ numeric option (CLI11 type FLOAT) passes nan, inf and -inf in turn. Each call mu
 name the option on stderr, within 20 s: CLI11's range checks compare, every comparison with NaN is false,
 and before grainlab checked for it `ripples hybrid-flux --ustar nan` reached the model and `sand-gun
 --stiffness nan` poured a bed before failing on a derived time step. Then for each option whose help states
-a range ("FLOAT in [lo, hi]", POSITIVE, NONNEGATIVE) a value just outside it: CLI11's own checks printed
+a range ("FLOAT in [lo, hi]", "(lo, hi)" and the like, POSITIVE, NONNEGATIVE) a value just outside it: CLI11's own checks printed
 their bounds with std::to_string ("Value 0 not in range 0.000000 to 1000000.000000", a positive number's
 upper bound in 300 digits).
 """
@@ -60,19 +60,26 @@ assert tried > 100, f"only {tried} numeric options found: has the help's format 
 print(f"{tried} non-finite values refused by name")
 
 
-def outside(kind, lo, hi):
-    """Values just outside [lo, hi] for an option read as `kind`, with the message each must give."""
-    yield (str(int(lo) - 1) if kind != "FLOAT" else repr(float(lo) - 1)), f"must lie in [{lo}, {hi}]"
-    yield (str(int(hi) + 1) if kind != "FLOAT" else repr(float(hi) * 2 + 1)), f"must lie in [{lo}, {hi}]"
+def outside(kind, left, lo, hi, right):
+    """Values just outside a range for an option read as `kind`, with the message each must give: below
+    and above it, and an open end itself."""
+    message = f"must lie in {left}{lo}, {hi}{right}"
+    yield (str(int(lo) - 1) if kind != "FLOAT" else repr(float(lo) - 1)), message
+    yield (str(int(hi) + 1) if kind != "FLOAT" else repr(float(hi) * 2 + 1)), message
+    if left == "(":
+        yield lo, message
+    if right == ")":
+        yield hi, message
 
 
 ranged = 0
 for path, text in commands([]):
     options = text.split("Subcommands:", 1)[0]
-    pattern = r"^\s+(?:-\w,)?(--[\w-]+)\s+(FLOAT|INT|UINT):(?:(?:FLOAT|INT|UINT) in \[([^],\s]+), ([^]\s]+)\]|(POSITIVE|NONNEGATIVE))"
+    pattern = (r"^\s+(?:-\w,)?(--[\w-]+)\s+(FLOAT|INT|UINT):(?:(?:FLOAT|INT|UINT) in ([[(])([^],)\s]+), "
+               r"([^])\s]+)([])])|(POSITIVE|NONNEGATIVE))")
     for m in re.finditer(pattern, options, re.M):
-        option, kind, lo, hi, sign = m.groups()
-        cases = list(outside(kind, lo, hi)) if lo else [("0", "must be > 0")] if sign == "POSITIVE" else [("-1", "must be >= 0")]
+        option, kind, left, lo, hi, right, sign = m.groups()
+        cases = list(outside(kind, left, lo, hi, right)) if lo else [("0", "must be > 0")] if sign == "POSITIVE" else [("-1", "must be >= 0")]
         for value, message in cases:
             run = subprocess.run([grainlab] + path + required.get(" ".join(path), []) + [f"{option}={value}"],
                                  capture_output=True, text=True, timeout=20)
