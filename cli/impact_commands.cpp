@@ -289,7 +289,6 @@ void check_engine_dimension(const std::string& engine, int dimension) {
 
 int impact_command(const ImpactCommands& a) {
   const ImpactCase& c = impact_case(a.case_name);
-  if (a.runs < 1) throw InputError({"--runs", 0}, "0", "must be at least 1");
   if (!a.record.empty() && !a.force && fs::exists(a.record))
     throw InputError({"--record", 0}, a.record, "exists; pass --force to overwrite it");
   check_active_zone(a.active_zone, a.dimension, a.engine);
@@ -360,9 +359,6 @@ int rebound_command(const ImpactCommands& a) {
   ReboundParams p = rebound_case(a.model_case, a.alpha);
   if (a.mass_ratio) p.mass_ratio = *a.mass_ratio;  // (ranges checked as the command line is read)
   if (a.sigma) p.sigma = *a.sigma;
-  if (a.gap < 0) throw InputError({"--gap", 0}, fmt::format("{}", a.gap), "must be >= 0");
-  if (!(a.radius_ratio > 0))
-    throw InputError({"--radius-ratio", 0}, fmt::format("{}", a.radius_ratio), "must be > 0");
   p.spin = a.spin, p.bed_gap = a.gap, p.radius_ratio = a.radius_ratio;
   const ReboundAverages r = rebound_model(p);
   if (a.model_json) {
@@ -630,8 +626,12 @@ void ImpactCommands::add(CLI::App& app) {
       ->check(cli::in_range(-1.0, 1.0));
   rebound_cmd->add_option("--spin", spin, "incident spin w_i r_i / v_i (counter-clockwise positive)")
       ->default_val(0);
-  rebound_cmd->add_option("--gap", gap, "gap between bed discs, in r_b")->default_val(0);
-  rebound_cmd->add_option("--radius-ratio", radius_ratio, "r_i / r_b")->default_val(1);
+  rebound_cmd->add_option("--gap", gap, "gap between bed discs, in r_b")
+      ->default_val(0)
+      ->check(cli::non_negative());
+  rebound_cmd->add_option("--radius-ratio", radius_ratio, "r_i / r_b")
+      ->default_val(1)
+      ->check(cli::positive());
   rebound_cmd->add_flag("--json", model_json, "print {eps_ix, eps_iy, theta_i, beta, nabbed_fraction, ...}");
 }
 

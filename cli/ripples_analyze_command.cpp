@@ -154,8 +154,6 @@ int analyze_command(const RipplesCommands& a) {
   if (csv) refuse_if_given(a.analyze->get_option("--frame"), "is for run files (a CSV holds one profile)");
   const Profile p =
       csv ? read_csv_profile(a.analyze_file) : read_run_profile(a.analyze_file, a.analyze_frame);
-  if (!(a.analyze_sigma > 0))
-    throw InputError({"--sigma", 0}, fmt::format("{}", a.analyze_sigma), "must be positive");
   // (The profile is periodic: a half-width past half of it would take the same points again.)
   if (2 * static_cast<std::size_t>(a.analyze_smooth) > p.h.size())
     throw InputError({"--smooth", 0}, std::to_string(a.analyze_smooth),

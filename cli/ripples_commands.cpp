@@ -32,7 +32,6 @@ bool sets_run(const RipplesCommands& a, const CLI::App* command, const char* nam
 }
 
 int chain_command(const RipplesCommands& a) {
-  if (a.links < 2) throw InputError({"--links", 0}, std::to_string(a.links), "must be at least 2");
   if (a.start < 0 || a.start > a.links)
     throw InputError({"--start", 0}, std::to_string(a.start),
                      fmt::format("must lie in 0..{} (--links)", a.links));
@@ -184,11 +183,9 @@ int bins_command(const RipplesCommands& a) {
   // (As `ripples lattice --ejections` does: `--shots 1000` shortens a preset.)
   auto given = [&](const char* name) { return sets_run(a, a.bin_cmd, name); };
   if (given("--bins")) {
-    if (a.bins < 16) throw InputError({"--bins", 0}, std::to_string(a.bins), "needs at least 16 bins");
     run.params.bins = a.bins;
   }
   if (given("--shots")) {
-    if (a.shots < 0) throw InputError({"--shots", 0}, std::to_string(a.shots), "must be >= 0");
     run.shots = a.shots;
   }
   if (given("--seed")) run.params.seed = a.seed;
@@ -274,7 +271,9 @@ void RipplesCommands::add(CLI::App& app) {
 void RipplesCommands::add_worms() {
   chain = group->add_subcommand("worms-chain",
                                 "two worms as a Markov chain: exact merger probability and Monte Carlo");
-  chain->add_option("--links", links, "links of both worms together (L)")->default_val(10);
+  chain->add_option("--links", links, "links of both worms together (L)")
+      ->default_val(10)
+      ->check(cli::in_range(2, 1000000));
   chain->add_option("--start", start, "one worm's starting length")->default_val(5);
   chain->add_option("--A", A, "advance probability scale: a worm of l links moves with probability A / l")
       ->default_val(0.6)
@@ -324,8 +323,10 @@ void RipplesCommands::add_triangles() {
 
 void RipplesCommands::add_bins() {
   bin_cmd = group->add_subcommand("bins", "Haff's bin model: shots at a fixed angle, shadowing, repose");
-  bin_cmd->add_option("--bins", bins, "bins (periodic)")->default_val(600);
-  bin_cmd->add_option("--shots", shots, "grains fired")->default_val(2000000);
+  bin_cmd->add_option("--bins", bins, "bins (periodic)")
+      ->default_val(600)
+      ->check(cli::in_range(16, 100000000));
+  bin_cmd->add_option("--shots", shots, "grains fired")->default_val(2000000)->check(cli::non_negative());
   bin_cmd->add_option("--seed", seed, "seed")->default_val(1);
   bin_cmd
       ->add_option("--config", config,
@@ -360,7 +361,8 @@ void RipplesCommands::add_continuum() {
   continuum =
       group->add_subcommand("continuum", "the continuum model: growth rates and steady shapes (eqs 5.3-5.8)");
   continuum->add_option("--speed", shape_speed, "propagation speed of the steady shapes, cm/s")
-      ->default_val(0.1);
+      ->default_val(0.1)
+      ->check(cli::positive());
   continuum->add_option("--out,-o", out, "write the growth rates and the shapes to this HDF5 file")
       ->check(cli::output_file());
   continuum->add_flag("--force", force, "overwrite --out");
@@ -395,7 +397,8 @@ void RipplesCommands::add_analyze() {
       ->default_val(0)
       ->check(cli::non_negative());
   analyze->add_option("--sigma", analyze_sigma, "eq. 5.1 / 5.2 height scale sigma (the surface's units)")
-      ->default_val(1);
+      ->default_val(1)
+      ->check(cli::positive());
   analyze
       ->add_option("--relief", analyze_relief,
                    "least height a crest or trough must stand out by (0: half the rms height)")

@@ -19,8 +19,6 @@ using namespace grainlab::ripples;
 
 int continuum_command(const RipplesCommands& a) {
   refuse_existing_out(a.out, a.force);
-  if (!(a.shape_speed > 0))
-    throw InputError({"--speed", 0}, fmt::format("{}", a.shape_speed), "must be positive");
   const ContinuumParams p;
   // Growth: a tiny sine of 1..8 waves on 64 cells, 200 explicit steps.
   SampleTable growth{"growth",

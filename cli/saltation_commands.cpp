@@ -31,11 +31,6 @@ int map_case(const SaltationCommands& a) {
   ConveyorMapParams p = table_4_2(a.case_name);
   p.order = a.order;
   refuse_given(a.distribution_options, "is for CASES A, B and C (the distribution splash)");
-  if (!(a.F0 > 0))
-    throw InputError({"--F0", 0}, fmt::format("{}", a.F0), "the starting flux must be positive");
-  if (!(a.v_oy0 > 0))
-    throw InputError({"--v-oy0", 0}, fmt::format("{}", a.v_oy0),
-                     "the starting launch velocity must be positive");
   const ConveyorMapResult r = conveyor_map(p, a.F0, a.v_oy0, a.max_iterations);
   const MapState& s = r.history.back();
   const DeltaSteadyState closed = conveyor_delta_steady(p.f_at(p.v_g), p.eps, p.v_g, p.P_T, p.zeta);
@@ -296,11 +291,14 @@ void SaltationCommands::add_conveyor() {
   conveyor->add_option("--case", case_name, "A, B, C (distribution splash) or D, E (delta splash, time map)")
       ->required()
       ->check(CLI::IsMember({"A", "B", "C", "D", "E"}));
-  map_options = {conveyor->add_option("--order", order, "D, E: update order of eq. 4.23")
-                     ->default_val("simultaneous")
-                     ->check(CLI::IsMember({"simultaneous", "velocity-first"})),
-                 conveyor->add_option("--F0", F0, "D, E: starting flux")->default_val(50),
-                 conveyor->add_option("--v-oy0", v_oy0, "D, E: starting launch velocity")->default_val(3)};
+  map_options = {
+      conveyor->add_option("--order", order, "D, E: update order of eq. 4.23")
+          ->default_val("simultaneous")
+          ->check(CLI::IsMember({"simultaneous", "velocity-first"})),
+      conveyor->add_option("--F0", F0, "D, E: starting flux")->default_val(50)->check(cli::positive()),
+      conveyor->add_option("--v-oy0", v_oy0, "D, E: starting launch velocity")
+          ->default_val(3)
+          ->check(cli::positive())};
   distribution_options.push_back(
       conveyor
           ->add_option("--start-below", start_below,
