@@ -128,7 +128,7 @@ TEST(SaltationCommands, AnOptionThatChangesNothingHereIsRefusedByName) {
       {"--case A --F0 10", "--F0: 10: is for CASES D and E"},
       {"--case C --order velocity-first", "--order: velocity-first: is for CASES D and E"},
       {"--case E --start-below 0.3", "--start-below: 0.3: is for CASES A, B and C"},
-      {"--case D --v-oy0 0", "--v-oy0: 0: the starting launch velocity must be positive"},
+      {"--case D --v-oy0 0", "--v-oy0: 0: must be > 0"},
       {"wind --case 1 --vx-min -50", "--vx-min: -50: is for the 2-D launch grid of --vx-bins"}};
   for (const auto& [args, message] : refused) {
     const std::string command = std::string(args).starts_with("wind") ? "saltation " : "saltation conveyor ";
