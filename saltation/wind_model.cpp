@@ -451,144 +451,103 @@ std::string why_the_flux_died(const SplashKernel& splash, const std::vector<Traj
 
 }  // namespace
 
-WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& splash) {
-  const auto start = std::chrono::steady_clock::now();
-  WindModelResult r;
-  r.y = height_nodes(o);
-  const std::vector<double> edges = bin_edges(r.y);
-  const std::size_t H = r.y.size(), M = static_cast<std::size_t>(o.bins);
-  // Launch states: one per v_oy bin (the thesis's grid; each bin's v_ox is the mean of what feeds it), or
-  // with `vx_bins` > 0 one per (v_oy, v_ox) cell, each with its fixed v_ox (the 4-index [T] of Fig. 4.10's
-  // note). Fs[s] is grains per cm^2 per s per cm/s of v_oy in state s.
-  if (!o.start.empty() && o.start.size() != static_cast<std::size_t>(o.bins))
-    throw std::invalid_argument("solve_wind_model: the start has " + std::to_string(o.start.size()) +
-                                " launch bins, the grid " + std::to_string(o.bins));
-  const bool grid2d = o.vx_bins > 0;
-  const std::size_t X = grid2d ? static_cast<std::size_t>(o.vx_bins) : 1, S = M * X;
-  const double dvx = o.dv;
-  auto vx_centre = [&](std::size_t m) { return o.vx_min + static_cast<double>(m) * dvx; };
-  const double rho = o.fluid.density, tau0 = rho * o.u_star * o.u_star, m = o.grain.mass();
-  r.u_clean.resize(H);
-  for (std::size_t k = 0; k < H; ++k) r.u_clean[k] = o.fluid.k * o.u_star * std::log(r.y[k] / r.y[0]);
-  r.u = r.u_clean;
-  r.v_launch.resize(M), r.F.assign(M, 0), r.v_ox.assign(M, 0), r.trajectories.resize(M);
-  std::vector<double> Fs(S, 0.0), vox(S, 0.0), voy(S, 0.0);
-  std::vector<Trajectory> flights(S);
-  // A weak, broad start (about one launch per cm^2 per s): the flux grows to the steady state. In 2-D it
-  // starts in the cell of v_ox = 0.
-  const std::size_t m_zero =
-      grid2d
-          ? static_cast<std::size_t>(std::clamp(std::round(-o.vx_min / dvx), 0.0, static_cast<double>(X - 1)))
-          : 0;
-  for (std::size_t j = 0; j < M; ++j) {
-    r.v_launch[j] = (j + 0.5) * o.dv;
-    for (std::size_t x = 0; x < X; ++x)
-      voy[j * X + x] = r.v_launch[j], vox[j * X + x] = grid2d ? vx_centre(x) : 0;
-    Fs[j * X + m_zero] = r.v_launch[j] < o.launch_min ? 0.0
-                         : o.start.empty()            ? std::exp(-r.v_launch[j] / 100) / 100
-                                                      : o.start[j];
+namespace {
+
+// The launch states of the fixed point: one per v_oy bin (the thesis's grid; each bin's v_ox is the mean
+// of what feeds it), or with `vx_bins` > 0 one per (v_oy, v_ox) cell, each with its fixed v_ox (the 4-index
+// [T] of Fig. 4.10's note). F[s] is grains per cm^2 per s per cm/s of v_oy in state s; state s = j X + x.
+struct LaunchStates {
+  bool grid2d = false;
+  std::size_t M = 0, X = 1, S = 0;
+  std::size_t first_launch = 0;  // the bins below launch_min (a prefix: the bins rise in speed) stay empty
+  std::vector<double> F, vox, voy;
+};
+
+// A weak, broad start (about one launch per cm^2 per s), or the options' own: the flux grows to the steady
+// state. In 2-D it starts in the cell of v_ox = 0.
+LaunchStates initial_launch_states(const WindModelOptions& o, const std::vector<double>& v_launch) {
+  LaunchStates l;
+  l.grid2d = o.vx_bins > 0;
+  l.M = v_launch.size(), l.X = l.grid2d ? static_cast<std::size_t>(o.vx_bins) : 1, l.S = l.M * l.X;
+  l.F.assign(l.S, 0.0), l.vox.assign(l.S, 0.0), l.voy.assign(l.S, 0.0);
+  const std::size_t m_zero = l.grid2d ? static_cast<std::size_t>(std::clamp(std::round(-o.vx_min / o.dv), 0.0,
+                                                                            static_cast<double>(l.X - 1)))
+                                      : 0;
+  for (std::size_t j = 0; j < l.M; ++j) {
+    for (std::size_t x = 0; x < l.X; ++x)
+      l.voy[j * l.X + x] = v_launch[j],
+                      l.vox[j * l.X + x] = l.grid2d ? o.vx_min + static_cast<double>(x) * o.dv : 0;
+    l.F[j * l.X + m_zero] = v_launch[j] < o.launch_min ? 0.0
+                            : o.start.empty()          ? std::exp(-v_launch[j] / 100) / 100
+                                                       : o.start[j];
   }
-  // The bins below launch_min (a prefix: the bins rise in speed) are never filled.
-  const std::size_t first_launch = static_cast<std::size_t>(
-      std::lower_bound(r.v_launch.begin(), r.v_launch.end(), o.launch_min) - r.v_launch.begin());
-  std::vector<double> impulse(H), tau_edge(H + 1);
-  double relax = o.relaxation, last_change = 1e300;
-  auto update_wind = [&](const std::vector<double>& F) {
-    // Trajectories in the current wind, their drag, the stress and the new wind; returns the change of u.
-    std::fill(impulse.begin(), impulse.end(), 0.0);
-    for (std::size_t j = 0; j < S; ++j)
-      if (!grid2d || F[j] > 0) flights[j] = fly(o, r.y, r.u, vox[j], voy[j], &edges, &impulse, F[j] * o.dv);
-    ++r.trajectory_passes;
-    if (o.drag_smoothing > 0) smooth_drag(edges, impulse, o.drag_smoothing);
-    std::vector<double> u;
-    wind_from_drag(o, r.y, impulse, u, tau_edge);
-    const double change = max_relative_change(u, r.u);
-    // The wind and the drag feed back negatively; at high flux the loop gain exceeds what a fixed
-    // relaxation damps, so the relaxation halves whenever the change grows.
-    if (change > last_change) relax = std::max(0.02, relax * 0.5);
-    last_change = change;
-    for (std::size_t k = 0; k < H; ++k) r.u[k] = relax * u[k] + (1 - relax) * r.u[k];
-    return change;
-  };
-  std::vector<double> next(S), born_sum(grid2d ? S : 0);
-  FluxWatch flux;
-  for (int n = 0; n < o.max_iterations; ++n) {
-    double wind_change = 1;
-    last_change = 1e300;
-    for (int pass = 0; pass < 12 && wind_change > 0.1 * o.tolerance; ++pass) wind_change = update_wind(Fs);
-    // F(n+1) = [T{u}] F(n): each impact of a grain from state j launches S(v_k; v_i(j)) dv into bin k.
-    std::vector<double> vox_next = vox;
-    if (!grid2d) {
-      for (std::size_t k = 0; k < M; ++k) {
-        double s = 0, sx = 0;
-        if (k >= first_launch)
-          for (std::size_t j = 0; j < M; ++j) {
-            const Trajectory& t = flights[j];
-            const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
-            s += born, sx += born * splash.launch_vx(t.v_ix, t.v_iy);
-          }
-        next[k] = (1 - o.flux_damping) * Fs[k] + o.flux_damping * s;
-        vox_next[k] = s > 0 ? sx / s : 0;  // one horizontal launch velocity per bin: the mean of its sources
-      }
-    } else {
-      // Each impact's grains share one v_ox (eq. 4.34's delta): they go to the two v_ox cells around it,
-      // in proportion to its distance from their centres (held in the grid at its ends). The sums are
-      // damped as the 1-D grid's are, so a grid whose grains all leave at one v_ox value does the 1-D
-      // grid's arithmetic, bit for bit.
-      std::fill(born_sum.begin(), born_sum.end(), 0.0);
-      for (std::size_t j = 0; j < S; ++j) {
-        if (Fs[j] <= 0) continue;
-        const Trajectory& t = flights[j];
-        const double q =
-            std::clamp((splash.launch_vx(t.v_ix, t.v_iy) - o.vx_min) / dvx, 0.0, static_cast<double>(X - 1));
-        const std::size_t m0 = std::min(static_cast<std::size_t>(q), X - 1), m1 = std::min(m0 + 1, X - 1);
-        const double w1 = q - static_cast<double>(m0);
-        for (std::size_t k = first_launch; k < M; ++k) {
-          const double born = splash.density(r.v_launch[k], t.v_ix, t.v_iy) * Fs[j] * o.dv;
-          born_sum[k * X + m0] += (1 - w1) * born, born_sum[k * X + m1] += w1 * born;
+  l.first_launch = static_cast<std::size_t>(std::lower_bound(v_launch.begin(), v_launch.end(), o.launch_min) -
+                                            v_launch.begin());
+  return l;
+}
+
+// F(n+1) = [T{u}] F(n), damped: each impact of a grain from state j launches S(v_k; v_i(j)) dv into bin k.
+// Returns the next F; `vox_next` gets the next launch v_ox of each state.
+std::vector<double> splash_step(const WindModelOptions& o, const SplashKernel& splash,
+                                const std::vector<double>& v_launch, const std::vector<Trajectory>& flights,
+                                const LaunchStates& l, std::vector<double>& vox_next) {
+  std::vector<double> next(l.S);
+  vox_next = l.vox;
+  if (!l.grid2d) {
+    for (std::size_t k = 0; k < l.M; ++k) {
+      double s = 0, sx = 0;
+      if (k >= l.first_launch)
+        for (std::size_t j = 0; j < l.M; ++j) {
+          const Trajectory& t = flights[j];
+          const double born = splash.density(v_launch[k], t.v_ix, t.v_iy) * l.F[j] * o.dv;
+          s += born, sx += born * splash.launch_vx(t.v_ix, t.v_iy);
         }
-      }
-      for (std::size_t s2 = 0; s2 < S; ++s2)
-        next[s2] = (1 - o.flux_damping) * Fs[s2] + o.flux_damping * born_sum[s2];
+      next[k] = (1 - o.flux_damping) * l.F[k] + o.flux_damping * s;
+      vox_next[k] = s > 0 ? sx / s : 0;  // one horizontal launch velocity per bin: the mean of its sources
     }
-    const double change = std::max(max_relative_change(next, Fs), wind_change);
-    double total = 0;
-    for (double x : next) total += x * o.dv;
-    // The grains can carry at most the whole stress: a launch rate far beyond it means the splash replaces
-    // each grain more than once however weak the wind, and no steady state exists.
-    if (!std::isfinite(total) || total * m * o.u_star > 100 * tau0) {
-      r.failure =
-          "the flux grows without bound: this splash function replaces each grain more than once "
-          "however weak the wind near the bed, so there is no steady state";
-      r.iterations = n + 1;
-      break;
-    }
-    if (flux.dying(total)) {
-      r.failure = why_the_flux_died(splash, flights, Fs, r.v_launch, o);
-      r.iterations = n + 1;
-      break;
-    }
-    Fs = next, vox = vox_next;
-    r.residuals.push_back(change);
-    r.iterations = n + 1;
-    if (!std::isfinite(change)) break;
-    if (change < o.tolerance && n > 2) {
-      r.converged = true;
-      break;
+    return next;
+  }
+  // Each impact's grains share one v_ox (eq. 4.34's delta): they go to the two v_ox cells around it, in
+  // proportion to its distance from their centres (held in the grid at its ends). The sums are damped as
+  // the 1-D grid's are, so a grid whose grains all leave at one v_ox value does the 1-D grid's arithmetic,
+  // bit for bit.
+  std::vector<double> born_sum(l.S, 0.0);
+  const std::size_t X = l.X;
+  for (std::size_t j = 0; j < l.S; ++j) {
+    if (l.F[j] <= 0) continue;
+    const Trajectory& t = flights[j];
+    const double q =
+        std::clamp((splash.launch_vx(t.v_ix, t.v_iy) - o.vx_min) / o.dv, 0.0, static_cast<double>(X - 1));
+    const std::size_t m0 = std::min(static_cast<std::size_t>(q), X - 1), m1 = std::min(m0 + 1, X - 1);
+    const double w1 = q - static_cast<double>(m0);
+    for (std::size_t k = l.first_launch; k < l.M; ++k) {
+      const double born = splash.density(v_launch[k], t.v_ix, t.v_iy) * l.F[j] * o.dv;
+      born_sum[k * X + m0] += (1 - w1) * born, born_sum[k * X + m1] += w1 * born;
     }
   }
-  if (!r.converged && r.failure.empty()) r.failure = why_not_converged(r.residuals, o.tolerance);
-  // Final state: trajectories and wind for the final F, then the diagnostics.
-  update_wind(Fs);
-  // The profiles from sub-launches spread evenly across each bin (F is a density in v_oy): one flight
-  // per bin would put all of a bin's apexes, where the 1/|v_y| density peaks, at one height.
+  for (std::size_t s2 = 0; s2 < l.S; ++s2)
+    next[s2] = (1 - o.flux_damping) * l.F[s2] + o.flux_damping * born_sum[s2];
+  return next;
+}
+
+// The steady state's profiles (from sub-launches spread evenly across each bin: F is a density in v_oy,
+// and one flight per bin would put all of a bin's apexes, where the 1/|v_y| density peaks, at one height),
+// and its hop, impact and flux statistics.
+void steady_state_diagnostics(const WindModelOptions& o, const std::vector<double>& edges,
+                              const std::vector<double>& impulse, const std::vector<double>& tau_edge,
+                              const std::vector<Trajectory>& flights, const LaunchStates& l,
+                              WindModelResult& r) {
+  const std::size_t H = r.y.size(), S = l.S, X = l.X, M = l.M;
+  const bool grid2d = l.grid2d;
+  const std::vector<double>& Fs = l.F;
+  const double m = o.grain.mass();
   FlightProfiles prof(H);
   std::vector<double> fine_impulse(H, 0.0);
   const int sub = std::max(1, o.profile_subdivisions);
   for (std::size_t j = 0; j < S; ++j)
     if (Fs[j] > 0 || !grid2d)
       for (int i = 0; i < sub; ++i)
-        fly(o, r.y, r.u, vox[j], voy[j] + ((i + 0.5) / sub - 0.5) * o.dv, &edges, &fine_impulse,
+        fly(o, r.y, r.u, l.vox[j], l.voy[j] + ((i + 0.5) / sub - 0.5) * o.dv, &edges, &fine_impulse,
             Fs[j] * o.dv / sub, &prof);
   r.drag.assign(H, 0.0), r.tau.assign(H, 0.0), r.dy.assign(H, 0.0);
   r.drag_resolved.assign(H, 0.0), r.number_density.assign(H, 0.0), r.number_flux.assign(H, 0.0),
@@ -602,7 +561,7 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
     r.number_flux[k] = prof.number_flux[k] / height;
     r.energy_flux[k] = prof.energy_flux[k] / height;
   }
-  r.u_star_eff = std::sqrt(std::max(0.0, tau_edge[0]) / rho);
+  r.u_star_eff = std::sqrt(std::max(0.0, tau_edge[0]) / o.fluid.density);
   double rate = 0, hsum = 0, lsum = 0, vxs = 0, vys = 0, airborne = 0, ahsum = 0, alsum = 0;
   r.grain_stress = 0, r.mass_flux = 0;
   for (std::size_t j = 0; j < S; ++j) {
@@ -638,12 +597,92 @@ WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& 
   // Per v_oy bin for the tables: F summed over v_ox, its mean v_ox, and a flight at that mean.
   for (std::size_t k = 0; k < M; ++k) {
     double f = 0, fx = 0;
-    for (std::size_t x = 0; x < X; ++x) f += Fs[k * X + x], fx += Fs[k * X + x] * vox[k * X + x];
-    r.F[k] = f, r.v_ox[k] = grid2d ? (f > 0 ? fx / f : 0) : vox[k];
+    for (std::size_t x = 0; x < X; ++x) f += Fs[k * X + x], fx += Fs[k * X + x] * l.vox[k * X + x];
+    r.F[k] = f, r.v_ox[k] = grid2d ? (f > 0 ? fx / f : 0) : l.vox[k];
     r.trajectories[k] = grid2d ? fly(o, r.y, r.u, r.v_ox[k], r.v_launch[k]) : flights[k];
   }
   if (grid2d) r.F2d = Fs;
   r.launch_vy = launch_spread(r.v_launch, r.F);
+}
+
+}  // namespace
+
+WindModelResult solve_wind_model(const WindModelOptions& o, const SplashKernel& splash) {
+  const auto start = std::chrono::steady_clock::now();
+  WindModelResult r;
+  r.y = height_nodes(o);
+  const std::vector<double> edges = bin_edges(r.y);
+  const std::size_t H = r.y.size(), M = static_cast<std::size_t>(o.bins);
+  if (!o.start.empty() && o.start.size() != static_cast<std::size_t>(o.bins))
+    throw std::invalid_argument("solve_wind_model: the start has " + std::to_string(o.start.size()) +
+                                " launch bins, the grid " + std::to_string(o.bins));
+  const double rho = o.fluid.density, tau0 = rho * o.u_star * o.u_star, m = o.grain.mass();
+  r.u_clean.resize(H);
+  for (std::size_t k = 0; k < H; ++k) r.u_clean[k] = o.fluid.k * o.u_star * std::log(r.y[k] / r.y[0]);
+  r.u = r.u_clean;
+  r.v_launch.resize(M), r.F.assign(M, 0), r.v_ox.assign(M, 0), r.trajectories.resize(M);
+  for (std::size_t j = 0; j < M; ++j) r.v_launch[j] = (j + 0.5) * o.dv;
+  LaunchStates l = initial_launch_states(o, r.v_launch);
+  const bool grid2d = l.grid2d;
+  const std::size_t S = l.S;
+  std::vector<Trajectory> flights(S);
+  std::vector<double> impulse(H), tau_edge(H + 1);
+  double relax = o.relaxation, last_change = 1e300;
+  auto update_wind = [&](const std::vector<double>& F) {
+    // Trajectories in the current wind, their drag, the stress and the new wind; returns the change of u.
+    std::fill(impulse.begin(), impulse.end(), 0.0);
+    for (std::size_t j = 0; j < S; ++j)
+      if (!grid2d || F[j] > 0)
+        flights[j] = fly(o, r.y, r.u, l.vox[j], l.voy[j], &edges, &impulse, F[j] * o.dv);
+    ++r.trajectory_passes;
+    if (o.drag_smoothing > 0) smooth_drag(edges, impulse, o.drag_smoothing);
+    std::vector<double> u;
+    wind_from_drag(o, r.y, impulse, u, tau_edge);
+    const double change = max_relative_change(u, r.u);
+    // The wind and the drag feed back negatively; at high flux the loop gain exceeds what a fixed
+    // relaxation damps, so the relaxation halves whenever the change grows.
+    if (change > last_change) relax = std::max(0.02, relax * 0.5);
+    last_change = change;
+    for (std::size_t k = 0; k < H; ++k) r.u[k] = relax * u[k] + (1 - relax) * r.u[k];
+    return change;
+  };
+  FluxWatch flux;
+  for (int n = 0; n < o.max_iterations; ++n) {
+    double wind_change = 1;
+    last_change = 1e300;
+    for (int pass = 0; pass < 12 && wind_change > 0.1 * o.tolerance; ++pass) wind_change = update_wind(l.F);
+    std::vector<double> vox_next;
+    std::vector<double> next = splash_step(o, splash, r.v_launch, flights, l, vox_next);
+    const double change = std::max(max_relative_change(next, l.F), wind_change);
+    double total = 0;
+    for (double x : next) total += x * o.dv;
+    // The grains can carry at most the whole stress: a launch rate far beyond it means the splash replaces
+    // each grain more than once however weak the wind, and no steady state exists.
+    if (!std::isfinite(total) || total * m * o.u_star > 100 * tau0) {
+      r.failure =
+          "the flux grows without bound: this splash function replaces each grain more than once "
+          "however weak the wind near the bed, so there is no steady state";
+      r.iterations = n + 1;
+      break;
+    }
+    if (flux.dying(total)) {
+      r.failure = why_the_flux_died(splash, flights, l.F, r.v_launch, o);
+      r.iterations = n + 1;
+      break;
+    }
+    l.F = std::move(next), l.vox = std::move(vox_next);
+    r.residuals.push_back(change);
+    r.iterations = n + 1;
+    if (!std::isfinite(change)) break;
+    if (change < o.tolerance && n > 2) {
+      r.converged = true;
+      break;
+    }
+  }
+  if (!r.converged && r.failure.empty()) r.failure = why_not_converged(r.residuals, o.tolerance);
+  // Final state: trajectories and wind for the final F, then the diagnostics.
+  update_wind(l.F);
+  steady_state_diagnostics(o, edges, impulse, tau_edge, flights, l, r);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
