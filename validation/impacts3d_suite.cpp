@@ -235,6 +235,176 @@ std::optional<Peer> own_bed_peer(Report& r, const SuiteOptions& o, const Bed3d& 
   return Peer{engine, std::move(own.bed)};
 }
 
+// The bed alone for 0.07 s on every 3-D engine: the rows of the suite's table, what became of the engines
+// that did not hold it, and the impulse engines that run the impacts beside native.
+struct EngineHolds {
+  std::string table =
+      "| engine | largest displacement (cm) | largest speed (cm/s) | kinetic energy (erg) | where "
+      "|\n|---|---|---|---|---|\n";
+  std::string notes;
+  std::vector<Peer> peers;
+};
+
+// The bed must hold still on its own, or "ejecta" would be the bed moving (the 2-D limits: 0.05 cm,
+// 1 cm/s over an impact's 0.07 s, at_rest_limits). The impulse engines are asked too, to see whether they
+// could cross-check the impacts.
+EngineHolds hold_on_every_engine(Report& r, const SuiteOptions& o, const Bed3d& bed) {
+  EngineHolds out;
+  double native_seconds = 0;  // how long native took to hold it (the soft-contact engine's time)
+  for (const std::string& engine : engines_for_dimension(3)) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const BedHold h = hold_bed3d(bed, engine, 0.07, ImpactOptions{}.rigid_dt);
+    const double hold_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    out.table += fmt::format("| {} | {:.3g} | {:.3g} | {:.3g} | {} |\n", engine, h.max_displacement,
+                             h.max_speed, h.kinetic_energy, where_the_bed_moved(h, at_rest_limits(bed.spec)));
+    Check& c =
+        expect_bed_at_rest(r, "impacts-3d/bed-at-rest", engine, h, "the bed", 0.07, at_rest_limits(bed.spec));
+    const bool impulses = !engine_capabilities(engine).soft_contacts;  // by capability, not by name
+    if (o.log)
+      o.log(fmt::format("impacts-3d: the bed alone on {}: {:.3g} cm, {:.3g} cm/s ({:.0f} s)", engine,
+                        h.max_displacement, h.max_speed, hold_seconds));
+    if (!impulses) {
+      native_seconds = std::max(native_seconds, hold_seconds);
+      continue;
+    }
+    if (c.passed) {
+      out.peers.push_back({engine, std::nullopt});
+      continue;
+    }
+    c.known_limitation(
+        "an impulse engine at dt 1e-5 s lets the sphere bed settle further under its own weight (measured "
+        "above), so 3-D impacts are not cross-checked on it as built");
+    if (!o.quick)
+      if (std::optional<Peer> p = own_bed_peer(r, o, bed, engine, h, hold_seconds, native_seconds, out.notes))
+        out.peers.push_back(std::move(*p));
+  }
+  return out;
+}
+
+// The beds of both dimensions a case asks for: the loose ones built up front, CASE G's dense ones made
+// when a case first asks for them (and described in the report's text then).
+class CaseBeds {
+ public:
+  CaseBeds(Bed3d loose, Bed loose2) : bed_(std::move(loose)), bed2_(std::move(loose2)) {}
+  const Bed3d& loose() const { return bed_; }
+
+  std::pair<const Bed3d&, const Bed&> for_case(const ImpactCase& c, Report& r, const SuiteOptions& o,
+                                               std::string& md) {
+    if (c.bed != "dense") return {bed_, bed2_};
+    if (!dense_) make_dense(r, o, md);
+    return {*dense_, *dense2_};
+  }
+
+ private:
+  void make_dense(Report& r, const SuiteOptions& o, std::string& md) {
+    Bed3dSpec d = bed_.spec;
+    d.preparation = "dense";
+    if (o.log) o.log(fmt::format("impacts-3d: pouring {} spheres frictionless (dense bed)", d.count));
+    dense_ = build_bed3d(d);
+    BedSpec d2 = bed2_.spec;
+    d2.preparation = "dense";
+    dense2_ = build_bed(d2);
+    const BedHold h = hold_bed3d(*dense_, "native", 0.07, ImpactOptions{}.rigid_dt);
+    expect_bed_at_rest(r, "impacts-3d/dense-bed-at-rest", "native", h, "the dense bed", 0.07,
+                       at_rest_limits(dense_->spec));
+    md += fmt::format(
+        "CASE G's dense bed: the same {} spheres poured, stiffened and damped frictionless, then relaxed "
+        "with friction (top {:.2f} cm, solid fraction {:.3f} against the loose bed's {:.3f}, {} loose "
+        "spheres taken away); it moves at most {:.3g} cm at {:.3g} cm/s when left alone for 0.07 s. The "
+        "2-D column is grainlab's dense disc bed.\n\n",
+        d.count, dense_->top, dense_->packing_fraction, bed_.packing_fraction, dense_->removed,
+        h.max_displacement, h.max_speed);
+  }
+
+  Bed3d bed_;
+  Bed bed2_;
+  std::optional<Bed3d> dense_;
+  std::optional<Bed> dense2_;
+};
+
+// Symmetry across the incident plane: the mean sideways deflection of the rebound, and of each impact's
+// ejecta (one mean per impact: ejecta of one impact are not independent), is zero within its interval,
+// widened to family-wise 95 % over the suite's `family` symmetry checks.
+void expect_symmetric(Report& r, const std::string& name, const std::vector<Impact3dResult>& three,
+                      std::size_t family) {
+  std::vector<double> rebound_side, ejecta_side;
+  for (const Impact3dResult& x : three) {
+    if (x.rebounded) rebound_side.push_back(x.vy / x.incident_speed);
+    if (x.ejecta.empty()) continue;
+    double sum = 0;
+    for (const Ejectum3d& e : x.ejecta) sum += std::sin(std::atan2(e.vy, e.vx));
+    ejecta_side.push_back(sum / static_cast<double>(x.ejecta.size()));
+  }
+  for (const auto& [k, sample] :
+       {std::pair{"rebound-sideways", rebound_side}, std::pair{"ejecta-sideways", ejecta_side}}) {
+    const MeanInterval m = mean_interval(sample);
+    const double half = m.n > 1 ? family_t(family, m.n - 1) * m.sd / std::sqrt(double(m.n)) : NAN;
+    r.expect_below(fmt::format("impacts-3d/{}/{}-symmetric", name, k), "native", std::abs(m.mean) - half, 0,
+                   fmt::format("{}: mean {:.3g} +- {:.3g} (family-wise 95 % over {} checks) over {} impacts; "
+                               "the set-up is symmetric across the incident plane, so the interval must "
+                               "contain 0 (value: |mean| - half-width)",
+                               k, m.mean, half, family, m.n));
+  }
+}
+
+// One case's table: the thesis's 2-D numbers, grainlab's discs and spheres, and each peer's spheres.
+std::string case_table(const ImpactCase& c, std::size_t runs, const ImpactSummary& s2,
+                       const Impact3dSummary& s3,
+                       const std::vector<std::pair<std::string, Impact3dSummary>>& peer) {
+  static const std::vector<std::pair<std::string, std::string>> rows = {
+      {"eps_i", "eps_i"},
+      {"eps_ix", "eps_ix"},
+      {"eps_iy", "eps_iy (vertical)"},
+      {"theta_i", "theta_i (deg from vertical)"},
+      {"ejected", "ejected per impact"},
+      {"ej_vy", "ejection vertical velocity (cm/s)"},
+      {"ej_energy", "ejected energy / incident"},
+      {"reptation", "reptation per impact (cm)"},
+      {"eps_iz", "rebound v_y / v_i (3-D)"},
+      {"ej_sideways", "ejecta mean abs(sin azimuth) (3-D)"},
+      {"ej_backward", "ejecta thrown upwind (3-D)"}};
+  std::string md =
+      fmt::format("**CASE {}** (v_i {} cm/s, alpha_i {} deg, mu {}): {} of {} rebounded with spheres\n\n",
+                  c.name, c.speed, c.alpha_deg, c.mu, s3.rebounds, runs);
+  md += "| quantity | thesis 2-D | grainlab 2-D discs | grainlab 3-D spheres |";
+  for (const auto& [engine, p] : peer) md += fmt::format(" {} 3-D spheres ({} impacts) |", engine, p.impacts);
+  md += "\n|---|---|---|---|";
+  for (std::size_t k = 0; k < peer.size(); ++k) md += "---|";
+  md += "\n";
+  const auto thesis = thesis_impact_values(c.name);
+  for (const auto& [k, label] : rows) {
+    const std::string th =
+        thesis.count(k) ? fmt::format("{:.3g} ({:.2g})", thesis.at(k).first, thesis.at(k).second) : "-";
+    md += fmt::format("| {} | {} | {} | {} |", label, th, cell(s2.q, k), cell(s3.q, k));
+    for (const auto& p : peer) md += fmt::format(" {} |", cell(p.second.q, k));
+    md += "\n";
+  }
+  md += fmt::format("| seconds per impact | | {:.2f} | {:.2f} |", s2.median_wall_seconds,
+                    s3.median_wall_seconds);
+  for (const auto& p : peer) md += fmt::format(" {:.2f} |", p.second.median_wall_seconds);
+  return md + "\n\n";
+}
+
+// The figures of the cases, one quantity each, the cases along x.
+std::vector<CaseFigure> case_figures(const std::vector<std::string>& cases) {
+  std::string along = "case (";
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    along += fmt::format("{}{} = {}", k ? ", " : "", cases[k], k + 1);
+  along += ")";
+  return {
+      {"eps_i",
+       {"impacts3d_rebound.png", "Rebound restitution eps_i: 2-D and 3-D", along, "eps_i", false, {}}},
+      {"ejected",
+       {"impacts3d_ejecta.png", "Ejected per impact: 2-D and 3-D", along, "ejecta per impact", false, {}}},
+      {"ej_vy",
+       {"impacts3d_ejection_speed.png",
+        "Ejection vertical velocity: 2-D and 3-D",
+        along,
+        "v_y (cm/s)",
+        false,
+        {}}}};
+}
+
 }  // namespace
 
 void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
@@ -246,45 +416,9 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
                                              : std::vector<std::string>{"A", "C", "D", "E", "G", "H", "I"};
   if (o.log)
     o.log(fmt::format("impacts-3d: pouring {} spheres into {} x {} cm", spec.count, spec.width, spec.depth));
-  const Bed3d bed = build_bed3d(spec);
-  BedSpec spec2;
-  const Bed bed2 = build_bed(spec2);
-  // The bed must hold still on its own, or "ejecta" would be the bed moving (the 2-D limits: 0.05 cm,
-  // 1 cm/s over an impact's 0.07 s, at_rest_limits). The impulse engines are asked too, to see whether they
-  // could cross-check the impacts.
-  std::string holds =
-      "| engine | largest displacement (cm) | largest speed (cm/s) | kinetic energy (erg) | where "
-      "|\n|---|---|---|---|---|\n";
-  std::string notes;          // what became of the engines that did not hold it
-  double native_seconds = 0;  // how long native took to hold it (the soft-contact engine's time)
-  std::vector<Peer> peers;    // impulse engines that run the impacts too
-  for (const std::string& engine : engines_for_dimension(3)) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const BedHold h = hold_bed3d(bed, engine, 0.07, ImpactOptions{}.rigid_dt);
-    const double hold_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    holds += fmt::format("| {} | {:.3g} | {:.3g} | {:.3g} | {} |\n", engine, h.max_displacement, h.max_speed,
-                         h.kinetic_energy, where_the_bed_moved(h, at_rest_limits(spec)));
-    Check& c =
-        expect_bed_at_rest(r, "impacts-3d/bed-at-rest", engine, h, "the bed", 0.07, at_rest_limits(spec));
-    const bool impulses = !engine_capabilities(engine).soft_contacts;  // by capability, not by name
-    if (o.log)
-      o.log(fmt::format("impacts-3d: the bed alone on {}: {:.3g} cm, {:.3g} cm/s ({:.0f} s)", engine,
-                        h.max_displacement, h.max_speed, hold_seconds));
-    if (!impulses) {
-      native_seconds = std::max(native_seconds, hold_seconds);
-      continue;
-    }
-    if (c.passed) {
-      peers.push_back({engine, std::nullopt});
-      continue;
-    }
-    c.known_limitation(
-        "an impulse engine at dt 1e-5 s lets the sphere bed settle further under its own weight (measured "
-        "above), so 3-D impacts are not cross-checked on it as built");
-    if (!o.quick)
-      if (std::optional<Peer> p = own_bed_peer(r, o, bed, engine, h, hold_seconds, native_seconds, notes))
-        peers.push_back(std::move(*p));
-  }
+  CaseBeds beds(build_bed3d(spec), build_bed(BedSpec{}));
+  const Bed3d& bed = beds.loose();
+  const EngineHolds holds = hold_on_every_engine(r, o, bed);
   std::string md = fmt::format(
       "## Impacts with spheres beside discs\n\n"
       "Each case of Table 3.1 on a bed of {} spheres (r_b = 1 cm, density 1.5 g/cm^3: the thesis disc's "
@@ -298,130 +432,34 @@ void run_impacts_3d_suite(Report& r, const SuiteOptions& o) {
       "The bed alone for 0.07 s on each 3-D engine (it must not move more than 0.05 cm or faster than 1 "
       "cm/s, "
       "the 2-D beds' limits):\n\n" +
-      holds + notes + "\n";
-  const std::vector<std::pair<std::string, std::string>> rows = {
-      {"eps_i", "eps_i"},
-      {"eps_ix", "eps_ix"},
-      {"eps_iy", "eps_iy (vertical)"},
-      {"theta_i", "theta_i (deg from vertical)"},
-      {"ejected", "ejected per impact"},
-      {"ej_vy", "ejection vertical velocity (cm/s)"},
-      {"ej_energy", "ejected energy / incident"},
-      {"reptation", "reptation per impact (cm)"},
-      {"eps_iz", "rebound v_y / v_i (3-D)"},
-      {"ej_sideways", "ejecta mean abs(sin azimuth) (3-D)"},
-      {"ej_backward", "ejecta thrown upwind (3-D)"}};
-  ImpactOptions io;
-  // CASE G's dense beds, in both dimensions, made when a case first asks for them.
-  std::optional<Bed3d> dense_bed;
-  std::optional<Bed> dense_bed2;
-  auto beds_for = [&](const ImpactCase& c) -> std::pair<const Bed3d&, const Bed&> {
-    if (c.bed != "dense") return {bed, bed2};
-    if (!dense_bed) {
-      Bed3dSpec d = spec;
-      d.preparation = "dense";
-      if (o.log) o.log(fmt::format("impacts-3d: pouring {} spheres frictionless (dense bed)", d.count));
-      dense_bed = build_bed3d(d);
-      BedSpec d2 = spec2;
-      d2.preparation = "dense";
-      dense_bed2 = build_bed(d2);
-      const BedHold h = hold_bed3d(*dense_bed, "native", 0.07, io.rigid_dt);
-      expect_bed_at_rest(r, "impacts-3d/dense-bed-at-rest", "native", h, "the dense bed", 0.07,
-                         at_rest_limits(dense_bed->spec));
-      md += fmt::format(
-          "CASE G's dense bed: the same {} spheres poured, stiffened and damped frictionless, then relaxed "
-          "with friction (top {:.2f} cm, solid fraction {:.3f} against the loose bed's {:.3f}, {} loose "
-          "spheres taken away); it moves at most {:.3g} cm at {:.3g} cm/s when left alone for 0.07 s. The "
-          "2-D column is grainlab's dense disc bed.\n\n",
-          d.count, dense_bed->top, dense_bed->packing_fraction, bed.packing_fraction, dense_bed->removed,
-          h.max_displacement, h.max_speed);
-    }
-    return {*dense_bed, *dense_bed2};
-  };
-  const std::string along = "case (" + [&] {
-    std::string names;
-    for (std::size_t k = 0; k < cases.size(); ++k)
-      names += fmt::format("{}{} = {}", k ? ", " : "", cases[k], k + 1);
-    return names;
-  }() + ")";
-  std::vector<CaseFigure> figures{
-      {"eps_i",
-       {"impacts3d_rebound.png", "Rebound restitution eps_i: 2-D and 3-D", along, "eps_i", false, {}}},
-      {"ejected",
-       {"impacts3d_ejecta.png", "Ejected per impact: 2-D and 3-D", along, "ejecta per impact", false, {}}},
-      {"ej_vy",
-       {"impacts3d_ejection_speed.png",
-        "Ejection vertical velocity: 2-D and 3-D",
-        along,
-        "v_y (cm/s)",
-        false,
-        {}}}};
+      holds.table + holds.notes + "\n";
+  const ImpactOptions io;
+  std::vector<CaseFigure> figures = case_figures(cases);
   double at = 0;  // the case's place along the figures' x
   for (const std::string& name : cases) {
     const ImpactCase& c = impact_case(name);
-    const auto [bed_c, bed2_c] = beds_for(c);
+    const auto [bed_c, bed2_c] = beds.for_case(c, r, o, md);
     const std::vector<Impact3dResult> three =
         kept_case_impacts(case_checkpoint(o, c, "native"), bed_c, c, runs, 1, io, o.progress);
     const ImpactEnsemble two = run_impact_ensemble({bed2_c}, c, 1, runs, io, o.progress);
     const Impact3dSummary s3 = summarize_impacts3d(three);
-    const ImpactSummary s2 = summarize_impacts(two.impacts, spec2.restitution);
+    const ImpactSummary s2 = summarize_impacts(two.impacts, bed2_c.spec.restitution);
     ++at;
     for (CaseFigure& f : figures) f.add(at, thesis_impact_values(name), s2.q, s3.q);
     if (o.log)
       o.log(fmt::format("impacts-3d: CASE {}: {} impacts with spheres ({:.1f} s each), {} with discs", name,
                         runs, s3.median_wall_seconds, runs));
-    const double most = largest_energy_out(three);
     r.expect_below(
-        fmt::format("impacts-3d/{}/energy", name), "native", most, 1 + 2e-4,
+        fmt::format("impacts-3d/{}/energy", name), "native", largest_energy_out(three), 1 + 2e-4,
         "largest (rebound + ejecta) kinetic energy over the incident's among the impacts: no impact "
         "may create energy (2e-4: the incident grain's fall after release)");
-    // Symmetry across the incident plane: the mean sideways deflection of the rebound, and of each
-    // impact's ejecta (one mean per impact: ejecta of one impact are not independent), is zero within
-    // its interval, widened to family-wise 95 % over the suite's symmetry checks.
-    std::vector<double> rebound_side, ejecta_side;
-    for (const Impact3dResult& x : three) {
-      if (x.rebounded) rebound_side.push_back(x.vy / x.incident_speed);
-      if (x.ejecta.empty()) continue;
-      double sum = 0;
-      for (const Ejectum3d& e : x.ejecta) sum += std::sin(std::atan2(e.vy, e.vx));
-      ejecta_side.push_back(sum / static_cast<double>(x.ejecta.size()));
-    }
-    for (const auto& [k, sample] :
-         {std::pair{"rebound-sideways", rebound_side}, std::pair{"ejecta-sideways", ejecta_side}}) {
-      const MeanInterval m = mean_interval(sample);
-      const double half = m.n > 1 ? family_t(2 * cases.size(), m.n - 1) * m.sd / std::sqrt(double(m.n)) : NAN;
-      r.expect_below(
-          fmt::format("impacts-3d/{}/{}-symmetric", name, k), "native", std::abs(m.mean) - half, 0,
-          fmt::format("{}: mean {:.3g} +- {:.3g} (family-wise 95 % over {} checks) over {} impacts; "
-                      "the set-up is symmetric across the incident plane, so the interval must "
-                      "contain 0 (value: |mean| - half-width)",
-                      k, m.mean, half, 2 * cases.size(), m.n));
-    }
+    expect_symmetric(r, name, three, 2 * cases.size());
     // Quick: CASE A only, 4 impacts (ODE takes 7-8 s per impact on the 700-sphere bed, native 2-3 s).
     // Full: 10 impacts per case (20-56 s each on ODE's own 2,000-sphere bed, measured 2026-11-27).
     const std::vector<std::pair<std::string, Impact3dSummary>> peer =
         o.quick && name != "A" ? std::vector<std::pair<std::string, Impact3dSummary>>{}
-                               : peer_impacts(r, o, bed_c, c, o.quick ? 4 : 10, peers);
-    md += fmt::format("**CASE {}** (v_i {} cm/s, alpha_i {} deg, mu {}): {} of {} rebounded with spheres\n\n",
-                      name, c.speed, c.alpha_deg, c.mu, s3.rebounds, runs);
-    md += "| quantity | thesis 2-D | grainlab 2-D discs | grainlab 3-D spheres |";
-    for (const auto& [engine, p] : peer)
-      md += fmt::format(" {} 3-D spheres ({} impacts) |", engine, p.impacts);
-    md += "\n|---|---|---|---|";
-    for (std::size_t k = 0; k < peer.size(); ++k) md += "---|";
-    md += "\n";
-    const auto thesis = thesis_impact_values(name);
-    for (const auto& [k, label] : rows) {
-      const std::string th =
-          thesis.count(k) ? fmt::format("{:.3g} ({:.2g})", thesis.at(k).first, thesis.at(k).second) : "-";
-      md += fmt::format("| {} | {} | {} | {} |", label, th, cell(s2.q, k), cell(s3.q, k));
-      for (const auto& p : peer) md += fmt::format(" {} |", cell(p.second.q, k));
-      md += "\n";
-    }
-    md += fmt::format("| seconds per impact | | {:.2f} | {:.2f} |", s2.median_wall_seconds,
-                      s3.median_wall_seconds);
-    for (const auto& p : peer) md += fmt::format(" {:.2f} |", p.second.median_wall_seconds);
-    md += "\n\n";
+                               : peer_impacts(r, o, bed_c, c, o.quick ? 4 : 10, holds.peers);
+    md += case_table(c, runs, s2, s3, peer);
   }
   r.markdown.push_back(md);
   for (CaseFigure& f : figures) r.plots.push_back(f.done());
