@@ -15,6 +15,9 @@ namespace grainlab::validation {
 
 namespace {
 
+// The suite's beds by preparation ("loose", "dense").
+using Beds = std::map<std::string, std::vector<Bed>>;
+
 constexpr std::uint64_t kSeed = 2026;
 
 // Case `c`'s `runs` impacts on `beds`, kept in the suite's ensembles folder (if any) as they go, under
@@ -85,7 +88,7 @@ const CaseResult& find(const std::vector<CaseResult>& rs, const std::string& nam
   throw std::logic_error("impacts suite: no case " + name);
 }
 
-std::string bed_section(const std::map<std::string, std::vector<Bed>>& beds) {
+std::string bed_section(const Beds& beds) {
   std::string md =
       "### The beds\n\n384 discs (r_b = 1 cm, 2 g/cm^2, k_n = k_s = 6e9 dyn/cm, restitution 0.85, mu 0.5) in "
       "the "
@@ -292,9 +295,8 @@ void add_samples(Report& r, const std::string& prefix, const CaseResult& c, doub
 
 // Box2D, ODE and Bullet on the same beds: first whether each holds the bed at rest, then CASE A (loose)
 // and G (dense) beside native.
-std::string cross_engine_section(Report& rep, const std::map<std::string, std::vector<Bed>>& beds,
-                                 const std::vector<CaseResult>& native, const SuiteOptions& o,
-                                 std::size_t runs) {
+std::string cross_engine_section(Report& rep, const Beds& beds, const std::vector<CaseResult>& native,
+                                 const SuiteOptions& o, std::size_t runs) {
   std::string md =
       "### The impulse engines on the same beds\n\n"
       "Each engine first holds each bed alone for 0.07 s; one that lets a disc move more than 0.05 cm "
@@ -347,21 +349,26 @@ std::string cross_engine_section(Report& rep, const std::map<std::string, std::v
   return md + "\n";
 }
 
-}  // namespace
-
-void run_impacts_suite(Report& r, const SuiteOptions& o) {
-  const std::size_t runs = o.quick ? 8 : 100, n_beds = o.quick ? 1 : 3;
-  std::map<std::string, std::vector<Bed>> beds;
+// `n` beds of each preparation, seeds 1..n.
+Beds build_beds(const SuiteOptions& o, std::size_t n) {
+  Beds beds;
   for (const std::string prep : {"loose", "dense"})
-    for (std::size_t k = 0; k < n_beds; ++k) {
+    for (std::size_t k = 0; k < n; ++k) {
       BedSpec spec;
       spec.preparation = prep, spec.seed = k + 1;
-      if (o.log) o.log(fmt::format("impacts: building {} bed {} of {}", prep, k + 1, n_beds));
+      if (o.log) o.log(fmt::format("impacts: building {} bed {} of {}", prep, k + 1, n));
       beds[prep].push_back(build_bed(spec));
     }
-  const double eps = beds["loose"][0].spec.restitution;
+  return beds;
+}
+
+// Every case of Table 3.1 on the native engine (one impact of each recorded to the output folder), and
+// CASE D's frictionless grains on the dense bed too: the dense bed's contact angles match the thesis's
+// (its loose bed was as smooth), so friction's effect on m_beff is compared there as well.
+std::vector<CaseResult> native_cases(const SuiteOptions& o, Beds& beds, std::size_t runs, double eps) {
+  const std::size_t n_beds = beds["loose"].size();
   std::vector<CaseResult> results;
-  ImpactOptions opt;
+  const ImpactOptions opt;
   for (const ImpactCase& c : impact_cases()) {
     CaseResult cr{c,
                   kept_impacts(o, "impacts-case-" + c.name,
@@ -377,48 +384,43 @@ void run_impacts_suite(Report& r, const SuiteOptions& o) {
       run_impact(beds[c.bed][0], c, kSeed, 0, rec);
     }
   }
-  // CASE D's frictionless grains on the dense bed too: the dense bed's contact angles match the thesis's
-  // (its loose bed was as smooth), so friction's effect on m_beff is compared there as well.
-  {
-    const ImpactCase dd{"D-dense", 3000, 15, 0.0, "dense", 1.0};
-    CaseResult cr{dd,
-                  kept_impacts(o, "impacts-case-D-dense",
-                               fmt::format("impacts: CASE D on the dense beds ({} impacts)", runs),
-                               beds["dense"], dd, runs, opt),
-                  {}};
-    cr.s = summarize_impacts(cr.e.impacts, eps);
-    results.push_back(std::move(cr));
-  }
-  std::vector<std::string> off;
-  std::string md = "## Grain-bed impacts (thesis Ch. III)\n\n" + bed_section(beds);
-  {
-    const MeanInterval loose =
-        effective_mass_difference(find(results, "A").e.impacts, find(results, "D").e.impacts, eps);
-    const MeanInterval dense =
-        effective_mass_difference(find(results, "G").e.impacts, find(results, "D-dense").e.impacts, eps);
-    md += fmt::format(
-        "**Friction and the effective mass.** Paired over the same impact points, friction raises m_beff / "
-        "m_b by "
-        "{:.2f} [{:.2f}, {:.2f}] on the loose beds (A - D, mean beta {:.0f} deg) and by {:.2f} [{:.2f}, "
-        "{:.2f}] on "
-        "the dense beds (G - D-dense, mean beta {:.0f} deg); the thesis: 0.6 on a bed with beta 17 deg.\n\n",
-        loose.mean, loose.lo, loose.hi, find(results, "A").s.q.at("beta").mean, dense.mean, dense.lo,
-        dense.hi, find(results, "G").s.q.at("beta").mean);
-  }
-  md += fmt::format(
-      "{} impacts per case on {} bed(s) per preparation, seed {}, native engine (Verlet at 1/30 of the "
-      "shortest contact). Median cost per impact: ",
-      runs, n_beds, kSeed);
-  for (const CaseResult& c : results) md += fmt::format("{} {:.2f} s, ", c.c.name, c.s.median_wall_seconds);
-  md += "on one core.\n\n";
-  md += comparison_table("Table 3.2: the rebounding grain", results,
-                         {{"eps_ix", "eps_ix"},
-                          {"eps_iy", "eps_iy"},
-                          {"eps_i", "eps_i"},
-                          {"theta_i", "theta_i"},
-                          {"xi_i", "xi_i"},
-                          {"beta", "beta"}},
-                         2, off);
+  const ImpactCase dd{"D-dense", 3000, 15, 0.0, "dense", 1.0};
+  CaseResult cr{dd,
+                kept_impacts(o, "impacts-case-D-dense",
+                             fmt::format("impacts: CASE D on the dense beds ({} impacts)", runs),
+                             beds["dense"], dd, runs, opt),
+                {}};
+  cr.s = summarize_impacts(cr.e.impacts, eps);
+  results.push_back(std::move(cr));
+  return results;
+}
+
+// Friction's share of the effective mass, paired over the same impact points on both preparations.
+std::string friction_paragraph(const std::vector<CaseResult>& results, double eps) {
+  const MeanInterval loose =
+      effective_mass_difference(find(results, "A").e.impacts, find(results, "D").e.impacts, eps);
+  const MeanInterval dense =
+      effective_mass_difference(find(results, "G").e.impacts, find(results, "D-dense").e.impacts, eps);
+  return fmt::format(
+      "**Friction and the effective mass.** Paired over the same impact points, friction raises m_beff / "
+      "m_b by "
+      "{:.2f} [{:.2f}, {:.2f}] on the loose beds (A - D, mean beta {:.0f} deg) and by {:.2f} [{:.2f}, "
+      "{:.2f}] on "
+      "the dense beds (G - D-dense, mean beta {:.0f} deg); the thesis: 0.6 on a bed with beta 17 deg.\n\n",
+      loose.mean, loose.lo, loose.hi, find(results, "A").s.q.at("beta").mean, dense.mean, dense.lo, dense.hi,
+      find(results, "G").s.q.at("beta").mean);
+}
+
+// Tables 3.2-3.9 beside grainlab's numbers; `off` collects the thesis means outside grainlab's intervals.
+std::string thesis_tables(const std::vector<CaseResult>& results, std::vector<std::string>& off) {
+  std::string md = comparison_table("Table 3.2: the rebounding grain", results,
+                                    {{"eps_ix", "eps_ix"},
+                                     {"eps_iy", "eps_iy"},
+                                     {"eps_i", "eps_i"},
+                                     {"theta_i", "theta_i"},
+                                     {"xi_i", "xi_i"},
+                                     {"beta", "beta"}},
+                                    2, off);
   md += comparison_table(
       "Table 3.3: momentum to the bed", results,
       {{"eps_bx", "eps_bx"}, {"eps_by", "eps_by"}, {"theta_b", "Theta_b"}, {"m_beff", "m_beff/m_b"}}, 2, off);
@@ -433,7 +435,7 @@ void run_impacts_suite(Report& r, const SuiteOptions& o) {
       "Table 3.5: ejected momentum per event (g cm/s) and Table 3.6: ejected energy / incident "
       "(grainlab only; the thesis's table is lost in the OCR)",
       results, {{"ej_px", "x"}, {"ej_py", "y"}, {"ej_energy", "energy"}}, 0, off);
-  std::vector<CaseResult> abc(results.begin(), results.begin() + 3);
+  const std::vector<CaseResult> abc(results.begin(), results.begin() + 3);
   md += comparison_table(
       "Tables 3.7 and 3.8: by particle type (brink: the two grains just upstream of a drop of at "
       "least r_b between consecutive surface grains)",
@@ -448,24 +450,47 @@ void run_impacts_suite(Report& r, const SuiteOptions& o) {
       2, off);
   md += comparison_table("Table 3.9: origin of ejecta relative to the impact point (cm)", results,
                          {{"origin_x", "x"}, {"origin_y", "y"}, {"origin_r", "distance"}}, 1, off);
+  return md;
+}
+
+// The thesis's statements are statistical: with the quick suite's 8 impacts per case they are measured
+// and shown but not checked (too few impacts to decide them either way); the full suite checks them.
+std::string statements_section(Report& r, const std::vector<CaseResult>& results, double eps, bool quick) {
+  Report statements;
+  statement_checks(statements, results, eps);
+  if (!quick) {
+    for (const Check& c : statements.checks) r.checks.push_back(c);
+    return "";
+  }
+  std::string md =
+      "### The thesis's statements (measured; checked only by the full suite, 100 impacts per case)\n\n"
+      "| statement | value | note |\n|---|---|---|\n";
+  for (const Check& c : statements.checks) md += fmt::format("| {} | {:.4g} | {} |\n", c.id, c.value, c.note);
+  return md + "\n";
+}
+
+}  // namespace
+
+void run_impacts_suite(Report& r, const SuiteOptions& o) {
+  const std::size_t runs = o.quick ? 8 : 100, n_beds = o.quick ? 1 : 3;
+  Beds beds = build_beds(o, n_beds);
+  const double eps = beds["loose"][0].spec.restitution;
+  const std::vector<CaseResult> results = native_cases(o, beds, runs, eps);
+  std::string md = "## Grain-bed impacts (thesis Ch. III)\n\n" + bed_section(beds);
+  md += friction_paragraph(results, eps);
+  md += fmt::format(
+      "{} impacts per case on {} bed(s) per preparation, seed {}, native engine (Verlet at 1/30 of the "
+      "shortest contact). Median cost per impact: ",
+      runs, n_beds, kSeed);
+  for (const CaseResult& c : results) md += fmt::format("{} {:.2f} s, ", c.c.name, c.s.median_wall_seconds);
+  md += "on one core.\n\n";
+  std::vector<std::string> off;
+  md += thesis_tables(results, off);
   md += fmt::format(
       "Thesis means more than 1.96 combined standard errors from grainlab's: {} of the compared "
       "quantities: {}.\n\n",
       off.size(), fmt::join(off, "; "));
-  // The thesis's statements are statistical: with the quick suite's 8 impacts per case they are measured
-  // and shown but not checked (too few impacts to decide them either way); the full suite checks them.
-  Report statements;
-  statement_checks(statements, results, eps);
-  if (o.quick) {
-    md +=
-        "### The thesis's statements (measured; checked only by the full suite, 100 impacts per case)\n\n"
-        "| statement | value | note |\n|---|---|---|\n";
-    for (const Check& c : statements.checks)
-      md += fmt::format("| {} | {:.4g} | {} |\n", c.id, c.value, c.note);
-    md += "\n";
-  } else {
-    for (const Check& c : statements.checks) r.checks.push_back(c);
-  }
+  md += statements_section(r, results, eps, o.quick);
   rebound_model_checks(r);
   md += cross_engine_section(r, beds, results, o, o.quick ? 2 : 30);
   r.markdown.push_back(md);
