@@ -124,6 +124,64 @@ nlohmann::json stats_json(const std::vector<double>& r) {
 
 }  // namespace
 
+namespace {
+
+// The ensemble's mean, s.d. and 95 % half-width of each statistic over the members.
+nlohmann::json ensemble_summary(const nlohmann::json& members) {
+  nlohmann::json summary;
+  for (const char* key : {"wavelength", "height", "stoss_deg", "lee_deg", "roughness", "f_peak",
+                          "autocorrelation_wavelength"}) {
+    std::vector<double> values;
+    for (const auto& m : members) values.push_back(m[key].get<double>());
+    const validation::MeanInterval mi = validation::mean_interval(values);
+    // One seed has no spread: null, not an interval of zero width.
+    const bool spread = values.size() > 1;
+    summary[key] = {{"mean", mi.mean},
+                    {"sd", spread ? nlohmann::json(mi.sd) : nlohmann::json()},
+                    {"half_width_95", spread ? nlohmann::json(mi.half_width()) : nlohmann::json()}};
+  }
+  return summary;
+}
+
+void print_lattice_summary(const RipplesCommands& a, const LatticeRun& run, const LatticeOutcome& first,
+                           const nlohmann::json& members, const nlohmann::json& summary) {
+  const LatticeParams& p = run.params;
+  if (p.hops_d.empty()) {
+    fmt::print(
+        "lattice-bed model: {} columns, impacts at {} deg, hops {} forward / {} backward, brink share {}\n",
+        p.columns, p.impact_deg, p.forward, p.backward, p.brink_probability);
+  } else {
+    fmt::print(
+        "lattice-bed model: {} columns, impacts at {:.1f} deg, hops drawn from {} ({} lengths, mean {:.1f} "
+        "d{}), "
+        "brink share {}\n",
+        p.columns, p.impact_deg, run.splash, p.hops_d.size(), validation::mean_interval(p.hops_d).mean,
+        run.splash_wind > 0 ? fmt::format(", flown in the wind at u* = {} cm/s", run.splash_wind) : "",
+        p.brink_probability);
+  }
+  for (std::size_t k = 0; k < first.history.rows.size();
+       k += std::max<std::size_t>(1, first.history.rows.size() / 10)) {
+    const auto& r = first.history.rows[k];
+    fmt::print(
+        "  {:6.1f} ejections per grain: wavelength {:6.1f}, height {:5.1f} layers, stoss {:4.1f}, lee "
+        "{:4.1f} deg\n",
+        r[0], r[2], r[3], r[4], r[5]);
+  }
+  for (const char* key :
+       {"wavelength", "height", "stoss_deg", "lee_deg", "f_peak", "autocorrelation_wavelength"}) {
+    if (members.size() > 1)
+      fmt::print("  final {} over {} seeds: {:.2f} +- {:.2f} (95 %)\n", key, members.size(),
+                 summary[key]["mean"].get<double>(), summary[key]["half_width_95"].get<double>());
+    else
+      fmt::print("  final {}: {:.2f} (one seed: --seeds N gives an interval)\n", key,
+                 summary[key]["mean"].get<double>());
+  }
+  fmt::print("  {:.3g} impacts per second (with the per-frame statistics)\n", first.impacts_per_second);
+  if (!a.out.empty()) fmt::print("wrote {} (h(x, t): {} frames)\n", a.out, first.h.rows.size());
+}
+
+}  // namespace
+
 int lattice_command(const RipplesCommands& a) {
   refuse_existing_out(a.out, a.force);
   LatticeRun run = read_lattice_config(a.config);
@@ -160,66 +218,23 @@ int lattice_command(const RipplesCommands& a) {
   nlohmann::json members = nlohmann::json::array();
   for (const auto& row : table) members.push_back(stats_json(row));
   if (!root) return 0;
-  nlohmann::json summary;
-  for (const char* key : {"wavelength", "height", "stoss_deg", "lee_deg", "roughness", "f_peak",
-                          "autocorrelation_wavelength"}) {
-    std::vector<double> values;
-    for (const auto& m : members) values.push_back(m[key].get<double>());
-    const validation::MeanInterval mi = validation::mean_interval(values);
-    // One seed has no spread: null, not an interval of zero width.
-    const bool spread = values.size() > 1;
-    summary[key] = {{"mean", mi.mean},
-                    {"sd", spread ? nlohmann::json(mi.sd) : nlohmann::json()},
-                    {"half_width_95", spread ? nlohmann::json(mi.half_width()) : nlohmann::json()}};
-  }
-  if (a.json) {
-    fmt::print("{}\n", nlohmann::json{{"seeds", members.size()},
-                                      {"ejections_per_grain", run.ejections_per_grain},
-                                      {"impacts_per_second", first.impacts_per_second},
-                                      {"impact_angle", run.params.impact_deg},
-                                      {"mean_hop_d", run.params.hops_d.empty()
-                                                         ? 0.0
-                                                         : validation::mean_interval(run.params.hops_d).mean},
-                                      {"splash_wind", run.splash_wind},
-                                      {"splash_wind_state", hops.wind_state},
-                                      {"final", summary},
-                                      {"members", members}}
-                           .dump(2));
+  const nlohmann::json summary = ensemble_summary(members);
+  if (!a.json) {
+    print_lattice_summary(a, run, first, members, summary);
     return 0;
   }
-  const LatticeParams& p = run.params;
-  if (p.hops_d.empty()) {
-    fmt::print(
-        "lattice-bed model: {} columns, impacts at {} deg, hops {} forward / {} backward, brink share {}\n",
-        p.columns, p.impact_deg, p.forward, p.backward, p.brink_probability);
-  } else {
-    fmt::print(
-        "lattice-bed model: {} columns, impacts at {:.1f} deg, hops drawn from {} ({} lengths, mean {:.1f} "
-        "d{}), "
-        "brink share {}\n",
-        p.columns, p.impact_deg, run.splash, p.hops_d.size(), validation::mean_interval(p.hops_d).mean,
-        run.splash_wind > 0 ? fmt::format(", flown in the wind at u* = {} cm/s", run.splash_wind) : "",
-        p.brink_probability);
-  }
-  for (std::size_t k = 0; k < first.history.rows.size();
-       k += std::max<std::size_t>(1, first.history.rows.size() / 10)) {
-    const auto& r = first.history.rows[k];
-    fmt::print(
-        "  {:6.1f} ejections per grain: wavelength {:6.1f}, height {:5.1f} layers, stoss {:4.1f}, lee "
-        "{:4.1f} deg\n",
-        r[0], r[2], r[3], r[4], r[5]);
-  }
-  for (const char* key :
-       {"wavelength", "height", "stoss_deg", "lee_deg", "f_peak", "autocorrelation_wavelength"}) {
-    if (members.size() > 1)
-      fmt::print("  final {} over {} seeds: {:.2f} +- {:.2f} (95 %)\n", key, members.size(),
-                 summary[key]["mean"].get<double>(), summary[key]["half_width_95"].get<double>());
-    else
-      fmt::print("  final {}: {:.2f} (one seed: --seeds N gives an interval)\n", key,
-                 summary[key]["mean"].get<double>());
-  }
-  fmt::print("  {:.3g} impacts per second (with the per-frame statistics)\n", first.impacts_per_second);
-  if (!a.out.empty()) fmt::print("wrote {} (h(x, t): {} frames)\n", a.out, first.h.rows.size());
+  fmt::print("{}\n", nlohmann::json{{"seeds", members.size()},
+                                    {"ejections_per_grain", run.ejections_per_grain},
+                                    {"impacts_per_second", first.impacts_per_second},
+                                    {"impact_angle", run.params.impact_deg},
+                                    {"mean_hop_d", run.params.hops_d.empty()
+                                                       ? 0.0
+                                                       : validation::mean_interval(run.params.hops_d).mean},
+                                    {"splash_wind", run.splash_wind},
+                                    {"splash_wind_state", hops.wind_state},
+                                    {"final", summary},
+                                    {"members", members}}
+                         .dump(2));
   return 0;
 }
 

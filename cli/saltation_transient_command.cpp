@@ -60,9 +60,9 @@ std::vector<validation::PlotSpec> transient_plots(const TransientResult& r, cons
   return {q, u};
 }
 
-}  // namespace
-
-int transient_command(const SaltationCommands& a) {
+// The run's options from the command line, refusing what cannot run (an output folder in use, --case with
+// --splash, --change values out of order or range).
+TransientOptions transient_options(const SaltationCommands& a, double& diameter) {
   if (!a.transient_out.empty() && fs::exists(a.transient_out) && !fs::is_empty(a.transient_out) && !a.force)
     throw InputError({"--out", 0}, a.transient_out,
                      "exists and is not empty; pass --force to replace its files");
@@ -74,8 +74,7 @@ int transient_command(const SaltationCommands& a) {
     throw InputError({"--change", 0}, "", "give pairs of a time (s) and a new u* (cm/s)");
   TransientOptions o;
   o.model.u_star = a.transient_ustar;
-  const double diameter =
-      case_grain_diameter(a.transient_case, a.transient_diameter_option, a.grain_diameter);
+  diameter = case_grain_diameter(a.transient_case, a.transient_diameter_option, a.grain_diameter);
   o.model.grain.radius = diameter / 2;
   o.dt = a.transient_dt, o.duration = a.transient_duration;
   o.record_every = std::max(1, static_cast<int>(std::lround(a.transient_record / a.transient_dt)));
@@ -89,22 +88,17 @@ int transient_command(const SaltationCommands& a) {
       throw InputError({"--change", 0}, fmt::format("{}", u), "u* must lie in (0, 1000) cm/s");
     o.ustar_changes.push_back({t, u}), last = t;
   }
-  const SplashKernel splash = case_splash(a.transient_case, a.transient_splash, o.model, 1.0);
-  // Everything that fixes what the run computes: a checkpoint from other options would continue another run.
-  const std::string fingerprint = fmt::format(
-      "case {}\nsplash {}\nu_star {:.17g}\nchanges {}\ndt {:.17g}\nduration {:.17g}\nrecord_every {}\n"
-      "grain_diameter {:.17g}\n",
-      a.transient_case, a.transient_splash, a.transient_ustar, nlohmann::json(a.transient_changes).dump(),
-      o.dt, o.duration, o.record_every, diameter);
-  const auto wall0 = std::chrono::steady_clock::now();
-  TransientState state = a.transient_restart.empty()
-                             ? start_transient(o)
-                             : read_transient_checkpoint(a.transient_restart, o, fingerprint);
+  return o;
+}
+
+// Advances `state` to the run's end or --stop-at in pieces of 100 steps, saving it whenever
+// --checkpoint-every seconds of wall time have passed, and at the end.
+void advance_to_stop(const SaltationCommands& a, const TransientOptions& o, const SplashKernel& splash,
+                     TransientState& state, const std::string& fingerprint) {
   const long last_step = transient_last_step(o);
   const long stop =
       a.transient_stop_at > 0 ? std::min(last_step, std::lround(a.transient_stop_at / o.dt)) : last_step;
   auto saved = std::chrono::steady_clock::now();
-  // In pieces of 100 steps, saving the state whenever --checkpoint-every seconds of wall time have passed.
   while (!state.over && state.next_step <= stop) {
     advance_transient(o, splash, state, std::min(stop, state.next_step + 99));
     const auto now = std::chrono::steady_clock::now();
@@ -115,45 +109,31 @@ int transient_command(const SaltationCommands& a) {
     }
   }
   if (!a.transient_checkpoint.empty()) write_transient_checkpoint(a.transient_checkpoint, state, fingerprint);
-  if (!state.over) {
-    fmt::print(stderr, "stopped at t = {:.6g} s; continue with --restart {}\n",
-               static_cast<double>(state.next_step) * o.dt, a.transient_checkpoint);
-    return 0;
-  }
-  TransientResult r = finish_transient(state);
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  // The steady state the run should approach, at the last u*.
-  WindModelOptions steady_options = o.model;
-  if (!o.ustar_changes.empty()) steady_options.u_star = o.ustar_changes.back().second;
-  const WindModelResult steady = solve_wind_model(steady_options, splash);
-  const nlohmann::json out{
-      {"grainlab_version", GRAINLAB_VERSION},
-      {"case", a.transient_case},
-      {"splash", a.transient_splash},
-      {"u_star", a.transient_ustar},
-      {"changes", a.transient_changes},
-      {"dt", o.dt},
-      {"duration", o.duration},
-      {"died", r.died},
-      {"failure", r.failure},
-      {"settling_time", r.settling_time},
-      {"final_mass_flux", r.final_mass_flux},
-      {"final_u_star_eff", r.final_u_star_eff},
-      {"final_growth_rate", r.final_growth_rate},
-      {"steady", steady.failure.empty()
-                     ? nlohmann::json{{"mass_flux", steady.mass_flux}, {"u_star_eff", steady.u_star_eff}}
-                     : nlohmann::json{{"failure", steady.failure}}},
-      {"wall_seconds", r.wall_seconds}};
-  if (!a.transient_out.empty()) {
-    fs::create_directories(a.transient_out);
-    write_file_atomically((fs::path(a.transient_out) / "transient.csv").string(), transient_csv(r));
-    write_file_atomically((fs::path(a.transient_out) / "transient.json").string(), out.dump(2));
-    validation::write_plots(transient_plots(r, steady), a.transient_out);
-  }
-  if (a.transient_json) {
-    fmt::print("{}\n", out.dump(2));
-    return 0;
-  }
+}
+
+nlohmann::json transient_json(const SaltationCommands& a, const TransientOptions& o, const TransientResult& r,
+                              const WindModelResult& steady) {
+  return {{"grainlab_version", GRAINLAB_VERSION},
+          {"case", a.transient_case},
+          {"splash", a.transient_splash},
+          {"u_star", a.transient_ustar},
+          {"changes", a.transient_changes},
+          {"dt", o.dt},
+          {"duration", o.duration},
+          {"died", r.died},
+          {"failure", r.failure},
+          {"settling_time", r.settling_time},
+          {"final_mass_flux", r.final_mass_flux},
+          {"final_u_star_eff", r.final_u_star_eff},
+          {"final_growth_rate", r.final_growth_rate},
+          {"steady", steady.failure.empty()
+                         ? nlohmann::json{{"mass_flux", steady.mass_flux}, {"u_star_eff", steady.u_star_eff}}
+                         : nlohmann::json{{"failure", steady.failure}}},
+          {"wall_seconds", r.wall_seconds}};
+}
+
+void print_transient_summary(const SaltationCommands& a, const TransientOptions& o, const TransientResult& r,
+                             const WindModelResult& steady) {
   fmt::print("time-dependent saltation (eq. 4.35), {}, u* = {} cm/s, dt {} s, {} s ({:.1f} s of wall time)\n",
              case_label(a.transient_case, a.transient_splash), a.transient_ustar, o.dt, o.duration,
              r.wall_seconds);
@@ -179,6 +159,47 @@ int transient_command(const SaltationCommands& a) {
     }
   }
   if (!a.transient_out.empty()) fmt::print("wrote {}/transient.csv and its plots\n", a.transient_out);
+}
+
+}  // namespace
+
+int transient_command(const SaltationCommands& a) {
+  double diameter = 0;
+  const TransientOptions o = transient_options(a, diameter);
+  const SplashKernel splash = case_splash(a.transient_case, a.transient_splash, o.model, 1.0);
+  // Everything that fixes what the run computes: a checkpoint from other options would continue another run.
+  const std::string fingerprint = fmt::format(
+      "case {}\nsplash {}\nu_star {:.17g}\nchanges {}\ndt {:.17g}\nduration {:.17g}\nrecord_every {}\n"
+      "grain_diameter {:.17g}\n",
+      a.transient_case, a.transient_splash, a.transient_ustar, nlohmann::json(a.transient_changes).dump(),
+      o.dt, o.duration, o.record_every, diameter);
+  const auto wall0 = std::chrono::steady_clock::now();
+  TransientState state = a.transient_restart.empty()
+                             ? start_transient(o)
+                             : read_transient_checkpoint(a.transient_restart, o, fingerprint);
+  advance_to_stop(a, o, splash, state, fingerprint);
+  if (!state.over) {
+    fmt::print(stderr, "stopped at t = {:.6g} s; continue with --restart {}\n",
+               static_cast<double>(state.next_step) * o.dt, a.transient_checkpoint);
+    return 0;
+  }
+  TransientResult r = finish_transient(state);
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  // The steady state the run should approach, at the last u*.
+  WindModelOptions steady_options = o.model;
+  if (!o.ustar_changes.empty()) steady_options.u_star = o.ustar_changes.back().second;
+  const WindModelResult steady = solve_wind_model(steady_options, splash);
+  const nlohmann::json out = transient_json(a, o, r, steady);
+  if (!a.transient_out.empty()) {
+    fs::create_directories(a.transient_out);
+    write_file_atomically((fs::path(a.transient_out) / "transient.csv").string(), transient_csv(r));
+    write_file_atomically((fs::path(a.transient_out) / "transient.json").string(), out.dump(2));
+    validation::write_plots(transient_plots(r, steady), a.transient_out);
+  }
+  if (a.transient_json)
+    fmt::print("{}\n", out.dump(2));
+  else
+    print_transient_summary(a, o, r, steady);
   return 0;
 }
 
