@@ -136,29 +136,10 @@ void add_quantities(nlohmann::json& j, const std::map<std::string, MeanInterval>
   }
 }
 
-// `grainlab impact --dimension 3`: the case with spheres, beside the thesis's 2-D values.
-int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
-  if (!a.bed_files.empty())
-    throw InputError({"--bed", 0}, a.bed_files[0], "bed files are 2-D; 3-D beds are poured here");
-  const bool speak = !a.quiet && parallel::rank() == 0;  // (stderr: kept with --json)
-  Bed3dSpec spec;
-  spec.count = a.spheres;
-  spec.seed = a.bed_seed;
-  spec.preparation = c.bed;  // (CASE G's is dense: poured frictionless)
-  spec.polyhedra = a.grains == "polyhedron";
-  if (!a.box.empty()) spec.width = a.box[0], spec.depth = a.box[1];
-  if (speak)
-    fmt::print(stderr, "grainlab impact: pouring {} {} into a {} x {} cm box ({} bed)...\n", spec.count,
-               spec.polyhedra ? "irregular grains" : "spheres", spec.width, spec.depth, spec.preparation);
-  // The build takes minutes (an hour for irregular grains): each stage is reported as it ends, and kept in
-  // the checkpoint when there is one, with every impact finished after it (in the sand gun's file, as its
-  // row 1: the fingerprint holds the case, so no sand-gun run can take it for its own).
-  const std::string impacts_of =
-      fmt::format(
-          "case {} speed {:.17g} alpha {:.17g} mu {:.17g} radius {:.17g} engine {} steps_per_contact {:.17g} "
-          "settle_on_engine {}",
-          c.name, c.speed, c.alpha_deg, c.mu, c.radius, a.engine, a.steps_per_contact, a.settle_on_engine) +
-      (a.active_zone > 0 ? " " + sand_gun_impacts_of(a.active_zone) : std::string());
+// The 3-D bed, built here or taken from --checkpoint (the whole bed, or the stages of its build done so
+// far); each stage is reported as it ends and kept in the checkpoint with every impact finished after it.
+SandGunProgress checkpointed_bed3d(const ImpactCommands& a, const Bed3dSpec& spec,
+                                   const std::string& impacts_of, bool speak) {
   SandGunProgress kept;
   if (!a.impact_checkpoint.empty()) {
     if (auto p = read_sand_gun_checkpoint(a.impact_checkpoint, spec, a.seed, impacts_of)) {
@@ -175,6 +156,79 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
         if (speak) fmt::print(stderr, "grainlab impact: {}\n", stage);
       },
       a.impact_checkpoint, impacts_of);
+  return kept;
+}
+
+// Readies `bed` on the chosen engine: settled on the engine itself (--settle-on-engine), or held alone first
+// (an impulse engine, or --hold), stopping when it did not hold. Returns the settles taken.
+int ready_bed_on_engine(const ImpactCommands& a, Bed3d& bed, const ImpactOptions& o, bool speak) {
+  if (a.settle_on_engine) {
+    // The engine's own bed: an impulse engine squeezes the bed built here further (docs/impacts.md).
+    EngineBed own =
+        settle_on_engine(bed, a.engine, 0.2, 4, o.duration, o.rigid_dt, [&](const std::string& line) {
+          if (speak) fmt::print(stderr, "grainlab impact: {}\n", line);
+        });
+    bed = std::move(own.bed);
+    if (speak)
+      fmt::print(stderr, "grainlab impact: settled the bed on {} {} x 0.2 s\n", a.engine, own.settles);
+    report_bed_held(own.hold, a.engine, o.duration, speak, at_rest_limits(bed.spec));
+    return own.settles;
+  }
+  if (a.engine != "native" || a.hold) {
+    // An impulse engine must hold the bed at rest first, or its "ejecta" are the bed falling apart.
+    const BedHold h = hold_bed3d(bed, a.engine, o.duration, o.rigid_dt);
+    report_bed_held(h, a.engine, o.duration, speak, at_rest_limits(bed.spec));
+  }
+  return 0;
+}
+
+nlohmann::json impact3d_json(const ImpactCommands& a, const ImpactCase& c, const Bed3dSpec& spec,
+                             const Bed3d& bed, int settles, const Impact3dSummary& s) {
+  nlohmann::json j{{"case", c.name},
+                   {"dimension", 3},
+                   {"engine", a.engine},
+                   {"runs", a.runs},
+                   {"seed", a.seed},
+                   {"spheres", spec.count},
+                   {"grains", a.grains},
+                   {"box", {spec.width, spec.depth}},
+                   {"preparation", spec.preparation},
+                   {"bed_top", bed.top},
+                   {"packing_fraction", bed.packing_fraction},
+                   {"spheres_removed", bed.removed},
+                   {"bed_settles_on_engine", settles},
+                   {"active_zone", a.active_zone},
+                   {"rebounds", s.rebounds},
+                   {"ejecta", s.ejecta},
+                   {"median_wall_seconds", s.median_wall_seconds},
+                   {"mean_steps", s.mean_steps}};
+  add_quantities(j, s.q, thesis_impact_values(c.name), "thesis_2d");
+  return j;
+}
+
+// `grainlab impact --dimension 3`: the case with spheres, beside the thesis's 2-D values.
+int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
+  if (!a.bed_files.empty())
+    throw InputError({"--bed", 0}, a.bed_files[0], "bed files are 2-D; 3-D beds are poured here");
+  const bool speak = !a.quiet && parallel::rank() == 0;  // (stderr: kept with --json)
+  Bed3dSpec spec;
+  spec.count = a.spheres;
+  spec.seed = a.bed_seed;
+  spec.preparation = c.bed;  // (CASE G's is dense: poured frictionless)
+  spec.polyhedra = a.grains == "polyhedron";
+  if (!a.box.empty()) spec.width = a.box[0], spec.depth = a.box[1];
+  if (speak)
+    fmt::print(stderr, "grainlab impact: pouring {} {} into a {} x {} cm box ({} bed)...\n", spec.count,
+               spec.polyhedra ? "irregular grains" : "spheres", spec.width, spec.depth, spec.preparation);
+  // The build takes minutes (an hour for irregular grains), so it can be checkpointed (in the sand gun's
+  // file, as its row 1: the fingerprint holds the case, so no sand-gun run can take it for its own).
+  const std::string impacts_of =
+      fmt::format(
+          "case {} speed {:.17g} alpha {:.17g} mu {:.17g} radius {:.17g} engine {} steps_per_contact {:.17g} "
+          "settle_on_engine {}",
+          c.name, c.speed, c.alpha_deg, c.mu, c.radius, a.engine, a.steps_per_contact, a.settle_on_engine) +
+      (a.active_zone > 0 ? " " + sand_gun_impacts_of(a.active_zone) : std::string());
+  SandGunProgress kept = checkpointed_bed3d(a, spec, impacts_of, speak);
   Bed3d bed = kept.bed;
   if (speak)
     fmt::print(stderr,
@@ -187,21 +241,7 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   o.engine = a.engine;
   o.steps_per_contact = a.steps_per_contact;
   o.active_radius = a.active_zone * 2 * spec.radius;
-  int settles = 0;
-  if (a.settle_on_engine) {
-    // The engine's own bed: an impulse engine squeezes the bed built here further (docs/impacts.md).
-    EngineBed own =
-        settle_on_engine(bed, a.engine, 0.2, 4, o.duration, o.rigid_dt, [&](const std::string& line) {
-          if (speak) fmt::print(stderr, "grainlab impact: {}\n", line);
-        });
-    bed = std::move(own.bed), settles = own.settles;
-    if (speak) fmt::print(stderr, "grainlab impact: settled the bed on {} {} x 0.2 s\n", a.engine, settles);
-    report_bed_held(own.hold, a.engine, o.duration, speak, at_rest_limits(bed.spec));
-  } else if (a.engine != "native" || a.hold) {
-    // An impulse engine must hold the bed at rest first, or its "ejecta" are the bed falling apart.
-    const BedHold h = hold_bed3d(bed, a.engine, o.duration, o.rigid_dt);
-    report_bed_held(h, a.engine, o.duration, speak, at_rest_limits(bed.spec));
-  }
+  const int settles = ready_bed_on_engine(a, bed, o, speak);
   ProgressBar bar(!a.quiet && parallel::rank() == 0, "impacts");  // (stderr: kept with --json)
   const EnsembleProgress tick = [&](std::size_t d, std::size_t t) {
     bar.update(static_cast<double>(d), static_cast<double>(t));
@@ -218,28 +258,8 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   }
   if (parallel::rank() != 0) return 0;
   const Impact3dSummary s = summarize_impacts3d(results);
-  const auto thesis = thesis_impact_values(c.name);
   if (a.impact_json) {
-    nlohmann::json j{{"case", c.name},
-                     {"dimension", 3},
-                     {"engine", a.engine},
-                     {"runs", a.runs},
-                     {"seed", a.seed},
-                     {"spheres", spec.count},
-                     {"grains", a.grains},
-                     {"box", {spec.width, spec.depth}},
-                     {"preparation", spec.preparation},
-                     {"bed_top", bed.top},
-                     {"packing_fraction", bed.packing_fraction},
-                     {"spheres_removed", bed.removed},
-                     {"bed_settles_on_engine", settles},
-                     {"active_zone", a.active_zone},
-                     {"rebounds", s.rebounds},
-                     {"ejecta", s.ejecta},
-                     {"median_wall_seconds", s.median_wall_seconds},
-                     {"mean_steps", s.mean_steps}};
-    add_quantities(j, s.q, thesis, "thesis_2d");
-    fmt::print("{}\n", j.dump(2));
+    fmt::print("{}\n", impact3d_json(a, c, spec, bed, settles, s).dump(2));
     return 0;
   }
   fmt::print(
@@ -247,7 +267,7 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
       "steps)\n",
       c.name, spec.polyhedra ? "irregular grains" : "spheres", s.impacts, s.rebounds, s.ejecta,
       s.median_wall_seconds, s.mean_steps);
-  print_quantities(s.q, thesis, "3-D mean", "thesis 2-D (spread)");
+  print_quantities(s.q, thesis_impact_values(c.name), "3-D mean", "thesis 2-D (spread)");
   return 0;
 }
 
@@ -386,10 +406,15 @@ int rebound_command(const ImpactCommands& a) {
   return 0;
 }
 
-int splash_command(const ImpactCommands& a) {
+// Where an unfinished measurement is kept: --checkpoint, or beside --out.
+std::string splash_checkpoint_path(const ImpactCommands& a) {
+  return a.splash_checkpoint.empty() ? a.splash_out + ".checkpoint.h5" : a.splash_checkpoint;
+}
+
+// Refuses options that do not go together (3-D ones on a 2-D measurement, an engine without the dimension).
+void check_splash_options(const ImpactCommands& a) {
   if (!a.splash_force && fs::exists(a.splash_out))
     throw InputError({"--out", 0}, a.splash_out, "exists; pass --force to overwrite it");
-  const bool speak = !a.splash_quiet && parallel::rank() == 0;  // (stderr: kept with --json)
   if (!a.sand_gun) check_active_zone(a.splash_active_zone, a.splash_dimension, a.splash_engine);
   if (!a.splash_bed_checkpoint.empty() && a.splash_dimension != 3)
     throw InputError({"--bed-checkpoint", 0}, a.splash_bed_checkpoint,
@@ -401,87 +426,92 @@ int splash_command(const ImpactCommands& a) {
     refuse_3d_options(a.splash_cmd, a.splash_dimension);
     check_engine_dimension(a.splash_engine, a.splash_dimension);
   }
-  saltation::SplashFile f;
-  if (a.sand_gun) {
-    f = saltation::sand_gun_splash();
-  } else {
-    SplashOptions o = a.splash_quick ? quick_splash_options() : SplashOptions{};
-    if (a.splash_runs > 0) o.runs = a.splash_runs;
-    if (a.splash_beds > 0) o.beds = a.splash_beds;
-    o.seed = a.splash_seed, o.engine = a.splash_engine;
-    o.dimension = a.splash_dimension, o.spheres = a.splash_spheres;
-    if (!a.splash_box.empty()) o.box_width = a.splash_box[0], o.box_depth = a.splash_box[1];
-    o.active_zone = a.splash_active_zone;
-    o.bed_checkpoint = a.splash_bed_checkpoint;
-    if (!a.splash_speeds.empty()) o.speeds_cm_s = a.splash_speeds;
-    if (!a.splash_angles.empty()) o.angles_deg = a.splash_angles;
-    saltation::SplashFile resume;
-    if (!a.splash_restart.empty()) {
-      resume = saltation::read_splash_file(a.splash_restart, true);
-      o.resume = &resume;
-    }
-    const std::string checkpoint =
-        a.splash_checkpoint.empty() ? a.splash_out + ".checkpoint.h5" : a.splash_checkpoint;
-    if (parallel::rank() == 0)
-      o.checkpoint = [&](const saltation::SplashFile& partial) {
-        saltation::write_splash_file(checkpoint, partial, true);
-      };
-    o.stop_after_cells = a.splash_stop_after;
-    ProgressBar bar(!a.splash_quiet && parallel::rank() == 0, "impacts");  // (stderr: kept with --json)
-    if (speak)
-      o.log = [&](const std::string& line) {
-        bar.finish(), fmt::print(stderr, "grainlab splash: {}\n", line);
-      };
-    o.progress = [&](std::size_t d, std::size_t t) { bar.update(double(d), double(t)); };
-    f = measure_splash(o);
+}
+
+// The splash measured by impacts on the grid of speeds and angles, checkpointed after every cell.
+saltation::SplashFile measure_splash_cells(const ImpactCommands& a, bool speak) {
+  SplashOptions o = a.splash_quick ? quick_splash_options() : SplashOptions{};
+  if (a.splash_runs > 0) o.runs = a.splash_runs;
+  if (a.splash_beds > 0) o.beds = a.splash_beds;
+  o.seed = a.splash_seed, o.engine = a.splash_engine;
+  o.dimension = a.splash_dimension, o.spheres = a.splash_spheres;
+  if (!a.splash_box.empty()) o.box_width = a.splash_box[0], o.box_depth = a.splash_box[1];
+  o.active_zone = a.splash_active_zone;
+  o.bed_checkpoint = a.splash_bed_checkpoint;
+  if (!a.splash_speeds.empty()) o.speeds_cm_s = a.splash_speeds;
+  if (!a.splash_angles.empty()) o.angles_deg = a.splash_angles;
+  saltation::SplashFile resume;
+  if (!a.splash_restart.empty()) {
+    resume = saltation::read_splash_file(a.splash_restart, true);
+    o.resume = &resume;
   }
+  const std::string checkpoint = splash_checkpoint_path(a);
+  if (parallel::rank() == 0)
+    o.checkpoint = [&](const saltation::SplashFile& partial) {
+      saltation::write_splash_file(checkpoint, partial, true);
+    };
+  o.stop_after_cells = a.splash_stop_after;
+  ProgressBar bar(!a.splash_quiet && parallel::rank() == 0, "impacts");  // (stderr: kept with --json)
+  if (speak)
+    o.log = [&](const std::string& line) { bar.finish(), fmt::print(stderr, "grainlab splash: {}\n", line); };
+  o.progress = [&](std::size_t d, std::size_t t) { bar.update(double(d), double(t)); };
+  return measure_splash(o);
+}
+
+nlohmann::json splash_json(const std::string& path, const saltation::SplashFile& f) {
+  nlohmann::json cells = nlohmann::json::array();
+  for (const auto& c : f.cells) {
+    nlohmann::json m;
+    for (const auto& [k, v] : c.moments) m[k] = {{"mean", v.mean}, {"sd", v.sd}, {"lo", v.lo}, {"hi", v.hi}};
+    cells.push_back({{"speed", c.speed},
+                     {"angle", c.angle_deg},
+                     {"impacts", c.impacts},
+                     {"ejecta", c.ejecta.size()},
+                     {"moments", m}});
+  }
+  return {{"file", path},
+          {"schema", f.text.at("schema")},
+          {"kind", f.text.at("kind")},
+          {"velocity_scale_cm_s", f.velocity_scale()},
+          {"grain_diameter_cm", f.grain_diameter_cm},
+          {"cells", cells}};
+}
+
+void print_splash_table(const std::string& path, const saltation::SplashFile& f) {
+  fmt::print("wrote {} ({}, {} cells, velocity scale sqrt(g d) = {:.4g} cm/s)\n", path, f.text.at("kind"),
+             f.cells.size(), f.velocity_scale());
+  fmt::print("{:>8} {:>6} {:>8} {:>10} {:>8} {:>12} {:>10}\n", "v/sqrt(gd)", "alpha", "impacts", "P(rebound)",
+             "eps_iy", "ejecta/imp", "ej v_y");
+  for (const auto& c : f.cells) {
+    auto m = [&](const char* k) { return c.moments.count(k) ? c.moments.at(k).mean : std::nan(""); };
+    fmt::print("{:>8.3g} {:>6.0f} {:>8} {:>10.3g} {:>8.3g} {:>12.3g} {:>10.3g}\n", c.speed, c.angle_deg,
+               c.impacts, m("rebound_probability"), m("eps_iy"), m("ejecta_per_impact"), m("ejecta_vy"));
+  }
+}
+
+int splash_command(const ImpactCommands& a) {
+  check_splash_options(a);
+  const bool speak = !a.splash_quiet && parallel::rank() == 0;  // (stderr: kept with --json)
+  const saltation::SplashFile f = a.sand_gun ? saltation::sand_gun_splash() : measure_splash_cells(a, speak);
   if (parallel::rank() != 0) return 0;
   if (f.text.count("complete")) {
     if (!a.splash_quiet)
       fmt::print(stderr, "grainlab splash: stopped after {} cells as asked; continue with --restart {}\n",
-                 f.cells.size(),
-                 a.splash_checkpoint.empty() ? a.splash_out + ".checkpoint.h5" : a.splash_checkpoint);
+                 f.cells.size(), splash_checkpoint_path(a));
     return 0;
   }
   saltation::write_splash_file(a.splash_out, f, a.splash_force);
   if (!a.sand_gun) {  // finished: the checkpoint is no longer needed
-    const std::string checkpoint =
-        a.splash_checkpoint.empty() ? a.splash_out + ".checkpoint.h5" : a.splash_checkpoint;
+    const std::string checkpoint = splash_checkpoint_path(a);
     if (checkpoint != a.splash_restart) fs::remove(checkpoint);
   }
   const saltation::SplashFile back = saltation::read_splash_file(a.splash_out);  // what a model will read
   draw_plot_beside(a.splash_out, "_splash", "plot_splash.py", {a.splash_out}, a.splash_force, a.splash_json,
                    "heat maps of the ejecta per incident cell");
-  if (a.splash_json) {
-    nlohmann::json cells = nlohmann::json::array();
-    for (const auto& c : back.cells) {
-      nlohmann::json m;
-      for (const auto& [k, v] : c.moments)
-        m[k] = {{"mean", v.mean}, {"sd", v.sd}, {"lo", v.lo}, {"hi", v.hi}};
-      cells.push_back({{"speed", c.speed},
-                       {"angle", c.angle_deg},
-                       {"impacts", c.impacts},
-                       {"ejecta", c.ejecta.size()},
-                       {"moments", m}});
-    }
-    fmt::print("{}\n", nlohmann::json{{"file", a.splash_out},
-                                      {"schema", back.text.at("schema")},
-                                      {"kind", back.text.at("kind")},
-                                      {"velocity_scale_cm_s", back.velocity_scale()},
-                                      {"grain_diameter_cm", back.grain_diameter_cm},
-                                      {"cells", cells}}
-                           .dump(2));
-    return 0;
-  }
-  fmt::print("wrote {} ({}, {} cells, velocity scale sqrt(g d) = {:.4g} cm/s)\n", a.splash_out,
-             back.text.at("kind"), back.cells.size(), back.velocity_scale());
-  fmt::print("{:>8} {:>6} {:>8} {:>10} {:>8} {:>12} {:>10}\n", "v/sqrt(gd)", "alpha", "impacts", "P(rebound)",
-             "eps_iy", "ejecta/imp", "ej v_y");
-  for (const auto& c : back.cells) {
-    auto m = [&](const char* k) { return c.moments.count(k) ? c.moments.at(k).mean : std::nan(""); };
-    fmt::print("{:>8.3g} {:>6.0f} {:>8} {:>10.3g} {:>8.3g} {:>12.3g} {:>10.3g}\n", c.speed, c.angle_deg,
-               c.impacts, m("rebound_probability"), m("eps_iy"), m("ejecta_per_impact"), m("ejecta_vy"));
-  }
+  if (a.splash_json)
+    fmt::print("{}\n", splash_json(a.splash_out, back).dump(2));
+  else
+    print_splash_table(a.splash_out, back);
   return 0;
 }
 
