@@ -221,18 +221,8 @@ int engines_command(bool json) {
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  parallel::init_if_launched(&argc, &argv);
-  struct Finalize {
-    ~Finalize() { parallel::finalize(); }
-  } finalize_mpi;
-  CLI::App app{"grainlab: grain-scale physics of wind-blown sand (Werner 1987), checked across engines"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", GRAINLAB_VERSION);
-
-  RunArgs run;
+// `grainlab run`'s options into `run`.
+CLI::App* add_run_command(CLI::App& app, RunArgs& run) {
   CLI::App* run_cmd = app.add_subcommand("run", "run a scene and write HDF5 frames (+ XDMF for ParaView)");
   run_cmd->add_option("scene", run.scene, "scene file (TOML, see docs/scenes.md)")
       ->required()
@@ -256,28 +246,81 @@ int main(int argc, char** argv) {
                    "stop after frame N with a checkpoint, writing no run file (continue with --restart)")
       ->check(cli::non_negative());
   cli::add_decomposition_options(run_cmd, run.balance_every, run.ranks_y);
+  return run_cmd;
+}
 
-  cli::ValidateCommand validate;
-  validate.add(app);
+struct CostArgs {
+  validation::CostOptions options;
+  std::string dir = "cost";
+  bool quiet = false, resume = false;
+};
 
-  validation::CostOptions cost;
-  std::string cost_dir = "cost";
-  bool cost_quiet = false, cost_resume = false;
+CLI::App* add_cost_command(CLI::App& app, CostArgs& cost) {
   CLI::App* cost_cmd = app.add_subcommand(
       "cost", "what accuracy costs: sweep every engine's accuracy knobs, error against time per scene");
-  cost_cmd->add_flag("--quick", cost.quick, "fewer settings, fewer throws (for CI)");
-  cost_cmd->add_option("--out,-o", cost_dir, "output folder (cost.md, cost.json, plots)")
+  cost_cmd->add_flag("--quick", cost.options.quick, "fewer settings, fewer throws (for CI)");
+  cost_cmd->add_option("--out,-o", cost.dir, "output folder (cost.md, cost.json, plots)")
       ->default_val("cost")  // before the check: a default is checked where it is set, at every start
       ->check(cli::output_folder());
-  cost_cmd->add_option("--repeats", cost.repeats, "timed repetitions per setting (median reported)")
+  cost_cmd->add_option("--repeats", cost.options.repeats, "timed repetitions per setting (median reported)")
       ->default_val(3)
       ->check(cli::in_range(1, 100));
-  cost_cmd->add_option("--scene", cost.scenes, "scene to study (repeatable; default: all)");
-  cost_cmd->add_flag("--quiet,-q", cost_quiet, "no progress lines");
+  cost_cmd->add_option("--scene", cost.options.scenes, "scene to study (repeatable; default: all)");
+  cost_cmd->add_flag("--quiet,-q", cost.quiet, "no progress lines");
   cost_cmd->add_flag(
-      "--resume", cost_resume,
+      "--resume", cost.resume,
       "continue an interrupted study into the same --out: the scenes it finished (same options, "
       "same binary) are taken from OUT/.cost-checkpoint.json, the rest measured");
+  return cost_cmd;
+}
+
+CLI::App* add_die_model_command(CLI::App& app, cli::DieModelArgs& die) {
+  CLI::App* die_cmd = app.add_subcommand(
+      "die-model", "the thesis's loaded 2-D die model (Appendix II.1): probability p_h of a high face up");
+  die_cmd->add_option("--f", die.f, "loading: fraction of the way from centre to corner")
+      ->default_val(0.2)
+      ->check(cli::in_range(0.0, 1.0, cli::Ends::open_high));
+  die_cmd->add_option("--eps", die.eps, "die-plane coefficient of restitution")
+      ->default_val(0.7)
+      ->check(cli::in_range(0.0, 1.0, cli::Ends::open_high));
+  die_cmd->add_flag("--json", die.json, "machine-readable");
+  die_cmd->add_option("--plot", die.plot_dir,
+                      "also write p_h(f) for several eps (Fig. 2.7) into this folder");
+  return die_cmd;
+}
+
+// Parses the command line: the exit status when it is done (help, version, a parse error), else nothing.
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  parallel::init_if_launched(&argc, &argv);
+  struct Finalize {
+    ~Finalize() { parallel::finalize(); }
+  } finalize_mpi;
+  CLI::App app{"grainlab: grain-scale physics of wind-blown sand (Werner 1987), checked across engines"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", GRAINLAB_VERSION);
+
+  RunArgs run;
+  CLI::App* run_cmd = add_run_command(app, run);
+  cli::ValidateCommand validate;
+  validate.add(app);
+  CostArgs cost;
+  CLI::App* cost_cmd = add_cost_command(app, cost);
 
   std::string inspect_path;
   CLI::App* inspect_cmd = app.add_subcommand("inspect",
@@ -291,21 +334,9 @@ int main(int argc, char** argv) {
   engines_cmd->add_flag("--json", engines_json, "machine-readable");
 
   cli::DieModelArgs die;
-  CLI::App* die_cmd = app.add_subcommand(
-      "die-model", "the thesis's loaded 2-D die model (Appendix II.1): probability p_h of a high face up");
-  die_cmd->add_option("--f", die.f, "loading: fraction of the way from centre to corner")
-      ->default_val(0.2)
-      ->check(cli::in_range(0.0, 1.0, cli::Ends::open_high));
-  die_cmd->add_option("--eps", die.eps, "die-plane coefficient of restitution")
-      ->default_val(0.7)
-      ->check(cli::in_range(0.0, 1.0, cli::Ends::open_high));
-  die_cmd->add_flag("--json", die.json, "machine-readable");
-  die_cmd->add_option("--plot", die.plot_dir,
-                      "also write p_h(f) for several eps (Fig. 2.7) into this folder");
-
+  CLI::App* die_cmd = add_die_model_command(app, die);
   cli::BenchCommands bench;
   bench.add(app);
-
   cli::ImpactCommands impacts;
   impacts.add(app);
   cli::SandGunCommand sand_gun;
@@ -314,17 +345,7 @@ int main(int argc, char** argv) {
   saltation.add(app);
   cli::RipplesCommands ripples;
   ripples.add(app);
-
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return 2;
-  }
+  if (const std::optional<int> status = parse_command_line(app, argc, argv)) return *status;
 
   try {
     if (const std::string command = cli::chosen_command(app);
@@ -337,7 +358,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run);
     if (const int status = validate.dispatch(); status >= 0) return status;
     if (*engines_cmd) return engines_command(engines_json);
-    if (*cost_cmd) return cost_command(cost, cost_dir, cost_quiet, cost_resume);
+    if (*cost_cmd) return cost_command(cost.options, cost.dir, cost.quiet, cost.resume);
     if (*inspect_cmd) return cli::inspect_command(inspect_path);
     if (*die_cmd) return cli::die_model_command(die);
     if (const int status = bench.dispatch(); status >= 0) return status;
