@@ -518,6 +518,13 @@ int splash_command(const ImpactCommands& a) {
 }  // namespace
 
 void ImpactCommands::add(CLI::App& app) {
+  add_bed(app);
+  add_impact(app);
+  add_splash(app);
+  add_rebound_model(app);
+}
+
+void ImpactCommands::add_bed(CLI::App& app) {
   bed_cmd = app.add_subcommand("bed", "build a Ch. III impact bed (384 discs, loose or dense) as a run file");
   bed_cmd
       ->add_option("--preparation", preparation,
@@ -534,7 +541,9 @@ void ImpactCommands::add(CLI::App& app) {
       ->required();
   bed_cmd->add_flag("--force", bed_force, "overwrite an existing file");
   bed_cmd->add_flag("--json", bed_json, "print the bed's statistics as JSON");
+}
 
+void ImpactCommands::add_impact(CLI::App& app) {
   impact_cmd =
       app.add_subcommand("impact", "impacts of one case of Table 3.1 on a bed; thesis Tables 3.2-3.9");
   impact_cmd->add_option("--case", case_name, "A..I")->required();
@@ -589,7 +598,9 @@ void ImpactCommands::add(CLI::App& app) {
                        "holds still, at most 4 times): ODE and Bullet squeeze a bed built on the native "
                        "engine further, so it does not hold still on them as built");
   impact_cmd->add_flag("--quiet,-q", quiet, "no progress");
+}
 
+void ImpactCommands::add_splash(CLI::App& app) {
   splash_cmd = app.add_subcommand("splash",
                                   "measure the splash function over incident speed and angle; write a "
                                   "grainlab-splash/1 file for the saltation and ripple models");
@@ -643,7 +654,9 @@ void ImpactCommands::add(CLI::App& app) {
   splash_cmd->add_flag("--force", splash_force, "overwrite an existing file");
   splash_cmd->add_flag("--json", splash_json, "print the cells' moments as JSON");
   splash_cmd->add_flag("--quiet,-q", splash_quiet, "no progress");
+}
 
+void ImpactCommands::add_rebound_model(CLI::App& app) {
   rebound_cmd =
       app.add_subcommand("rebound-model", "the thesis's rebound model (Appendix III.1, Table 3.10)");
   rebound_cmd->add_option("--case", model_case, "1 or 2 (Table 3.10)")->default_val(2);

@@ -55,6 +55,12 @@ struct ImpactCommands {
   void add(CLI::App& app);
   // Runs the command that was asked for; -1 if none of these was.
   int dispatch() const;
+
+ private:
+  void add_bed(CLI::App& app);
+  void add_impact(CLI::App& app);
+  void add_splash(CLI::App& app);
+  void add_rebound_model(CLI::App& app);
 };
 
 }  // namespace grainlab::cli
