@@ -457,9 +457,8 @@ void print_hybrid_summary(const ripples::hybrid::RippleOptions& o, const ripples
              parallel::size() > 1 ? fmt::format(" on {} MPI ranks", parallel::size()) : "");
 }
 
-}  // namespace
-
-int hybrid_ripples_command(const RipplesCommands& a) {
+// The run's config from --config, --set and --duration, refusing what cannot run.
+ripples::hybrid::HybridConfig hybrid_config(const RipplesCommands& a) {
   if (a.config.empty()) throw InputError({"--config", 0}, "", "give a [hybrid] config (docs/hybrid.md)");
   refuse_existing_out(a.out, a.force);
   if (a.impacts_from >= 0 && a.out.empty())
@@ -475,58 +474,84 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   // writes and reports.
   o.distributed = parallel::size() > 1;
   refuse_too_many_ranks(o, a.config, "length");
-  const bool first = parallel::rank() == 0;
-  ripples::hybrid::RippleRun run(o);
-  const auto& bed = run.bed();
-  const double dx = bed.cell() / o.diameter;
+  return config;
+}
+
+// The frames taken so far: their statistics, each one's heights streamed to --out as it is taken, and
+// kept too when checkpoints must hold them.
+struct FrameKeeper {
   std::unique_ptr<GridSeriesWriter> out;
-  if (!a.out.empty() && first)
-    out = std::make_unique<GridSeriesWriter>(a.out, a.force, bed.nx(), bed.ny(), dx, "height");
-  const bool talk = !a.quiet && !a.json && first;
-  if (talk)
-    fmt::print(
-        "hybrid ripples: {} d x {} d ({} x {} key points, {} d apart), s = {:.0f}, Ga = {:.1f}, S = {:.4f}, "
-        "u* = {} cm/s, splash {}\n",
-        o.length, o.width, bed.nx(), bed.ny(), dx, run.transport().density_ratio(), run.transport().galileo(),
-        run.transport().shields(), o.u_star, o.splash);
-  ProgressBar bar(!a.quiet && first, "t*");  // (stderr: kept with --json, as above)
+  bool keep = false;
   std::vector<BedFrame> frames;
   std::vector<std::vector<double>> written;  // the frames' heights, kept only for checkpoints
-  const bool keep = out && !a.hybrid_checkpoint.empty();
-  if (!a.hybrid_restart.empty()) {
-    read_hybrid_checkpoint(a.hybrid_restart, config, run, frames, written, bed.nx() * bed.ny());
-    if (out)
-      for (std::size_t k = 0; k < written.size(); ++k) out->add_frame(frames[k].t_star, written[k]);
-    if (!keep) written.clear();
-    if (talk) fmt::print("continuing from t* = {:.0f} ({})\n", frames.back().t_star, a.hybrid_restart);
-  }
-  auto take = [&] {
+
+  void take(ripples::hybrid::RippleRun& run) {
     frames.push_back(run.frame());
     const BedFrame& f = frames.back();
     if (out) out->add_frame(f.t_star, f.h);
     if (keep) written.push_back(f.h);
     frames.back().h.clear();  // streamed; the statistics stay
-  };
-  if (frames.empty()) take();
+  }
+
+  // The frames of the run a checkpoint continues, written again to --out.
+  void restore(const std::string& path, const ripples::hybrid::HybridConfig& config,
+               ripples::hybrid::RippleRun& run, std::size_t points) {
+    read_hybrid_checkpoint(path, config, run, frames, written, points);
+    if (out)
+      for (std::size_t k = 0; k < written.size(); ++k) out->add_frame(frames[k].t_star, written[k]);
+    if (!keep) written.clear();
+  }
+};
+
+void print_hybrid_header(const ripples::hybrid::RippleOptions& o, const ripples::hybrid::RippleRun& run) {
+  const auto& bed = run.bed();
+  fmt::print(
+      "hybrid ripples: {} d x {} d ({} x {} key points, {} d apart), s = {:.0f}, Ga = {:.1f}, S = {:.4f}, "
+      "u* = {} cm/s, splash {}\n",
+      o.length, o.width, bed.nx(), bed.ny(), bed.cell() / o.diameter, run.transport().density_ratio(),
+      run.transport().galileo(), run.transport().shields(), o.u_star, o.splash);
+}
+
+}  // namespace
+
+int hybrid_ripples_command(const RipplesCommands& a) {
+  const ripples::hybrid::HybridConfig config = hybrid_config(a);
+  const ripples::hybrid::RippleOptions& o = config.options;
+  const bool first = parallel::rank() == 0;
+  ripples::hybrid::RippleRun run(o);
+  const auto& bed = run.bed();
+  FrameKeeper kept;
+  if (!a.out.empty() && first)
+    kept.out = std::make_unique<GridSeriesWriter>(a.out, a.force, bed.nx(), bed.ny(), bed.cell() / o.diameter,
+                                                  "height");
+  kept.keep = kept.out && !a.hybrid_checkpoint.empty();
+  const bool talk = !a.quiet && !a.json && first;
+  if (talk) print_hybrid_header(o, run);
+  ProgressBar bar(!a.quiet && first, "t*");  // (stderr: kept with --json, as above)
+  if (!a.hybrid_restart.empty()) {
+    kept.restore(a.hybrid_restart, config, run, bed.nx() * bed.ny());
+    if (talk) fmt::print("continuing from t* = {:.0f} ({})\n", kept.frames.back().t_star, a.hybrid_restart);
+  }
+  if (kept.frames.empty()) kept.take(run);
   const auto start = std::chrono::steady_clock::now();
   const std::uint64_t steps_before = run.transport().grain_steps;
   const std::vector<double> times = ripples::hybrid::frame_times(o.duration, o.frame_every);
   double next_checkpoint =
-      (std::floor(frames.back().t_star / a.checkpoint_every + 1e-9) + 1) * a.checkpoint_every;
+      (std::floor(kept.frames.back().t_star / a.checkpoint_every + 1e-9) + 1) * a.checkpoint_every;
   // The impact log (the first rank's: every rank does every splash), from the frame interval that reaches
   // --impacts-from; a continued run logs only what it runs itself.
   std::vector<ripples::hybrid::ImpactRecord> impact_log;
-  for (std::size_t k = frames.size(); k < times.size(); ++k) {
+  for (std::size_t k = kept.frames.size(); k < times.size(); ++k) {
     const double t = times[k];
-    if (out && a.impacts_from >= 0 && t > a.impacts_from) run.log_impacts(&impact_log);
+    if (kept.out && a.impacts_from >= 0 && t > a.impacts_from) run.log_impacts(&impact_log);
     run.advance_to(t, [&](double now) {
       bar.update(now, o.duration, fmt::format("{} grains airborne", run.transport().airborne()));
     });
-    take();
+    kept.take(run);
     const bool stop = a.stop_at > 0 && t >= a.stop_at * (1 - 1e-12), end = k + 1 == times.size();
     // (And at the end, so that a finished run can be taken further with --restart and a longer --duration.)
     if (!a.hybrid_checkpoint.empty() && (t >= next_checkpoint * (1 - 1e-12) || stop || end)) {
-      write_hybrid_checkpoint(a.hybrid_checkpoint, config, run, frames, written);
+      write_hybrid_checkpoint(a.hybrid_checkpoint, config, run, kept.frames, kept.written);
       next_checkpoint += a.checkpoint_every;
     }
     if (stop) {
@@ -539,17 +564,17 @@ int hybrid_ripples_command(const RipplesCommands& a) {
   }
   bar.finish();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const ripples::hybrid::RippleTrends trend = ripples::hybrid::ripple_trends(frames);
-  if (out) write_hybrid_output(*out, a, config, run, frames, trend, impact_log, talk);
+  const ripples::hybrid::RippleTrends trend = ripples::hybrid::ripple_trends(kept.frames);
+  if (kept.out) write_hybrid_output(*kept.out, a, config, run, kept.frames, trend, impact_log, talk);
   const auto& tr = run.transport();
   const double rate = wall > 0 ? static_cast<double>(tr.grain_steps - steps_before) / wall : 0;
   const std::uint64_t collisions = tr.total_collisions();  // (a sum over the ranks: every rank takes part)
   if (!first) return 0;
   if (a.json) {
-    fmt::print("{}\n", hybrid_json(o, run, frames, trend, rate, wall, collisions).dump());
+    fmt::print("{}\n", hybrid_json(o, run, kept.frames, trend, rate, wall, collisions).dump());
     return 0;
   }
-  print_hybrid_summary(o, run, frames.back(), trend, rate, wall);
+  print_hybrid_summary(o, run, kept.frames.back(), trend, rate, wall);
   return 0;
 }
 
