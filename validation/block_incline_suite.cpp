@@ -133,11 +133,9 @@ struct EngineResult {
   double seconds = 0;
 };
 
-}  // namespace
-
-void run_block_incline_suite(Report& r, const SuiteOptions& o) {
-  const std::size_t rolls = o.quick ? 8 : 48;
-  const std::size_t samples = static_cast<std::size_t>(std::lround(kDuration / kSample));
+// Every engine's rolls, timed.
+std::vector<EngineResult> roll_on_every_engine(const SuiteOptions& o, std::size_t rolls,
+                                               std::size_t samples) {
   std::vector<EngineResult> results;
   for (const std::string& eng : engines_for_dimension(3)) {
     const auto start = std::chrono::steady_clock::now();
@@ -149,7 +147,77 @@ void run_block_incline_suite(Report& r, const SuiteOptions& o) {
     if (o.log) o.log(fmt::format("block on an incline on {}: {} rolls ({:.1f} s)", eng, rolls, res.seconds));
     results.push_back(std::move(res));
   }
+  return results;
+}
 
+// One engine's rotational energy while the block rolls (rotation >= kRollingShare of its kinetic energy):
+// the fractions about each body axis, weighted by the rotational share, and the fraction about x binned by
+// distance down the plane up to `reach`.
+struct RollingShares {
+  std::array<double, 3> part{};
+  std::size_t still_rolling = 0;  // rolls still rolling at the end
+  std::array<double, kBins> bin_sum{}, bin_n{};
+};
+
+RollingShares rolling_shares(const EngineResult& res, std::size_t samples, double reach) {
+  RollingShares out;
+  double weight = 0;
+  for (const auto& row : res.rolls) {
+    out.still_rolling += row[kColumns * (samples - 1) + 4] >= kRollingShare;
+    for (std::size_t s = 0; s < samples; ++s) {
+      const double* x = &row[kColumns * s];
+      if (x[4] < kRollingShare) continue;
+      for (int k = 0; k < 3; ++k) out.part[k] += x[4] * x[1 + k];
+      weight += x[4];
+      const int b = static_cast<int>(x[0] / reach * kBins);
+      if (b >= 0 && b < kBins) out.bin_sum[b] += x[1], out.bin_n[b] += 1;
+    }
+  }
+  for (double& p : out.part) p = weight > 0 ? p / weight : 0;
+  return out;
+}
+
+// The engine's samples for the report's results.h5: one row per roll and sample time.
+SampleTable roll_samples(const EngineResult& res, std::size_t samples) {
+  std::vector<std::vector<double>> table;
+  for (std::size_t i = 0; i < res.rolls.size(); ++i)
+    for (std::size_t k = 0; k < samples; ++k) {
+      const double* x = &res.rolls[i][kColumns * k];
+      table.push_back({double(i), (k + 1) * kSample, x[0], x[1], x[2], x[3], x[4]});
+    }
+  return {"block_incline/" + res.engine,
+          "one row per sample: roll, time (s), distance down the plane (cm), fraction of rotational "
+          "energy about body x, y, z, rotational share of the kinetic energy",
+          {"roll", "time_s", "distance_cm", "fraction_x", "fraction_y", "fraction_z", "rotational_share"},
+          std::move(table)};
+}
+
+// The check that most rotational energy stays about x; Bullet's failure is its contact impulses' (its free
+// rotation is right), stated with the least any engine before it kept (`others`).
+void expect_rotation_about_x(Report& r, const std::string& engine, double fraction_x,
+                             const std::vector<double>& others) {
+  Check& c = r.expect_below(
+      "block-incline/rotation-stays-about-largest-axis", engine, -fraction_x, -0.5,
+      "minus the fraction of rotational energy about body x while the block rolls (rotation >= 10 % "
+      "of its kinetic energy): the thesis's 'most of the rotational energy remains in rotation "
+      "around the x body axis' (fraction above 1/2)");
+  if (engine != "bullet") return;
+  double least = 1;  // the least any other engine keeps about x
+  for (const double other : others) least = std::min(least, other);
+  c.known_limitation(fmt::format(
+      "Bullet's corner impacts on the plane feed rotation into the block's y and z axes. Its free "
+      "rotation "
+      "is right (torque-free at {} rad/s, the energy about x changes by {:.1e} in 2 s), so the spreading "
+      "comes from its contact impulses; the other engines keep at least {:.2f} about x",
+      kSpin, free_rotation_drift("bullet"), least));
+}
+
+}  // namespace
+
+void run_block_incline_suite(Report& r, const SuiteOptions& o) {
+  const std::size_t rolls = o.quick ? 8 : 48;
+  const std::size_t samples = static_cast<std::size_t>(std::lround(kDuration / kSample));
+  const std::vector<EngineResult> results = roll_on_every_engine(o, rolls, samples);
   // The block's inertia as the scene reader makes it (body axes are principal).
   const Mat3 inertia = parse_scene(block_scene(Quat::Identity(), Vec3::Zero(), Vec3::Zero()), "<block>", {})
                            .bodies3d[0]
@@ -180,61 +248,19 @@ void run_block_incline_suite(Report& r, const SuiteOptions& o) {
                 {}};
   std::vector<double> fractions_x;  // of the engines before Bullet (catalog order: native, ODE, Bullet)
   for (const auto& res : results) {
-    // Fractions weighted by the rotational share, over the samples where the block is rolling.
-    std::array<double, 3> part{};
-    double weight = 0;
-    std::size_t still_rolling = 0;
-    std::array<double, kBins> bin_sum{}, bin_n{};
-    for (const auto& row : res.rolls) {
-      still_rolling += row[kColumns * (samples - 1) + 4] >= kRollingShare;
-      for (std::size_t s = 0; s < samples; ++s) {
-        const double* x = &row[kColumns * s];
-        if (x[4] < kRollingShare) continue;
-        for (int k = 0; k < 3; ++k) part[k] += x[4] * x[1 + k];
-        weight += x[4];
-        const int b = static_cast<int>(x[0] / reach * kBins);
-        if (b >= 0 && b < kBins) bin_sum[b] += x[1], bin_n[b] += 1;
-      }
-    }
-    for (double& p : part) p = weight > 0 ? p / weight : 0;
-    const Proportion rolling = wilson_interval(still_rolling, res.rolls.size());
+    const RollingShares sh = rolling_shares(res, samples, reach);
+    const Proportion rolling = wilson_interval(sh.still_rolling, res.rolls.size());
     md += fmt::format("| {} | {} of {} ({:.2f} +- {:.2f}) | {:.3f} | {:.3f} | {:.3f} | {:.0f} s |\n",
-                      res.engine, still_rolling, res.rolls.size(), rolling.p, rolling.half_width(), part[0],
-                      part[1], part[2], res.seconds);
-    Check& c = r.expect_below(
-        "block-incline/rotation-stays-about-largest-axis", res.engine, -part[0], -0.5,
-        "minus the fraction of rotational energy about body x while the block rolls (rotation >= 10 % "
-        "of its kinetic energy): the thesis's 'most of the rotational energy remains in rotation "
-        "around the x body axis' (fraction above 1/2)");
-    if (res.engine == "bullet") {
-      double others = 1;  // the least any other engine keeps about x
-      for (const auto& other : fractions_x) others = std::min(others, other);
-      c.known_limitation(fmt::format(
-          "Bullet's corner impacts on the plane feed rotation into the block's y and z axes. Its free "
-          "rotation "
-          "is right (torque-free at {} rad/s, the energy about x changes by {:.1e} in 2 s), so the spreading "
-          "comes from its contact impulses; the other engines keep at least {:.2f} about x",
-          kSpin, free_rotation_drift("bullet"), others));
-    } else {
-      fractions_x.push_back(part[0]);
-    }
+                      res.engine, sh.still_rolling, res.rolls.size(), rolling.p, rolling.half_width(),
+                      sh.part[0], sh.part[1], sh.part[2], res.seconds);
+    expect_rotation_about_x(r, res.engine, sh.part[0], fractions_x);
+    if (res.engine != "bullet") fractions_x.push_back(sh.part[0]);
     PlotSpec::Series series{res.engine, "line", {}, {}, {}};
     for (int b = 0; b < kBins; ++b)
-      if (bin_n[b] > 0)
-        series.x.push_back((b + 0.5) * reach / kBins), series.y.push_back(bin_sum[b] / bin_n[b]);
+      if (sh.bin_n[b] > 0)
+        series.x.push_back((b + 0.5) * reach / kBins), series.y.push_back(sh.bin_sum[b] / sh.bin_n[b]);
     plot.series.push_back(series);
-    std::vector<std::vector<double>> table;
-    for (std::size_t i = 0; i < res.rolls.size(); ++i)
-      for (std::size_t k = 0; k < samples; ++k) {
-        const double* x = &res.rolls[i][kColumns * k];
-        table.push_back({double(i), (k + 1) * kSample, x[0], x[1], x[2], x[3], x[4]});
-      }
-    r.samples.push_back(
-        {"block_incline/" + res.engine,
-         "one row per sample: roll, time (s), distance down the plane (cm), fraction of rotational "
-         "energy about body x, y, z, rotational share of the kinetic energy",
-         {"roll", "time_s", "distance_cm", "fraction_x", "fraction_y", "fraction_z", "rotational_share"},
-         std::move(table)});
+    r.samples.push_back(roll_samples(res, samples));
   }
   r.plots.push_back(plot);
   md += "\n![block on an incline](block_incline.png)\n\n";
