@@ -232,11 +232,11 @@ int impact3d_command(const ImpactCommands& a, const ImpactCase& c) {
   Bed3d bed = kept.bed;
   if (speak)
     fmt::print(stderr,
-               "grainlab impact: bed top {:.2f} cm, packing {:.3f}, {} loose grains taken away ({:.1f} s); "
+               "grainlab impact: bed top {:.2f} cm, packing {}, {} loose grains taken away ({:.1f} s); "
                "CASE {} (v_i {} cm/s, alpha_i "
                "{} deg, mu {}, r_i {} cm), {} impacts\n",
-               bed.top, bed.packing_fraction, bed.removed, bed.build_seconds, c.name, c.speed, c.alpha_deg,
-               c.mu, c.radius, a.runs);
+               bed.top, packing_text(bed), bed.removed, bed.build_seconds, c.name, c.speed, c.alpha_deg, c.mu,
+               c.radius, a.runs);
   ImpactOptions o;
   o.engine = a.engine;
   o.steps_per_contact = a.steps_per_contact;

@@ -146,8 +146,8 @@ int SandGunCommand::dispatch() const {
     if (json)
       fmt::print("{}\n", run_json(*this, run).dump(2));
     else
-      fmt::print("sand bed of {} grains built: top {:.3f} cm, packing {:.3f}{}\n", bed.scene.bodies3d.size(),
-                 bed.top, bed.packing_fraction,
+      fmt::print("sand bed of {} grains built: top {:.3f} cm, packing {}{}\n", bed.scene.bodies3d.size(),
+                 bed.top, packing_text(bed),
                  checkpoint.empty() ? "" : fmt::format(", kept in {}", checkpoint));
     return 0;
   }

@@ -561,6 +561,14 @@ Bed3dBuild build_record(const Bed3d& bed) {
   return b;
 }
 
+std::string packing_text(const Bed3d& bed) {
+  return std::isfinite(bed.packing_fraction)
+             ? fmt::format("{:.3f}", bed.packing_fraction)
+             : std::string(
+                   "not measured (the bed is too thin for an interior 2 diameters from its walls, floor "
+                   "and top)");
+}
+
 Bed3d bed3d_from_bodies(const Bed3dSpec& spec, std::vector<Body3Spec> bodies) {
   Bed3d bed;
   bed.spec = spec;

@@ -64,6 +64,10 @@ struct Bed3d {
   int build_stages = 0;  // stages its build took (Bed3dBuild::stage when it finished)
 };
 
+// The packing fraction for people: "0.581", or why there is none (NaN: a bed under about four diameters
+// deep has no interior to measure it in).
+std::string packing_text(const Bed3d& bed);
+
 // How still a bed left alone for an impact's duration must hold, or "ejecta" would be the bed moving: no
 // grain may move more than 2.5 % of a diameter, nor be faster than 1 cm/s times sqrt(r / 1 cm) (speeds
 // of a bed settling under gravity scale so). The thesis-sized bed's: 0.05 cm and 1 cm/s, the 2-D limits.

@@ -294,10 +294,10 @@ SandGunRun run_sand_gun(const Bed3dSpec& spec, const std::vector<std::size_t>& r
   out.bed = kept.bed;
   if (log)
     log(
-        fmt::format("sand gun: bed top {:.3f} cm, packing {:.3f}, {} loose spheres taken away, {} probes, "
+        fmt::format("sand gun: bed top {:.3f} cm, packing {}, {} loose spheres taken away, {} probes, "
                     "{} holds, {} spheres still moving at the last ({:.0f} s)",
-                    out.bed.top, out.bed.packing_fraction, out.bed.removed, out.bed.probes,
-                    build_holds(out.bed), out.bed.deep_movers, out.bed.build_seconds));
+                    out.bed.top, packing_text(out.bed), out.bed.removed, out.bed.probes, build_holds(out.bed),
+                    out.bed.deep_movers, out.bed.build_seconds));
   ImpactOptions o = sand_gun_options(spec);
   o.active_radius = active_zone * 2 * spec.radius;
   if (runs == 0) out.rows.clear();  // the bed only
