@@ -62,7 +62,7 @@ std::vector<validation::PlotSpec> transient_plots(const TransientResult& r, cons
 
 // The run's options from the command line, refusing what cannot run (an output folder in use, --case with
 // --splash, --change values out of order or range).
-TransientOptions transient_options(const SaltationCommands& a, double& diameter) {
+TransientOptions transient_options(const SaltationCommands& a) {
   if (!a.transient_out.empty() && fs::exists(a.transient_out) && !fs::is_empty(a.transient_out) && !a.force)
     throw InputError({"--out", 0}, a.transient_out,
                      "exists and is not empty; pass --force to replace its files");
@@ -74,8 +74,8 @@ TransientOptions transient_options(const SaltationCommands& a, double& diameter)
     throw InputError({"--change", 0}, "", "give pairs of a time (s) and a new u* (cm/s)");
   TransientOptions o;
   o.model.u_star = a.transient_ustar;
-  diameter = case_grain_diameter(a.transient_case, a.transient_diameter_option, a.grain_diameter);
-  o.model.grain.radius = diameter / 2;
+  o.model.grain.radius =
+      case_grain_diameter(a.transient_case, a.transient_diameter_option, a.grain_diameter) / 2;
   o.dt = a.transient_dt, o.duration = a.transient_duration;
   o.record_every = std::max(1, static_cast<int>(std::lround(a.transient_record / a.transient_dt)));
   double last = 0;
@@ -164,15 +164,14 @@ void print_transient_summary(const SaltationCommands& a, const TransientOptions&
 }  // namespace
 
 int transient_command(const SaltationCommands& a) {
-  double diameter = 0;
-  const TransientOptions o = transient_options(a, diameter);
+  const TransientOptions o = transient_options(a);
   const SplashKernel splash = case_splash(a.transient_case, a.transient_splash, o.model, 1.0);
   // Everything that fixes what the run computes: a checkpoint from other options would continue another run.
   const std::string fingerprint = fmt::format(
       "case {}\nsplash {}\nu_star {:.17g}\nchanges {}\ndt {:.17g}\nduration {:.17g}\nrecord_every {}\n"
       "grain_diameter {:.17g}\n",
       a.transient_case, a.transient_splash, a.transient_ustar, nlohmann::json(a.transient_changes).dump(),
-      o.dt, o.duration, o.record_every, diameter);
+      o.dt, o.duration, o.record_every, 2 * o.model.grain.radius);  // (halving and doubling are exact)
   const auto wall0 = std::chrono::steady_clock::now();
   TransientState state = a.transient_restart.empty()
                              ? start_transient(o)
